@@ -1,0 +1,130 @@
+#include "app/commands.hpp"
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+
+#include "app/mesh_io.hpp"
+#include "app/paper_cube.hpp"
+#include "engine/geometry.hpp"
+
+namespace vdmsim {
+
+bool prepare_output_dir(const std::string& dir, std::string& error) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec || !fs::is_directory(dir)) {
+    error = dir + ": cannot create the output folder (" + (ec ? ec.message() : "not a folder") + ")";
+    return false;
+  }
+  const fs::path probe = fs::path(dir) / ".vdmsim-write-test";
+  {
+    std::ofstream f(probe);
+    if (!f || !(f << "ok") || !(f.flush())) {
+      error = dir + ": the output folder is not writable";
+      return false;
+    }
+  }
+  fs::remove(probe, ec);
+  return true;
+}
+
+int cmd_mesh_info(const std::string& path, double scale, std::ostream& out, std::ostream& err) {
+  MeshLoadOptions opt;
+  opt.scale = scale;
+  opt.validate = false;
+  MeshLoadResult r = load_surface_mesh(path, opt);
+  if (!r.ok) {
+    err << "vdmsim: error: " << r.error << "\n";
+    return 2;
+  }
+  vdm::SurfaceMesh oriented = r.mesh;
+  const vdm::MeshCheck check = vdm::check_and_orient_surface(oriented);
+  const vdm::NodeMat& x = oriented.positions;
+  const vdm::Vec3 lo = x.colwise().minCoeff(), hi = x.colwise().maxCoeff();
+  out << "file:       " << path << "\n";
+  out << "nodes:      " << r.mesh.node_count() << "\n";
+  out << "triangles:  " << r.mesh.triangle_count() << "\n";
+  const bool closed = check.ok() || (check.problem != vdm::MeshProblem::open_boundary &&
+                                     check.problem != vdm::MeshProblem::non_manifold_edge &&
+                                     check.problem != vdm::MeshProblem::empty &&
+                                     check.problem != vdm::MeshProblem::bad_index);
+  out << "closed:     " << (closed ? "yes" : "no") << "\n";
+  out << std::setprecision(6);
+  if (check.ok())
+    out << "volume:     " << vdm::enclosed_volume(x, oriented.triangles, x.colwise().mean().transpose()) << "\n";
+  else
+    out << "volume:     n/a (" << vdm::to_string(check.problem) << ")\n";
+  out << "area:       " << vdm::surface_area(x, oriented.triangles) << "\n";
+  out << "bbox min:   " << lo.x() << " " << lo.y() << " " << lo.z() << "\n";
+  out << "bbox max:   " << hi.x() << " " << hi.y() << " " << hi.z() << "\n";
+  out << "bbox size:  " << (hi - lo).x() << " " << (hi - lo).y() << " " << (hi - lo).z() << "\n";
+  if (r.welded_nodes) out << "welded:     " << r.welded_nodes << " coincident vertices merged\n";
+  if (r.dropped_nodes) out << "dropped:    " << r.dropped_nodes << " unreferenced vertices\n";
+  if (check.flipped) out << "note:       the surface was oriented inward; it is used flipped outward\n";
+  if (!check.ok()) {
+    out << "valid organ: no\n";
+    err << "vdmsim: error: " << path << ": " << vdm::to_string(check.problem) << ": " << check.message << "\n";
+    return 2;
+  }
+  out << "valid organ: yes\n";
+  return 0;
+}
+
+int cmd_paper(const std::string& experiment, const std::string& out_dir, std::ostream& out,
+              std::ostream& err) {
+  const bool all = experiment == "all";
+  if (!all && experiment != "cube-stress" && experiment != "anisotropy") {
+    err << "vdmsim: error: unknown experiment '" << experiment
+        << "' (expected cube-stress, anisotropy or all; the beam experiments come with the FEM reference)\n";
+    return 2;
+  }
+  std::string error;
+  if (!prepare_output_dir(out_dir, error)) {
+    err << "vdmsim: error: " << error << "\n";
+    return 2;
+  }
+  namespace fs = std::filesystem;
+  const CubeCompression cfg;
+  if (all || experiment == "cube-stress") {
+    const auto t0 = std::chrono::steady_clock::now();
+    const CubeResult r = run_cube_stress(cfg);
+    const std::string path = (fs::path(out_dir) / "cube-stress.csv").string();
+    if (!write_cube_stress_csv(path, r, error)) {
+      err << "vdmsim: error: " << error << "\n";
+      return 1;
+    }
+    double worst = 0;
+    for (double v : r.volume_rel_error) worst = std::max(worst, std::abs(v));
+    out << "cube-stress: " << r.volume_rel_error.size() - 1 << " steps, " << cfg.compression * 100
+        << " % compression, max |volume error| " << worst << ", "
+        << std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() << " s -> "
+        << path << "\n";
+  }
+  if (all || experiment == "anisotropy") {
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::vector<AnisotropyCase> cases = {AnisotropyCase::uniform, AnisotropyCase::x_infinite,
+                                               AnisotropyCase::prefer_y};
+    std::vector<CubeResult> results;
+    for (AnisotropyCase c : cases) results.push_back(run_anisotropy(cfg, c));
+    const std::string path = (fs::path(out_dir) / "anisotropy.csv").string();
+    if (!write_anisotropy_csv(path, cases, results, error)) {
+      err << "vdmsim: error: " << error << "\n";
+      return 1;
+    }
+    out << "anisotropy: 3 cases x " << results[0].volume_rel_error.size() - 1 << " steps, "
+        << std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() << " s -> "
+        << path << "\n";
+    for (size_t c = 0; c < cases.size(); ++c) {
+      const auto& p = results[c].points;
+      out << "  " << std::setw(10) << to_string(cases[c]) << ": final uB_y = " << p[1].displacement.back().y()
+          << " m, uC_x = " << p[2].displacement.back().x() << " m, uA_z = " << p[0].displacement.back().z()
+          << " m\n";
+    }
+  }
+  return 0;
+}
+
+}  // namespace vdmsim

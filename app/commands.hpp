@@ -1,0 +1,15 @@
+#pragma once
+// The CLI's commands as functions (so tests can call them). Each returns the exit code.
+#include <ostream>
+#include <string>
+
+namespace vdmsim {
+
+int cmd_mesh_info(const std::string& path, double scale, std::ostream& out, std::ostream& err);
+int cmd_paper(const std::string& experiment, const std::string& out_dir, std::ostream& out,
+              std::ostream& err);
+
+// Creates `dir` (and parents) and checks it can be written; false with a message otherwise.
+bool prepare_output_dir(const std::string& dir, std::string& error);
+
+}  // namespace vdmsim

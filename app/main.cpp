@@ -1,0 +1,46 @@
+// vdmsim: command-line entry point. Exit codes: 0 success, 2 bad input or usage (with a
+// message naming the file or field), 1 runtime failure.
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <exception>
+#include <iostream>
+#include <string>
+
+#include "app/commands.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"vdmsim: soft-tissue surgical simulation with the Volume Distribution Method"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "vdmsim 0.1.0");
+
+  std::string mesh_path;
+  double mesh_scale = 1.0;
+  auto* mesh_info = app.add_subcommand("mesh-info", "Print a mesh's nodes, triangles, closedness, volume, area and bounding box");
+  mesh_info->add_option("MESH", mesh_path, "Mesh file (OBJ, STL, PLY, glTF, ...)")->required();
+  mesh_info->add_option("--scale", mesh_scale, "Multiply coordinates by this factor");
+
+  std::string experiment, out_dir;
+  auto* paper = app.add_subcommand("paper", "Reproduce an experiment of the VDM paper");
+  paper->add_option("EXPERIMENT", experiment, "cube-stress | anisotropy | all")->required();
+  paper->add_option("--out", out_dir, "Output folder")->required();
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "vdmsim: " << e.what() << "\n" << "Run 'vdmsim --help' for usage.\n";
+    return 2;
+  }
+  try {
+    if (mesh_info->parsed()) return vdmsim::cmd_mesh_info(mesh_path, mesh_scale, std::cout, std::cerr);
+    if (paper->parsed()) return vdmsim::cmd_paper(experiment, out_dir, std::cout, std::cerr);
+  } catch (const std::exception& e) {
+    std::cerr << "vdmsim: error: " << e.what() << "\n";
+    return 1;
+  }
+  return 2;
+}

@@ -1,0 +1,130 @@
+#include "app/mesh_io.hpp"
+
+#include <assimp/Importer.hpp>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+
+#include <array>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <sstream>
+#include <vector>
+
+namespace vdmsim {
+namespace {
+
+// Collects every triangle of every mesh node, in world coordinates.
+void collect(const aiScene* scene, const aiNode* node, const aiMatrix4x4& parent,
+             std::vector<vdm::Vec3>& points, std::vector<std::array<int, 3>>& tris,
+             int& non_triangles) {
+  const aiMatrix4x4 world = parent * node->mTransformation;
+  for (unsigned m = 0; m < node->mNumMeshes; ++m) {
+    const aiMesh* mesh = scene->mMeshes[node->mMeshes[m]];
+    const int base = static_cast<int>(points.size());
+    for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
+      const aiVector3D p = world * mesh->mVertices[v];
+      points.emplace_back(p.x, p.y, p.z);
+    }
+    for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
+      const aiFace& face = mesh->mFaces[f];
+      if (face.mNumIndices != 3) {
+        ++non_triangles;  // points and lines carry no surface
+        continue;
+      }
+      tris.push_back({base + int(face.mIndices[0]), base + int(face.mIndices[1]),
+                      base + int(face.mIndices[2])});
+    }
+  }
+  for (unsigned c = 0; c < node->mNumChildren; ++c)
+    collect(scene, node->mChildren[c], world, points, tris, non_triangles);
+}
+
+}  // namespace
+
+MeshLoadResult load_surface_mesh(const std::string& path, const MeshLoadOptions& opt) {
+  MeshLoadResult out;
+  auto fail = [&](const std::string& msg) {
+    out.ok = false;
+    out.error = path + ": " + msg;
+    return out;
+  };
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) return fail("no such file");
+  if (std::filesystem::is_directory(path, ec)) return fail("is a directory, not a mesh file");
+  const auto bytes = std::filesystem::file_size(path, ec);
+  if (ec) return fail("cannot read the file size: " + ec.message());
+  if (bytes == 0) return fail("the file is empty");
+  if (static_cast<long long>(bytes) > opt.max_file_bytes) {
+    std::ostringstream s;
+    s << "the file is " << bytes << " bytes, more than the limit of " << opt.max_file_bytes;
+    return fail(s.str());
+  }
+
+  Assimp::Importer importer;
+  // Keep only positions and faces; weld identical vertices; do not let assimp "repair"
+  // degenerate triangles: the checks below name them instead.
+  importer.SetPropertyInteger(AI_CONFIG_PP_RVC_FLAGS,
+                              aiComponent_NORMALS | aiComponent_TANGENTS_AND_BITANGENTS |
+                                  aiComponent_COLORS | aiComponent_TEXCOORDS |
+                                  aiComponent_BONEWEIGHTS | aiComponent_ANIMATIONS |
+                                  aiComponent_TEXTURES | aiComponent_LIGHTS |
+                                  aiComponent_CAMERAS | aiComponent_MATERIALS);
+  const aiScene* scene = importer.ReadFile(
+      path, aiProcess_RemoveComponent | aiProcess_Triangulate | aiProcess_JoinIdenticalVertices);
+  if (!scene || !scene->mRootNode) {
+    std::string why = importer.GetErrorString();
+    if (why.empty()) why = "unknown reason";
+    return fail("could not read the mesh (" + why + ")");
+  }
+  std::vector<vdm::Vec3> points;
+  std::vector<std::array<int, 3>> tris;
+  int non_triangles = 0;
+  collect(scene, scene->mRootNode, aiMatrix4x4(), points, tris, non_triangles);
+  if (tris.empty()) return fail("the file holds no triangles");
+  for (size_t i = 0; i < points.size(); ++i)
+    if (!points[i].allFinite()) {
+      std::ostringstream s;
+      s << "non-finite coordinate: vertex " << i << " is (" << points[i].x() << ", "
+        << points[i].y() << ", " << points[i].z() << ")";
+      out.problem = vdm::MeshProblem::non_finite;
+      return fail(s.str());
+    }
+
+  // Weld nodes at exactly the same position: separate meshes or per-corner attributes
+  // duplicate them, and the surface must be one connected node set.
+  std::map<std::array<double, 3>, int> index_of;
+  std::vector<int> remap(points.size());
+  std::vector<vdm::Vec3> unique;
+  unique.reserve(points.size());
+  for (size_t i = 0; i < points.size(); ++i) {
+    const std::array<double, 3> key = {points[i].x(), points[i].y(), points[i].z()};
+    auto it = index_of.find(key);
+    if (it == index_of.end()) {
+      it = index_of.emplace(key, static_cast<int>(unique.size())).first;
+      unique.push_back(points[i]);
+    }
+    remap[i] = it->second;
+  }
+  out.welded_nodes = static_cast<int>(points.size() - unique.size());
+  out.mesh.positions.resize(static_cast<Eigen::Index>(unique.size()), 3);
+  for (size_t i = 0; i < unique.size(); ++i)
+    out.mesh.positions.row(static_cast<Eigen::Index>(i)) = opt.scale * unique[i].transpose();
+  out.mesh.triangles.resize(static_cast<Eigen::Index>(tris.size()), 3);
+  for (size_t k = 0; k < tris.size(); ++k)
+    for (int c = 0; c < 3; ++c) out.mesh.triangles(static_cast<Eigen::Index>(k), c) = remap[tris[k][c]];
+  out.dropped_nodes = vdm::drop_unreferenced_nodes(out.mesh);
+
+  if (opt.validate) {
+    const vdm::MeshCheck check = vdm::check_and_orient_surface(out.mesh);
+    if (!check.ok()) {
+      out.problem = check.problem;
+      return fail(std::string(vdm::to_string(check.problem)) + ": " + check.message);
+    }
+    out.flipped = check.flipped;
+  }
+  out.ok = true;
+  return out;
+}
+
+}  // namespace vdmsim

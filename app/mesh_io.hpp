@@ -1,0 +1,29 @@
+#pragma once
+// Loading organ surfaces from files (OBJ, STL, PLY, glTF/GLB, anything assimp reads) into the
+// engine's plain arrays, welded, cleaned and validated.
+#include <string>
+
+#include "engine/mesh_topology.hpp"
+#include "engine/types.hpp"
+
+namespace vdmsim {
+
+struct MeshLoadResult {
+  vdm::SurfaceMesh mesh;
+  bool ok = false;
+  vdm::MeshProblem problem = vdm::MeshProblem::none;  // when the mesh was read but is unusable
+  std::string error;          // "<path>: <what is wrong>" when !ok
+  int dropped_nodes = 0;      // unreferenced nodes removed
+  int welded_nodes = 0;       // coincident nodes merged
+  bool flipped = false;       // the surface was inward and has been turned outward
+};
+
+struct MeshLoadOptions {
+  double scale = 1.0;         // multiply coordinates (mesh units -> metres)
+  bool validate = true;       // run the organ-surface checks
+  long long max_file_bytes = 512LL << 20;  // refuse larger files before parsing
+};
+
+MeshLoadResult load_surface_mesh(const std::string& path, const MeshLoadOptions& options = {});
+
+}  // namespace vdmsim

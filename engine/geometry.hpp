@@ -1,0 +1,24 @@
+#pragma once
+// Surface geometry of the VDM model (vdm-model.md section 1, paper eqs 1-2).
+#include "engine/types.hpp"
+
+namespace vdm {
+
+// Volume enclosed by a closed, outward-oriented surface (m^3): sum_k x_a.(x_b x x_c)/6,
+// evaluated relative to `origin` for round-off (the result does not depend on it).
+double enclosed_volume(const NodeMat& x, const TriMat& tris, const Vec3& origin);
+
+// Total surface area (m^2).
+double surface_area(const NodeMat& x, const TriMat& tris);
+
+// Eq (1): distributed area vectors A_i = sum_{k containing i} S_k / 3, written into
+// `area_vectors` (N x 3, must already have N rows). S_k = (x_b - x_a) x (x_c - x_a) / 2.
+void distributed_area_vectors(const NodeMat& x, const TriMat& tris, NodeMat& area_vectors);
+
+// Eq (2) with the normalisation choice of vdm-model.md: V_i = V |A_i| / sum_j |A_j|,
+// so that sum_i V_i = V exactly. `volumes` must have N entries. A node whose distributed
+// area is below `min_fraction` of the mean gets that floor (keeps V_i > 0).
+void distributed_volumes(const NodeMat& area_vectors, double volume, Vec& volumes,
+                         double min_fraction = 1e-9);
+
+}  // namespace vdm

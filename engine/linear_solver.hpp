@@ -1,0 +1,43 @@
+#pragma once
+// The three interchangeable solvers of the VDM system (vdm-model.md section 6). Each sees the
+// per-axis matrices after constrained entries were eliminated (identity rows/columns).
+#include <array>
+#include <memory>
+
+#include "engine/settings.hpp"
+#include "engine/sparse.hpp"
+#include "engine/types.hpp"
+
+namespace vdm {
+
+struct SolveReport {
+  int iterations = 0;
+  bool converged = true;
+  int factorizations = 0;
+};
+
+class LinearSolver {
+ public:
+  virtual ~LinearSolver() = default;
+  // Once: the (shared) pattern of the per-axis matrices.
+  virtual void analyze(const SpMat& pattern) = 0;
+  // The masked matrices or the constrained set changed: refactor / rebuild preconditioners.
+  virtual void matrices_changed(const std::array<SpMat, 3>& K) = 0;
+  // Solves  K^d u^d - dP a^d = rhs^d (d = x, y, z),  a . u = c, where `a` is zero on
+  // constrained entries (whose rows are identities carrying their prescribed values in rhs).
+  // Without the volume constraint dP = 0 and the last row is dropped. `u` holds the
+  // previous solution on entry (warm start).
+  virtual SolveReport solve(const std::array<SpMat, 3>& K, const NodeMat& rhs, const NodeMat& a,
+                            double c, bool volume_constraint, NodeMat& u, double& dP) = 0;
+  // s with K^d s^d = a^d on every axis (zero on constrained entries): the displacement per
+  // unit of fluid pressure. Valid until the matrices change.
+  virtual const NodeMat& pressure_response(const std::array<SpMat, 3>& K, const NodeMat& a) = 0;
+};
+
+std::unique_ptr<LinearSolver> make_linear_solver(const SolverSettings& settings);
+
+// The scale that makes the pressure column comparable with the stiffness blocks:
+// mean diagonal of K over mean |a| (the reference solver's unknown is dP / scale).
+double pressure_scale(const std::array<SpMat, 3>& K, const NodeMat& a);
+
+}  // namespace vdm

@@ -1,0 +1,68 @@
+#pragma once
+// SimState: everything that changes during a run (MuJoCo's mjData). Arrays are sized once by
+// make_sim_state(); step() writes them in place. StepInput: the loads and constraints of one
+// step, filled by the caller (scripted loads, contact, grasp).
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "engine/tissue_model.hpp"
+
+namespace vdm {
+
+struct StepInput {
+  NodeMat force;         // N x 3 external node forces (N): contact penalty, user loads
+  Vec pressure;          // N external pressure on each node's patch (Pa, > 0 pushes inward);
+                         // size 0 = none. Adds -pressure_i A_i to the force.
+  FlagMat prescribed;    // N x 3: 1 = u_i^d prescribed this step (contact, grasp, motion)
+  NodeMat prescribed_u;  // N x 3 total displacement from rest for prescribed entries (m)
+  void clear();          // zero everything, keep sizes
+};
+
+StepInput make_step_input(const TissueModel& model);
+
+struct StepStats {
+  int iterations = 0;            // Krylov iterations this step (sum over all solves)
+  double residual = 0;           // relative residual of the full 3N+1 system after the step
+  bool converged = true;         // every linear solve reached its tolerance
+  int nonlinear_iterations = 0;  // solves this step
+  bool refreshed = false;        // geometry and matrix recomputed this step
+  int factorizations = 0;        // matrix (re)factorisations / preconditioner setups this step
+  double step_ms = 0, assemble_ms = 0, solve_ms = 0;
+  long total_refreshes = 0, total_factorizations = 0;
+};
+
+struct StepWorkspace;  // solver matrices and scratch (engine-internal)
+
+struct SimState {
+  long step = 0;           // completed steps
+  double time = 0;         // s
+  NodeMat u;               // N x 3 displacement from rest, the paper's Delta L (m)
+  NodeMat x;               // N x 3 current positions X + u (m)
+  NodeMat velocity;        // N x 3 (m/s), (u^{n+1} - u^n) / dt
+  NodeMat area_vectors;    // N x 3 A_i at the geometry of the last refresh (m^2), eq (1)
+  Vec node_volumes;        // N V_i at the last refresh (m^3), eq (2)
+  double volume = 0;       // current enclosed volume (m^3)
+  double volume_rel_error = 0;  // (V - V_0) / V_0
+  double pressure = 0;     // uniform fluid pressure change Delta P (Pa), eq (10)
+  NodeMat reaction;        // N x 3 constraint reactions K u - dP A - f (N), zero where free
+  Vec reaction_pressure;   // N |reaction_i| / |A_i| (Pa): the contact pressure C_i
+  NodeMat strain;          // N x 3 per-axis volumetric strain dV_i^d / V_i, eq (5)
+  NodeMat stress;          // N x 3 per-axis stress (Pa), eq (6)
+  StepStats stats;
+  std::vector<std::string> warnings;  // numerical trouble met so far (kept short)
+  std::unique_ptr<StepWorkspace> work;
+
+  SimState();
+  ~SimState();
+  SimState(SimState&&) noexcept;
+  SimState& operator=(SimState&&) noexcept;
+};
+
+// State at rest for `model`, with the solver chosen in model.solver set up.
+SimState make_sim_state(const TissueModel& model);
+
+// One quasi-static (or, with inertia, implicit Euler) step (vdm-model.md section 4).
+void step(const TissueModel& model, const StepInput& input, SimState& state);
+
+}  // namespace vdm

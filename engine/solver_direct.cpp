@@ -1,0 +1,74 @@
+// Direct solver: per-axis sparse LDL^T (AMD ordering, pattern analysed once), refactorised
+// only when the matrices change; the pressure solves s are reused until then.
+#include <Eigen/SparseCholesky>
+#include <cmath>
+
+#include "engine/linear_solver.hpp"
+
+namespace vdm {
+namespace {
+
+class DirectSolver final : public LinearSolver {
+ public:
+  explicit DirectSolver(const SolverSettings& s) : settings_(s) {}
+
+  void analyze(const SpMat& pattern) override {
+    for (auto& f : ldlt_) f.analyzePattern(pattern);
+    r_ = NodeMat::Zero(pattern.rows(), 3);
+    s_ = NodeMat::Zero(pattern.rows(), 3);
+  }
+
+  const NodeMat& pressure_response(const std::array<SpMat, 3>&, const NodeMat& a) override {
+    if (!s_valid_) {
+      for (int d = 0; d < 3; ++d) s_.col(d) = ldlt_[d].solve(a.col(d));
+      s_valid_ = true;
+    }
+    return s_;
+  }
+
+  void matrices_changed(const std::array<SpMat, 3>& K) override {
+    for (int d = 0; d < 3; ++d) ldlt_[d].factorize(K[d]);
+    s_valid_ = false;
+    pending_factorizations_ = 3;
+  }
+
+  SolveReport solve(const std::array<SpMat, 3>&, const NodeMat& rhs, const NodeMat& a, double c,
+                    bool volume_constraint, NodeMat& u, double& dP) override {
+    SolveReport rep;
+    rep.factorizations = pending_factorizations_;
+    pending_factorizations_ = 0;
+    for (int d = 0; d < 3; ++d) {
+      if (ldlt_[d].info() != Eigen::Success) rep.converged = false;
+      r_.col(d) = ldlt_[d].solve(rhs.col(d));
+      if (volume_constraint && !s_valid_) s_.col(d) = ldlt_[d].solve(a.col(d));
+    }
+    if (volume_constraint) s_valid_ = true;
+    dP = 0.0;
+    if (volume_constraint) {
+      double as = 0.0, ar = 0.0;
+      for (int d = 0; d < 3; ++d) {
+        as += a.col(d).dot(s_.col(d));
+        ar += a.col(d).dot(r_.col(d));
+      }
+      if (as > 0.0 && std::isfinite(as)) dP = (c - ar) / as;
+    }
+    u.noalias() = r_ + dP * s_;
+    if (!u.allFinite()) rep.converged = false;
+    return rep;
+  }
+
+ private:
+  SolverSettings settings_;
+  Eigen::SimplicialLDLT<SpMat, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt_[3];
+  NodeMat r_, s_;
+  bool s_valid_ = false;
+  int pending_factorizations_ = 0;
+};
+
+}  // namespace
+
+std::unique_ptr<LinearSolver> make_direct_solver(const SolverSettings& s) {
+  return std::make_unique<DirectSolver>(s);
+}
+
+}  // namespace vdm

@@ -1,0 +1,276 @@
+#include <chrono>
+#include <cmath>
+
+#include "engine/geometry.hpp"
+#include "engine/sim_state.hpp"
+#include "engine/step_workspace.hpp"
+#include "engine/stiffness.hpp"
+#include "engine/stress.hpp"
+
+namespace vdm {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+void add_warning(SimState& s, const char* what) {
+  if (s.warnings.size() < 64) s.warnings.emplace_back(what);
+}
+
+// Step 1 of section 4: A_i, V_i, V and every K^d at the current geometry.
+void refresh_geometry(const TissueModel& m, SimState& s, StepWorkspace& w) {
+  distributed_area_vectors(s.x, m.rest.triangles, s.area_vectors);
+  const double v = enclosed_volume(s.x, m.rest.triangles, m.origin);
+  distributed_volumes(s.area_vectors, v, s.node_volumes);
+  if (m.use_inertia) {
+    const double h = m.dt;
+    for (int i = 0; i < m.n; ++i) {
+      const double mass = m.density * s.node_volumes[i];
+      w.extra_diagonal[i] = mass / (h * h) + m.damping * mass / h;
+    }
+  }
+  assemble_stiffness(m, s.area_vectors, s.node_volumes, w.extra_diagonal, w.K);
+  w.matrix_dirty = true;
+  w.have_geometry = true;
+  w.steps_since_refresh = 0;
+}
+
+// Constrained entries this step: held (fixed, infinite B) and prescribed by the input.
+void build_constraints(const TissueModel& m, const StepInput& in, StepWorkspace& w) {
+  const bool has_prescribed = in.prescribed.rows() == m.n;
+  for (int d = 0; d < 3; ++d)
+    for (int i = 0; i < m.n; ++i) {
+      const bool held = m.held(i, d) != 0;
+      const bool presc = has_prescribed && in.prescribed(i, d) != 0;
+      w.mask(i, d) = (held || presc) ? 1 : 0;
+      w.u_fixed(i, d) = (!held && presc) ? in.prescribed_u(i, d) : 0.0;
+    }
+}
+
+// Loads f (section 3): external forces and pressures, hydrostatic gravity (eq 9), inertia.
+void build_loads(const TissueModel& m, const StepInput& in, SimState& s, StepWorkspace& w) {
+  const NodeMat& A = s.area_vectors;
+  if (in.force.rows() == m.n) w.force = in.force;
+  else w.force.setZero();
+  if (in.pressure.size() == m.n)
+    for (int i = 0; i < m.n; ++i) w.force.row(i) -= in.pressure[i] * A.row(i);
+  if (m.use_gravity) {
+    const double g = m.gravity.norm();
+    if (g > 0) {
+      const Vec3 dir = m.gravity / g;
+      w.scratch.noalias() = s.x * dir;              // height along gravity
+      const double top = w.scratch.minCoeff();      // the highest node
+      for (int i = 0; i < m.n; ++i)
+        w.force.row(i) += m.density * g * (w.scratch[i] - top) * A.row(i);
+    }
+  }
+  if (m.use_inertia) {
+    const double h = m.dt;
+    for (int i = 0; i < m.n; ++i) {
+      const double mass = m.density * s.node_volumes[i];
+      w.force.row(i) += (mass / (h * h)) * (w.u_start.row(i) + h * s.velocity.row(i)) +
+                        (m.damping * mass / h) * w.u_start.row(i);
+    }
+  }
+}
+
+// Newton on the exact volume along the fluid's own response s (K s = a): u += dP' s and
+// dP += dP', with dV/d(dP') = A(x) . s. K u - dP a = f still holds exactly, and V -> V_0.
+// Returns the change of the volume row's right-hand side, sum dP' (a . s), so the reported
+// residual is that of the corrected system.
+double correct_volume(const TissueModel& m, SimState& s, StepWorkspace& w) {
+  const int max_corr = m.solver.volume_corrections;
+  double c_shift = 0.0;
+  if (max_corr <= 0) return c_shift;
+  const NodeMat* response = nullptr;
+  for (int k = 0; k < max_corr; ++k) {
+    const double err = m.rest_volume - enclosed_volume(s.x, m.rest.triangles, m.origin);
+    if (std::abs(err) <= m.solver.volume_tolerance * m.rest_volume) return c_shift;
+    if (!response) response = &w.solver->pressure_response(w.K_masked, w.a_free);
+    distributed_area_vectors(s.x, m.rest.triangles, w.area_now);
+    double slope = 0.0;
+    for (int d = 0; d < 3; ++d) slope += w.area_now.col(d).dot(response->col(d));
+    if (!(slope > 0.0) || !std::isfinite(slope)) return c_shift;
+    const double dp = err / slope;
+    for (int d = 0; d < 3; ++d) c_shift += dp * w.a_free.col(d).dot(response->col(d));
+    s.u.noalias() += dp * *response;
+    s.x = m.rest.positions + s.u;
+    s.pressure += dp;
+  }
+  return c_shift;
+}
+
+}  // namespace
+
+void StepInput::clear() {
+  force.setZero();
+  pressure.setZero();
+  prescribed.setZero();
+  prescribed_u.setZero();
+}
+
+StepInput make_step_input(const TissueModel& m) {
+  StepInput in;
+  in.force = NodeMat::Zero(m.n, 3);
+  in.pressure = Vec();
+  in.prescribed = FlagMat::Zero(m.n, 3);
+  in.prescribed_u = NodeMat::Zero(m.n, 3);
+  return in;
+}
+
+SimState::SimState() = default;
+SimState::~SimState() = default;
+SimState::SimState(SimState&&) noexcept = default;
+SimState& SimState::operator=(SimState&&) noexcept = default;
+
+SimState make_sim_state(const TissueModel& m) {
+  SimState s;
+  const int n = m.n;
+  s.u = NodeMat::Zero(n, 3);
+  s.x = m.rest.positions;
+  s.velocity = NodeMat::Zero(n, 3);
+  s.area_vectors = NodeMat::Zero(n, 3);
+  s.node_volumes = Vec::Zero(n);
+  s.volume = m.rest_volume;
+  s.reaction = NodeMat::Zero(n, 3);
+  s.reaction_pressure = Vec::Zero(n);
+  s.strain = NodeMat::Zero(n, 3);
+  s.stress = NodeMat::Zero(n, 3);
+  s.warnings.reserve(64);
+  auto w = std::make_unique<StepWorkspace>();
+  for (auto& k : w->K) k = m.pattern.matrix;
+  for (auto& k : w->K_masked) k = m.pattern.matrix;
+  w->mask = FlagMat::Zero(n, 3);
+  w->last_mask = FlagMat::Constant(n, 3, 2);  // never equal: the first step builds K_masked
+  w->u_fixed = NodeMat::Zero(n, 3);
+  w->a_free = NodeMat::Zero(n, 3);
+  w->force = NodeMat::Zero(n, 3);
+  w->rhs = NodeMat::Zero(n, 3);
+  w->u_start = NodeMat::Zero(n, 3);
+  w->u_new = NodeMat::Zero(n, 3);
+  w->area_now = NodeMat::Zero(n, 3);
+  if (m.use_inertia) w->extra_diagonal = Vec::Zero(n);
+  w->scratch = Vec::Zero(n);
+  w->solver = make_linear_solver(m.solver);
+  w->solver->analyze(m.pattern.matrix);
+  s.work = std::move(w);
+  return s;
+}
+
+void step(const TissueModel& m, const StepInput& in, SimState& s) {
+  const auto t_step = Clock::now();
+  StepWorkspace& w = *s.work;
+  StepStats& st = s.stats;
+  st.iterations = 0;
+  st.converged = true;
+  st.nonlinear_iterations = 0;
+  st.refreshed = false;
+  st.factorizations = 0;
+  st.assemble_ms = st.solve_ms = 0;
+  w.u_start = s.u;
+  double current_volume = 0.0;
+  double last_c = 0.0;
+
+  const int max_it = m.solver.nonlinear_iterations;
+  for (int it = 0; it < max_it; ++it) {
+    const auto t_asm = Clock::now();
+    const bool refresh = !w.have_geometry || it > 0 || w.steps_since_refresh >= m.solver.refresh_every;
+    if (refresh) {
+      refresh_geometry(m, s, w);
+      st.refreshed = true;
+      ++st.total_refreshes;
+    }
+    current_volume = enclosed_volume(s.x, m.rest.triangles, m.origin);
+
+    build_constraints(m, in, w);
+    if (w.matrix_dirty || w.mask != w.last_mask) {
+      for (int d = 0; d < 3; ++d) mask_constrained(w.K[d], w.mask.col(d).data(), w.K_masked[d]);
+      w.a_free = s.area_vectors;
+      for (int d = 0; d < 3; ++d)
+        for (int i = 0; i < m.n; ++i)
+          if (w.mask(i, d)) w.a_free(i, d) = 0.0;
+      w.solver->matrices_changed(w.K_masked);
+      w.last_mask = w.mask;
+      w.matrix_dirty = false;
+    }
+    build_loads(m, in, s, w);
+    for (int d = 0; d < 3; ++d)
+      eliminate_rhs(w.K[d], w.mask.col(d).data(), w.force.col(d).data(), w.u_fixed.col(d).data(),
+                    w.rhs.col(d).data());
+    // Eq (11) as a Newton step on the exact volume: a.u^{n+1} = V_0 - V(x^n) + a.u^n,
+    // with the constrained part moved to the right.
+    double c = m.rest_volume - current_volume;
+    for (int d = 0; d < 3; ++d) {
+      c += s.area_vectors.col(d).dot(s.u.col(d));
+      for (int i = 0; i < m.n; ++i)
+        if (w.mask(i, d)) c -= s.area_vectors(i, d) * w.u_fixed(i, d);
+    }
+    last_c = c;
+    st.assemble_ms += ms_since(t_asm);
+
+    const auto t_solve = Clock::now();
+    w.u_new = s.u;
+    const SolveReport rep =
+        w.solver->solve(w.K_masked, w.rhs, w.a_free, c, m.volume_constraint, w.u_new, s.pressure);
+    st.solve_ms += ms_since(t_solve);
+    st.iterations += rep.iterations;
+    st.factorizations += rep.factorizations;
+    st.converged = st.converged && rep.converged;
+    ++st.nonlinear_iterations;
+
+    if (!w.u_new.allFinite() || !std::isfinite(s.pressure)) {
+      // Numerical failure: keep the last good state and say so (issue 7 adds fallbacks).
+      add_warning(s, "solver produced a non-finite displacement; step rejected");
+      st.converged = false;
+      s.u = w.u_start;
+      s.pressure = 0.0;
+      s.x = m.rest.positions + s.u;
+      break;
+    }
+    const double du = (w.u_new - s.u).cwiseAbs().maxCoeff();
+    s.u = w.u_new;
+    s.x = m.rest.positions + s.u;
+    if (m.volume_constraint) last_c += correct_volume(m, s, w);
+    if (it + 1 < max_it && du <= m.solver.nonlinear_tolerance * m.size) break;
+  }
+  ++w.steps_since_refresh;
+  st.total_factorizations += st.factorizations;
+  if (!st.converged) add_warning(s, "a linear solve did not reach its tolerance");
+
+  // Results: volume, reactions at constrained entries, contact pressure, strain and stress.
+  s.volume = enclosed_volume(s.x, m.rest.triangles, m.origin);
+  s.volume_rel_error = (s.volume - m.rest_volume) / m.rest_volume;
+  // True residual of the last solve's eliminated 3N+1 system (volume row scaled like the
+  // reference solver's), and the reactions on the unmasked system.
+  const double alpha = pressure_scale(w.K_masked, w.a_free);
+  double res2 = 0.0, rhs2 = 0.0, vol_row = -last_c;
+  for (int d = 0; d < 3; ++d) {
+    symmetric_multiply(w.K_masked[d], s.u.col(d).data(), w.scratch.data());
+    w.scratch.noalias() -= s.pressure * w.a_free.col(d) + w.rhs.col(d);
+    res2 += w.scratch.squaredNorm();
+    rhs2 += w.rhs.col(d).squaredNorm();
+    vol_row += w.a_free.col(d).dot(s.u.col(d));
+    symmetric_multiply(w.K[d], s.u.col(d).data(), w.scratch.data());
+    for (int i = 0; i < m.n; ++i)
+      s.reaction(i, d) =
+          w.mask(i, d) ? w.scratch[i] - s.pressure * s.area_vectors(i, d) - w.force(i, d) : 0.0;
+  }
+  if (m.volume_constraint) {
+    res2 += alpha * alpha * vol_row * vol_row;
+    rhs2 += alpha * alpha * last_c * last_c;
+  }
+  st.residual = rhs2 > 0 ? std::sqrt(res2 / rhs2) : std::sqrt(res2);
+  for (int i = 0; i < m.n; ++i) {
+    const double a = s.area_vectors.row(i).norm();
+    s.reaction_pressure[i] = a > 0 ? s.reaction.row(i).norm() / a : 0.0;
+  }
+  compute_strain_stress(m, s);
+  s.velocity = (s.u - w.u_start) / m.dt;
+  ++s.step;
+  s.time += m.dt;
+  st.step_ms = ms_since(t_step);
+}
+
+}  // namespace vdm

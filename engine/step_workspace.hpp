@@ -1,0 +1,31 @@
+#pragma once
+// Engine-internal per-run scratch owned by SimState: matrices, constraint masks, loads and the
+// chosen linear solver. Sized once in make_sim_state(); step() allocates nothing after that.
+#include <array>
+#include <memory>
+
+#include "engine/linear_solver.hpp"
+#include "engine/sim_state.hpp"
+
+namespace vdm {
+
+struct StepWorkspace {
+  std::array<SpMat, 3> K;         // per-axis K^d at the last refresh (unmasked)
+  std::array<SpMat, 3> K_masked;  // with constrained rows/columns eliminated
+  FlagMat mask, last_mask;        // constrained entries this step / when K_masked was built
+  NodeMat u_fixed;                // values of constrained entries (m)
+  NodeMat a_free;                 // area vectors, zero on constrained entries
+  NodeMat force;                  // total load f this step (N)
+  NodeMat rhs;                    // eliminated right-hand side
+  NodeMat u_start;                // u at the start of the step
+  NodeMat u_new;                  // solver output
+  NodeMat area_now;               // area vectors at the current iterate (volume corrections)
+  Vec extra_diagonal;             // inertia M/h^2 + D/h (empty without inertia)
+  Vec scratch;                    // N
+  std::unique_ptr<LinearSolver> solver;
+  bool matrix_dirty = true;       // K changed since K_masked was built
+  bool have_geometry = false;     // a refresh has happened
+  int steps_since_refresh = 0;
+};
+
+}  // namespace vdm

@@ -1,0 +1,13 @@
+#pragma once
+// Per-axis strain and stress (vdm-model.md section 7, paper eqs 5-6).
+#include "engine/sim_state.hpp"
+
+namespace vdm {
+
+// eps_i^d   = dV_i^d / V_i with dV_i^d = A_i^d u_i^d
+// sigma_i^d = B_i^d eps_i^d + sum_j B_ij (dV_i^d - dV_j^d) / V_i   (Pa)
+// For an infinite B_i^d the bulk term is the constraint force over the patch area,
+// -reaction_i^d / A_i^d: the same quantity, B eps = bulk force / A^d, for a finite B.
+void compute_strain_stress(const TissueModel& model, SimState& state);
+
+}  // namespace vdm

@@ -1,0 +1,120 @@
+#include "engine/tissue_model.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include "engine/geometry.hpp"
+#include "engine/mesh_topology.hpp"
+
+namespace vdm {
+
+const char* to_string(SolverMethod m) {
+  switch (m) {
+    case SolverMethod::reference: return "reference";
+    case SolverMethod::structured: return "structured";
+    case SolverMethod::direct: return "direct";
+  }
+  return "unknown";
+}
+
+bool parse_solver_method(const std::string& text, SolverMethod& out) {
+  if (text == "reference" || text == "bicgstab") out = SolverMethod::reference;
+  else if (text == "structured" || text == "cg") out = SolverMethod::structured;
+  else if (text == "direct" || text == "cholesky") out = SolverMethod::direct;
+  else return false;
+  return true;
+}
+
+TissueDef default_tissue(SurfaceMesh mesh) {
+  TissueDef def;
+  def.mesh = std::move(mesh);
+  return def;
+}
+
+bool build_tissue_model(const TissueDef& def, TissueModel& m, std::string& error) {
+  std::ostringstream err;
+  const int n = def.mesh.node_count();
+  if (n < 4 || def.mesh.triangle_count() < 4) {
+    error = "the organ surface needs at least 4 nodes and 4 triangles";
+    return false;
+  }
+  const bool per_node = def.bulk_modulus.rows() > 0;
+  if (per_node && def.bulk_modulus.rows() != n) {
+    err << "bulk_modulus has " << def.bulk_modulus.rows() << " rows for " << n << " nodes";
+    error = err.str();
+    return false;
+  }
+  if (def.fixed.rows() != 0 && def.fixed.rows() != n) {
+    err << "fixed has " << def.fixed.rows() << " rows for " << n << " nodes";
+    error = err.str();
+    return false;
+  }
+  if (!(def.connectivity_modulus >= 0) || !std::isfinite(def.connectivity_modulus)) {
+    error = "connectivity_modulus must be finite and >= 0";
+    return false;
+  }
+  if (!(def.density > 0) || !std::isfinite(def.density)) {
+    error = "density must be finite and > 0";
+    return false;
+  }
+  if (!(def.dt > 0) || !std::isfinite(def.dt)) {
+    error = "dt must be finite and > 0";
+    return false;
+  }
+  if (!def.gravity.allFinite()) {
+    error = "gravity must be finite";
+    return false;
+  }
+  const SolverSettings& s = def.solver;
+  if (!(s.tolerance > 0 && s.tolerance < 1) || s.max_iterations < 1 || s.refresh_every < 1 ||
+      s.nonlinear_iterations < 1 || !(s.nonlinear_tolerance >= 0)) {
+    error = "solver settings out of range (tolerance in (0,1), max_iterations >= 1, "
+            "refresh_every >= 1, nonlinear_iterations >= 1)";
+    return false;
+  }
+
+  m = TissueModel();
+  m.rest = def.mesh;
+  m.n = n;
+  m.edges = unique_edges(def.mesh.triangles);
+  m.origin = def.mesh.positions.colwise().mean().transpose();
+  m.rest_volume = enclosed_volume(def.mesh.positions, def.mesh.triangles, m.origin);
+  m.rest_area = surface_area(def.mesh.positions, def.mesh.triangles);
+  m.size = (def.mesh.positions.colwise().maxCoeff() - def.mesh.positions.colwise().minCoeff()).norm();
+  if (!(m.rest_volume > 0)) {
+    error = "the organ surface encloses no positive volume (not closed, or inward)";
+    return false;
+  }
+  m.bulk.resize(n, 3);
+  m.infinite = FlagMat::Zero(n, 3);
+  m.held = def.fixed.rows() ? def.fixed : FlagMat::Zero(n, 3);
+  for (int i = 0; i < n; ++i)
+    for (int d = 0; d < 3; ++d) {
+      const double b = per_node ? def.bulk_modulus(i, d) : def.bulk;
+      if (std::isinf(b) && b > 0) {
+        m.bulk(i, d) = 0.0;
+        m.infinite(i, d) = 1;
+        m.held(i, d) = 1;
+      } else if (!(b > 0) || !std::isfinite(b)) {
+        err << "bulk modulus of node " << i << " axis " << "xyz"[d] << " is " << b
+            << "; it must be > 0 (or inf)";
+        error = err.str();
+        return false;
+      } else {
+        m.bulk(i, d) = b;
+      }
+    }
+  m.connectivity_modulus = def.connectivity_modulus;
+  m.density = def.density;
+  m.gravity = def.gravity;
+  m.use_gravity = def.use_gravity;
+  m.volume_constraint = def.volume_constraint;
+  m.use_inertia = def.use_inertia;
+  m.damping = def.damping;
+  m.dt = def.dt;
+  m.solver = def.solver;
+  m.pattern = build_stiffness_pattern(n, m.edges);
+  return true;
+}
+
+}  // namespace vdm

@@ -1,0 +1,64 @@
+#pragma once
+// TissueModel: everything about an organ that does not change during a run (MuJoCo's
+// mjModel): rest surface, moduli, constraints, settings and the fixed sparsity pattern.
+// Built once from a TissueDef; read-only afterwards.
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "engine/settings.hpp"
+#include "engine/sparse.hpp"
+#include "engine/types.hpp"
+
+namespace vdm {
+
+using FlagMat = Eigen::Matrix<std::uint8_t, Eigen::Dynamic, 3>;  // N x 3 per-axis flags
+
+struct TissueDef {
+  SurfaceMesh mesh;                     // closed, outward; metres
+  NodeMat bulk_modulus;                 // N x 3 per-node per-axis B_i^d (Pa); +inf allowed
+                                        // (a constraint u_i^d = 0). Empty: use `bulk`.
+  double bulk = 20000.0;                // uniform B (Pa) when bulk_modulus is empty
+  double connectivity_modulus = 2000.0; // B_ij (Pa), eq (4)
+  double density = 1060.0;              // kg/m^3
+  Vec3 gravity = Vec3(0, 0, -9.81);     // m/s^2, used when `use_gravity`
+  bool use_gravity = false;             // hydrostatic load, eq (9)
+  bool volume_constraint = true;        // eq (11): the uniform pressure unknown
+  bool use_inertia = false;             // section 8: implicit Euler, lumped mass rho V_i
+  double damping = 0.0;                 // mass-proportional damping (1/s), with inertia
+  double dt = 1.0 / 30.0;               // step (s): used by inertia and for time stamps
+  FlagMat fixed;                        // N x 3: 1 = u_i^d held at 0. Empty: none.
+  SolverSettings solver;
+};
+
+// Returns a definition for `mesh` with uniform moduli and no constraints.
+TissueDef default_tissue(SurfaceMesh mesh);
+
+struct TissueModel {
+  SurfaceMesh rest;                      // rest surface X (m)
+  int n = 0;                             // nodes
+  std::vector<std::array<int, 2>> edges; // unique edges (i < j)
+  Vec3 origin;                           // rest centroid, reference point for volumes
+  double rest_volume = 0;                // V_0 (m^3)
+  double rest_area = 0;                  // m^2
+  double size = 0;                       // bounding-box diagonal (m), a length scale
+  NodeMat bulk;                          // N x 3 B_i^d (Pa); entries that are inf are 0 here
+  FlagMat infinite;                      // N x 3: B_i^d = inf, handled as u_i^d = 0
+  FlagMat held;                          // N x 3: fixed or infinite: always constrained
+  double connectivity_modulus = 0;
+  double density = 0;
+  Vec3 gravity = Vec3::Zero();
+  bool use_gravity = false;
+  bool volume_constraint = true;
+  bool use_inertia = false;
+  double damping = 0;
+  double dt = 0;
+  SolverSettings solver;
+  StiffnessPattern pattern;              // fixed sparsity of every K^d
+};
+
+// Builds the model; on a bad definition returns false and explains why in `error`.
+bool build_tissue_model(const TissueDef& def, TissueModel& model, std::string& error);
+
+}  // namespace vdm
