@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <sstream>
 #include <vector>
@@ -40,6 +41,49 @@ void collect(const aiScene* scene, const aiNode* node, const aiMatrix4x4& parent
     collect(scene, node->mChildren[c], world, points, tris, non_triangles);
 }
 
+// PLY headers declare element counts up front; assimp trusts them and would try to read
+// billions of vertices from a small file. Refuse a header whose counts cannot fit the file
+// (each property takes at least 2 bytes in ASCII, 1 in binary). Returns "" when fine.
+std::string check_ply_header(const std::string& path, std::uintmax_t file_bytes) {
+  std::ifstream f(path, std::ios::binary);
+  std::string line;
+  if (!std::getline(f, line) || line.rfind("ply", 0) != 0) return "";
+  bool ascii = false;
+  long double needed = 0;
+  std::string element;
+  long double count = 0;
+  int props = 0;
+  auto flush = [&] { needed += count * props * (ascii ? 2 : 1); };
+  for (int lines = 0; std::getline(f, line) && lines < 10000; ++lines) {
+    std::istringstream ls(line);
+    std::string word;
+    ls >> word;
+    if (word == "format") {
+      std::string fmt;
+      ls >> fmt;
+      ascii = fmt == "ascii";
+    } else if (word == "element") {
+      flush();
+      ls >> element >> count;
+      props = 0;
+      if (!ls || count < 0) return "malformed PLY element line '" + line + "'";
+    } else if (word == "property") {
+      ++props;
+    } else if (word == "end_header") {
+      flush();
+      const auto header_end = static_cast<long double>(f.tellg());
+      if (needed > static_cast<long double>(file_bytes) - header_end) {
+        std::ostringstream m;
+        m << "the PLY header declares more data (at least " << static_cast<unsigned long long>(needed)
+          << " bytes) than the file holds (" << file_bytes << " bytes): truncated or corrupt";
+        return m.str();
+      }
+      return "";
+    }
+  }
+  return "PLY header has no end_header line";
+}
+
 }  // namespace
 
 MeshLoadResult load_surface_mesh(const std::string& path, const MeshLoadOptions& opt) {
@@ -60,6 +104,9 @@ MeshLoadResult load_surface_mesh(const std::string& path, const MeshLoadOptions&
     s << "the file is " << bytes << " bytes, more than the limit of " << opt.max_file_bytes;
     return fail(s.str());
   }
+
+  const std::string ply_problem = check_ply_header(path, bytes);
+  if (!ply_problem.empty()) return fail(ply_problem);
 
   Assimp::Importer importer;
   // Keep only positions and faces; weld identical vertices; do not let assimp "repair"

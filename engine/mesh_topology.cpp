@@ -144,28 +144,37 @@ MeshCheck check_and_orient_surface(SurfaceMesh& mesh) {
   std::sort(half.begin(), half.end(), [](const HalfEdge& p, const HalfEdge& q) {
     return p.lo != q.lo ? p.lo < q.lo : (p.hi != q.hi ? p.hi < q.hi : p.tri < q.tri);
   });
+  // Report the worst class first: non-manifold, then holes, then orientation.
+  size_t open_at = half.size(), flip_at = half.size();
   for (size_t s = 0; s < half.size();) {
     size_t e = s;
     while (e < half.size() && half[e].lo == half[s].lo && half[e].hi == half[s].hi) ++e;
     const size_t uses = e - s;
-    std::ostringstream m;
-    if (uses == 1) {
-      m << "edge (" << half[s].lo << ", " << half[s].hi << ") of triangle " << half[s].tri
-        << " belongs to no other triangle: the surface has a hole at " << point_str(x, half[s].lo);
-      return fail(MeshProblem::open_boundary, m.str());
-    }
     if (uses > 2) {
+      std::ostringstream m;
       m << "edge (" << half[s].lo << ", " << half[s].hi << ") is shared by " << uses
         << " triangles (" << half[s].tri << ", " << half[s + 1].tri << ", " << half[s + 2].tri
         << "); a surface edge must have exactly two";
       return fail(MeshProblem::non_manifold_edge, m.str());
     }
-    if (half[s].forward == half[s + 1].forward) {
-      m << "triangles " << half[s].tri << " and " << half[s + 1].tri << " traverse their shared edge ("
-        << half[s].lo << ", " << half[s].hi << ") in the same direction: orientation is inconsistent";
-      return fail(MeshProblem::inconsistent_orientation, m.str());
-    }
+    if (uses == 1 && open_at == half.size()) open_at = s;
+    if (uses == 2 && half[s].forward == half[s + 1].forward && flip_at == half.size()) flip_at = s;
     s = e;
+  }
+  if (open_at < half.size()) {
+    const HalfEdge& h = half[open_at];
+    std::ostringstream m;
+    m << "edge (" << h.lo << ", " << h.hi << ") of triangle " << h.tri
+      << " belongs to no other triangle: the surface has a hole at " << point_str(x, h.lo);
+    return fail(MeshProblem::open_boundary, m.str());
+  }
+  if (flip_at < half.size()) {
+    const HalfEdge& h = half[flip_at];
+    std::ostringstream m;
+    m << "triangles " << h.tri << " and " << half[flip_at + 1].tri
+      << " traverse their shared edge (" << h.lo << ", " << h.hi
+      << ") in the same direction: orientation is inconsistent";
+    return fail(MeshProblem::inconsistent_orientation, m.str());
   }
 
   // Each node's one-ring must be a single fan (otherwise two sheets touch at a point).

@@ -8,8 +8,58 @@ namespace {
 
 TEST(Geometry, BoxVolumeAndAreaAreExact) {
   const SurfaceMesh box = make_box(Vec3(0.2, 0.3, 0.5), 3, 4, 5);
-  EXPECT_NEAR(enclosed_volume(box.positions, box.triangles, Vec3(1, 2, 3)), 0.03, 1e-15);
+  EXPECT_NEAR(enclosed_volume(box.positions, box.triangles, Vec3(1, 2, 3)), 0.03, 1e-14);
   EXPECT_NEAR(surface_area(box.positions, box.triangles), 2 * (0.06 + 0.1 + 0.15), 1e-14);
+}
+
+TEST(Geometry, SphereVolumeConvergesToAnalytic) {
+  const double r = 0.05, exact = 4.0 / 3.0 * M_PI * r * r * r;
+  double prev_err = 1.0;
+  for (int level = 1; level <= 4; ++level) {
+    const SurfaceMesh s = make_icosphere(r, level);
+    const double err = std::abs(enclosed_volume(s.positions, s.triangles, Vec3::Zero()) - exact) / exact;
+    EXPECT_LT(err, prev_err / 3.0) << "level " << level;  // second order: ~4x per level
+    prev_err = err;
+  }
+  EXPECT_LT(prev_err, 3e-3);
+}
+
+TEST(Geometry, AreaVectorsSumToZeroOnClosedSurface) {
+  const SurfaceMesh s = make_uv_sphere(0.04, 9, 13);
+  NodeMat A(s.node_count(), 3);
+  distributed_area_vectors(s.positions, s.triangles, A);
+  EXPECT_LT(A.colwise().sum().norm(), 1e-15);
+  // Each A_i points outward on a sphere.
+  for (int i = 0; i < s.node_count(); ++i) EXPECT_GT(A.row(i).dot(s.positions.row(i)), 0.0);
+}
+
+TEST(Geometry, DistributedVolumesSumToVolume) {
+  const SurfaceMesh s = make_box(Vec3(0.1, 0.2, 0.3), 2, 5, 3);
+  NodeMat A(s.node_count(), 3);
+  distributed_area_vectors(s.positions, s.triangles, A);
+  Vec Vi(s.node_count());
+  const double V = enclosed_volume(s.positions, s.triangles, Vec3::Zero());
+  distributed_volumes(A, V, Vi);
+  EXPECT_NEAR(Vi.sum(), V, 1e-15);
+  EXPECT_GT(Vi.minCoeff(), 0.0);
+  // Proportional to |A_i|.
+  for (int i = 0; i < s.node_count(); ++i) EXPECT_NEAR(Vi[i] / A.row(i).norm(), V / A.rowwise().norm().sum(), 1e-12);
+}
+
+TEST(Geometry, AreaVectorsAreTheVolumeGradient) {
+  // sum_i A_i . dx_i is the first-order change of V (what makes the volume row exact).
+  const SurfaceMesh s = make_icosphere(0.05, 2);
+  NodeMat A(s.node_count(), 3);
+  distributed_area_vectors(s.positions, s.triangles, A);
+  const NodeMat dir = NodeMat::Random(s.node_count(), 3);
+  const double V0 = enclosed_volume(s.positions, s.triangles, Vec3::Zero());
+  const double h = 1e-6;
+  const NodeMat xp = s.positions + h * dir, xm = s.positions - h * dir;
+  const double fd = (enclosed_volume(xp, s.triangles, Vec3::Zero()) -
+                     enclosed_volume(xm, s.triangles, Vec3::Zero())) / (2 * h);
+  const double analytic = (A.array() * dir.array()).sum();
+  EXPECT_NEAR(fd, analytic, 1e-8 * std::abs(analytic) + 1e-14);
+  (void)V0;
 }
 
 }  // namespace
