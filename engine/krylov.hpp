@@ -97,20 +97,42 @@ KrylovResult bicgstab(const Op& op, const Pre& pre, const Vec& b, Vec& x, double
     res.relative_residual = rnorm / bnorm;
     return res;
   }
-  w.r0 = w.r;
   double rho = 1, alpha = 1, omega = 1;
-  w.v.setZero();
-  w.p.setZero();
+  int restarts = 0;
+  // (Re)start with the shadow residual r0 = r; a breakdown (r0 orthogonal to the new
+  // direction) restarts from the current iterate, a few times at most.
+  auto restart = [&] {
+    w.r0 = w.r;
+    rho = alpha = omega = 1;
+    w.v.setZero();
+    w.p.setZero();
+  };
+  restart();
   for (int it = 1; it <= max_iter; ++it) {
     const double rho_new = w.r0.dot(w.r);
-    if (rho_new == 0.0 || !std::isfinite(rho_new)) break;  // breakdown
+    if (!std::isfinite(rho_new)) break;
+    if (rho_new == 0.0) {
+      if (++restarts > 5) break;
+      restart();
+      continue;
+    }
     const double beta = (rho_new / rho) * (alpha / omega);
     rho = rho_new;
     w.p = w.r + beta * (w.p - omega * w.v);
     pre(w.p.data(), w.y.data());
     op(w.y.data(), w.v.data());
     const double r0v = w.r0.dot(w.v);
-    if (r0v == 0.0 || !std::isfinite(r0v)) break;
+    if (!std::isfinite(r0v)) break;
+    if (r0v == 0.0) {
+      if (++restarts > 5) break;
+      // Perturb the shadow residual: r0 = r + the preconditioned direction.
+      w.r0 = w.r + w.y;
+      rho = w.r0.dot(w.r);
+      alpha = omega = 1;
+      w.v.setZero();
+      w.p.setZero();
+      continue;
+    }
     alpha = rho / r0v;
     w.s.noalias() = w.r - alpha * w.v;
     res.iterations = it;

@@ -17,6 +17,7 @@ struct SolverSettings {
   SolverMethod method = SolverMethod::structured;
   double tolerance = 1e-8;       // relative residual of each linear solve
   int max_iterations = 2000;     // per Krylov solve
+  bool warm_start = true;        // start each Krylov solve from the previous step's solution
   int refresh_every = 1;         // recompute geometry and matrix every k steps (>= 1)
   int nonlinear_iterations = 1;  // max solves per step (1 = the paper's one update per step)
   double nonlinear_tolerance = 1e-10;  // stop iterating when max |du| < this x model size

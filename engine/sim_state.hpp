@@ -45,7 +45,8 @@ struct SimState {
   double volume = 0;       // current enclosed volume (m^3)
   double volume_rel_error = 0;  // (V - V_0) / V_0
   double pressure = 0;     // uniform fluid pressure change Delta P (Pa), eq (10)
-  NodeMat reaction;        // N x 3 constraint reactions K u - dP A - f (N), zero where free
+  NodeMat reaction;        // N x 3 force the constraints apply to the organ, K u - dP A - f (N);
+                           // zero where free. The organ pushes an instrument with -reaction.
   Vec reaction_pressure;   // N |reaction_i| / |A_i| (Pa): the contact pressure C_i
   NodeMat strain;          // N x 3 per-axis volumetric strain dV_i^d / V_i, eq (5)
   NodeMat stress;          // N x 3 per-axis stress (Pa), eq (6)

@@ -53,7 +53,9 @@ class ReferenceSolver final : public LinearSolver {
     s_valid_ = false;
   }
 
-  // Solves the assembled system with right-hand side [0; 1]: u = s / (a.s), so s = u / dP.
+  // Solves the assembled system with right-hand side [a; 1]: u = s (1 + dP), so s = u / (1 + dP).
+  // (The right-hand side [0; 1] would do too, but starts BiCGSTAB in a breakdown: the volume
+  // row has a zero diagonal.)
   const NodeMat& pressure_response(const std::array<SpMat, 3>& K, const NodeMat& a) override {
     if (s_valid_) return s_;
     if (dirty_ || !last_volume_constraint_) {
@@ -61,14 +63,15 @@ class ReferenceSolver final : public LinearSolver {
       dirty_ = false;
       last_volume_constraint_ = true;
     }
-    b_.setZero();
+    for (int d = 0; d < 3; ++d) b_.segment(d * n_, n_) = a.col(d);
     b_[3 * n_] = alpha_;
     ys_.setZero();
     bicgstab(op(), pre(), b_, ys_, settings_.tolerance, settings_.max_iterations, work_);
-    const double dP = alpha_ * ys_[3 * n_];
-    for (int d = 0; d < 3; ++d)
-      if (dP != 0.0) s_.col(d) = ys_.segment(d * n_, n_) / dP;
+    const double gain = 1.0 + alpha_ * ys_[3 * n_];
+    for (int d = 0; d < 3; ++d) {
+      if (gain != 0.0) s_.col(d) = ys_.segment(d * n_, n_) / gain;
       else s_.col(d).setZero();
+    }
     s_valid_ = true;
     return s_;
   }
@@ -86,8 +89,12 @@ class ReferenceSolver final : public LinearSolver {
     // Right-hand side and warm start (previous u, dP).
     for (int d = 0; d < 3; ++d) b_.segment(d * n_, n_) = rhs.col(d);
     b_[3 * n_] = volume_constraint ? alpha_ * c : 0.0;
-    for (int d = 0; d < 3; ++d) y_.segment(d * n_, n_) = u.col(d);
-    y_[3 * n_] = volume_constraint ? dP / alpha_ : 0.0;
+    if (settings_.warm_start) {
+      for (int d = 0; d < 3; ++d) y_.segment(d * n_, n_) = u.col(d);
+      y_[3 * n_] = volume_constraint ? dP / alpha_ : 0.0;
+    } else {
+      y_.setZero();
+    }
 
     const KrylovResult kr =
         bicgstab(op(), pre(), b_, y_, settings_.tolerance, settings_.max_iterations, work_);

@@ -60,14 +60,16 @@ class StructuredSolver final : public LinearSolver {
       auto pre = [&ic](const double* in, double* out) { ic.apply(in, out); };
       // r: warm start from the previous step's r (u - dP s when the pressure part is known).
       b_ = rhs.col(d);
-      x_ = r_.col(d);
+      if (settings_.warm_start) x_ = r_.col(d);
+      else x_.setZero();
       KrylovResult kr = pcg(op, pre, b_, x_, settings_.tolerance, settings_.max_iterations, work_);
       r_.col(d) = x_;
       rep.iterations += kr.iterations;
       rep.converged = rep.converged && kr.converged;
       if (volume_constraint && !s_valid_) {
         b_ = a.col(d);
-        x_ = s_.col(d);
+        if (settings_.warm_start) x_ = s_.col(d);
+        else x_.setZero();
         kr = pcg(op, pre, b_, x_, settings_.tolerance, settings_.max_iterations, work_);
         s_.col(d) = x_;
         rep.iterations += kr.iterations;

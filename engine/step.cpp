@@ -2,6 +2,7 @@
 #include <cmath>
 
 #include "engine/geometry.hpp"
+#include "engine/loads.hpp"
 #include "engine/sim_state.hpp"
 #include "engine/step_workspace.hpp"
 #include "engine/stiffness.hpp"
@@ -56,16 +57,7 @@ void build_loads(const TissueModel& m, const StepInput& in, SimState& s, StepWor
   else w.force.setZero();
   if (in.pressure.size() == m.n)
     for (int i = 0; i < m.n; ++i) w.force.row(i) -= in.pressure[i] * A.row(i);
-  if (m.use_gravity) {
-    const double g = m.gravity.norm();
-    if (g > 0) {
-      const Vec3 dir = m.gravity / g;
-      w.scratch.noalias() = s.x * dir;              // height along gravity
-      const double top = w.scratch.minCoeff();      // the highest node
-      for (int i = 0; i < m.n; ++i)
-        w.force.row(i) += m.density * g * (w.scratch[i] - top) * A.row(i);
-    }
-  }
+  if (m.use_gravity) add_hydrostatic_loads(m, s.x, A, w.scratch, w.force);
   if (m.use_inertia) {
     const double h = m.dt;
     for (int i = 0; i < m.n; ++i) {
@@ -229,6 +221,11 @@ void step(const TissueModel& m, const StepInput& in, SimState& s) {
       s.x = m.rest.positions + s.u;
       break;
     }
+    // Constrained entries take their prescribed values exactly (an iterative solve meets
+    // its identity rows only to tolerance).
+    for (int d = 0; d < 3; ++d)
+      for (int i = 0; i < m.n; ++i)
+        if (w.mask(i, d)) w.u_new(i, d) = w.u_fixed(i, d);
     const double du = (w.u_new - s.u).cwiseAbs().maxCoeff();
     s.u = w.u_new;
     s.x = m.rest.positions + s.u;

@@ -8,7 +8,7 @@
 #include "engine/shapes.hpp"
 #include "engine/sim_state.hpp"
 
-namespace vdm::testing {
+namespace vdm::scenario {
 
 inline TissueModel build(const TissueDef& def) {
   TissueModel m;
@@ -61,4 +61,4 @@ inline void move_end(const TissueModel& m, double length, const Vec3& delta, Ste
     }
 }
 
-}  // namespace vdm::testing
+}  // namespace vdm::scenario

@@ -1,0 +1,151 @@
+// The three solvers agree on every test scene, and warm starts pay off.
+#include <gtest/gtest.h>
+
+#include <functional>
+#include <limits>
+
+#include "support/scenarios.hpp"
+
+namespace vdm {
+namespace {
+
+using scenario::build;
+
+struct Scene {
+  std::string name;
+  std::function<TissueDef()> def;
+  std::function<void(const TissueModel&, int step, StepInput&)> load;
+  int steps;
+};
+
+std::vector<Scene> scenes() {
+  const double L = 0.1;
+  return {
+      {"cube_compression", [] { return scenario::cube_on_table(0.1, 5); },
+       [L](const TissueModel& m, int k, StepInput& in) { scenario::press_top(m, L, -0.003 * k, in); }, 10},
+      {"beam_stretch", [] { return scenario::clamped_beam(); },
+       [](const TissueModel& m, int k, StepInput& in) { scenario::move_end(m, 0.1, Vec3(0, 0.002 * k, 0), in); }, 10},
+      {"beam_bend", [] { return scenario::clamped_beam(); },
+       [](const TissueModel& m, int k, StepInput& in) { scenario::move_end(m, 0.1, Vec3(0.003 * k, 0, 0), in); }, 10},
+      {"anisotropic_cube",
+       [] {
+         TissueDef d = scenario::cube_on_table(0.1, 4);
+         const int n = d.mesh.node_count();
+         d.bulk_modulus = NodeMat::Constant(n, 3, 20000.0);
+         d.bulk_modulus.col(0).setConstant(std::numeric_limits<double>::infinity());
+         d.bulk_modulus.col(1).setConstant(5000.0);
+         return d;
+       },
+       [L](const TissueModel& m, int k, StepInput& in) { scenario::press_top(m, L, -0.004 * k, in); }, 6},
+      {"sphere_forces_gravity",
+       [] {
+         TissueDef d = default_tissue(make_icosphere(0.05, 3));
+         const int n = d.mesh.node_count();
+         d.fixed = FlagMat::Zero(n, 3);
+         for (int i = 0; i < n; ++i)
+           if (d.mesh.positions(i, 2) > 0.045) d.fixed.row(i).setOnes();
+         d.use_gravity = true;
+         return d;
+       },
+       [](const TissueModel& m, int k, StepInput& in) {
+         for (int i = 0; i < m.n; ++i)
+           if (m.rest.positions(i, 0) > 0.04) in.force.row(i) = 0.01 * k * Vec3(-1, 0.3, 0).transpose();
+       },
+       6},
+  };
+}
+
+class SolversAgree : public ::testing::TestWithParam<Scene> {};
+
+TEST_P(SolversAgree, OnEveryStep) {
+  const Scene& sc = GetParam();
+  std::vector<TissueModel> models;
+  std::vector<SimState> states;
+  for (SolverMethod method : {SolverMethod::reference, SolverMethod::structured, SolverMethod::direct}) {
+    TissueDef d = sc.def();
+    d.solver.method = method;
+    d.solver.tolerance = 1e-11;
+    models.push_back(build(d));
+  }
+  for (const auto& m : models) states.push_back(make_sim_state(m));
+  StepInput in = make_step_input(models[0]);
+  for (int k = 1; k <= sc.steps; ++k) {
+    sc.load(models[0], k, in);
+    for (size_t s = 0; s < models.size(); ++s) step(models[s], in, states[s]);
+    const double umax = states[2].u.cwiseAbs().maxCoeff();
+    ASSERT_GT(umax, 0.0);
+    for (size_t s = 0; s < 2; ++s) {
+      EXPECT_LT((states[s].u - states[2].u).cwiseAbs().maxCoeff(), 1e-7 * umax)
+          << to_string(models[s].solver.method) << " vs direct, step " << k;
+      EXPECT_NEAR(states[s].pressure, states[2].pressure, 1e-7 * std::abs(states[2].pressure) + 1e-9)
+          << to_string(models[s].solver.method) << " step " << k;
+      EXPECT_TRUE(states[s].stats.converged);
+      EXPECT_LT(states[s].stats.residual, 1e-9);
+    }
+    EXPECT_LT(states[2].stats.residual, 1e-9);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, SolversAgree, ::testing::ValuesIn(scenes()),
+                         [](const auto& info) { return info.param.name; });
+
+// Iterations per step for a slowly moving load on a sphere held at its base.
+std::vector<int> iterations_per_step(SolverMethod method, bool warm, int refresh_every) {
+  TissueDef d = default_tissue(make_icosphere(0.05, 3));
+  const int n = d.mesh.node_count();
+  d.fixed = FlagMat::Zero(n, 3);
+  for (int i = 0; i < n; ++i)
+    if (d.mesh.positions(i, 2) < -0.04) d.fixed.row(i).setOnes();
+  d.solver.method = method;
+  d.solver.tolerance = 1e-9;
+  d.solver.warm_start = warm;
+  d.solver.refresh_every = refresh_every;
+  const TissueModel m = build(d);
+  SimState s = make_sim_state(m);
+  StepInput in = make_step_input(m);
+  std::vector<int> its;
+  for (int k = 1; k <= 5; ++k) {
+    for (int i = 0; i < m.n; ++i)
+      if (m.rest.positions(i, 2) > 0.04) in.force.row(i) = Vec3(0.01, 0.0, -0.05 * (1 + 0.1 * k)).transpose();
+    step(m, in, s);
+    its.push_back(s.stats.iterations);
+  }
+  return its;
+}
+
+TEST(WarmStart, CutsIterationsAgainstAColdStartOnTheSameSteps) {
+  for (SolverMethod method : {SolverMethod::reference, SolverMethod::structured}) {
+    const std::vector<int> warm = iterations_per_step(method, true, 1);
+    const std::vector<int> cold = iterations_per_step(method, false, 1);
+    EXPECT_EQ(warm[0], cold[0]) << to_string(method) << ": the first step has nothing to start from";
+    for (size_t k = 1; k < warm.size(); ++k)
+      EXPECT_LT(warm[k], cold[k]) << to_string(method) << " step " << k + 1;
+  }
+}
+
+TEST(WarmStart, CountDropsAfterTheFirstStepWhileTheMatrixIsReused) {
+  for (SolverMethod method : {SolverMethod::reference, SolverMethod::structured}) {
+    const std::vector<int> its = iterations_per_step(method, true, 100);
+    for (size_t k = 1; k < its.size(); ++k)
+      EXPECT_LT(its[k], its[0]) << to_string(method) << ": step " << k + 1 << " took " << its[k]
+                                << " iterations, the first " << its[0];
+  }
+}
+
+TEST(DirectSolver, FactorizationIsReusedWhileTheMatrixIsUnchanged) {
+  TissueDef d = scenario::cube_on_table(0.1, 4, SolverMethod::direct);
+  d.solver.refresh_every = 3;
+  const TissueModel m = build(d);
+  SimState s = make_sim_state(m);
+  StepInput in = make_step_input(m);
+  std::vector<int> factorizations;
+  for (int k = 1; k <= 6; ++k) {
+    scenario::press_top(m, 0.1, -0.001 * k, in);  // same constrained set every step
+    step(m, in, s);
+    factorizations.push_back(s.stats.factorizations);
+  }
+  EXPECT_EQ(factorizations, (std::vector<int>{3, 0, 0, 3, 0, 0}));
+}
+
+}  // namespace
+}  // namespace vdm
