@@ -1,9 +1,9 @@
-// Direct solver: per-axis sparse LDL^T (AMD ordering, pattern analysed once), refactorised
+// Direct solver: per-axis sparse LDL^T (AMD ordering and symbolic analysis once), refactorised
 // only when the matrices change; the pressure solves s are reused until then.
-#include <Eigen/SparseCholesky>
 #include <cmath>
 
 #include "engine/linear_solver.hpp"
+#include "engine/sparse_ldlt.hpp"
 
 namespace vdm {
 namespace {
@@ -13,41 +13,39 @@ class DirectSolver final : public LinearSolver {
   explicit DirectSolver(const SolverSettings& s) : settings_(s) {}
 
   void analyze(const SpMat& pattern) override {
-    for (auto& f : ldlt_) f.analyzePattern(pattern);
+    for (auto& f : ldlt_) f.analyze(pattern);
     r_ = NodeMat::Zero(pattern.rows(), 3);
     s_ = NodeMat::Zero(pattern.rows(), 3);
   }
 
+  void matrices_changed(const std::array<SpMat, 3>& K) override {
+    factor_ok_ = true;
+    for (int d = 0; d < 3; ++d) factor_ok_ = ldlt_[d].factorize(K[d]) && factor_ok_;
+    s_valid_ = false;
+    pending_factorizations_ = 3;
+  }
+
   const NodeMat& pressure_response(const std::array<SpMat, 3>&, const NodeMat& a) override {
     if (!s_valid_) {
-      for (int d = 0; d < 3; ++d) s_.col(d) = ldlt_[d].solve(a.col(d));
+      for (int d = 0; d < 3; ++d) ldlt_[d].solve(a.col(d).data(), s_.col(d).data());
       s_valid_ = true;
     }
     return s_;
   }
 
-  void matrices_changed(const std::array<SpMat, 3>& K) override {
-    for (int d = 0; d < 3; ++d) ldlt_[d].factorize(K[d]);
-    s_valid_ = false;
-    pending_factorizations_ = 3;
-  }
-
-  SolveReport solve(const std::array<SpMat, 3>&, const NodeMat& rhs, const NodeMat& a, double c,
+  SolveReport solve(const std::array<SpMat, 3>& K, const NodeMat& rhs, const NodeMat& a, double c,
                     bool volume_constraint, NodeMat& u, double& dP) override {
     SolveReport rep;
     rep.factorizations = pending_factorizations_;
     pending_factorizations_ = 0;
-    for (int d = 0; d < 3; ++d) {
-      if (ldlt_[d].info() != Eigen::Success) rep.converged = false;
-      r_.col(d) = ldlt_[d].solve(rhs.col(d));
-      if (volume_constraint && !s_valid_) s_.col(d) = ldlt_[d].solve(a.col(d));
-    }
-    if (volume_constraint) s_valid_ = true;
+    rep.converged = factor_ok_;
+    for (int d = 0; d < 3; ++d) ldlt_[d].solve(rhs.col(d).data(), r_.col(d).data());
     dP = 0.0;
     if (volume_constraint) {
+      const NodeMat& s = pressure_response(K, a);
       double as = 0.0, ar = 0.0;
       for (int d = 0; d < 3; ++d) {
-        as += a.col(d).dot(s_.col(d));
+        as += a.col(d).dot(s.col(d));
         ar += a.col(d).dot(r_.col(d));
       }
       if (as > 0.0 && std::isfinite(as)) dP = (c - ar) / as;
@@ -59,9 +57,9 @@ class DirectSolver final : public LinearSolver {
 
  private:
   SolverSettings settings_;
-  Eigen::SimplicialLDLT<SpMat, Eigen::Lower, Eigen::AMDOrdering<int>> ldlt_[3];
+  SparseLdlt ldlt_[3];
   NodeMat r_, s_;
-  bool s_valid_ = false;
+  bool s_valid_ = false, factor_ok_ = true;
   int pending_factorizations_ = 0;
 };
 
