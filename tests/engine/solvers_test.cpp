@@ -55,6 +55,8 @@ std::vector<Scene> scenes() {
   };
 }
 
+void PrintTo(const Scene& s, std::ostream* os) { *os << s.name; }
+
 class SolversAgree : public ::testing::TestWithParam<Scene> {};
 
 TEST_P(SolversAgree, OnEveryStep) {

@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# Builds and runs the whole test suite: the normal build, then the same unit tests built with
+# AddressSanitizer and UndefinedBehaviorSanitizer (their own CMake configuration, build-asan/).
+# Usage: ./test.sh [--no-sanitizers]
+set -euo pipefail
+cd "$(dirname "$0")"
+jobs="$(nproc)"
+
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo > /dev/null
+cmake --build build -j "$jobs"
+ctest --test-dir build --output-on-failure -j "$jobs"
+
+if [ "${1:-}" != "--no-sanitizers" ]; then
+  echo "== sanitizers (address, undefined) =="
+  cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Debug -DVDMSIM_SANITIZE=ON > /dev/null
+  cmake --build build-asan -j "$jobs"
+  ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+    ctest --test-dir build-asan --output-on-failure -j "$jobs"
+fi
