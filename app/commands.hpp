@@ -9,6 +9,10 @@ int cmd_mesh_info(const std::string& path, double scale, std::ostream& out, std:
 int cmd_paper(const std::string& experiment, const std::string& out_dir, std::ostream& out,
               std::ostream& err);
 
+// Meshes the project's liver at icosphere `level` and writes it as OBJ to `out_path`.
+int cmd_make_organ(const std::string& organ, int level, const std::string& out_path, std::ostream& out,
+                   std::ostream& err);
+
 // Creates `dir` (and parents) and checks it can be written; false with a message otherwise.
 bool prepare_output_dir(const std::string& dir, std::string& error);
 

@@ -25,6 +25,13 @@ int main(int argc, char** argv) {
   paper->add_option("EXPERIMENT", experiment, "cube-stress | anisotropy | all")->required();
   paper->add_option("--out", out_dir, "Output folder")->required();
 
+  std::string organ = "liver", organ_out;
+  int organ_level = 4;
+  auto* make_organ = app.add_subcommand("make-organ", "Generate the project's organ mesh (OBJ, metres)");
+  make_organ->add_option("ORGAN", organ, "Organ to generate: liver")->required();
+  make_organ->add_option("--level", organ_level, "Subdivision level: 4, 5, 6 give 2562, 10242, 40962 nodes");
+  make_organ->add_option("--out", organ_out, "Output OBJ file")->required();
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -37,6 +44,7 @@ int main(int argc, char** argv) {
   }
   try {
     if (mesh_info->parsed()) return vdmsim::cmd_mesh_info(mesh_path, mesh_scale, std::cout, std::cerr);
+    if (make_organ->parsed()) return vdmsim::cmd_make_organ(organ, organ_level, organ_out, std::cout, std::cerr);
     if (paper->parsed()) return vdmsim::cmd_paper(experiment, out_dir, std::cout, std::cerr);
   } catch (const std::exception& e) {
     std::cerr << "vdmsim: error: " << e.what() << "\n";

@@ -1,10 +1,14 @@
 #include "app/mesh_io.hpp"
 
+#include "app/obj_reader.hpp"
+
 #include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
 #include <array>
+#include <cctype>
+#include <cstdio>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -108,36 +112,40 @@ MeshLoadResult load_surface_mesh(const std::string& path, const MeshLoadOptions&
   const std::string ply_problem = check_ply_header(path, bytes);
   if (!ply_problem.empty()) return fail(ply_problem);
 
-  Assimp::Importer importer;
-  // Keep only positions and faces; weld identical vertices; do not let assimp "repair"
-  // degenerate triangles: the checks below name them instead.
-  importer.SetPropertyInteger(AI_CONFIG_PP_RVC_FLAGS,
-                              aiComponent_NORMALS | aiComponent_TANGENTS_AND_BITANGENTS |
-                                  aiComponent_COLORS | aiComponent_TEXCOORDS |
-                                  aiComponent_BONEWEIGHTS | aiComponent_ANIMATIONS |
-                                  aiComponent_TEXTURES | aiComponent_LIGHTS |
-                                  aiComponent_CAMERAS | aiComponent_MATERIALS);
-  const aiScene* scene = importer.ReadFile(
-      path, aiProcess_RemoveComponent | aiProcess_Triangulate | aiProcess_JoinIdenticalVertices);
-  if (!scene || !scene->mRootNode) {
-    std::string why = importer.GetErrorString();
-    if (why.empty()) why = "unknown reason";
-    return fail("could not read the mesh (" + why + ")");
-  }
   std::vector<vdm::Vec3> points;
   std::vector<std::array<int, 3>> tris;
-  int non_triangles = 0;
-  collect(scene, scene->mRootNode, aiMatrix4x4(), points, tris, non_triangles);
-  if (tris.empty()) return fail("the file holds no triangles");
-  for (size_t i = 0; i < points.size(); ++i)
-    if (!points[i].allFinite()) {
-      std::ostringstream s;
-      s << "non-finite coordinate: vertex " << i << " is (" << points[i].x() << ", "
-        << points[i].y() << ", " << points[i].z() << ")";
-      out.problem = vdm::MeshProblem::non_finite;
-      return fail(s.str());
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext == ".obj") {
+    // OBJ directly: file order and double precision kept (node indices in scenes refer to it).
+    vdm::SurfaceMesh raw;
+    std::string why;
+    if (!read_obj(path, raw, why)) return fail(why);
+    points.resize(static_cast<size_t>(raw.node_count()));
+    for (int i = 0; i < raw.node_count(); ++i) points[i] = raw.positions.row(i).transpose();
+    tris.resize(static_cast<size_t>(raw.triangle_count()));
+    for (int k = 0; k < raw.triangle_count(); ++k) tris[k] = {raw.triangles(k, 0), raw.triangles(k, 1), raw.triangles(k, 2)};
+  } else {
+    Assimp::Importer importer;
+    // Keep only positions and faces; weld identical vertices; do not let assimp "repair"
+    // degenerate triangles: the checks below name them instead.
+    importer.SetPropertyInteger(AI_CONFIG_PP_RVC_FLAGS,
+                                aiComponent_NORMALS | aiComponent_TANGENTS_AND_BITANGENTS |
+                                    aiComponent_COLORS | aiComponent_TEXCOORDS |
+                                    aiComponent_BONEWEIGHTS | aiComponent_ANIMATIONS |
+                                    aiComponent_TEXTURES | aiComponent_LIGHTS |
+                                    aiComponent_CAMERAS | aiComponent_MATERIALS);
+    const aiScene* scene = importer.ReadFile(
+        path, aiProcess_RemoveComponent | aiProcess_Triangulate | aiProcess_JoinIdenticalVertices);
+    if (!scene || !scene->mRootNode) {
+      std::string why = importer.GetErrorString();
+      if (why.empty()) why = "unknown reason";
+      return fail("could not read the mesh (" + why + ")");
     }
-
+    int non_triangles = 0;
+    collect(scene, scene->mRootNode, aiMatrix4x4(), points, tris, non_triangles);
+  }
+  if (tris.empty()) return fail("the file holds no triangles");
   // Weld nodes at exactly the same position: separate meshes or per-corner attributes
   // duplicate them, and the surface must be one connected node set.
   std::map<std::array<double, 3>, int> index_of;
@@ -172,6 +180,32 @@ MeshLoadResult load_surface_mesh(const std::string& path, const MeshLoadOptions&
   }
   out.ok = true;
   return out;
+}
+
+bool save_obj(const vdm::SurfaceMesh& mesh, const std::string& path, const std::string& header,
+              std::string& error) {
+  std::ofstream f(path);
+  if (!f) {
+    error = path + ": cannot open for writing";
+    return false;
+  }
+  std::istringstream lines(header);
+  for (std::string line; std::getline(lines, line);) f << "# " << line << '\n';
+  char buf[128];
+  for (int i = 0; i < mesh.node_count(); ++i) {
+    std::snprintf(buf, sizeof buf, "v %.9g %.9g %.9g\n", mesh.positions(i, 0), mesh.positions(i, 1),
+                  mesh.positions(i, 2));
+    f << buf;
+  }
+  for (int k = 0; k < mesh.triangle_count(); ++k)
+    f << "f " << mesh.triangles(k, 0) + 1 << ' ' << mesh.triangles(k, 1) + 1 << ' '
+      << mesh.triangles(k, 2) + 1 << '\n';
+  f.flush();
+  if (!f) {
+    error = path + ": write failed (disk full?)";
+    return false;
+  }
+  return true;
 }
 
 }  // namespace vdmsim

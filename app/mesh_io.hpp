@@ -26,4 +26,9 @@ struct MeshLoadOptions {
 
 MeshLoadResult load_surface_mesh(const std::string& path, const MeshLoadOptions& options = {});
 
+// Writes a Wavefront OBJ (positions and triangles, full precision). False with a message
+// naming the file on failure.
+bool save_obj(const vdm::SurfaceMesh& mesh, const std::string& path, const std::string& header,
+              std::string& error);
+
 }  // namespace vdmsim

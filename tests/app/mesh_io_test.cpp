@@ -330,3 +330,23 @@ TEST(MeshIoShared, EveryOrganIsAValidSurface) {
 
 }  // namespace
 }  // namespace vdmsim
+
+namespace vdmsim {
+namespace {
+
+TEST(MeshIoErrors, ObjFaceIndexOutOfRangeNamesTheLine) {
+  const std::string p = write_text("badindex.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\n# comment\nf 1 2 9\n").string();
+  expect_error(load_surface_mesh(p), p, "line 5: face refers to vertex 9 but 3 vertices are defined");
+}
+
+TEST(MeshIo, ObjKeepsFileVertexOrderAndPrecision) {
+  const std::string p = write_text("order.obj",
+      "v 0.1234567890123 0 0\nv 0 0 0\nv 0 1 0\nv 0 0 1\nf 2 3 1\nf 2 1 4\nf 2 4 3\nf 1 3 4\n").string();
+  const MeshLoadResult r = load_surface_mesh(p);
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_EQ(r.mesh.positions(0, 0), 0.1234567890123);
+  EXPECT_EQ(r.mesh.positions(3, 2), 1.0);
+}
+
+}  // namespace
+}  // namespace vdmsim
