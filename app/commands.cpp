@@ -8,6 +8,7 @@
 
 #include "app/mesh_io.hpp"
 #include "app/organ_generator.hpp"
+#include "app/scene_run.hpp"
 #include "app/paper_cube.hpp"
 #include "engine/geometry.hpp"
 
@@ -73,6 +74,43 @@ int cmd_mesh_info(const std::string& path, double scale, std::ostream& out, std:
   }
   out << "valid organ: yes\n";
   return 0;
+}
+
+namespace {
+// Prints every problem; returns true when there is no error (warnings allowed).
+bool report(const std::vector<SceneProblem>& problems, std::ostream& err) {
+  bool ok = true;
+  for (const SceneProblem& p : problems) {
+    err << (p.warning ? "vdmsim: " : "vdmsim: error: ") << p.text() << "\n";
+    ok = ok && p.warning;
+  }
+  return ok;
+}
+}  // namespace
+
+int cmd_check(const std::string& scene_path, std::ostream& out, std::ostream& err) {
+  PreparedScene ps;
+  std::vector<SceneProblem> problems;
+  const bool ok = prepare_scene(scene_path, ps, problems);
+  if (!report(problems, err) || !ok) return 2;
+  out << scene_path << ": ok (" << ps.model.n << " nodes, " << ps.scene.frames << " frames of " << ps.scene.dt
+      << " s, effects:";
+  for (Effect e : ps.scene.effects) out << ' ' << to_string(e);
+  out << ")\n";
+  return 0;
+}
+
+int cmd_run(const std::string& scene_path, const std::string& out_dir, int frames, bool render, std::ostream& out,
+            std::ostream& err, bool terminal) {
+  PreparedScene ps;
+  std::vector<SceneProblem> problems;
+  const bool ok = prepare_scene(scene_path, ps, problems);
+  if (!report(problems, err) || !ok) return 2;
+  RunOptions opt;
+  opt.out_dir = out_dir;
+  opt.frames = frames;
+  opt.render = render;
+  return run_scene(ps, opt, out, err, terminal);
 }
 
 int cmd_make_organ(const std::string& organ, int level, const std::string& out_path, std::ostream& out,

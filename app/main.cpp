@@ -6,6 +6,7 @@
 #include <exception>
 #include <iostream>
 #include <string>
+#include <unistd.h>
 
 #include "app/commands.hpp"
 
@@ -32,6 +33,17 @@ int main(int argc, char** argv) {
   make_organ->add_option("--level", organ_level, "Subdivision level: 4, 5, 6 give 2562, 10242, 40962 nodes");
   make_organ->add_option("--out", organ_out, "Output OBJ file")->required();
 
+  std::string scene_path, run_out;
+  int run_frames = -1;
+  bool no_render = false;
+  auto* run = app.add_subcommand("run", "Simulate a scene: writes metrics.csv and run.json");
+  run->add_option("SCENE", scene_path, "Scene file (YAML)")->required();
+  run->add_option("--out", run_out, "Output folder (default: out/<scene name>)");
+  run->add_option("--frames", run_frames, "Simulate only this many frames")->check(CLI::PositiveNumber);
+  run->add_flag("--no-render", no_render, "Do not render images");
+  auto* check = app.add_subcommand("check", "Validate a scene and its mesh without simulating");
+  check->add_option("SCENE", scene_path, "Scene file (YAML)")->required();
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -44,6 +56,9 @@ int main(int argc, char** argv) {
   }
   try {
     if (mesh_info->parsed()) return vdmsim::cmd_mesh_info(mesh_path, mesh_scale, std::cout, std::cerr);
+    if (run->parsed())
+      return vdmsim::cmd_run(scene_path, run_out, run_frames, !no_render, std::cout, std::cerr, isatty(2) != 0);
+    if (check->parsed()) return vdmsim::cmd_check(scene_path, std::cout, std::cerr);
     if (make_organ->parsed()) return vdmsim::cmd_make_organ(organ, organ_level, organ_out, std::cout, std::cerr);
     if (paper->parsed()) return vdmsim::cmd_paper(experiment, out_dir, std::cout, std::cerr);
   } catch (const std::exception& e) {

@@ -28,7 +28,7 @@ struct StepStats {
   int nonlinear_iterations = 0;  // solves this step
   bool refreshed = false;        // geometry and matrix recomputed this step
   int factorizations = 0;        // matrix (re)factorisations / preconditioner setups this step
-  double step_ms = 0, assemble_ms = 0, solve_ms = 0;
+  double step_ms = 0, assemble_ms = 0, solve_ms = 0, stress_ms = 0;
   long total_refreshes = 0, total_factorizations = 0;
 };
 

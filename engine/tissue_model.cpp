@@ -110,6 +110,7 @@ bool build_tissue_model(const TissueDef& def, TissueModel& m, std::string& error
   m.use_gravity = def.use_gravity;
   m.volume_constraint = def.volume_constraint;
   m.use_inertia = def.use_inertia;
+  m.compute_stress = def.compute_stress;
   m.damping = def.damping;
   m.dt = def.dt;
   m.solver = def.solver;

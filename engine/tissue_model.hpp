@@ -26,6 +26,7 @@ struct TissueDef {
   bool use_gravity = false;             // hydrostatic load, eq (9)
   bool volume_constraint = true;        // eq (11): the uniform pressure unknown
   bool use_inertia = false;             // section 8: implicit Euler, lumped mass rho V_i
+  bool compute_stress = true;           // section 7: strain and stress after each step
   double damping = 0.0;                 // mass-proportional damping (1/s), with inertia
   double dt = 1.0 / 30.0;               // step (s): used by inertia and for time stamps
   FlagMat fixed;                        // N x 3: 1 = u_i^d held at 0. Empty: none.
@@ -52,6 +53,7 @@ struct TissueModel {
   bool use_gravity = false;
   bool volume_constraint = true;
   bool use_inertia = false;
+  bool compute_stress = true;
   double damping = 0;
   double dt = 0;
   SolverSettings solver;

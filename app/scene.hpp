@@ -1,0 +1,109 @@
+#pragma once
+// Scene files (YAML, architecture.md): parsed into plain, immutable data, validated before
+// anything runs. Every problem is reported as "file:line:col: field: what was expected".
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "engine/settings.hpp"
+#include "engine/types.hpp"
+
+namespace vdmsim {
+
+// A set of organ nodes, chosen on the rest mesh (in scene units after `scale`, i.e. metres).
+struct Region {
+  enum class Kind { box, sphere, nodes, all } kind = Kind::all;
+  vdm::Vec3 min = vdm::Vec3::Zero(), max = vdm::Vec3::Zero();  // box
+  vdm::Vec3 center = vdm::Vec3::Zero();                        // sphere
+  double radius = 0;                                           // sphere
+  std::vector<int> nodes;                                      // explicit node indices
+  std::string where;                                           // "file:line:col" for messages
+};
+
+struct FixedDef {
+  Region region;
+  std::array<bool, 3> axes = {true, true, true};
+};
+
+// A total force spread equally over the region's nodes, ramped linearly over t = [t0, t1]
+// and held after t1.
+struct LoadDef {
+  Region region;
+  vdm::Vec3 force = vdm::Vec3::Zero();  // N
+  double t0 = 0, t1 = 0;
+};
+
+// A rigid motion of the region's nodes from rest, ramped over [t0, t1]: rotation by
+// `rotate_deg` (x, then y, then z) about `about` (default: the region's centroid), then
+// translation.
+struct PrescribedDef {
+  Region region;
+  vdm::Vec3 translate = vdm::Vec3::Zero();  // m
+  vdm::Vec3 rotate_deg = vdm::Vec3::Zero();
+  std::optional<vdm::Vec3> about;
+  double t0 = 0, t1 = 0;
+};
+
+struct Keyframe {
+  double t = 0;
+  std::optional<vdm::Vec3> tip, axis;
+  std::optional<bool> jaw_closed;
+};
+
+struct InstrumentDef {
+  enum class Type { probe, grasper } type = Type::probe;
+  double radius = 0.004;   // m
+  double length = 0.3;     // m
+  std::vector<Keyframe> script;
+  std::string where;
+};
+
+enum class Effect { contact, grasp, gravity, inertia, stress };
+const char* to_string(Effect e);
+
+struct SceneDef {
+  std::string file;            // the scene file as given
+  std::string name;
+  // organ
+  std::string mesh_path;       // resolved against the scene file's folder
+  double scale = 1.0;
+  vdm::Vec3 bulk_modulus = vdm::Vec3::Constant(20000.0);  // Pa per axis; inf allowed
+  double connectivity_modulus = 2000.0;
+  double density = 1060.0;
+  double damping = 0.0;        // 1/s, with the inertia effect
+  std::string model = "vdm";
+  std::vector<FixedDef> fixed;
+  std::vector<LoadDef> loads;
+  std::vector<PrescribedDef> prescribed;
+  // simulation
+  int frames = 120;
+  double dt = 1.0 / 30.0;
+  std::vector<Effect> effects;
+  vdm::Vec3 gravity = vdm::Vec3(0, 0, -9.81);
+  bool volume_constraint = true;
+  vdm::SolverSettings solver;
+  // instruments and rendering
+  std::vector<InstrumentDef> instruments;
+  bool has_render = false;
+
+  bool has(Effect e) const;
+};
+
+struct SceneProblem {
+  std::string where;    // file:line:col
+  std::string field;    // dotted path, e.g. organ.material.bulk_modulus
+  std::string message;  // what was expected / what is wrong
+  bool warning = false; // unknown keys are warnings
+  std::string text() const;
+};
+
+struct SceneLoadResult {
+  SceneDef scene;
+  std::vector<SceneProblem> problems;  // errors and warnings, in file order
+  bool ok() const;
+};
+
+SceneLoadResult load_scene(const std::string& path);
+
+}  // namespace vdmsim

@@ -1,0 +1,41 @@
+#pragma once
+// Running a scene: the simulator's main loop. Builds the organ from the scene, applies the
+// scripted loads and motions each frame, steps the engine, writes metrics.csv and run.json.
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include "app/scene.hpp"
+#include "engine/tissue_model.hpp"
+
+namespace vdmsim {
+
+// Nodes of the rest mesh selected by `region` (sorted). Errors (a node index out of range, a
+// region that selects nothing) are appended to `problems`, naming the region's position.
+std::vector<int> select_nodes(const Region& region, const vdm::NodeMat& rest, const std::string& field,
+                              std::vector<SceneProblem>& problems);
+
+struct PreparedScene {
+  SceneDef scene;
+  vdm::TissueModel model;
+  std::vector<std::vector<int>> load_nodes;        // per organ.loads entry
+  std::vector<std::vector<int>> prescribed_nodes;  // per organ.prescribed entry
+  std::vector<vdm::Vec3> prescribed_about;         // rotation centre per entry (m)
+};
+
+// Loads and validates the scene and its mesh and builds the model. On failure returns false
+// with every problem in `problems` (warnings are there too on success).
+bool prepare_scene(const std::string& path, PreparedScene& out, std::vector<SceneProblem>& problems);
+
+struct RunOptions {
+  std::string out_dir;      // empty: out/<scene name>
+  int frames = -1;          // override the scene's frame count when > 0
+  bool render = true;       // (the renderer is not built yet: frames are not written)
+};
+
+// Runs a prepared scene; returns the exit code (0, or 1 on a runtime failure). `progress`
+// gets a bar when it is a terminal, plain lines otherwise.
+int run_scene(PreparedScene& prepared, const RunOptions& options, std::ostream& out, std::ostream& err,
+              bool progress_is_terminal);
+
+}  // namespace vdmsim

@@ -1,0 +1,238 @@
+// Scene files: every class of error is reported with file:line:col, the field and what was
+// expected; effects that a scene does not list cost nothing and change nothing.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "app/commands.hpp"
+#include "app/scene.hpp"
+#include "app/scene_run.hpp"
+#include "engine/sim_state.hpp"
+
+namespace vdmsim {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path scene_dir() {
+  const fs::path d = fs::temp_directory_path() / "vdmsim_scene_test";
+  fs::create_directories(d);
+  return d;
+}
+
+// A valid scene around the project's small liver, with `organ_extra` / `sim_extra` lines.
+std::string scene_text(const std::string& organ_extra = "", const std::string& sim_extra = "",
+                       const std::string& tail = "") {
+  return "name: test\n"
+         "organ:\n"
+         "  mesh: " + (fs::path(VDMSIM_SOURCE_DIR) / "assets/meshes/liver_L4.obj").string() + "\n"
+         "  material: {bulk_modulus: 20000, connectivity_modulus: 2000, density: 1060}\n"
+         "  fixed: [{box: {min: [-1, -1, -1], max: [1, 1, -0.03]}}]\n" +
+         organ_extra +
+         "simulation:\n"
+         "  frames: 3\n"
+         "  dt: 0.04\n" +
+         sim_extra + tail;
+}
+
+std::string write_scene(const std::string& name, const std::string& text) {
+  const fs::path p = scene_dir() / name;
+  std::ofstream(p) << text;
+  return p.string();
+}
+
+// Loads the scene (and its mesh) and returns every message, one per line.
+std::string problems_of(const std::string& path, int& errors) {
+  PreparedScene ps;
+  std::vector<SceneProblem> problems;
+  prepare_scene(path, ps, problems);
+  std::string all;
+  errors = 0;
+  for (const auto& p : problems) {
+    all += p.text() + "\n";
+    errors += !p.warning;
+  }
+  return all;
+}
+
+void expect_error(const std::string& file, const std::string& text, const std::string& expected) {
+  const std::string path = write_scene(file, text);
+  int errors = 0;
+  const std::string msg = problems_of(path, errors);
+  EXPECT_GE(errors, 1) << msg;
+  EXPECT_NE(msg.find(expected), std::string::npos) << "expected '" << expected << "' in:\n" << msg;
+  EXPECT_NE(msg.find(path + ":"), std::string::npos) << msg;  // names the file
+}
+
+TEST(Scene, ValidSceneHasNoProblems) {
+  int errors = 0;
+  const std::string msg = problems_of(write_scene("valid.yaml", scene_text()), errors);
+  EXPECT_EQ(errors, 0) << msg;
+  EXPECT_TRUE(msg.empty()) << msg;
+}
+
+TEST(SceneErrors, MissingField) {
+  expect_error("missing.yaml", "name: x\nsimulation: {frames: 3}\n", ":1:1: organ: missing required field 'organ'");
+}
+
+TEST(SceneErrors, WrongType) {
+  expect_error("type.yaml", scene_text("", "", "  effects: stress\n"),
+               ":9:12: simulation.effects: expected a list, got a single value");
+}
+
+TEST(SceneErrors, OutOfRangeAndNegativeModulus) {
+  expect_error("range.yaml", scene_text("", "  solver: {tolerance: 2}\n"),
+               "simulation.solver.tolerance: value 2 is out of range");
+  std::string t = scene_text();
+  t.replace(t.find("bulk_modulus: 20000"), 19, "bulk_modulus: -5");
+  expect_error("negative.yaml", t, ":4:28: organ.material.bulk_modulus: value -5 is out of range: expected > 0 (or inf) (Pa)");
+}
+
+TEST(SceneErrors, NonPositiveTimeStep) {
+  std::string t = scene_text();
+  t.replace(t.find("dt: 0.04"), 8, "dt: 0");
+  expect_error("dt.yaml", t, "simulation.dt: value 0 is out of range: expected > 0");
+}
+
+TEST(SceneErrors, WrongUnits) {
+  std::string t = scene_text();
+  t.replace(t.find("dt: 0.04"), 8, "dt: 40ms");
+  expect_error("units.yaml", t, "simulation.dt: expected a number (s), got '40ms' (write plain SI numbers, without units)");
+}
+
+TEST(SceneErrors, UnknownEffect) {
+  expect_error("effect.yaml", scene_text("", "  effects: [stress, gravty]\n"),
+               "simulation.effects[1]: unknown effect 'gravty' (did you mean 'gravity'?)");
+}
+
+TEST(SceneErrors, UnknownInstrument) {
+  expect_error("instrument.yaml",
+               scene_text("", "", "instruments:\n  - {type: prob, radius: 0.004, script: [{t: 0, tip: [0, 0, 0.1]}]}\n"),
+               "instruments[0].type: unknown instrument 'prob' (did you mean 'probe'?)");
+}
+
+TEST(SceneErrors, InstrumentWithZeroRadius) {
+  expect_error("radius.yaml",
+               scene_text("", "", "instruments:\n  - {type: probe, radius: 0, script: [{t: 0, tip: [0, 0, 0.1]}]}\n"),
+               "instruments[0].radius: value 0 is out of range: expected > 0");
+}
+
+TEST(SceneErrors, MissingMesh) {
+  std::string t = scene_text();
+  const size_t a = t.find("mesh: ") + 6;
+  t.replace(a, t.find('\n', a) - a, "no_such_liver.obj");
+  expect_error("nomesh.yaml", t, ":3:9: organ.mesh: mesh file not found: ");
+}
+
+TEST(SceneErrors, EmptyTimeline) {
+  expect_error("empty_timeline.yaml", scene_text("", "", "instruments:\n  - {type: probe, script: []}\n"),
+               "instruments[0].script: the timeline is empty");
+}
+
+TEST(SceneErrors, TimelineNotIncreasing) {
+  expect_error("order.yaml",
+               scene_text("", "",
+                          "instruments:\n  - type: probe\n    script:\n      - {t: 0, tip: [0, 0, 0.1]}\n"
+                          "      - {t: 2, tip: [0, 0, 0.05]}\n      - {t: 1, tip: [0, 0, 0.0]}\n"),
+               ":14:13: instruments[0].script[2].t: keyframe times must increase");
+}
+
+TEST(SceneErrors, RegionSelectingNothing) {
+  expect_error("region.yaml", scene_text("  prescribed: [{box: {min: [5, 5, 5], max: [6, 6, 6]}, translate: [0, 0, -0.01]}]\n"),
+               "organ.prescribed[0]: the region selects no node of the organ");
+}
+
+TEST(SceneErrors, NotYaml) {
+  expect_error("broken.yaml", "organ: {mesh: [unclosed\n", "scene: not valid YAML");
+}
+
+TEST(SceneWarnings, UnknownKeySuggestsTheClosest) {
+  const std::string path = write_scene("typo.yaml", scene_text("", "  frmes: 10\n"));
+  int errors = 0;
+  const std::string msg = problems_of(path, errors);
+  EXPECT_EQ(errors, 0) << msg;
+  EXPECT_NE(msg.find("warning: simulation.frmes: unknown key 'frmes', ignored (did you mean 'frames'?)"),
+            std::string::npos)
+      << msg;
+}
+
+TEST(SceneCommands, CheckAndRunExitWith2OnABadScene) {
+  const std::string path = write_scene("bad_cmd.yaml", scene_text("", "  effects: [gravty]\n"));
+  std::ostringstream out, err;
+  EXPECT_EQ(cmd_check(path, out, err), 2);
+  EXPECT_NE(err.str().find("unknown effect 'gravty'"), std::string::npos) << err.str();
+  std::ostringstream out2, err2;
+  EXPECT_EQ(cmd_run(path, (scene_dir() / "bad_out").string(), -1, false, out2, err2, false), 2);
+  EXPECT_FALSE(fs::exists(scene_dir() / "bad_out" / "metrics.csv"));
+}
+
+std::vector<std::string> read_lines(const fs::path& p) {
+  std::ifstream f(p);
+  std::vector<std::string> lines;
+  for (std::string l; std::getline(f, l);) lines.push_back(l);
+  return lines;
+}
+
+TEST(SceneRun, WritesMetricsAndRunJson) {
+  const std::string path = write_scene(
+      "run.yaml", scene_text("  prescribed: [{sphere: {center: [0.035, -0.01, 0.06], radius: 0.015}, translate: [0, 0, -0.01], t: [0, 0.1]}]\n",
+                             "  effects: [stress]\n"));
+  const fs::path out_dir = scene_dir() / "run_out";
+  fs::remove_all(out_dir);
+  std::ostringstream out, err;
+  ASSERT_EQ(cmd_run(path, out_dir.string(), -1, false, out, err, false), 0) << err.str();
+  const auto lines = read_lines(out_dir / "metrics.csv");
+  ASSERT_EQ(lines.size(), 4u);
+  EXPECT_EQ(lines[0],
+            "frame,time_s,step_ms,iterations,residual,volume,volume_rel_error,pressure_pa,contact_nodes,"
+            "contact_force_n,max_penetration_m,max_displacement_m,max_stress_pa");
+  const auto json = read_lines(out_dir / "run.json");
+  std::string all;
+  for (const auto& l : json) all += l + "\n";
+  EXPECT_NE(all.find("\"status\": \"completed\""), std::string::npos) << all;
+  EXPECT_NE(all.find("\"frames\": 3"), std::string::npos) << all;
+  EXPECT_NE(all.find("\"stage_ms\""), std::string::npos) << all;
+}
+
+// Runs a scene in-process and returns the final state.
+vdm::SimState simulate(const std::string& text, const std::string& file) {
+  PreparedScene ps;
+  std::vector<SceneProblem> problems;
+  EXPECT_TRUE(prepare_scene(write_scene(file, text), ps, problems));
+  vdm::SimState s = vdm::make_sim_state(ps.model);
+  vdm::StepInput in = vdm::make_step_input(ps.model);
+  for (int f = 0; f < 3; ++f) {
+    in.clear();
+    in.force.setZero();
+    for (int i : ps.load_nodes.empty() ? std::vector<int>{} : ps.load_nodes[0])
+      in.force.row(i) = ps.scene.loads[0].force.transpose() / double(ps.load_nodes[0].size());
+    vdm::step(ps.model, in, s);
+  }
+  return s;
+}
+
+TEST(Effects, UnlistedGravityChangesNothing) {
+  // `gravity:` set but the effect unlisted: identical to a scene without gravity at all.
+  const std::string load = "  loads: [{sphere: {center: [0.035, -0.01, 0.06], radius: 0.02}, force: [0, 0, -2]}]\n";
+  const vdm::SimState with_setting = simulate(scene_text(load, "  gravity: [0, 0, -30]\n  effects: [stress]\n"), "g1.yaml");
+  const vdm::SimState plain = simulate(scene_text(load, "  effects: [stress]\n"), "g2.yaml");
+  EXPECT_EQ(with_setting.u, plain.u);
+  const vdm::SimState listed = simulate(scene_text(load, "  effects: [stress, gravity]\n"), "g3.yaml");
+  EXPECT_GT((listed.u - plain.u).cwiseAbs().maxCoeff(), 1e-5) << "listing gravity must make it act";
+}
+
+TEST(Effects, UnlistedStressDoesNotRunAndCostsNothing) {
+  const std::string load = "  loads: [{sphere: {center: [0.035, -0.01, 0.06], radius: 0.02}, force: [0, 0, -2]}]\n";
+  const vdm::SimState off = simulate(scene_text(load, "  effects: []\n"), "s1.yaml");
+  const vdm::SimState on = simulate(scene_text(load, "  effects: [stress]\n"), "s2.yaml");
+  EXPECT_EQ(off.u, on.u) << "stress is an output: it must not change the motion";
+  EXPECT_EQ(off.stress.cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ(off.stats.stress_ms, 0.0);
+  EXPECT_GT(on.stress.cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_GT(on.stats.stress_ms, 0.0);
+}
+
+}  // namespace
+}  // namespace vdmsim
