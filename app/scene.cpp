@@ -417,7 +417,7 @@ void read_instruments(Reader& r, const YAML::Node& list, SceneDef& s) {
     if (!r.require_map(n, fi)) continue;
     r.check_keys(n, fi, {"type", "radius", "length", "script", "skin"});
     InstrumentDef in;
-    in.where = r.where(n);
+    s.instrument_where.push_back(r.where(n));
     if (const YAML::Node t = r.required(n, "type", fi, "probe or grasper")) {
       std::string type;
       if (r.text(t, Reader::sub(fi, "type"), type)) {

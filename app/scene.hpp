@@ -8,6 +8,7 @@
 
 #include "engine/settings.hpp"
 #include "engine/types.hpp"
+#include "tools_scripted/instrument.hpp"
 
 namespace vdmsim {
 
@@ -45,19 +46,8 @@ struct PrescribedDef {
   double t0 = 0, t1 = 0;
 };
 
-struct Keyframe {
-  double t = 0;
-  std::optional<vdm::Vec3> tip, axis;
-  std::optional<bool> jaw_closed;
-};
-
-struct InstrumentDef {
-  enum class Type { probe, grasper } type = Type::probe;
-  double radius = 0.004;   // m
-  double length = 0.3;     // m
-  std::vector<Keyframe> script;
-  std::string where;
-};
+using Keyframe = tools::Keyframe;
+using InstrumentDef = tools::InstrumentDef;
 
 enum class Effect { contact, grasp, gravity, inertia, stress };
 const char* to_string(Effect e);
@@ -85,6 +75,7 @@ struct SceneDef {
   vdm::SolverSettings solver;
   // instruments and rendering
   std::vector<InstrumentDef> instruments;
+  std::vector<std::string> instrument_where;  // file:line:col of each instrument
   bool has_render = false;
 
   bool has(Effect e) const;

@@ -6,10 +6,12 @@
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
+#include <memory>
 #include <sstream>
 
 #include "app/commands.hpp"
 #include "app/mesh_io.hpp"
+#include "engine/contact.hpp"
 #include "engine/sim_state.hpp"
 
 namespace vdmsim {
@@ -171,9 +173,22 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
     err << "vdmsim: error: " << error << "\n";
     return 2;
   }
-  if (!s.instruments.empty())
-    err << "vdmsim: warning: " << s.file << ": the scene has " << s.instruments.size()
-        << " instrument(s); scripted instruments and contact are not built yet, so they are not simulated\n";
+  // Contact runs only when listed, and only against probes (graspers are not built yet).
+  std::vector<const InstrumentDef*> probes;
+  for (size_t k = 0; k < s.instruments.size(); ++k) {
+    if (s.instruments[k].type == InstrumentDef::Type::probe) probes.push_back(&s.instruments[k]);
+    else
+      err << "vdmsim: warning: " << s.instrument_where[k]
+          << ": grasper instruments are not simulated yet (grasping is still to be built)\n";
+  }
+  if (!probes.empty() && !s.has(Effect::contact))
+    err << "vdmsim: note: the scene has probes but does not list the contact effect: they pass through the organ\n";
+  std::unique_ptr<vdm::ContactSolver> contact;
+  if (s.has(Effect::contact) && !probes.empty()) contact = std::make_unique<vdm::ContactSolver>(m);
+  std::vector<vdm::Capsule> capsules(probes.size());
+  vdm::ContactReport report;
+  double collision_ms = 0;
+  long queries = 0;
   if (opt.render && s.has_render)
     err << "vdmsim: warning: the renderer is not built yet: no frames are written (metrics only)\n";
 
@@ -220,7 +235,34 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
     }
     loads_ms += ms_since(t_loads);
 
-    vdm::step(m, input, state);
+    double frame_step_ms = 0;
+    int frame_iterations = 0;
+    if (contact) {
+      // Sub-step when a probe moves more than its radius in a frame, so it cannot tunnel.
+      double substeps = 1;
+      for (const InstrumentDef* p : probes) {
+        const double move = (tools::pose_at(*p, t).tip - tools::pose_at(*p, t - s.dt).tip).norm();
+        substeps = std::max(substeps, std::ceil(move / p->radius));
+      }
+      const int n_sub = static_cast<int>(std::min(substeps, 1000.0));
+      for (int j = 1; j <= n_sub; ++j) {
+        const double tj = t - s.dt + s.dt * j / n_sub, tprev = t - s.dt + s.dt * (j - 1) / n_sub;
+        for (size_t k = 0; k < probes.size(); ++k) {
+          capsules[k] = tools::probe_capsule(*probes[k], tools::pose_at(*probes[k], tj));
+          capsules[k].motion = tools::pose_at(*probes[k], tj).tip - tools::pose_at(*probes[k], tprev).tip;
+        }
+        const auto t_contact = Clock::now();
+        contact->step(m, input, capsules, state, report);
+        frame_step_ms += ms_since(t_contact);
+        frame_iterations += state.stats.iterations;
+        collision_ms += report.collision_ms;
+        queries += report.queries;
+      }
+    } else {
+      vdm::step(m, input, state);
+      frame_step_ms = state.stats.step_ms;
+      frame_iterations = state.stats.iterations;
+    }
     const vdm::StepStats& st = state.stats;
     assemble_ms += st.assemble_ms;
     solve_ms += st.solve_ms;
@@ -231,14 +273,17 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
       break;
     }
     const auto t_io = Clock::now();
-    sum_step += st.step_ms;
-    max_step = std::max(max_step, st.step_ms);
-    step_times.push_back(st.step_ms);
+    sum_step += frame_step_ms;
+    max_step = std::max(max_step, frame_step_ms);
+    step_times.push_back(frame_step_ms);
     max_vol = std::max(max_vol, std::abs(state.volume_rel_error));
-    metrics << f << ',' << t << ',' << st.step_ms << ',' << st.iterations << ',' << st.residual << ',' << state.volume
-            << ',' << state.volume_rel_error << ',' << state.pressure << ','
-            << ",,,"  // contact columns: no contact effect in this version
-            << state.u.rowwise().norm().maxCoeff() << ',';
+    metrics << f << ',' << t << ',' << frame_step_ms << ',' << frame_iterations << ',' << st.residual << ','
+            << state.volume << ',' << state.volume_rel_error << ',' << state.pressure << ',';
+    if (contact)
+      metrics << report.nodes << ',' << report.force.norm() << ',' << report.max_penetration << ',';
+    else
+      metrics << ",,,";  // the contact effect is not simulated: its columns stay empty
+    metrics << state.u.rowwise().norm().maxCoeff() << ',';
     if (m.compute_stress) metrics << state.stress.rowwise().norm().maxCoeff();
     metrics << '\n';
     if (!metrics) {
@@ -279,7 +324,8 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
      << ",\n  \"median_step_ms\": " << median << ",\n  \"max_step_ms\": " << max_step
      << ",\n  \"max_volume_rel_error\": " << max_vol << ",\n  \"stage_ms\": {\"loads\": " << loads_ms
      << ", \"assemble\": " << assemble_ms << ", \"solve\": " << solve_ms << ", \"stress\": " << stress_ms
-     << ", \"metrics_io\": " << io_ms << "},\n  \"warnings\": [";
+     << ", \"collision\": " << collision_ms << ", \"metrics_io\": " << io_ms << "},\n  \"collision_queries\": "
+     << queries << ",\n  \"warnings\": [";
   for (size_t i = 0; i < state.warnings.size(); ++i) js << (i ? ", " : "") << '"' << json_escape(state.warnings[i]) << '"';
   js << "]\n}\n";
   if (!write_run_json(dir / "run.json", js.str(), error)) {

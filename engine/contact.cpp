@@ -1,0 +1,214 @@
+#include "engine/contact.hpp"
+
+#include <fcl/fcl.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+namespace vdm {
+
+using Clock = std::chrono::steady_clock;
+
+double capsule_distance(const Capsule& c, const Vec3& x, Vec3& surface_point, Vec3& normal) {
+  const Vec3 d = c.p1 - c.p0;
+  const double len2 = d.squaredNorm();
+  const double t = len2 > 0 ? std::clamp((x - c.p0).dot(d) / len2, 0.0, 1.0) : 0.0;
+  const Vec3 axis_point = c.p0 + t * d;
+  Vec3 r = x - axis_point;
+  double dist = r.norm();
+  if (dist < 1e-15) {  // on the axis: any direction perpendicular to it
+    r = d.unitOrthogonal();
+    dist = 0.0;
+  } else {
+    r /= dist;
+  }
+  normal = r;
+  surface_point = axis_point + c.radius * r;
+  return dist - c.radius;
+}
+
+Vec3 push_out(const Capsule& c, const Vec3& x, const Vec3& relative, Vec3& dir) {
+  const double m = relative.norm();
+  dir = m > 1e-9 * c.radius ? Vec3(-relative / m) : Vec3((c.p0 - c.p1).normalized());
+  Vec3 nearest, nearest_normal, p, nrm;
+  if (capsule_distance(c, x, nearest, nearest_normal) >= 0.0) return x;
+  // Along a ray from inside, the distance to a convex surface crosses zero once.
+  double lo = 0.0, hi = (c.p1 - c.p0).norm() + 2.0 * c.radius;
+  for (int it = 0; it < 60; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (capsule_distance(c, x + mid * dir, p, nrm) < 0.0 ? lo : hi) = mid;
+  }
+  // A node that came in from behind (the surface springing back into a retreating tool)
+  // would exit far away along the motion: put it on the nearest surface point instead.
+  if (hi > 2.0 * c.radius + m) {
+    dir = nearest_normal;  // pushed away from the tool's axis
+    return nearest;
+  }
+  return x + hi * dir;
+}
+
+struct ContactSolver::Fcl {
+  std::shared_ptr<fcl::BVHModel<fcl::AABBd>> bvh;
+  std::unique_ptr<fcl::CollisionObjectd> organ;
+  std::vector<fcl::Vector3d> points;
+  fcl::CollisionRequestd request;
+  fcl::CollisionResultd result;
+};
+
+ContactSolver::ContactSolver(const TissueModel& m, ContactSettings settings)
+    : fcl_(std::make_unique<Fcl>()), settings_(settings), triangles_(&m.rest.triangles) {
+  fcl_->bvh = std::make_shared<fcl::BVHModel<fcl::AABBd>>();
+  std::vector<fcl::Triangle> tris;
+  tris.reserve(static_cast<size_t>(m.rest.triangle_count()));
+  for (int k = 0; k < m.rest.triangle_count(); ++k)
+    tris.emplace_back(m.rest.triangles(k, 0), m.rest.triangles(k, 1), m.rest.triangles(k, 2));
+  fcl_->points.resize(static_cast<size_t>(m.n));
+  for (int i = 0; i < m.n; ++i) fcl_->points[i] = m.rest.positions.row(i).transpose();
+  fcl_->bvh->beginModel(m.rest.triangle_count(), m.n);
+  fcl_->bvh->addSubModel(fcl_->points, tris);
+  fcl_->bvh->endModel();
+  fcl_->organ = std::make_unique<fcl::CollisionObjectd>(fcl_->bvh);
+  fcl_->request = fcl::CollisionRequestd(static_cast<size_t>(m.rest.triangle_count()), false);
+  input_ = make_step_input(m);
+  active_.assign(m.n, 0);
+  mark_.assign(m.n, 0);
+  target_ = NodeMat::Zero(m.n, 3);
+  normal_ = NodeMat::Zero(m.n, 3);
+  candidates_.reserve(static_cast<size_t>(m.n));
+  u0_ = NodeMat::Zero(m.n, 3);
+  x0_ = NodeMat::Zero(m.n, 3);
+  v0_ = NodeMat::Zero(m.n, 3);
+}
+
+ContactSolver::~ContactSolver() = default;
+
+void ContactSolver::refit(const NodeMat& x) {
+  for (size_t i = 0; i < fcl_->points.size(); ++i) fcl_->points[i] = x.row(static_cast<Eigen::Index>(i)).transpose();
+  fcl_->bvh->beginUpdateModel();
+  fcl_->bvh->updateSubModel(fcl_->points);
+  fcl_->bvh->endUpdateModel(true, true);
+  fcl_->organ->computeAABB();
+}
+
+void ContactSolver::broad_phase(const Capsule& c, double pad, std::vector<int>& found, ContactReport& rep) {
+  const Vec3 d = c.p1 - c.p0;
+  const double len = d.norm();
+  // FCL's capsule is centred at the origin along z.
+  auto shape = std::make_shared<fcl::Capsuled>(c.radius + pad, std::max(len, 1e-9));
+  fcl::Transform3d tf = fcl::Transform3d::Identity();
+  tf.linear() = Eigen::Quaterniond::FromTwoVectors(Vec3::UnitZ(), len > 0 ? Vec3(d / len) : Vec3::UnitZ()).toRotationMatrix();
+  tf.translation() = 0.5 * (c.p0 + c.p1);
+  fcl::CollisionObjectd tool(shape, tf);
+  fcl_->result.clear();
+  fcl::collide(fcl_->organ.get(), &tool, fcl_->request, fcl_->result);
+  ++rep.queries;
+  for (size_t k = 0; k < fcl_->result.numContacts(); ++k) {
+    const int tri = static_cast<int>(fcl_->result.getContact(k).b1);
+    for (int corner = 0; corner < 3; ++corner) {
+      const int i = (*triangles_)(tri, corner);
+      if (!mark_[i]) {
+        mark_[i] = 1;
+        found.push_back(i);
+      }
+    }
+  }
+}
+
+void ContactSolver::step(const TissueModel& m, const StepInput& base, const std::vector<Capsule>& tools, SimState& s,
+                         ContactReport& rep) {
+  rep = ContactReport();
+  const auto t0 = Clock::now();
+  u0_ = s.u;
+  x0_ = s.x;
+  v0_ = s.velocity;
+  const long step0 = s.step;
+  const double time0 = s.time;
+  // Contacts at the start: nodes inside (or touching) an instrument at its new pose.
+  std::fill(active_.begin(), active_.end(), 0);
+  refit(s.x);
+  candidates_.clear();
+  double rmin = 1e30;
+  for (const Capsule& c : tools) {
+    broad_phase(c, settings_.activation * c.radius, candidates_, rep);
+    rmin = std::min(rmin, c.radius);
+  }
+  // `after_solve`: the node may have moved this step (relative motion = its move - the tool's).
+  auto classify = [&](int i, bool allow_touch, bool after_solve) {
+    for (const Capsule& c : tools) {
+      Vec3 p, nrm;
+      const double dist = capsule_distance(c, s.x.row(i).transpose(), p, nrm);
+      const double limit = allow_touch ? settings_.activation * c.radius : -settings_.tolerance * 0.5 * c.radius;
+      if (dist < limit) {
+        Vec3 dir;
+        const Vec3 node_move = after_solve ? Vec3((s.x.row(i) - x0_.row(i)).transpose()) : Vec3::Zero();
+        const Vec3 target = dist < 0.0 ? push_out(c, s.x.row(i).transpose(), node_move - c.motion, dir) : p;
+        if (dist >= 0.0) dir = nrm;  // touching: held where it is; the tool pushes it along its normal
+        active_[i] = 1;
+        target_.row(i) = target.transpose();
+        normal_.row(i) = dir.transpose();
+        return true;
+      }
+    }
+    return false;
+  };
+  for (int i : candidates_) {
+    mark_[i] = 0;
+    classify(i, true, false);
+  }
+  rep.collision_ms += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+
+  for (int it = 0; it < settings_.max_active_set_iterations; ++it) {
+    input_.force = base.force;
+    input_.pressure = base.pressure;
+    input_.prescribed = base.prescribed.rows() == m.n ? base.prescribed : FlagMat::Zero(m.n, 3);
+    input_.prescribed_u = base.prescribed_u.rows() == m.n ? base.prescribed_u : NodeMat::Zero(m.n, 3);
+    for (int i = 0; i < m.n; ++i)
+      if (active_[i]) {
+        input_.prescribed.row(i).setOnes();
+        input_.prescribed_u.row(i) = target_.row(i) - m.rest.positions.row(i);
+      }
+    if (it > 0) {  // solve the same step again from its start
+      s.u = u0_;
+      s.x = x0_;
+      s.velocity = v0_;
+      s.step = step0;
+      s.time = time0;
+    }
+    vdm::step(m, input_, s);
+    ++rep.solves;
+
+    const auto tc = Clock::now();
+    bool changed = false;
+    // Release nodes the instrument would have to pull (adhesion).
+    for (int i = 0; i < m.n; ++i)
+      if (active_[i] && s.reaction.row(i).dot(normal_.row(i)) < 0.0) {
+        active_[i] = 0;
+        changed = true;
+      }
+    // Catch free nodes that the step pushed into an instrument.
+    refit(s.x);
+    candidates_.clear();
+    for (const Capsule& c : tools) broad_phase(c, 0.0, candidates_, rep);
+    rep.max_penetration = 0.0;
+    for (int i : candidates_) {
+      mark_[i] = 0;
+      if (active_[i]) continue;
+      for (const Capsule& c : tools) {
+        Vec3 p, nrm;
+        const double dist = capsule_distance(c, s.x.row(i).transpose(), p, nrm);
+        rep.max_penetration = std::max(rep.max_penetration, -dist);
+      }
+      if (classify(i, false, true)) changed = true;
+    }
+    rep.collision_ms += std::chrono::duration<double, std::milli>(Clock::now() - tc).count();
+    if (!changed) break;
+  }
+  for (int i = 0; i < m.n; ++i)
+    if (active_[i]) {
+      ++rep.nodes;
+      rep.force -= s.reaction.row(i).transpose();
+    }
+}
+
+}  // namespace vdm

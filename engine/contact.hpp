@@ -1,0 +1,77 @@
+#pragma once
+// Contact between the organ surface and rigid instruments (vdm-model.md section 5), default
+// kinematic: nodes that penetrate an instrument are projected onto its surface and held
+// there as prescribed displacements for the step; nodes whose reaction would pull the
+// instrument (adhesion) are released and the step solved again (active set).
+// Broad phase: an FCL BVHModel<OBBRSS> of the organ, refitted each frame from the current
+// positions, queried against each instrument's FCL capsule. Narrow phase: exact node-versus-
+// capsule distance.
+#include <memory>
+#include <vector>
+
+#include "engine/sim_state.hpp"
+
+namespace vdm {
+
+// A capsule: the segment p0-p1 swept by a sphere of `radius` (m). A probe is one.
+struct Capsule {
+  Vec3 p0 = Vec3::Zero(), p1 = Vec3::UnitZ();  // p0: centre of the tip's rounded end
+  double radius = 0.004;
+  Vec3 motion = Vec3::Zero();  // how far it moved since the last step (m): the push direction
+};
+
+// Where a node inside the capsule is pushed: back along its motion relative to the capsule,
+// `relative` (the node's displacement minus the capsule's; when zero, along the axis toward
+// the tip), to the capsule's surface. A node the probe runs into is pushed ahead of it
+// instead of sliding round its tip; a surface springing back into a retreating probe is
+// caught by the tip. On return `direction` is the push direction.
+Vec3 push_out(const Capsule& c, const Vec3& x, const Vec3& relative, Vec3& direction);
+
+// Signed distance from x to the capsule's surface (negative inside), the closest surface
+// point and the outward normal there.
+double capsule_distance(const Capsule& c, const Vec3& x, Vec3& surface_point, Vec3& normal);
+
+struct ContactSettings {
+  double activation = 1e-4;   // a node within this fraction of the radius of the surface counts as touching
+  double tolerance = 0.02;    // after the step, penetration must be below this fraction of the radius
+  int max_active_set_iterations = 8;
+};
+
+struct ContactReport {
+  int nodes = 0;                   // nodes held by instruments after the step
+  Vec3 force = Vec3::Zero();       // total force of the organ on the instruments (N)
+  double max_penetration = 0.0;    // deepest free node inside an instrument after the step (m)
+  int solves = 0;                  // engine solves this step (active-set iterations)
+  long queries = 0;                // FCL collision queries this step
+  double collision_ms = 0.0;       // broad + narrow phase time
+};
+
+class ContactSolver {
+ public:
+  ContactSolver(const TissueModel& model, ContactSettings settings = {});
+  ~ContactSolver();
+  // One step with contact: `base` holds the scene's own loads and prescribed motion (it is
+  // not modified); the instruments' constraints are added on top.
+  void step(const TissueModel& model, const StepInput& base, const std::vector<Capsule>& tools, SimState& state,
+            ContactReport& report);
+  // Per-node flag: held by an instrument after the last step.
+  const std::vector<char>& active() const { return active_; }
+
+ private:
+  // Appends to `found` the nodes whose triangles overlap the capsule (radius inflated by `pad`).
+  void broad_phase(const Capsule& c, double pad, std::vector<int>& found, ContactReport& report);
+  void refit(const NodeMat& x);
+
+  struct Fcl;
+  std::unique_ptr<Fcl> fcl_;
+  ContactSettings settings_;
+  const TriMat* triangles_ = nullptr;
+  StepInput input_;
+  std::vector<char> active_, mark_;
+  NodeMat target_;                 // held position of active nodes (m)
+  NodeMat normal_;                 // contact normal of active nodes
+  std::vector<int> candidates_;
+  NodeMat u0_, x0_, v0_;
+};
+
+}  // namespace vdm
