@@ -236,3 +236,65 @@ TEST(Effects, UnlistedStressDoesNotRunAndCostsNothing) {
 
 }  // namespace
 }  // namespace vdmsim
+
+namespace vdmsim {
+namespace {
+
+std::string probe_scene(const std::string& effects, const std::string& script, double length = 0.3) {
+  return scene_text("", "  effects: " + effects + "\n",
+                    "instruments:\n  - type: probe\n    radius: 0.004\n    length: " + std::to_string(length) +
+                        "\n    script:\n" + script);
+}
+
+std::string json_of(const fs::path& dir) {
+  std::ifstream f(dir / "run.json");
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+
+// The last row of metrics.csv, split at commas.
+std::vector<std::string> last_row(const fs::path& dir) {
+  const auto lines = read_lines(dir / "metrics.csv");
+  std::vector<std::string> cells;
+  std::stringstream row(lines.back());
+  for (std::string c; std::getline(row, c, ',');) cells.push_back(c);
+  return cells;
+}
+
+TEST(Effects, UnlistedContactLeavesTheOrganUntouchedAndRunsNoQuery) {
+  // The probe goes 3 cm deep into the right lobe, but contact is not listed.
+  const std::string path = write_scene(
+      "nocontact.yaml", probe_scene("[stress]", "      - {t: 0, tip: [0.035, 0.0, 0.08], axis: [0, 0, -1]}\n"
+                                                "      - {t: 0.12, tip: [0.035, 0.0, 0.03]}\n"));
+  const fs::path out = scene_dir() / "nocontact_out";
+  std::ostringstream o, e;
+  ASSERT_EQ(cmd_run(path, out.string(), -1, false, o, e, false), 0) << e.str();
+  EXPECT_NE(json_of(out).find("\"collision_queries\": 0"), std::string::npos) << json_of(out);
+  EXPECT_NE(json_of(out).find("\"collision\": 0,"), std::string::npos) << json_of(out);
+  const auto cells = last_row(out);
+  EXPECT_EQ(std::stod(cells[11]), 0.0) << "max_displacement_m";
+  EXPECT_EQ(cells[8], "");  // contact columns empty
+}
+
+TEST(Contact, FastProbeDoesNotPassThrough) {
+  // A ball-ended probe with no shaft to catch the surface (length = 2 radii), moving 5 radii
+  // (2 cm) per frame straight down into the top of the right lobe and ending 1 cm deep: in
+  // one frame it jumps from 1.5 cm above the surface to 0.5 cm below it.
+  const std::string path = write_scene(
+      "fast.yaml", probe_scene("[contact]",
+                               "      - {t: 0, tip: [0.035, 0.0, 0.095], axis: [0, 0, -1]}\n"
+                               "      - {t: 0.08, tip: [0.035, 0.0, 0.05]}\n",
+                               0.008));
+  const fs::path out = scene_dir() / "fast_out";
+  std::ostringstream o, e;
+  ASSERT_EQ(cmd_run(path, out.string(), -1, false, o, e, false), 0) << e.str();
+  const auto cells = last_row(out);
+  EXPECT_GT(std::stoi(cells[8]), 0) << "contact_nodes";
+  EXPECT_GT(std::stod(cells[9]), 0.0) << "contact_force_n";
+  EXPECT_LE(std::stod(cells[10]), 0.02 * 0.004) << "max_penetration_m";
+  EXPECT_GT(std::stod(cells[11]), 0.008) << "the surface went down with the probe";
+}
+
+}  // namespace
+}  // namespace vdmsim
