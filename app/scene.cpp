@@ -415,7 +415,7 @@ void read_instruments(Reader& r, const YAML::Node& list, SceneDef& s) {
     const std::string fi = Reader::item("instruments", i);
     const YAML::Node n = list[i];
     if (!r.require_map(n, fi)) continue;
-    r.check_keys(n, fi, {"type", "radius", "length", "script", "skin"});
+    r.check_keys(n, fi, {"type", "radius", "length", "jaw_length", "grasp_width", "script", "skin"});
     InstrumentDef in;
     s.instrument_where.push_back(r.where(n));
     if (const YAML::Node t = r.required(n, "type", fi, "probe or grasper")) {
@@ -433,6 +433,8 @@ void read_instruments(Reader& r, const YAML::Node& list, SceneDef& s) {
     }
     if (const YAML::Node v = n["radius"]) r.number(v, Reader::sub(fi, "radius"), in.radius, 0, 1, "m", false, true);
     if (const YAML::Node v = n["length"]) r.number(v, Reader::sub(fi, "length"), in.length, 0, 10, "m", false, true);
+    if (const YAML::Node v = n["jaw_length"]) r.number(v, Reader::sub(fi, "jaw_length"), in.jaw_length, 0, 1, "m", false, true);
+    if (const YAML::Node v = n["grasp_width"]) r.number(v, Reader::sub(fi, "grasp_width"), in.grasp_width, 0, 1, "m", false, true);
     const YAML::Node script = r.required(n, "script", fi, "a timeline of keyframes [{t, tip, axis, jaw}, ...]");
     if (!script || !r.require_sequence(script, Reader::sub(fi, "script"))) continue;
     if (script.size() == 0) r.error(script, Reader::sub(fi, "script"), "the timeline is empty: give at least one keyframe");

@@ -13,6 +13,7 @@
 #include "app/mesh_io.hpp"
 #include "engine/contact.hpp"
 #include "engine/sim_state.hpp"
+#include "tools_scripted/grasp.hpp"
 
 namespace vdmsim {
 namespace {
@@ -173,16 +174,16 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
     err << "vdmsim: error: " << error << "\n";
     return 2;
   }
-  // Contact runs only when listed, and only against probes (graspers are not built yet).
-  std::vector<const InstrumentDef*> probes;
-  for (size_t k = 0; k < s.instruments.size(); ++k) {
-    if (s.instruments[k].type == InstrumentDef::Type::probe) probes.push_back(&s.instruments[k]);
-    else
-      err << "vdmsim: warning: " << s.instrument_where[k]
-          << ": grasper instruments are not simulated yet (grasping is still to be built)\n";
-  }
+  // Contact runs only when listed, against probes; grasping only when listed, by graspers.
+  std::vector<const InstrumentDef*> probes, graspers;
+  for (const InstrumentDef& in : s.instruments)
+    (in.type == InstrumentDef::Type::probe ? probes : graspers).push_back(&in);
   if (!probes.empty() && !s.has(Effect::contact))
     err << "vdmsim: note: the scene has probes but does not list the contact effect: they pass through the organ\n";
+  if (!graspers.empty() && !s.has(Effect::grasp))
+    err << "vdmsim: note: the scene has graspers but does not list the grasp effect: they hold nothing\n";
+  std::vector<tools::Grasp> grasps(s.has(Effect::grasp) ? graspers.size() : 0);
+  double grasp_ms = 0;
   std::unique_ptr<vdm::ContactSolver> contact;
   if (s.has(Effect::contact) && !probes.empty()) contact = std::make_unique<vdm::ContactSolver>(m);
   std::vector<vdm::Capsule> capsules(probes.size());
@@ -234,6 +235,13 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
       }
     }
     loads_ms += ms_since(t_loads);
+    const auto t_grasp = Clock::now();
+    for (size_t k = 0; k < grasps.size(); ++k) {
+      const tools::InstrumentPose pose = tools::pose_at(*graspers[k], t);
+      grasps[k].update(*graspers[k], pose, state.x);
+      grasps[k].apply(pose, m.rest.positions, input);
+    }
+    if (!grasps.empty()) grasp_ms += ms_since(t_grasp);
 
     double frame_step_ms = 0;
     int frame_iterations = 0;
@@ -324,7 +332,7 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
      << ",\n  \"median_step_ms\": " << median << ",\n  \"max_step_ms\": " << max_step
      << ",\n  \"max_volume_rel_error\": " << max_vol << ",\n  \"stage_ms\": {\"loads\": " << loads_ms
      << ", \"assemble\": " << assemble_ms << ", \"solve\": " << solve_ms << ", \"stress\": " << stress_ms
-     << ", \"collision\": " << collision_ms << ", \"metrics_io\": " << io_ms << "},\n  \"collision_queries\": "
+     << ", \"grasp\": " << grasp_ms << ", \"collision\": " << collision_ms << ", \"metrics_io\": " << io_ms << "},\n  \"collision_queries\": "
      << queries << ",\n  \"warnings\": [";
   for (size_t i = 0; i < state.warnings.size(); ++i) js << (i ? ", " : "") << '"' << json_escape(state.warnings[i]) << '"';
   js << "]\n}\n";

@@ -22,6 +22,8 @@ struct InstrumentDef {
   enum class Type { probe, grasper } type = Type::probe;
   double radius = 0.004;             // m
   double length = 0.3;               // m, tip to handle end
+  double jaw_length = 0.02;          // grasper: jaws from the pivot to the tip (m)
+  double grasp_width = 0.005;        // grasper: nodes within this of the closed jaws are held (m)
   std::vector<Keyframe> script;      // strictly increasing t, first keyframe has a tip
 };
 

@@ -10,6 +10,7 @@
 #include "app/scene.hpp"
 #include "app/scene_run.hpp"
 #include "engine/sim_state.hpp"
+#include "tools_scripted/grasp.hpp"
 
 namespace vdmsim {
 namespace {
@@ -294,6 +295,78 @@ TEST(Contact, FastProbeDoesNotPassThrough) {
   EXPECT_GT(std::stod(cells[9]), 0.0) << "contact_force_n";
   EXPECT_LE(std::stod(cells[10]), 0.02 * 0.004) << "max_penetration_m";
   EXPECT_GT(std::stod(cells[11]), 0.008) << "the surface went down with the probe";
+}
+
+}  // namespace
+}  // namespace vdmsim
+
+namespace vdmsim {
+namespace {
+
+TEST(Grasp, LiftTwentyMillimetresKeepsVolumeAndReleasesToRest) {
+  PreparedScene ps;
+  std::vector<SceneProblem> problems;
+  ASSERT_TRUE(prepare_scene((fs::path(VDMSIM_SOURCE_DIR) / "assets/scenes/grasp_lift.yaml").string(), ps, problems));
+  const vdm::TissueModel& m = ps.model;
+  const InstrumentDef& g = ps.scene.instruments.at(0);
+  vdm::SimState s = vdm::make_sim_state(m);
+  vdm::StepInput in = vdm::make_step_input(m);
+  tools::Grasp grasp;
+  double max_lift = 0.0;
+  for (int f = 0; f < ps.scene.frames; ++f) {
+    const double t = (f + 1) * ps.scene.dt;
+    const tools::InstrumentPose pose = tools::pose_at(g, t);
+    in.clear();
+    grasp.update(g, pose, s.x);
+    grasp.apply(pose, m.rest.positions, in);
+    vdm::step(m, in, s);
+    ASSERT_LT(std::abs(s.volume_rel_error), 1e-4) << "frame " << f;
+    // Held nodes follow the jaws within 0.1 mm.
+    for (int i : grasp.held())
+      ASSERT_LT((s.u.row(i) - in.prescribed_u.row(i)).norm(), 1e-4) << "node " << i << " frame " << f;
+    if (!grasp.held().empty()) max_lift = std::max(max_lift, s.u.col(2).maxCoeff());
+  }
+  EXPECT_GT(max_lift, 0.018) << "the grasped tissue went up about 20 mm";
+  // Released and quasi-static: back to rest within 1 % of the lift.
+  EXPECT_TRUE(grasp.held().empty());
+  EXPECT_LT(s.u.cwiseAbs().maxCoeff(), 0.01 * 0.02);
+}
+
+TEST(Effects, UnlistedGraspHoldsNothing) {
+  std::string text;
+  {
+    std::ifstream f(fs::path(VDMSIM_SOURCE_DIR) / "assets/scenes/grasp_lift.yaml");
+    std::stringstream ss;
+    ss << f.rdbuf();
+    text = ss.str();
+  }
+  text.replace(text.find("effects: [grasp, stress]"), 24, "effects: [stress]");
+  text.replace(text.find("../meshes/liver_L4.obj"), 22, (fs::path(VDMSIM_SOURCE_DIR) / "assets/meshes/liver_L4.obj").string());
+  const std::string path = write_scene("nograsp.yaml", text);
+  const fs::path out = scene_dir() / "nograsp_out";
+  std::ostringstream o, e;
+  ASSERT_EQ(cmd_run(path, out.string(), -1, false, o, e, false), 0) << e.str();
+  EXPECT_NE(json_of(out).find("\"grasp\": 0,"), std::string::npos) << json_of(out);
+  const auto lines = read_lines(out / "metrics.csv");
+  for (size_t k = 1; k < lines.size(); ++k) {
+    std::vector<std::string> cells;
+    std::stringstream row(lines[k]);
+    for (std::string c; std::getline(row, c, ',');) cells.push_back(c);
+    ASSERT_GE(cells.size(), 12u);
+    EXPECT_EQ(std::stod(cells[11]), 0.0) << "max_displacement_m, frame " << k - 1;
+  }
+}
+
+TEST(ExampleScenes, AllPassCheck) {
+  int seen = 0;
+  for (const auto& entry : fs::directory_iterator(fs::path(VDMSIM_SOURCE_DIR) / "assets/scenes")) {
+    if (entry.path().extension() != ".yaml") continue;
+    std::ostringstream out, err;
+    EXPECT_EQ(cmd_check(entry.path().string(), out, err), 0) << entry.path() << "\n" << err.str();
+    EXPECT_EQ(err.str(), "") << entry.path();
+    ++seen;
+  }
+  EXPECT_GE(seen, 5);
 }
 
 }  // namespace

@@ -1,0 +1,44 @@
+#include "tools_scripted/grasp.hpp"
+
+#include <Eigen/Geometry>
+
+namespace tools {
+
+Eigen::Isometry3d jaw_frame(const InstrumentPose& pose) {
+  Eigen::Isometry3d f = Eigen::Isometry3d::Identity();
+  f.linear() = Eigen::Quaterniond::FromTwoVectors(vdm::Vec3::UnitZ(), pose.axis.normalized()).toRotationMatrix();
+  f.translation() = pose.tip;
+  return f;
+}
+
+bool Grasp::update(const InstrumentDef& def, const InstrumentPose& pose, const vdm::NodeMat& x) {
+  if (pose.jaw_closed == closed_) return false;
+  closed_ = pose.jaw_closed;
+  held_.clear();
+  local_.clear();
+  if (!closed_) return true;  // opened: everything released
+  // Closed: take the nodes near the jaw segment, pivot (tip - jaw_length axis) to tip.
+  const vdm::Vec3 tip = pose.tip, pivot = pose.tip - def.jaw_length * pose.axis.normalized();
+  const Eigen::Isometry3d inv = jaw_frame(pose).inverse();
+  for (int i = 0; i < x.rows(); ++i) {
+    const vdm::Vec3 p = x.row(i).transpose();
+    const vdm::Vec3 d = tip - pivot;
+    const double t = std::clamp((p - pivot).dot(d) / d.squaredNorm(), 0.0, 1.0);
+    if ((p - (pivot + t * d)).norm() <= def.grasp_width) {
+      held_.push_back(i);
+      local_.push_back(inv * p);
+    }
+  }
+  return true;
+}
+
+void Grasp::apply(const InstrumentPose& pose, const vdm::NodeMat& rest, vdm::StepInput& input) const {
+  const Eigen::Isometry3d f = jaw_frame(pose);
+  for (size_t k = 0; k < held_.size(); ++k) {
+    const int i = held_[k];
+    input.prescribed.row(i).setOnes();
+    input.prescribed_u.row(i) = (f * local_[k] - rest.row(i).transpose()).transpose();
+  }
+}
+
+}  // namespace tools
