@@ -36,6 +36,10 @@ class LinearSolver {
 
 std::unique_ptr<LinearSolver> make_linear_solver(const SolverSettings& settings);
 
+// dP = (c - a.r) / (a.s): the pressure that makes u = r + dP s satisfy the volume row
+// (0 when a.s is not positive: no node is free to move).
+double pressure_for_volume(const NodeMat& a, const NodeMat& r, const NodeMat& s, double c);
+
 // The scale that makes the pressure column comparable with the stiffness blocks:
 // mean diagonal of K over mean |a| (the reference solver's unknown is dP / scale).
 double pressure_scale(const std::array<SpMat, 3>& K, const NodeMat& a);

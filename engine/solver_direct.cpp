@@ -40,16 +40,7 @@ class DirectSolver final : public LinearSolver {
     pending_factorizations_ = 0;
     rep.converged = factor_ok_;
     for (int d = 0; d < 3; ++d) ldlt_[d].solve(rhs.col(d).data(), r_.col(d).data());
-    dP = 0.0;
-    if (volume_constraint) {
-      const NodeMat& s = pressure_response(K, a);
-      double as = 0.0, ar = 0.0;
-      for (int d = 0; d < 3; ++d) {
-        as += a.col(d).dot(s.col(d));
-        ar += a.col(d).dot(r_.col(d));
-      }
-      if (as > 0.0 && std::isfinite(as)) dP = (c - ar) / as;
-    }
+    dP = volume_constraint ? pressure_for_volume(a, r_, pressure_response(K, a), c) : 0.0;
     u.noalias() = r_ + dP * s_;
     if (!u.allFinite()) rep.converged = false;
     return rep;

@@ -27,16 +27,7 @@ class StructuredSolver final : public LinearSolver {
 
   const NodeMat& pressure_response(const std::array<SpMat, 3>& K, const NodeMat& a) override {
     if (!s_valid_) {
-      for (int d = 0; d < 3; ++d) {
-        const SpMat& Kd = K[d];
-        const IncompleteCholesky& ic = ic_[d];
-        auto op = [&Kd](const double* in, double* out) { symmetric_multiply(Kd, in, out); };
-        auto pre = [&ic](const double* in, double* out) { ic.apply(in, out); };
-        b_ = a.col(d);
-        x_ = s_.col(d);
-        pcg(op, pre, b_, x_, settings_.tolerance, settings_.max_iterations, work_);
-        s_.col(d) = x_;
-      }
+      for (int d = 0; d < 3; ++d) solve_axis(K[d], d, a, s_);
       s_valid_ = true;
     }
     return s_;
@@ -53,45 +44,35 @@ class StructuredSolver final : public LinearSolver {
     SolveReport rep;
     rep.factorizations = pending_factorizations_;
     pending_factorizations_ = 0;
-    for (int d = 0; d < 3; ++d) {
-      const SpMat& Kd = K[d];
-      const IncompleteCholesky& ic = ic_[d];
-      auto op = [&Kd](const double* in, double* out) { symmetric_multiply(Kd, in, out); };
-      auto pre = [&ic](const double* in, double* out) { ic.apply(in, out); };
-      // r: warm start from the previous step's r (u - dP s when the pressure part is known).
-      b_ = rhs.col(d);
-      if (settings_.warm_start) x_ = r_.col(d);
-      else x_.setZero();
-      KrylovResult kr = pcg(op, pre, b_, x_, settings_.tolerance, settings_.max_iterations, work_);
-      r_.col(d) = x_;
+    auto count = [&rep](const KrylovResult& kr) {
       rep.iterations += kr.iterations;
       rep.converged = rep.converged && kr.converged;
-      if (volume_constraint && !s_valid_) {
-        b_ = a.col(d);
-        if (settings_.warm_start) x_ = s_.col(d);
-        else x_.setZero();
-        kr = pcg(op, pre, b_, x_, settings_.tolerance, settings_.max_iterations, work_);
-        s_.col(d) = x_;
-        rep.iterations += kr.iterations;
-        rep.converged = rep.converged && kr.converged;
-      }
+    };
+    for (int d = 0; d < 3; ++d) {
+      count(solve_axis(K[d], d, rhs, r_));
+      if (volume_constraint && !s_valid_) count(solve_axis(K[d], d, a, s_));
     }
     if (volume_constraint) s_valid_ = true;
-    dP = 0.0;
-    if (volume_constraint) {
-      double as = 0.0, ar = 0.0;
-      for (int d = 0; d < 3; ++d) {
-        as += a.col(d).dot(s_.col(d));
-        ar += a.col(d).dot(r_.col(d));
-      }
-      // a.s > 0 whenever some node can move; otherwise the fluid has nothing to push.
-      if (as > 0.0 && std::isfinite(as)) dP = (c - ar) / as;
-    }
+    dP = volume_constraint ? pressure_for_volume(a, r_, s_, c) : 0.0;
     u.noalias() = r_ + dP * s_;
     return rep;
   }
 
  private:
+  // K x = b.col(d) by PCG with IC(0), warm-started from x = out.col(d) (the previous step's
+  // solution of the same system); the result goes back to out.col(d).
+  KrylovResult solve_axis(const SpMat& K, int d, const NodeMat& b, NodeMat& out) {
+    const IncompleteCholesky& ic = ic_[d];
+    auto op = [&K](const double* in, double* res) { symmetric_multiply(K, in, res); };
+    auto pre = [&ic](const double* in, double* res) { ic.apply(in, res); };
+    b_ = b.col(d);
+    if (settings_.warm_start) x_ = out.col(d);
+    else x_.setZero();
+    const KrylovResult kr = pcg(op, pre, b_, x_, settings_.tolerance, settings_.max_iterations, work_);
+    out.col(d) = x_;
+    return kr;
+  }
+
   SolverSettings settings_;
   IncompleteCholesky ic_[3];
   NodeMat r_, s_;
@@ -105,6 +86,16 @@ class StructuredSolver final : public LinearSolver {
 
 std::unique_ptr<LinearSolver> make_structured_solver(const SolverSettings& s) {
   return std::make_unique<StructuredSolver>(s);
+}
+
+double pressure_for_volume(const NodeMat& a, const NodeMat& r, const NodeMat& s, double c) {
+  double as = 0.0, ar = 0.0;
+  for (int d = 0; d < 3; ++d) {
+    as += a.col(d).dot(s.col(d));
+    ar += a.col(d).dot(r.col(d));
+  }
+  // a.s > 0 whenever some node can move; otherwise the fluid has nothing to push.
+  return (as > 0.0 && std::isfinite(as)) ? (c - ar) / as : 0.0;
 }
 
 double pressure_scale(const std::array<SpMat, 3>& K, const NodeMat& a) {
