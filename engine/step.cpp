@@ -20,8 +20,8 @@ void add_warning(SimState& s, const char* what) {
   if (s.warnings.size() < 64) s.warnings.emplace_back(what);
 }
 
-// Step 1 of section 4: A_i, V_i, V and every K^d at the current geometry.
-void refresh_geometry(const TissueModel& m, SimState& s, StepWorkspace& w) {
+// Step 1 of section 4: A_i, V_i, V and every K^d at the current geometry. Returns V.
+double refresh_geometry(const TissueModel& m, SimState& s, StepWorkspace& w) {
   distributed_area_vectors(s.x, m.rest.triangles, s.area_vectors);
   const double v = enclosed_volume(s.x, m.rest.triangles, m.origin);
   distributed_volumes(s.area_vectors, v, s.node_volumes);
@@ -36,6 +36,7 @@ void refresh_geometry(const TissueModel& m, SimState& s, StepWorkspace& w) {
   w.matrix_dirty = true;
   w.have_geometry = true;
   w.steps_since_refresh = 0;
+  return v;
 }
 
 // Constrained entries this step: held (fixed, infinite B) and prescribed by the input.
@@ -170,11 +171,12 @@ void step(const TissueModel& m, const StepInput& in, SimState& s) {
     const auto t_asm = Clock::now();
     const bool refresh = !w.have_geometry || it > 0 || w.steps_since_refresh >= m.solver.refresh_every;
     if (refresh) {
-      refresh_geometry(m, s, w);
+      current_volume = refresh_geometry(m, s, w);
       st.refreshed = true;
       ++st.total_refreshes;
+    } else {
+      current_volume = enclosed_volume(s.x, m.rest.triangles, m.origin);
     }
-    current_volume = enclosed_volume(s.x, m.rest.triangles, m.origin);
 
     build_constraints(m, in, w);
     if (w.matrix_dirty || w.mask != w.last_mask) {
