@@ -50,10 +50,7 @@ int cmd_mesh_info(const std::string& path, double scale, std::ostream& out, std:
   out << "file:       " << path << "\n";
   out << "nodes:      " << r.mesh.node_count() << "\n";
   out << "triangles:  " << r.mesh.triangle_count() << "\n";
-  const bool closed = check.ok() || (check.problem != vdm::MeshProblem::open_boundary &&
-                                     check.problem != vdm::MeshProblem::non_manifold_edge &&
-                                     check.problem != vdm::MeshProblem::empty &&
-                                     check.problem != vdm::MeshProblem::bad_index);
+  const bool closed = vdm::is_closed(r.mesh.triangles);
   out << "closed:     " << (closed ? "yes" : "no") << "\n";
   out << std::setprecision(6);
   if (check.ok())

@@ -37,8 +37,10 @@ void collect(const aiScene* scene, const aiNode* node, const aiMatrix4x4& parent
         ++non_triangles;  // points and lines carry no surface
         continue;
       }
-      tris.push_back({base + int(face.mIndices[0]), base + int(face.mIndices[1]),
-                      base + int(face.mIndices[2])});
+      std::array<int, 3> t{};
+      for (int c = 0; c < 3; ++c)  // an index past this mesh's vertices becomes -1 (rejected later)
+        t[c] = face.mIndices[c] < mesh->mNumVertices ? base + static_cast<int>(face.mIndices[c]) : -1;
+      tris.push_back(t);
     }
   }
   for (unsigned c = 0; c < node->mNumChildren; ++c)
@@ -136,7 +138,8 @@ MeshLoadResult load_surface_mesh(const std::string& path, const MeshLoadOptions&
                                     aiComponent_TEXTURES | aiComponent_LIGHTS |
                                     aiComponent_CAMERAS | aiComponent_MATERIALS);
     const aiScene* scene = importer.ReadFile(
-        path, aiProcess_RemoveComponent | aiProcess_Triangulate | aiProcess_JoinIdenticalVertices);
+        path, aiProcess_ValidateDataStructure | aiProcess_RemoveComponent | aiProcess_Triangulate |
+                  aiProcess_JoinIdenticalVertices);
     if (!scene || !scene->mRootNode) {
       std::string why = importer.GetErrorString();
       if (why.empty()) why = "unknown reason";
@@ -146,6 +149,21 @@ MeshLoadResult load_surface_mesh(const std::string& path, const MeshLoadOptions&
     collect(scene, scene->mRootNode, aiMatrix4x4(), points, tris, non_triangles);
   }
   if (tris.empty()) return fail("the file holds no triangles");
+  // Before welding (NaN cannot be a map key): finite coordinates and valid indices only.
+  for (size_t i = 0; i < points.size(); ++i)
+    if (!points[i].allFinite()) {
+      std::ostringstream s;
+      s << "non-finite coordinate: vertex " << i << " is (" << points[i].x() << ", " << points[i].y() << ", "
+        << points[i].z() << ")";
+      out.problem = vdm::MeshProblem::non_finite;
+      return fail(s.str());
+    }
+  for (size_t k = 0; k < tris.size(); ++k)
+    for (int c = 0; c < 3; ++c)
+      if (tris[k][c] < 0 || tris[k][c] >= static_cast<int>(points.size())) {
+        out.problem = vdm::MeshProblem::bad_index;
+        return fail("triangle " + std::to_string(k) + " refers to a vertex that does not exist");
+      }
   // Weld nodes at exactly the same position: separate meshes or per-corner attributes
   // duplicate them, and the surface must be one connected node set.
   std::map<std::array<double, 3>, int> index_of;

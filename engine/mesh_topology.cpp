@@ -66,6 +66,24 @@ std::vector<std::array<int, 2>> unique_edges(const TriMat& tris) {
   return edges;
 }
 
+bool is_closed(const TriMat& tris) {
+  std::vector<std::array<int, 2>> e;
+  e.reserve(static_cast<size_t>(tris.rows()) * 3);
+  for (Eigen::Index k = 0; k < tris.rows(); ++k)
+    for (int c = 0; c < 3; ++c) {
+      const int a = tris(k, c), b = tris(k, (c + 1) % 3);
+      e.push_back({std::min(a, b), std::max(a, b)});
+    }
+  std::sort(e.begin(), e.end());
+  for (size_t s = 0; s < e.size();) {
+    size_t t = s;
+    while (t < e.size() && e[t] == e[s]) ++t;
+    if (t - s != 2) return false;
+    s = t;
+  }
+  return !e.empty();
+}
+
 int drop_unreferenced_nodes(SurfaceMesh& mesh) {
   const int n = mesh.node_count();
   std::vector<int> remap(n, -1);

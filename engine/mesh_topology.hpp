@@ -39,6 +39,10 @@ struct MeshCheck {
 // oriented inward, its triangles are flipped in place and `flipped` is set.
 MeshCheck check_and_orient_surface(SurfaceMesh& mesh);
 
+// True when every edge is shared by exactly two triangles (a watertight surface), whatever
+// else is wrong with the mesh.
+bool is_closed(const TriMat& tris);
+
 // Removes nodes that no triangle uses and renumbers the triangles. Returns how many went.
 int drop_unreferenced_nodes(SurfaceMesh& mesh);
 

@@ -163,6 +163,8 @@ void step(const TissueModel& m, const StepInput& in, SimState& s) {
   st.factorizations = 0;
   st.assemble_ms = st.solve_ms = st.stress_ms = 0;
   w.u_start = s.u;
+  const double pressure_start = s.pressure;
+  bool rejected = false;
   double current_volume = 0.0;
   double last_c = 0.0;
 
@@ -219,7 +221,8 @@ void step(const TissueModel& m, const StepInput& in, SimState& s) {
       add_warning(s, "solver produced a non-finite displacement; step rejected");
       st.converged = false;
       s.u = w.u_start;
-      s.pressure = 0.0;
+      s.pressure = pressure_start;
+      rejected = true;
       s.x = m.rest.positions + s.u;
       break;
     }
@@ -231,7 +234,14 @@ void step(const TissueModel& m, const StepInput& in, SimState& s) {
     const double du = (w.u_new - s.u).cwiseAbs().maxCoeff();
     s.u = w.u_new;
     s.x = m.rest.positions + s.u;
-    if (m.volume_constraint) last_c += correct_volume(m, s, w);
+    if (m.volume_constraint) {
+      last_c += correct_volume(m, s, w);
+      // s is zero on constrained entries only to solver tolerance: pin them again.
+      for (int d = 0; d < 3; ++d)
+        for (int i = 0; i < m.n; ++i)
+          if (w.mask(i, d)) s.u(i, d) = w.u_fixed(i, d);
+      s.x = m.rest.positions + s.u;
+    }
     if (it + 1 < max_it && du <= m.solver.nonlinear_tolerance * m.size) break;
   }
   ++w.steps_since_refresh;
@@ -270,7 +280,7 @@ void step(const TissueModel& m, const StepInput& in, SimState& s) {
     compute_strain_stress(m, s);
     st.stress_ms = ms_since(t_stress);
   }
-  s.velocity = (s.u - w.u_start) / m.dt;
+  if (!rejected) s.velocity = (s.u - w.u_start) / m.dt;  // a rejected step keeps its momentum
   ++s.step;
   s.time += m.dt;
   st.step_ms = ms_since(t_step);

@@ -350,3 +350,30 @@ TEST(MeshIo, ObjKeepsFileVertexOrderAndPrecision) {
 
 }  // namespace
 }  // namespace vdmsim
+
+namespace vdmsim {
+namespace {
+
+TEST(MeshIoErrors, FaceIndexPastTheVerticesInPlyIsAnErrorNotACrash) {
+  const std::string p = write_text("badindex.ply",
+      "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 2\nproperty list uchar int vertex_indices\nend_header\n"
+      "0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n3 1 2 999999\n").string();
+  const MeshLoadResult r = load_surface_mesh(p);
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.error.find(p), std::string::npos) << r.error;
+}
+
+TEST(MeshIoErrors, NanInStlIsRejectedBeforeWelding) {
+  const std::string p = write_text("nan.stl",
+      "solid t\n facet normal 0 0 0\n  outer loop\n   vertex nan 0 0\n   vertex 1 0 0\n   vertex 0 1 0\n"
+      "  endloop\n endfacet\nendsolid t\n").string();
+  MeshLoadOptions opt;
+  opt.validate = false;  // as mesh-info loads
+  const MeshLoadResult r = load_surface_mesh(p, opt);
+  EXPECT_FALSE(r.ok);
+  EXPECT_NE(r.error.find("non-finite"), std::string::npos) << r.error;
+}
+
+}  // namespace
+}  // namespace vdmsim
