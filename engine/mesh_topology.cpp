@@ -53,7 +53,8 @@ const char* to_string(MeshProblem p) {
   return "unknown";
 }
 
-std::vector<std::array<int, 2>> unique_edges(const TriMat& tris) {
+// Every triangle side as (min, max), sorted: each undirected edge once per triangle using it.
+static std::vector<std::array<int, 2>> sorted_edge_uses(const TriMat& tris) {
   std::vector<std::array<int, 2>> edges;
   edges.reserve(static_cast<size_t>(tris.rows()) * 3);
   for (Eigen::Index k = 0; k < tris.rows(); ++k)
@@ -62,19 +63,17 @@ std::vector<std::array<int, 2>> unique_edges(const TriMat& tris) {
       edges.push_back({std::min(a, b), std::max(a, b)});
     }
   std::sort(edges.begin(), edges.end());
+  return edges;
+}
+
+std::vector<std::array<int, 2>> unique_edges(const TriMat& tris) {
+  std::vector<std::array<int, 2>> edges = sorted_edge_uses(tris);
   edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
   return edges;
 }
 
 bool is_closed(const TriMat& tris) {
-  std::vector<std::array<int, 2>> e;
-  e.reserve(static_cast<size_t>(tris.rows()) * 3);
-  for (Eigen::Index k = 0; k < tris.rows(); ++k)
-    for (int c = 0; c < 3; ++c) {
-      const int a = tris(k, c), b = tris(k, (c + 1) % 3);
-      e.push_back({std::min(a, b), std::max(a, b)});
-    }
-  std::sort(e.begin(), e.end());
+  const std::vector<std::array<int, 2>> e = sorted_edge_uses(tris);
   for (size_t s = 0; s < e.size();) {
     size_t t = s;
     while (t < e.size() && e[t] == e[s]) ++t;
