@@ -97,7 +97,7 @@ int cmd_check(const std::string& scene_path, std::ostream& out, std::ostream& er
   return 0;
 }
 
-int cmd_run(const std::string& scene_path, const std::string& out_dir, int frames, bool render, std::ostream& out,
+int cmd_run(const std::string& scene_path, const std::string& out_dir, int frames, bool render, bool video, std::ostream& out,
             std::ostream& err, bool terminal) {
   PreparedScene ps;
   std::vector<SceneProblem> problems;
@@ -107,6 +107,7 @@ int cmd_run(const std::string& scene_path, const std::string& out_dir, int frame
   opt.out_dir = out_dir;
   opt.frames = frames;
   opt.render = render;
+  opt.video = video;
   return run_scene(ps, opt, out, err, terminal);
 }
 

@@ -35,12 +35,13 @@ int main(int argc, char** argv) {
 
   std::string scene_path, run_out;
   int run_frames = -1;
-  bool no_render = false;
-  auto* run = app.add_subcommand("run", "Simulate a scene: writes metrics.csv and run.json");
+  bool no_render = false, video = false;
+  auto* run = app.add_subcommand("run", "Simulate and render a scene: PNG frames, metrics.csv, run.json");
   run->add_option("SCENE", scene_path, "Scene file (YAML)")->required();
   run->add_option("--out", run_out, "Output folder (default: out/<scene name>)");
   run->add_option("--frames", run_frames, "Simulate only this many frames")->check(CLI::PositiveNumber);
-  run->add_flag("--no-render", no_render, "Do not render images");
+  run->add_flag("--no-render", no_render, "Do not render images (metrics.csv and run.json only)");
+  run->add_flag("--video", video, "Also write video.mp4 (H.264, needs the ffmpeg program)");
   auto* check = app.add_subcommand("check", "Validate a scene and its mesh without simulating");
   check->add_option("SCENE", scene_path, "Scene file (YAML)")->required();
 
@@ -57,7 +58,7 @@ int main(int argc, char** argv) {
   try {
     if (mesh_info->parsed()) return vdmsim::cmd_mesh_info(mesh_path, mesh_scale, std::cout, std::cerr);
     if (run->parsed())
-      return vdmsim::cmd_run(scene_path, run_out, run_frames, !no_render, std::cout, std::cerr, isatty(2) != 0);
+      return vdmsim::cmd_run(scene_path, run_out, run_frames, !no_render, video, std::cout, std::cerr, isatty(2) != 0);
     if (check->parsed()) return vdmsim::cmd_check(scene_path, std::cout, std::cerr);
     if (make_organ->parsed()) return vdmsim::cmd_make_organ(organ, organ_level, organ_out, std::cout, std::cerr);
     if (paper->parsed()) return vdmsim::cmd_paper(experiment, out_dir, std::cout, std::cerr);

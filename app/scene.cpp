@@ -470,6 +470,90 @@ void read_instruments(Reader& r, const YAML::Node& list, SceneDef& s) {
   }
 }
 
+void read_render(Reader& r, const YAML::Node& n, SceneDef& s) {
+  RenderDef& d = s.render;
+  if (!r.require_map(n, "render")) return;
+  r.check_keys(n, "render",
+               {"width", "height", "samples", "camera", "views", "stress", "hud", "floor", "shadows", "png_compression",
+                "fps"});
+  if (const YAML::Node v = n["width"]) r.integer(v, "render.width", d.settings.width, 16, 8192);
+  if (const YAML::Node v = n["height"]) r.integer(v, "render.height", d.settings.height, 16, 8192);
+  if (const YAML::Node v = n["samples"]) {
+    if (r.integer(v, "render.samples", d.settings.samples, 1, 16) && (d.settings.samples & (d.settings.samples - 1)))
+      r.error(v, "render.samples", "expected 1, 2, 4, 8 or 16 (samples per pixel for anti-aliasing)");
+  }
+  if (const YAML::Node v = n["hud"]) r.boolean(v, "render.hud", d.hud);
+  if (const YAML::Node v = n["floor"]) r.boolean(v, "render.floor", d.settings.floor);
+  if (const YAML::Node v = n["shadows"]) r.boolean(v, "render.shadows", d.settings.shadows);
+  if (const YAML::Node v = n["png_compression"]) r.integer(v, "render.png_compression", d.png_compression, 0, 9);
+  if (const YAML::Node v = n["fps"]) r.number(v, "render.fps", d.fps, 0, 240, "frames per second", false, true);
+  if (const YAML::Node cam = n["camera"]; cam && r.require_map(cam, "render.camera")) {
+    r.check_keys(cam, "render.camera", {"eye", "target", "up", "fov_deg"});
+    render::Camera& c = d.settings.camera;
+    if (const YAML::Node v = cam["fov_deg"]) r.number(v, "render.camera.fov_deg", c.fov_deg, 1, 170, "degrees");
+    const YAML::Node eye = cam["eye"], target = cam["target"];
+    if (eye || target) {
+      d.settings.auto_camera = false;
+      if (!eye) r.error(cam, "render.camera.eye", "missing: give eye and target together (or neither, for automatic framing)");
+      if (!target) r.error(cam, "render.camera.target", "missing: give eye and target together (or neither, for automatic framing)");
+      if (eye) r.vec3(eye, "render.camera.eye", c.eye, "m");
+      if (target) r.vec3(target, "render.camera.target", c.target, "m");
+      if (eye && target && (c.eye - c.target).norm() < 1e-9)
+        r.error(target, "render.camera.target", "the target must differ from the eye");
+    }
+    if (const YAML::Node up = cam["up"]; up && r.vec3(up, "render.camera.up", c.up, "unit vector") && c.up.norm() < 1e-9)
+      r.error(up, "render.camera.up", "the up vector must not be zero");
+  }
+  if (const YAML::Node views = n["views"]; views && r.require_sequence(views, "render.views")) {
+    d.shaded = d.stress = false;
+    for (size_t i = 0; i < views.size(); ++i) {
+      std::string v;
+      if (!r.text(views[i], Reader::item("render.views", i), v)) continue;
+      if (v == "shaded") d.shaded = true;
+      else if (v == "stress") d.stress = true;
+      else {
+        const std::string near = closest(v, {"shaded", "stress"});
+        r.error(views[i], Reader::item("render.views", i),
+                "unknown view '" + v + "': expected shaded or stress" + (near.empty() ? "" : " (did you mean '" + near + "'?)"));
+      }
+    }
+  }
+  if (const YAML::Node st = n["stress"]; st && r.require_map(st, "render.stress")) {
+    r.check_keys(st, "render.stress", {"quantity", "range", "colormap"});
+    render::StressView& v = d.stress_view;
+    if (const YAML::Node q = st["quantity"]) {
+      std::string t;
+      if (r.text(q, "render.stress.quantity", t) && !render::parse_quantity(t, v.quantity))
+        r.error(q, "render.stress.quantity", "unknown quantity '" + t + "': expected one of " + join(render::quantity_names()));
+    }
+    if (quantity_is_signed(v.quantity)) v.colormap = render::ColorMapName::coolwarm;
+    if (const YAML::Node c = st["colormap"]) {
+      std::string t;
+      if (r.text(c, "render.stress.colormap", t) && !render::parse_colormap(t, v.colormap))
+        r.error(c, "render.stress.colormap", "unknown colour map '" + t + "': expected one of " + join(render::colormap_names()));
+    }
+    if (const YAML::Node range = st["range"]) {
+      if (range.IsScalar() && range.Scalar() == "auto") {
+        d.range_auto = true;
+      } else if (!range.IsSequence() || range.size() != 2) {
+        r.error(range, "render.stress.range", "expected [low, high] in the quantity's SI unit, or auto");
+      } else if (r.number(range[0], "render.stress.range[0]", v.lo, -kInf, kInf, "") &&
+                 r.number(range[1], "render.stress.range[1]", v.hi, -kInf, kInf, "")) {
+        d.range_auto = false;
+        if (!(v.hi > v.lo)) r.error(range[1], "render.stress.range[1]", "the high end must be above the low end");
+      }
+    }
+  }
+  if (d.stress && !s.has(Effect::stress) &&
+      (d.stress_view.quantity == render::Quantity::stress_magnitude || d.stress_view.quantity == render::Quantity::stress_x ||
+       d.stress_view.quantity == render::Quantity::stress_y || d.stress_view.quantity == render::Quantity::stress_z ||
+       d.stress_view.quantity == render::Quantity::volumetric_strain))
+    r.error(n["views"], "render.views",
+            std::string("the stress view of '") + render::to_string(d.stress_view.quantity) +
+                "' needs the stress effect: add stress to simulation.effects (or colour by displacement or "
+                "contact_pressure)");
+}
+
 }  // namespace
 
 const char* to_string(Effect e) {
@@ -523,7 +607,10 @@ SceneLoadResult load_scene(const std::string& path) {
   if (const YAML::Node organ = r.required(root, "organ", "", "the organ: {mesh, material, ...}")) read_organ(r, organ, s, base);
   if (const YAML::Node sim = root["simulation"]) read_simulation(r, sim, s);
   if (const YAML::Node ins = root["instruments"]) read_instruments(r, ins, s);
-  if (const YAML::Node render = root["render"]) s.has_render = true;
+  if (const YAML::Node render = root["render"]) {
+    s.has_render = true;
+    read_render(r, render, s);
+  }
   return res;
 }
 

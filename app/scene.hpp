@@ -8,6 +8,7 @@
 
 #include "engine/settings.hpp"
 #include "engine/types.hpp"
+#include "render/renderer.hpp"
 #include "tools_scripted/instrument.hpp"
 
 namespace vdmsim {
@@ -49,6 +50,17 @@ struct PrescribedDef {
 using Keyframe = tools::Keyframe;
 using InstrumentDef = tools::InstrumentDef;
 
+// The scene's `render:` section.
+struct RenderDef {
+  render::RenderSettings settings;     // size, samples, camera (auto unless given), floor, shadows
+  bool shaded = true, stress = false;  // views
+  render::StressView stress_view;      // quantity, colour map, range
+  bool range_auto = true;              // range computed in a first pass over the sequence
+  bool hud = true;
+  int png_compression = 1;             // zlib level 0-9 (1: fast)
+  double fps = 30;                     // video frame rate
+};
+
 enum class Effect { contact, grasp, gravity, inertia, stress };
 const char* to_string(Effect e);
 
@@ -76,7 +88,8 @@ struct SceneDef {
   // instruments and rendering
   std::vector<InstrumentDef> instruments;
   std::vector<std::string> instrument_where;  // file:line:col of each instrument
-  bool has_render = false;
+  bool has_render = false;     // the scene has a render: section
+  RenderDef render;
 
   bool has(Effect e) const;
 };

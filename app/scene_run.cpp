@@ -10,7 +10,10 @@
 #include <sstream>
 
 #include "app/commands.hpp"
+#include "app/frame_output.hpp"
 #include "app/mesh_io.hpp"
+#include "app/scene_simulation.hpp"
+#include "render/video.hpp"
 #include "engine/contact.hpp"
 #include "engine/sim_state.hpp"
 #include "tools_scripted/grasp.hpp"
@@ -20,18 +23,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
-
-double ramp(double t, double t0, double t1) {
-  if (t1 <= t0) return t >= t0 ? 1.0 : 0.0;
-  return std::clamp((t - t0) / (t1 - t0), 0.0, 1.0);
-}
-
-Eigen::Matrix3d rotation_deg(const vdm::Vec3& deg) {
-  const double k = 3.14159265358979323846 / 180.0;
-  return (Eigen::AngleAxisd(deg.z() * k, vdm::Vec3::UnitZ()) * Eigen::AngleAxisd(deg.y() * k, vdm::Vec3::UnitY()) *
-          Eigen::AngleAxisd(deg.x() * k, vdm::Vec3::UnitX()))
-      .toRotationMatrix();
-}
 
 std::string json_escape(const std::string& s) {
   std::string o;
@@ -170,28 +161,82 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
   const int frames = opt.frames > 0 ? opt.frames : s.frames;
   const fs::path dir = opt.out_dir.empty() ? fs::path("out") / s.name : fs::path(opt.out_dir);
   std::string error;
+  const bool rendering = opt.render && s.has_render && (s.render.shaded || s.render.stress);
+  if (opt.video && !rendering) {
+    err << "vdmsim: error: --video needs rendered frames: " << (opt.render ? s.file + " has no render: section" : "drop --no-render")
+        << "\n";
+    return 2;
+  }
+  if (opt.video && render::find_program("ffmpeg").empty()) {
+    err << "vdmsim: error: --video needs the ffmpeg program, which is not installed (apt-get install ffmpeg)\n";
+    return 1;
+  }
   if (!prepare_output_dir(dir.string(), error)) {
     err << "vdmsim: error: " << error << "\n";
     return 2;
   }
-  // Contact runs only when listed, against probes; grasping only when listed, by graspers.
-  std::vector<const InstrumentDef*> probes, graspers;
-  for (const InstrumentDef& in : s.instruments)
-    (in.type == InstrumentDef::Type::probe ? probes : graspers).push_back(&in);
-  if (!probes.empty() && !s.has(Effect::contact))
+  bool has_probe = false, has_grasper = false;
+  for (const InstrumentDef& in : s.instruments) (in.type == InstrumentDef::Type::probe ? has_probe : has_grasper) = true;
+  if (has_probe && !s.has(Effect::contact))
     err << "vdmsim: note: the scene has probes but does not list the contact effect: they pass through the organ\n";
-  if (!graspers.empty() && !s.has(Effect::grasp))
+  if (has_grasper && !s.has(Effect::grasp))
     err << "vdmsim: note: the scene has graspers but does not list the grasp effect: they hold nothing\n";
-  std::vector<tools::Grasp> grasps(s.has(Effect::grasp) ? graspers.size() : 0);
-  double grasp_ms = 0;
-  std::unique_ptr<vdm::ContactSolver> contact;
-  if (s.has(Effect::contact) && !probes.empty()) contact = std::make_unique<vdm::ContactSolver>(m);
-  std::vector<vdm::Capsule> capsules(probes.size());
-  vdm::ContactReport report;
-  double collision_ms = 0;
-  long queries = 0;
-  if (opt.render && s.has_render)
-    err << "vdmsim: warning: the renderer is not built yet: no frames are written (metrics only)\n";
+
+  FrameOutput output;
+  if (rendering && !output.open(ps, dir, frames, error)) {
+    err << "vdmsim: error: " << error << "\n";
+    return 1;
+  }
+  const auto t_run = Clock::now();
+  auto progress = [&](const std::string& what, int done, int total, int& last_pct) {
+    const int pct = 100 * done / total;
+    if (terminal) {
+      if (pct != last_pct) {
+        const int w = 30, fill = w * done / total;
+        err << "\r" << what << " [" << std::string(fill, '#') << std::string(w - fill, '.') << "] " << std::setw(3) << pct
+            << "%  frame " << done << "/" << total << std::flush;
+      }
+    } else if (pct / 10 != last_pct / 10 || done == total) {
+      err << what << " frame " << done << "/" << total << " (" << pct << "%)\n";
+    }
+    last_pct = pct;
+  };
+
+  // The stress view's colour range, when not given: a first pass over the whole sequence
+  // (the simulation is deterministic, so the second pass sees the same values).
+  double first_pass_ms = 0;
+  if (rendering && s.render.stress && s.render.range_auto) {
+    const auto t0 = Clock::now();
+    SceneSimulation pass(ps);
+    std::vector<float> field;
+    double lo = 0, hi = 0;
+    int last_pct = -1;
+    for (int f = 0; f < frames; ++f) {
+      pass.advance(f);
+      if (!pass.state().u.allFinite()) break;
+      // The 0.5 % and 99.5 % quantiles of each frame (a handful of nodes under an
+      // instrument would otherwise set the range and leave the rest of the organ one colour);
+      // values beyond the range saturate.
+      render::scalar_field(output.stress_view().quantity, pass.state(), field);
+      const size_t k_lo = field.size() / 200, k_hi = field.size() - 1 - field.size() / 200;
+      std::nth_element(field.begin(), field.begin() + k_hi, field.end());
+      hi = std::max(hi, double(field[k_hi]));
+      std::nth_element(field.begin(), field.begin() + k_lo, field.end());
+      lo = std::min(lo, double(field[k_lo]));
+      progress("colour range", f + 1, frames, last_pct);
+    }
+    if (terminal) err << "\n";
+    if (render::quantity_is_signed(output.stress_view().quantity)) {
+      const double a = std::max(std::abs(lo), std::abs(hi));
+      lo = -a;
+      hi = a;
+    } else {
+      lo = 0;
+    }
+    if (!(hi > lo)) hi = lo + 1e-12 + std::abs(lo) * 1e-6;
+    output.set_stress_range(lo, hi);
+    first_pass_ms = ms_since(t0);
+  }
 
   std::ofstream metrics(dir / "metrics.csv");
   if (!metrics) {
@@ -202,95 +247,35 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
              "contact_force_n,max_penetration_m,max_displacement_m,max_stress_pa\n";
   metrics << std::setprecision(9);
 
-  vdm::SimState state = vdm::make_sim_state(m);
-  vdm::StepInput input = vdm::make_step_input(m);
-  const auto t_run = Clock::now();
-  double loads_ms = 0, assemble_ms = 0, solve_ms = 0, stress_ms = 0, io_ms = 0;
-  double sum_step = 0, max_step = 0, max_vol = 0;
+  SceneSimulation sim(ps);
+  double io_ms = 0, sum_step = 0, max_step = 0, max_vol = 0;
   std::vector<double> step_times;
   step_times.reserve(static_cast<size_t>(frames));
   std::string status = "completed", reason;
-  int done = 0;
-  int last_pct = -1;
+  int done = 0, last_pct = -1;
   for (int f = 0; f < frames; ++f) {
-    const double t = (f + 1) * s.dt;
-    // Scripted loads and motions for this frame.
-    const auto t_loads = Clock::now();
-    input.force.setZero();
-    input.prescribed.setZero();
-    for (size_t k = 0; k < s.loads.size(); ++k) {
-      const auto& nodes = ps.load_nodes[k];
-      const vdm::Vec3 per_node = ramp(t, s.loads[k].t0, s.loads[k].t1) * s.loads[k].force / double(nodes.size());
-      for (int i : nodes) input.force.row(i) += per_node.transpose();
-    }
-    for (size_t k = 0; k < s.prescribed.size(); ++k) {
-      const PrescribedDef& p = s.prescribed[k];
-      const double a = ramp(t, p.t0, p.t1);
-      const Eigen::Matrix3d R = rotation_deg(a * p.rotate_deg);
-      const vdm::Vec3 c = ps.prescribed_about[k];
-      for (int i : ps.prescribed_nodes[k]) {
-        const vdm::Vec3 X = m.rest.positions.row(i);
-        input.prescribed.row(i).setOnes();
-        input.prescribed_u.row(i) = (R * (X - c) + c + a * p.translate - X).transpose();
-      }
-    }
-    loads_ms += ms_since(t_loads);
-    const auto t_grasp = Clock::now();
-    for (size_t k = 0; k < grasps.size(); ++k) {
-      const tools::InstrumentPose pose = tools::pose_at(*graspers[k], t);
-      grasps[k].update(*graspers[k], pose, state.x);
-      grasps[k].apply(pose, m.rest.positions, input);
-    }
-    if (!grasps.empty()) grasp_ms += ms_since(t_grasp);
-
-    double frame_step_ms = 0;
-    int frame_iterations = 0;
-    if (contact) {
-      // Sub-step when a probe moves more than its radius in a frame, so it cannot tunnel.
-      double substeps = 1;
-      for (const InstrumentDef* p : probes) {
-        const double move = (tools::pose_at(*p, t).tip - tools::pose_at(*p, t - s.dt).tip).norm();
-        substeps = std::max(substeps, std::ceil(move / p->radius));
-      }
-      const int n_sub = static_cast<int>(std::min(substeps, 1000.0));
-      for (int j = 1; j <= n_sub; ++j) {
-        const double tj = t - s.dt + s.dt * j / n_sub, tprev = t - s.dt + s.dt * (j - 1) / n_sub;
-        for (size_t k = 0; k < probes.size(); ++k) {
-          capsules[k] = tools::probe_capsule(*probes[k], tools::pose_at(*probes[k], tj));
-          capsules[k].motion = tools::pose_at(*probes[k], tj).tip - tools::pose_at(*probes[k], tprev).tip;
-        }
-        const auto t_contact = Clock::now();
-        contact->step(m, input, capsules, state, report);
-        frame_step_ms += ms_since(t_contact);
-        frame_iterations += state.stats.iterations;
-        collision_ms += report.collision_ms;
-        queries += report.queries;
-      }
-    } else {
-      vdm::step(m, input, state);
-      frame_step_ms = state.stats.step_ms;
-      frame_iterations = state.stats.iterations;
-    }
+    sim.advance(f);
+    const vdm::SimState& state = sim.state();
     const vdm::StepStats& st = state.stats;
-    assemble_ms += st.assemble_ms;
-    solve_ms += st.solve_ms;
-    stress_ms += st.stress_ms;
     if (!state.u.allFinite()) {
       status = "failed";
       reason = "non-finite displacement at frame " + std::to_string(f);
       break;
     }
     const auto t_io = Clock::now();
-    sum_step += frame_step_ms;
-    max_step = std::max(max_step, frame_step_ms);
-    step_times.push_back(frame_step_ms);
+    const double step_ms = sim.frame_step_ms();
+    sum_step += step_ms;
+    max_step = std::max(max_step, step_ms);
+    step_times.push_back(step_ms);
     max_vol = std::max(max_vol, std::abs(state.volume_rel_error));
-    metrics << f << ',' << t << ',' << frame_step_ms << ',' << frame_iterations << ',' << st.residual << ','
+    metrics << f << ',' << sim.time() << ',' << step_ms << ',' << sim.frame_iterations() << ',' << st.residual << ','
             << state.volume << ',' << state.volume_rel_error << ',' << state.pressure << ',';
-    if (contact)
+    if (sim.contact_simulated()) {
+      const vdm::ContactReport& report = sim.contact_report();
       metrics << report.nodes << ',' << report.force.norm() << ',' << report.max_penetration << ',';
-    else
+    } else {
       metrics << ",,,";  // the contact effect is not simulated: its columns stay empty
+    }
     metrics << state.u.rowwise().norm().maxCoeff() << ',';
     if (m.compute_stress) metrics << state.stress.rowwise().norm().maxCoeff();
     metrics << '\n';
@@ -300,26 +285,48 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
       break;
     }
     io_ms += ms_since(t_io);
-    done = f + 1;
-    const int pct = 100 * done / frames;
-    if (terminal) {
-      if (pct != last_pct) {
-        const int w = 30, fill = w * done / frames;
-        err << "\r[" << std::string(fill, '#') << std::string(w - fill, '.') << "] " << std::setw(3) << pct << "%  frame "
-            << done << "/" << frames << std::flush;
-      }
-    } else if (pct / 10 != last_pct / 10 || done == frames) {
-      err << "frame " << done << "/" << frames << " (" << pct << "%)\n";
+    if (rendering && !output.write(f, frames, sim)) {
+      status = "failed";
+      reason = "writing images failed: " + output.error();
+      break;
     }
-    last_pct = pct;
+    done = f + 1;
+    progress(rendering ? "render" : "simulate", done, frames, last_pct);
   }
   if (terminal) err << "\n";
   metrics.flush();
+  if (rendering && !output.finish(error) && status == "completed") {
+    status = "failed";
+    reason = "writing images failed: " + error;
+  }
+  // Video from the PNG sequences.
+  std::string video_status = opt.video ? "" : "not requested";
+  if (opt.video && done > 0) {
+    const double t0_ms = ms_since(t_run);
+    bool ok = true;
+    if (s.render.shaded)
+      ok = render::encode_video((dir / "frames" / "frame_%05d.png").string(), s.render.fps, (dir / "video.mp4").string(),
+                                (dir / "ffmpeg.log").string(), error);
+    if (ok && s.render.stress)
+      ok = render::encode_video((dir / "stress" / "stress_%05d.png").string(), s.render.fps,
+                                (dir / (s.render.shaded ? "stress.mp4" : "video.mp4")).string(),
+                                (dir / "ffmpeg.log").string(), error);
+    video_status = ok ? "written" : "failed: " + error;
+    if (!ok) {
+      err << "vdmsim: error: " << error << "\n";
+      if (status == "completed") {
+        status = "failed";
+        reason = error;
+      }
+    }
+    io_ms += ms_since(t_run) - t0_ms;
+  }
   const double wall = ms_since(t_run) / 1000.0;
 
   std::vector<double> sorted = step_times;
   std::sort(sorted.begin(), sorted.end());
   const double median = sorted.empty() ? 0.0 : sorted[sorted.size() / 2];
+  const StageTimes& times = sim.stage_times();
   std::ostringstream js;
   js << std::setprecision(9);
   js << "{\n  \"scene\": \"" << json_escape(s.name) << "\",\n  \"scene_file\": \"" << json_escape(s.file)
@@ -330,10 +337,29 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
   for (size_t i = 0; i < s.effects.size(); ++i) js << (i ? ", " : "") << '"' << to_string(s.effects[i]) << '"';
   js << "],\n  \"wall_time_s\": " << wall << ",\n  \"mean_step_ms\": " << (done ? sum_step / done : 0.0)
      << ",\n  \"median_step_ms\": " << median << ",\n  \"max_step_ms\": " << max_step
-     << ",\n  \"max_volume_rel_error\": " << max_vol << ",\n  \"stage_ms\": {\"loads\": " << loads_ms
-     << ", \"assemble\": " << assemble_ms << ", \"solve\": " << solve_ms << ", \"stress\": " << stress_ms
-     << ", \"grasp\": " << grasp_ms << ", \"collision\": " << collision_ms << ", \"metrics_io\": " << io_ms << "},\n  \"collision_queries\": "
-     << queries << ",\n  \"warnings\": [";
+     << ",\n  \"max_volume_rel_error\": " << max_vol << ",\n  \"stage_ms\": {\"loads\": " << times.loads
+     << ", \"assemble\": " << times.assemble << ", \"solve\": " << times.solve << ", \"stress\": " << times.stress
+     << ", \"grasp\": " << times.grasp << ", \"collision\": " << times.collision << ", \"metrics_io\": " << io_ms;
+  if (rendering)
+    js << ", \"colour_range_pass\": " << first_pass_ms << ", \"render\": " << output.render_ms()
+       << ", \"png_encode\": " << output.encode_ms();
+  js << "},\n  \"collision_queries\": " << times.collision_queries << ",\n";
+  if (rendering) {
+    const RenderDef& rd = s.render;
+    js << "  \"render\": {\"width\": " << rd.settings.width << ", \"height\": " << rd.settings.height
+       << ", \"samples\": " << rd.settings.samples << ", \"views\": [" << (rd.shaded ? "\"shaded\"" : "")
+       << (rd.shaded && rd.stress ? ", " : "") << (rd.stress ? "\"stress\"" : "") << "], \"images_written\": "
+       << output.images_written();
+    if (rd.stress)
+      js << ", \"stress_quantity\": \"" << render::to_string(output.stress_view().quantity) << "\", \"stress_range\": ["
+         << output.stress_view().lo << ", " << output.stress_view().hi << "], \"stress_range_source\": \""
+         << (rd.range_auto ? "first pass" : "scene") << "\"";
+    js << ", \"video\": \"" << json_escape(video_status) << "\"},\n";
+  } else {
+    js << "  \"render\": null,\n";
+  }
+  js << "  \"warnings\": [";
+  const vdm::SimState& state = sim.state();
   for (size_t i = 0; i < state.warnings.size(); ++i) js << (i ? ", " : "") << '"' << json_escape(state.warnings[i]) << '"';
   js << "]\n}\n";
   if (!write_run_json(dir / "run.json", js.str(), error)) {
@@ -341,7 +367,9 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
     return 1;
   }
   out << s.name << ": " << done << " frames, " << m.n << " nodes, median step " << median << " ms, max |volume error| "
-      << max_vol << ", status " << status << " -> " << dir.string() << "\n";
+      << max_vol << (rendering ? ", " + std::to_string(output.images_written()) + " images" : std::string())
+      << ", status " << status << " -> " << dir.string() << "\n";
+  if (status != "completed") err << "vdmsim: error: " << reason << "\n";
   return status == "completed" ? 0 : 1;
 }
 

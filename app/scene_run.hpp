@@ -30,7 +30,8 @@ bool prepare_scene(const std::string& path, PreparedScene& out, std::vector<Scen
 struct RunOptions {
   std::string out_dir;      // empty: out/<scene name>
   int frames = -1;          // override the scene's frame count when > 0
-  bool render = true;       // (the renderer is not built yet: frames are not written)
+  bool render = true;       // render the scene's views (when it has a render: section)
+  bool video = false;       // also encode DIR/video.mp4 with ffmpeg
 };
 
 // Runs a prepared scene; returns the exit code (0, or 1 on a runtime failure). `progress`

@@ -36,6 +36,7 @@ InstrumentPose pose_at(const InstrumentDef& def, double t) {
     pose.tip = a.tip;
     pose.axis = a.axis;
     pose.jaw_closed = a.jaw_closed;
+    pose.jaw_opening = a.jaw_closed ? 0.0 : 1.0;
     return pose;
   }
   const Filled b = filled(def, k + 1);
@@ -43,6 +44,7 @@ InstrumentPose pose_at(const InstrumentDef& def, double t) {
   pose.tip = (1 - w) * a.tip + w * b.tip;
   pose.axis = Eigen::Quaterniond::Identity().slerp(w, Eigen::Quaterniond::FromTwoVectors(a.axis, b.axis)) * a.axis;
   pose.jaw_closed = w < 1.0 ? a.jaw_closed : b.jaw_closed;
+  pose.jaw_opening = (1 - w) * (a.jaw_closed ? 0.0 : 1.0) + w * (b.jaw_closed ? 0.0 : 1.0);
   return pose;
 }
 

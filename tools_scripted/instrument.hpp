@@ -31,6 +31,7 @@ struct InstrumentPose {
   vdm::Vec3 tip = vdm::Vec3::Zero();
   vdm::Vec3 axis = -vdm::Vec3::UnitZ();
   bool jaw_closed = false;
+  double jaw_opening = 1;  // for drawing: 1 open, 0 closed, moving linearly between keyframes
 };
 
 InstrumentPose pose_at(const InstrumentDef& def, double t);

@@ -1,0 +1,111 @@
+#include "app/scene_simulation.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+namespace vdmsim {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+double ramp(double t, double t0, double t1) {
+  if (t1 <= t0) return t >= t0 ? 1.0 : 0.0;
+  return std::clamp((t - t0) / (t1 - t0), 0.0, 1.0);
+}
+
+Eigen::Matrix3d rotation_deg(const vdm::Vec3& deg) {
+  const double k = 3.14159265358979323846 / 180.0;
+  return (Eigen::AngleAxisd(deg.z() * k, vdm::Vec3::UnitZ()) * Eigen::AngleAxisd(deg.y() * k, vdm::Vec3::UnitY()) *
+          Eigen::AngleAxisd(deg.x() * k, vdm::Vec3::UnitX()))
+      .toRotationMatrix();
+}
+
+}  // namespace
+
+SceneSimulation::SceneSimulation(const PreparedScene& ps)
+    : ps_(ps), state_(vdm::make_sim_state(ps.model)), input_(vdm::make_step_input(ps.model)) {
+  const SceneDef& s = ps.scene;
+  // Contact runs only when listed, against probes; grasping only when listed, by graspers.
+  for (const tools::InstrumentDef& in : s.instruments)
+    (in.type == tools::InstrumentDef::Type::probe ? probes_ : graspers_).push_back(&in);
+  if (s.has(Effect::grasp)) grasps_.resize(graspers_.size());
+  if (s.has(Effect::contact) && !probes_.empty()) contact_ = std::make_unique<vdm::ContactSolver>(ps.model);
+  capsules_.resize(probes_.size());
+}
+
+std::vector<tools::InstrumentPose> SceneSimulation::poses(double t) const {
+  std::vector<tools::InstrumentPose> out;
+  for (const tools::InstrumentDef& in : ps_.scene.instruments) out.push_back(tools::pose_at(in, t));
+  return out;
+}
+
+void SceneSimulation::advance(int f) {
+  const SceneDef& s = ps_.scene;
+  const vdm::TissueModel& m = ps_.model;
+  const double t = (f + 1) * s.dt;
+  time_ = t;
+  // Scripted loads and motions for this frame.
+  const auto t_loads = Clock::now();
+  input_.force.setZero();
+  input_.prescribed.setZero();
+  for (size_t k = 0; k < s.loads.size(); ++k) {
+    const auto& nodes = ps_.load_nodes[k];
+    const vdm::Vec3 per_node = ramp(t, s.loads[k].t0, s.loads[k].t1) * s.loads[k].force / double(nodes.size());
+    for (int i : nodes) input_.force.row(i) += per_node.transpose();
+  }
+  for (size_t k = 0; k < s.prescribed.size(); ++k) {
+    const PrescribedDef& p = s.prescribed[k];
+    const double a = ramp(t, p.t0, p.t1);
+    const Eigen::Matrix3d R = rotation_deg(a * p.rotate_deg);
+    const vdm::Vec3 c = ps_.prescribed_about[k];
+    for (int i : ps_.prescribed_nodes[k]) {
+      const vdm::Vec3 X = m.rest.positions.row(i);
+      input_.prescribed.row(i).setOnes();
+      input_.prescribed_u.row(i) = (R * (X - c) + c + a * p.translate - X).transpose();
+    }
+  }
+  times_.loads += ms_since(t_loads);
+  const auto t_grasp = Clock::now();
+  for (size_t k = 0; k < grasps_.size(); ++k) {
+    const tools::InstrumentPose pose = tools::pose_at(*graspers_[k], t);
+    grasps_[k].update(*graspers_[k], pose, state_.x);
+    grasps_[k].apply(pose, m.rest.positions, input_);
+  }
+  if (!grasps_.empty()) times_.grasp += ms_since(t_grasp);
+
+  frame_step_ms_ = 0;
+  frame_iterations_ = 0;
+  if (contact_) {
+    // Sub-step when a probe moves more than its radius in a frame, so it cannot tunnel.
+    double substeps = 1;
+    for (const tools::InstrumentDef* p : probes_) {
+      const double move = (tools::pose_at(*p, t).tip - tools::pose_at(*p, t - s.dt).tip).norm();
+      substeps = std::max(substeps, std::ceil(move / p->radius));
+    }
+    const int n_sub = static_cast<int>(std::min(substeps, 1000.0));
+    for (int j = 1; j <= n_sub; ++j) {
+      const double tj = t - s.dt + s.dt * j / n_sub, tprev = t - s.dt + s.dt * (j - 1) / n_sub;
+      for (size_t k = 0; k < probes_.size(); ++k) {
+        capsules_[k] = tools::probe_capsule(*probes_[k], tools::pose_at(*probes_[k], tj));
+        capsules_[k].motion = tools::pose_at(*probes_[k], tj).tip - tools::pose_at(*probes_[k], tprev).tip;
+      }
+      const auto t_contact = Clock::now();
+      contact_->step(m, input_, capsules_, state_, report_);
+      frame_step_ms_ += ms_since(t_contact);
+      frame_iterations_ += state_.stats.iterations;
+      times_.collision += report_.collision_ms;
+      times_.collision_queries += report_.queries;
+    }
+  } else {
+    vdm::step(m, input_, state_);
+    frame_step_ms_ = state_.stats.step_ms;
+    frame_iterations_ = state_.stats.iterations;
+  }
+  times_.assemble += state_.stats.assemble_ms;
+  times_.solve += state_.stats.solve_ms;
+  times_.stress += state_.stats.stress_ms;
+}
+
+}  // namespace vdmsim

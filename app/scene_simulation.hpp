@@ -1,0 +1,51 @@
+#pragma once
+// The simulation side of a scene run, one frame at a time: scripted loads and motions,
+// grasping, contact (with sub-steps against tunnelling) and the VDM step. Only the effects
+// the scene lists run. Deterministic: the same scene gives the same numbers every time.
+#include <memory>
+#include <vector>
+
+#include "app/scene_run.hpp"
+#include "engine/contact.hpp"
+#include "engine/sim_state.hpp"
+#include "tools_scripted/grasp.hpp"
+
+namespace vdmsim {
+
+// Time spent in each stage, summed over the frames so far (ms).
+struct StageTimes {
+  double loads = 0, assemble = 0, solve = 0, stress = 0, grasp = 0, collision = 0;
+  long collision_queries = 0;
+};
+
+class SceneSimulation {
+ public:
+  explicit SceneSimulation(const PreparedScene& prepared);
+  // Simulates frame f, which ends at time (f + 1) dt.
+  void advance(int f);
+
+  const vdm::SimState& state() const { return state_; }
+  double time() const { return time_; }
+  double frame_step_ms() const { return frame_step_ms_; }   // engine time of the last frame
+  int frame_iterations() const { return frame_iterations_; }
+  bool contact_simulated() const { return contact_ != nullptr; }
+  const vdm::ContactReport& contact_report() const { return report_; }
+  const StageTimes& stage_times() const { return times_; }
+  // Every instrument's pose at time t (in the scene's order).
+  std::vector<tools::InstrumentPose> poses(double t) const;
+
+ private:
+  const PreparedScene& ps_;
+  std::vector<const tools::InstrumentDef*> probes_, graspers_;
+  std::vector<tools::Grasp> grasps_;
+  std::unique_ptr<vdm::ContactSolver> contact_;
+  std::vector<vdm::Capsule> capsules_;
+  vdm::ContactReport report_;
+  vdm::SimState state_;
+  vdm::StepInput input_;
+  StageTimes times_;
+  double time_ = 0, frame_step_ms_ = 0;
+  int frame_iterations_ = 0;
+};
+
+}  // namespace vdmsim

@@ -1,0 +1,26 @@
+#pragma once
+// Parametric instrument geometry in the instrument frame (origin at the tip, +z toward the
+// tip, so the shaft runs along -z): a probe is a capsule with its rounded end at the tip; a
+// grasper is a shaft ending at the jaw pivot plus two jaws that turn about the pivot's x axis.
+#include "render/render_scene.hpp"
+
+namespace render {
+
+// Appends a cylinder along z from z0 to z1 (open ends).
+void append_cylinder(SkinMesh& m, double radius, double z0, double z1, int segments);
+// Appends a hemisphere of `radius` centred on (0, 0, zc) bulging toward +z (sign = +1) or -z.
+void append_hemisphere(SkinMesh& m, double radius, double zc, int sign, int segments);
+// Appends a flat disc at z facing +z (sign = +1) or -z.
+void append_disc(SkinMesh& m, double radius, double z, int sign, int segments);
+// Appends the axis-aligned box [lo, hi] with flat faces.
+void append_box(SkinMesh& m, const Eigen::Vector3f& lo, const Eigen::Vector3f& hi);
+
+SkinMesh probe_mesh(double radius, double length);
+SkinMesh grasper_shaft_mesh(double radius, double length, double jaw_length);
+// One jaw (side = +1 upper, -1 lower) in the closed position: from the pivot at
+// z = -jaw_length to the tip at z = 0.
+SkinMesh grasper_jaw_mesh(double radius, double jaw_length, int side);
+// The rotation of a jaw about the pivot for an opening in [0, 1] (fully open: 30 degrees).
+Eigen::Isometry3f jaw_transform(double jaw_length, double opening, int side);
+
+}  // namespace render

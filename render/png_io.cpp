@@ -1,0 +1,144 @@
+#include "render/png_io.hpp"
+
+#include <png.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <vector>
+
+namespace render {
+namespace {
+
+struct FileCloser {
+  void operator()(std::FILE* f) const {
+    if (f) std::fclose(f);
+  }
+};
+using File = std::unique_ptr<std::FILE, FileCloser>;
+
+// libpng reports errors by longjmp; the message is kept here for the caller.
+void on_error(png_structp png, png_const_charp message) {
+  auto* text = static_cast<std::string*>(png_get_error_ptr(png));
+  if (text) *text = message;
+  png_longjmp(png, 1);
+}
+void on_warning(png_structp, png_const_charp) {}
+
+// Everything that touches setjmp lives in these two functions, with only plain locals.
+bool encode(std::FILE* f, const Image& image, int level, bool alpha, std::vector<std::uint8_t>& rgb, std::string& msg) {
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &msg, on_error, on_warning);
+  if (!png) return false;
+  png_infop info = png_create_info_struct(png);
+  if (!info || setjmp(png_jmpbuf(png))) {
+    png_destroy_write_struct(&png, &info);
+    return false;
+  }
+  png_init_io(png, f);
+  png_set_compression_level(png, level);
+  // The Sub filter alone is much faster than adaptive filtering at a similar size for renders.
+  png_set_filter(png, 0, level <= 3 ? PNG_FILTER_SUB : PNG_ALL_FILTERS);
+  png_set_IHDR(png, info, image.width, image.height, 8, alpha ? PNG_COLOR_TYPE_RGBA : PNG_COLOR_TYPE_RGB,
+               PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_write_info(png, info);
+  const size_t w = static_cast<size_t>(image.width);
+  for (int y = 0; y < image.height; ++y) {
+    const std::uint8_t* row = &image.rgba[y * w * 4];
+    if (alpha) {
+      png_write_row(png, row);
+    } else {
+      for (size_t x = 0; x < w; ++x)
+        for (int c = 0; c < 3; ++c) rgb[x * 3 + c] = row[x * 4 + c];
+      png_write_row(png, rgb.data());
+    }
+  }
+  png_write_end(png, info);
+  png_destroy_write_struct(&png, &info);
+  return true;
+}
+
+bool decode(std::FILE* f, Image& image, std::vector<png_bytep>& rows, std::string& msg) {
+  png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &msg, on_error, on_warning);
+  if (!png) return false;
+  png_infop info = png_create_info_struct(png);
+  if (!info || setjmp(png_jmpbuf(png))) {
+    png_destroy_read_struct(&png, &info, nullptr);
+    return false;
+  }
+  png_init_io(png, f);
+  png_read_info(png, info);
+  const png_uint_32 w = png_get_image_width(png, info), h = png_get_image_height(png, info);
+  if (w == 0 || h == 0 || w > 16384 || h > 16384) {
+    msg = "unsupported image size " + std::to_string(w) + "x" + std::to_string(h);
+    png_destroy_read_struct(&png, &info, nullptr);
+    return false;
+  }
+  png_set_expand(png);
+  png_set_strip_16(png);
+  png_set_gray_to_rgb(png);
+  png_set_add_alpha(png, 0xff, PNG_FILLER_AFTER);
+  png_read_update_info(png, info);
+  image = Image(static_cast<int>(w), static_cast<int>(h));
+  rows.resize(h);
+  for (png_uint_32 y = 0; y < h; ++y) rows[y] = &image.rgba[static_cast<size_t>(y) * w * 4];
+  png_read_image(png, rows.data());
+  png_read_end(png, nullptr);
+  png_destroy_read_struct(&png, &info, nullptr);
+  return true;
+}
+
+}  // namespace
+
+bool write_png(const std::string& path, const Image& image, int level, bool alpha, std::string& error) {
+  namespace fs = std::filesystem;
+  const std::string tmp = path + ".tmp";
+  std::string msg;
+  bool ok = false;
+  {
+    File f(std::fopen(tmp.c_str(), "wb"));
+    if (!f) {
+      error = path + ": cannot open for writing";
+      return false;
+    }
+    std::vector<std::uint8_t> rgb(static_cast<size_t>(image.width) * 3);
+    ok = encode(f.get(), image, level, alpha, rgb, msg);
+    ok = ok && std::fflush(f.get()) == 0 && !std::ferror(f.get());
+    ok = (std::fclose(f.release()) == 0) && ok;
+  }
+  std::error_code ec;
+  if (!ok) {
+    fs::remove(tmp, ec);
+    error = path + ": writing failed" + (msg.empty() ? " (disk full?)" : " (" + msg + ")");
+    return false;
+  }
+  fs::rename(tmp, path, ec);
+  if (ec) {
+    fs::remove(tmp, ec);
+    error = path + ": cannot rename into place (" + ec.message() + ")";
+    return false;
+  }
+  return true;
+}
+
+bool read_png(const std::string& path, Image& image, std::string& error) {
+  File f(std::fopen(path.c_str(), "rb"));
+  if (!f) {
+    error = path + ": cannot open";
+    return false;
+  }
+  unsigned char sig[8] = {};
+  if (std::fread(sig, 1, 8, f.get()) != 8 || png_sig_cmp(sig, 0, 8) != 0) {
+    error = path + ": not a PNG file";
+    return false;
+  }
+  std::rewind(f.get());
+  std::string msg;
+  std::vector<png_bytep> rows;
+  if (!decode(f.get(), image, rows, msg)) {
+    error = path + ": " + (msg.empty() ? "cannot decode" : msg);
+    return false;
+  }
+  return true;
+}
+
+}  // namespace render

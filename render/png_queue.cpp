@@ -1,0 +1,76 @@
+#include "render/png_queue.hpp"
+
+#include <chrono>
+
+#include "render/png_io.hpp"
+
+namespace render {
+
+PngQueue::PngQueue(int compression_level, int capacity)
+    : level_(compression_level), capacity_(static_cast<size_t>(capacity < 1 ? 1 : capacity)), worker_([this] { run(); }) {}
+
+PngQueue::~PngQueue() {
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stop_ = true;
+  }
+  changed_.notify_all();
+  worker_.join();
+}
+
+bool PngQueue::push(Image image, std::string path) {
+  std::unique_lock<std::mutex> lock(mutex_);
+  changed_.wait(lock, [&] { return pending_.size() < capacity_ || !error_.empty(); });
+  if (!error_.empty()) return false;
+  pending_.emplace_back(std::move(image), std::move(path));
+  changed_.notify_all();
+  return true;
+}
+
+bool PngQueue::finish() {
+  std::unique_lock<std::mutex> lock(mutex_);
+  changed_.wait(lock, [&] { return (pending_.empty() && !busy_) || !error_.empty(); });
+  return error_.empty();
+}
+
+std::string PngQueue::error() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return error_;
+}
+
+long PngQueue::written() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return written_;
+}
+
+double PngQueue::encode_ms() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return encode_ms_;
+}
+
+void PngQueue::run() {
+  std::unique_lock<std::mutex> lock(mutex_);
+  for (;;) {
+    changed_.wait(lock, [&] { return !pending_.empty() || stop_; });
+    if (pending_.empty()) return;  // stop requested and nothing left
+    auto job = std::move(pending_.front());
+    pending_.pop_front();
+    busy_ = true;
+    const bool failed_before = !error_.empty();
+    lock.unlock();
+    changed_.notify_all();
+    std::string err;
+    const auto t0 = std::chrono::steady_clock::now();
+    const bool ok = failed_before || write_png(job.second, job.first, level_, false, err);
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    lock.lock();
+    busy_ = false;
+    encode_ms_ += ms;
+    if (!ok && error_.empty()) error_ = err;
+    if (ok && !failed_before) ++written_;
+    if (!error_.empty()) pending_.clear();  // after a failure nothing more is written
+    changed_.notify_all();
+  }
+}
+
+}  // namespace render

@@ -1,0 +1,469 @@
+#include "render/renderer.hpp"
+
+#include <GL/gl.h>
+#include <GL/glext.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <map>
+#include <tuple>
+
+#include "render/gl_context.hpp"
+#include "render/gl_program.hpp"
+#include "render/hud.hpp"
+#include "render/imgui_layer.hpp"
+#include "render/instrument_geometry.hpp"
+#include "render/shaders.hpp"
+
+namespace render {
+namespace {
+
+// A static triangle mesh on the GPU: position and normal per vertex.
+struct GpuMesh {
+  GLuint vao = 0, vbo = 0, ebo = 0;
+  GLsizei count = 0;
+  void upload(const SkinMesh& m) {
+    std::vector<float> data;
+    data.reserve(m.positions.size() * 6);
+    for (size_t i = 0; i < m.positions.size(); ++i) {
+      data.insert(data.end(), {m.positions[i].x(), m.positions[i].y(), m.positions[i].z()});
+      data.insert(data.end(), {m.normals[i].x(), m.normals[i].y(), m.normals[i].z()});
+    }
+    glGenVertexArrays(1, &vao);
+    glGenBuffers(1, &vbo);
+    glGenBuffers(1, &ebo);
+    glBindVertexArray(vao);
+    glBindBuffer(GL_ARRAY_BUFFER, vbo);
+    glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(data.size() * sizeof(float)), data.data(), GL_STATIC_DRAW);
+    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ebo);
+    glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(m.indices.size() * sizeof(unsigned)), m.indices.data(),
+                 GL_STATIC_DRAW);
+    glEnableVertexAttribArray(0);
+    glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), nullptr);
+    glEnableVertexAttribArray(1);
+    glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), reinterpret_cast<void*>(3 * sizeof(float)));
+    glDisableVertexAttribArray(2);
+    glVertexAttrib1f(2, 0.0f);
+    glBindVertexArray(0);
+    count = GLsizei(m.indices.size());
+  }
+  void destroy() {
+    glDeleteVertexArrays(1, &vao);
+    glDeleteBuffers(1, &vbo);
+    glDeleteBuffers(1, &ebo);
+  }
+  void draw() const {
+    glBindVertexArray(vao);
+    glDrawElements(GL_TRIANGLES, count, GL_UNSIGNED_INT, nullptr);
+  }
+};
+
+struct InstrumentMeshes {
+  GpuMesh body, jaws[2];
+};
+
+Eigen::Vector3f f3(const Eigen::Vector3d& v) { return v.cast<float>(); }
+
+// VDMSIM_RENDER_TIMING=1 prints the time of each pass (with glFinish between passes, so
+// the total is slower than a normal frame): for profiling only.
+struct PassTimer {
+  bool on = std::getenv("VDMSIM_RENDER_TIMING") != nullptr;
+  std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now();
+  void mark(const char* what) {
+    if (!on) return;
+    glFinish();
+    const auto t = std::chrono::steady_clock::now();
+    std::fprintf(stderr, "render %-12s %7.2f ms\n", what, std::chrono::duration<double, std::milli>(t - t0).count());
+    t0 = t;
+  }
+};
+
+}  // namespace
+
+struct Renderer::Impl {
+  enum Material { kTissue, kColormap, kMetal };
+  RenderSettings settings;
+  std::unique_ptr<GlContext> gl;
+  std::unique_ptr<Framebuffer> fb;
+  GlProgram materials[3], mask_program, background;
+  GLuint empty_vao = 0;
+  // The organ: topology fixed, positions, normals and the scalar streamed each frame.
+  GLuint organ_vao = 0, organ_vbo = 0, organ_ebo = 0;
+  GLsizei organ_count = 0;
+  vdm::TriMat triangles;
+  std::vector<Eigen::Vector3f> normals;
+  std::vector<float> vertex_data;
+  // Instruments (parametric, by dimensions) and skins (by address).
+  std::map<std::tuple<int, double, double, double>, InstrumentMeshes> instruments;
+  std::map<const SkinMesh*, GpuMesh> skins;
+  // The floor's shadow mask.
+  GLuint mask_fbo = 0, mask_tex = 0;
+  static constexpr int kMaskSize = 512;  // coarse on purpose: bilinear lookups give a soft edge
+  double mask_half = 1;
+  std::map<ColorMapName, GLuint> colormaps;
+  ImGuiLayer imgui;
+  Camera camera;
+  Eigen::Vector3d centre, lo, hi;
+  double radius = 1, floor_z = 0;
+  Eigen::Vector3d key_dir = Eigen::Vector3d(-0.55, -0.65, 1.2).normalized();
+  Eigen::Vector3d fill_dir = Eigen::Vector3d(0.9, -0.3, 0.25).normalized();
+  Eigen::Matrix4f view_proj = Eigen::Matrix4f::Identity(), floor_proj = Eigen::Matrix4f::Identity();
+  std::vector<Eigen::Vector4f> capsule_a, capsule_b;
+
+  ~Impl() {
+    if (!gl) return;
+    gl->make_current();
+    for (auto& [key, m] : instruments) {
+      m.body.destroy();
+      m.jaws[0].destroy();
+      m.jaws[1].destroy();
+    }
+    for (auto& [key, m] : skins) m.destroy();
+    glDeleteVertexArrays(1, &organ_vao);
+    glDeleteBuffers(1, &organ_vbo);
+    glDeleteBuffers(1, &organ_ebo);
+    glDeleteVertexArrays(1, &empty_vao);
+    glDeleteFramebuffers(1, &mask_fbo);
+    glDeleteTextures(1, &mask_tex);
+    for (auto& [name, tex] : colormaps) glDeleteTextures(1, &tex);
+    fb.reset();
+  }
+
+  bool init(const vdm::SurfaceMesh& rest, std::string& error);
+  void upload_organ(const vdm::NodeMat& x, const std::vector<float>* scalar);
+  InstrumentMeshes& instrument_meshes(const InstrumentView& v);
+  GpuMesh& skin_mesh(const SkinMesh* s);
+  GLuint colormap_texture(ColorMapName name);
+  void draw_instruments(const RenderScene& scene, GlProgram& prog, bool mask_only);
+  void set_capsules(const RenderScene& scene);
+  void shadow_mask_pass(const RenderScene& scene);
+  GlProgram& use(Material m);
+  void draw(const RenderScene& scene, const StressView* view, bool hud, Image& out);
+};
+
+bool Renderer::Impl::init(const vdm::SurfaceMesh& rest, std::string& error) {
+  gl = GlContext::create(error);
+  if (!gl) return false;
+  fb = std::make_unique<Framebuffer>(settings.width, settings.height, settings.samples);
+  if (!fb->ok()) {
+    error = "OpenGL framebuffer incomplete at " + std::to_string(settings.width) + "x" + std::to_string(settings.height);
+    return false;
+  }
+  const char* defines[3] = {"MODE_TISSUE", "MODE_COLORMAP", "MODE_METAL"};
+  for (int k = 0; k < 3; ++k) {
+    const std::string fragment = std::string("#version 450 core\n#define ") + defines[k] + "\n" + shaders::kMeshFragment;
+    if (!materials[k].build(shaders::kMeshVertex, fragment.c_str(), error)) return false;
+  }
+  if (!mask_program.build(shaders::kShadowMaskVertex, shaders::kShadowMaskFragment, error) ||
+      !background.build(shaders::kBackgroundVertex, shaders::kBackgroundFragment, error))
+    return false;
+  glGenVertexArrays(1, &empty_vao);
+
+  // Organ buffers: positions, normals and the scalar per node, topology fixed.
+  triangles = rest.triangles;
+  const Eigen::Index n = rest.positions.rows();
+  normals.resize(static_cast<size_t>(n));
+  vertex_data.resize(static_cast<size_t>(n) * 7);
+  glGenVertexArrays(1, &organ_vao);
+  glGenBuffers(1, &organ_vbo);
+  glGenBuffers(1, &organ_ebo);
+  glBindVertexArray(organ_vao);
+  glBindBuffer(GL_ARRAY_BUFFER, organ_vbo);
+  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(vertex_data.size() * sizeof(float)), nullptr, GL_STREAM_DRAW);
+  std::vector<unsigned> idx(static_cast<size_t>(triangles.size()));
+  for (Eigen::Index i = 0; i < triangles.size(); ++i) idx[static_cast<size_t>(i)] = unsigned(triangles.data()[i]);
+  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, organ_ebo);
+  glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(idx.size() * sizeof(unsigned)), idx.data(), GL_STATIC_DRAW);
+  organ_count = GLsizei(idx.size());
+  glEnableVertexAttribArray(0);
+  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 7 * sizeof(float), nullptr);
+  glEnableVertexAttribArray(1);
+  glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 7 * sizeof(float), reinterpret_cast<void*>(3 * sizeof(float)));
+  glEnableVertexAttribArray(2);
+  glVertexAttribPointer(2, 1, GL_FLOAT, GL_FALSE, 7 * sizeof(float), reinterpret_cast<void*>(6 * sizeof(float)));
+  glBindVertexArray(0);
+
+  // Framing from the rest shape.
+  lo = rest.positions.colwise().minCoeff().transpose();
+  hi = rest.positions.colwise().maxCoeff().transpose();
+  centre = 0.5 * (lo + hi);
+  radius = std::max(0.5 * (hi - lo).norm(), 1e-6);
+  floor_z = lo.z() - 0.02 * radius;
+  const double aspect = double(settings.width) / settings.height;
+  camera = settings.auto_camera ? auto_frame(lo, hi, settings.camera.fov_deg, aspect) : settings.camera;
+
+  // The floor's shadow mask: a square of the floor around the organ, seen along the key
+  // light.
+  mask_half = 1.6 * radius;
+  glGenTextures(1, &mask_tex);
+  glBindTexture(GL_TEXTURE_2D, mask_tex);
+  glTexStorage2D(GL_TEXTURE_2D, 1, GL_R8, kMaskSize, kMaskSize);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  glGenFramebuffers(1, &mask_fbo);
+  glBindFramebuffer(GL_FRAMEBUFFER, mask_fbo);
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, mask_tex, 0);
+  if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+    error = "OpenGL shadow-mask framebuffer incomplete";
+    return false;
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  // World -> along the key light onto the plane z = floor_z -> the mask's square.
+  Eigen::Matrix4d along = Eigen::Matrix4d::Identity();
+  along(0, 2) = -key_dir.x() / key_dir.z();
+  along(1, 2) = -key_dir.y() / key_dir.z();
+  along(0, 3) = key_dir.x() / key_dir.z() * floor_z;
+  along(1, 3) = key_dir.y() / key_dir.z() * floor_z;
+  along(2, 2) = 0;
+  Eigen::Matrix4d to_mask = Eigen::Matrix4d::Identity();
+  to_mask(0, 0) = to_mask(1, 1) = 1.0 / mask_half;
+  to_mask(0, 3) = -centre.x() / mask_half;
+  to_mask(1, 3) = -centre.y() / mask_half;
+  floor_proj = (to_mask * along).cast<float>();
+
+  const float body_px = std::max(12.0f, settings.height / 40.0f);
+  return imgui.init(body_px, error);
+}
+
+void Renderer::Impl::upload_organ(const vdm::NodeMat& x, const std::vector<float>* scalar) {
+  const size_t n = normals.size();
+  for (auto& v : normals) v.setZero();
+  for (Eigen::Index t = 0; t < triangles.rows(); ++t) {
+    const int a = triangles(t, 0), b = triangles(t, 1), c = triangles(t, 2);
+    const Eigen::Vector3d pa = x.row(a), pb = x.row(b), pc = x.row(c);
+    const Eigen::Vector3f fn = (pb - pa).cross(pc - pa).cast<float>();  // area-weighted
+    normals[size_t(a)] += fn;
+    normals[size_t(b)] += fn;
+    normals[size_t(c)] += fn;
+  }
+  for (size_t i = 0; i < n; ++i) {
+    const float len = normals[i].norm();
+    const Eigen::Vector3f nn = len > 0 ? Eigen::Vector3f(normals[i] / len) : Eigen::Vector3f::UnitZ();
+    float* d = &vertex_data[i * 7];
+    d[0] = float(x(Eigen::Index(i), 0));
+    d[1] = float(x(Eigen::Index(i), 1));
+    d[2] = float(x(Eigen::Index(i), 2));
+    d[3] = nn.x();
+    d[4] = nn.y();
+    d[5] = nn.z();
+    d[6] = (scalar && scalar->size() == n) ? (*scalar)[i] : 0.0f;
+  }
+  glBindBuffer(GL_ARRAY_BUFFER, organ_vbo);
+  glBufferSubData(GL_ARRAY_BUFFER, 0, GLsizeiptr(vertex_data.size() * sizeof(float)), vertex_data.data());
+}
+
+InstrumentMeshes& Renderer::Impl::instrument_meshes(const InstrumentView& v) {
+  const auto key = std::make_tuple(int(v.type), v.radius, v.length, v.jaw_length);
+  auto it = instruments.find(key);
+  if (it != instruments.end()) return it->second;
+  InstrumentMeshes m;
+  if (v.type == tools::InstrumentDef::Type::probe) {
+    m.body.upload(probe_mesh(v.radius, v.length));
+  } else {
+    m.body.upload(grasper_shaft_mesh(v.radius, v.length, v.jaw_length));
+    m.jaws[0].upload(grasper_jaw_mesh(v.radius, v.jaw_length, +1));
+    m.jaws[1].upload(grasper_jaw_mesh(v.radius, v.jaw_length, -1));
+  }
+  return instruments.emplace(key, m).first->second;
+}
+
+GpuMesh& Renderer::Impl::skin_mesh(const SkinMesh* s) {
+  auto it = skins.find(s);
+  if (it != skins.end()) return it->second;
+  GpuMesh g;
+  g.upload(*s);
+  return skins.emplace(s, g).first->second;
+}
+
+GLuint Renderer::Impl::colormap_texture(ColorMapName name) {
+  auto it = colormaps.find(name);
+  if (it != colormaps.end()) return it->second;
+  const auto& table = colormap_table(name);
+  std::vector<std::uint8_t> rgb;
+  for (const Rgb8& c : table) rgb.insert(rgb.end(), {c.r, c.g, c.b});
+  GLuint tex = 0;
+  glGenTextures(1, &tex);
+  glBindTexture(GL_TEXTURE_2D, tex);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB8, 256, 1, 0, GL_RGB, GL_UNSIGNED_BYTE, rgb.data());
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+  colormaps[name] = tex;
+  return tex;
+}
+
+void Renderer::Impl::draw_instruments(const RenderScene& scene, GlProgram& prog, bool mask_only) {
+  const int u_model = prog.uniform("u_model");
+  const int u_normal = mask_only ? -1 : prog.uniform("u_normal_matrix");
+  auto draw_with = [&](const Eigen::Isometry3f& model, const GpuMesh& g) {
+    glUniformMatrix4fv(u_model, 1, GL_FALSE, model.matrix().data());
+    if (u_normal >= 0) {
+      const Eigen::Matrix3f nm = model.linear();
+      glUniformMatrix3fv(u_normal, 1, GL_FALSE, nm.data());
+    }
+    g.draw();
+  };
+  for (const InstrumentView& v : scene.instruments) {
+    const Eigen::Isometry3f frame = v.frame.cast<float>();
+    InstrumentMeshes& param = instrument_meshes(v);
+    draw_with(frame, v.skin ? skin_mesh(v.skin) : param.body);
+    if (v.type == tools::InstrumentDef::Type::grasper)
+      for (int j = 0; j < 2; ++j) {
+        const Eigen::Isometry3f model = frame * jaw_transform(v.jaw_length, v.jaw_opening, j == 0 ? +1 : -1);
+        draw_with(model, v.jaw_skins[j] ? skin_mesh(v.jaw_skins[j]) : param.jaws[j]);
+      }
+  }
+}
+
+void Renderer::Impl::set_capsules(const RenderScene& scene) {
+  capsule_a.clear();
+  capsule_b.clear();
+  for (const InstrumentView& v : scene.instruments) {
+    if (capsule_a.size() == 4) break;
+    const Eigen::Vector3d tip_centre = v.frame * Eigen::Vector3d(0, 0, -v.radius);
+    const Eigen::Vector3d handle = v.frame * Eigen::Vector3d(0, 0, -std::max(v.length, 2 * v.radius));
+    capsule_a.emplace_back(float(tip_centre.x()), float(tip_centre.y()), float(tip_centre.z()), float(v.radius));
+    capsule_b.emplace_back(float(handle.x()), float(handle.y()), float(handle.z()), 0.0f);
+  }
+}
+
+void Renderer::Impl::shadow_mask_pass(const RenderScene& scene) {
+  glBindFramebuffer(GL_FRAMEBUFFER, mask_fbo);
+  glViewport(0, 0, kMaskSize, kMaskSize);
+  glClearColor(1, 1, 1, 1);
+  glClear(GL_COLOR_BUFFER_BIT);
+  glDisable(GL_DEPTH_TEST);
+  glUseProgram(mask_program.id());
+  glUniformMatrix4fv(mask_program.uniform("u_floor_proj"), 1, GL_FALSE, floor_proj.data());
+  const Eigen::Matrix4f identity = Eigen::Matrix4f::Identity();
+  glUniformMatrix4fv(mask_program.uniform("u_model"), 1, GL_FALSE, identity.data());
+  glBindVertexArray(organ_vao);
+  glDrawElements(GL_TRIANGLES, organ_count, GL_UNSIGNED_INT, nullptr);
+  draw_instruments(scene, mask_program, true);
+}
+
+GlProgram& Renderer::Impl::use(Material m) {
+  GlProgram& p = materials[m];
+  glUseProgram(p.id());
+  glUniformMatrix4fv(p.uniform("u_view_proj"), 1, GL_FALSE, view_proj.data());
+  glUniform3fv(p.uniform("u_eye"), 1, f3(camera.eye).data());
+  glUniform3fv(p.uniform("u_key_dir"), 1, f3(key_dir).data());
+  glUniform3fv(p.uniform("u_fill_dir"), 1, f3(fill_dir).data());
+  glUniform1i(p.uniform("u_colormap"), 0);
+  glUniform1i(p.uniform("u_capsules"), settings.shadows ? int(capsule_a.size()) : 0);
+  if (!capsule_a.empty()) {
+    glUniform4fv(p.uniform("u_capsule_a"), GLsizei(capsule_a.size()), capsule_a[0].data());
+    glUniform4fv(p.uniform("u_capsule_b"), GLsizei(capsule_b.size()), capsule_b[0].data());
+  }
+  return p;
+}
+
+void Renderer::Impl::draw(const RenderScene& scene, const StressView* view, bool hud, Image& out) {
+  gl->make_current();
+  PassTimer timer;
+  upload_organ(*scene.positions, view ? &scene.scalar : nullptr);
+  set_capsules(scene);
+  timer.mark("upload");
+  if (settings.floor && settings.shadows) shadow_mask_pass(scene);
+  timer.mark("shadow mask");
+
+  fb->bind_draw();
+  glClearColor(0, 0, 0, 1);
+  glClearDepth(1.0);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  timer.mark("clear");
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  const double aspect = double(settings.width) / settings.height;
+  const double dist = (camera.eye - camera.target).norm();
+  view_proj = perspective(camera.fov_deg, aspect, std::max(dist - 6 * radius, dist * 0.02), dist + 8 * radius) *
+              look_at(camera.eye, camera.target, camera.up);
+  const Eigen::Matrix4f identity = Eigen::Matrix4f::Identity();
+  const Eigen::Matrix3f identity3 = Eigen::Matrix3f::Identity();
+
+  // Organ (closed and oriented outward: back faces culled).
+  GlProgram& organ = use(view ? kColormap : kTissue);
+  glUniformMatrix4fv(organ.uniform("u_model"), 1, GL_FALSE, identity.data());
+  glUniformMatrix3fv(organ.uniform("u_normal_matrix"), 1, GL_FALSE, identity3.data());
+  if (view) {
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, colormap_texture(view->colormap));
+    glUniform2f(organ.uniform("u_range"), float(view->lo), float(view->hi));
+  } else {
+    glUniform3f(organ.uniform("u_base_srgb"), 0.55f, 0.20f, 0.16f);
+  }
+  glEnable(GL_CULL_FACE);
+  glCullFace(GL_BACK);
+  glBindVertexArray(organ_vao);
+  glDrawElements(GL_TRIANGLES, organ_count, GL_UNSIGNED_INT, nullptr);
+  glDisable(GL_CULL_FACE);
+  timer.mark("organ");
+  // Instruments.
+  GlProgram& metal = use(kMetal);
+  glUniform3f(metal.uniform("u_base_srgb"), 0.62f, 0.64f, 0.67f);
+  draw_instruments(scene, metal, false);
+  timer.mark("instruments");
+
+  // Background and floor last, at the far plane: only uncovered pixels are shaded.
+  glDepthFunc(GL_LEQUAL);
+  glUseProgram(background.id());
+  glUniform3f(background.uniform("u_top_srgb"), 0.80f, 0.82f, 0.85f);
+  glUniform3f(background.uniform("u_bottom_srgb"), 0.47f, 0.49f, 0.53f);
+  glUniform1i(background.uniform("u_floor"), settings.floor ? 1 : 0);
+  glUniform1i(background.uniform("u_floor_shadow"), settings.shadows ? 1 : 0);
+  const Eigen::Matrix4f inv = view_proj.inverse();
+  glUniformMatrix4fv(background.uniform("u_inv_view_proj"), 1, GL_FALSE, inv.data());
+  glUniform1f(background.uniform("u_floor_z"), float(floor_z));
+  glUniform3fv(background.uniform("u_floor_center"), 1, f3(centre).data());
+  glUniform1f(background.uniform("u_floor_radius"), float(3 * radius));
+  glUniform1f(background.uniform("u_mask_half"), float(mask_half));
+  glUniform1i(background.uniform("u_mask"), 1);
+  glActiveTexture(GL_TEXTURE1);
+  glBindTexture(GL_TEXTURE_2D, mask_tex);
+  glActiveTexture(GL_TEXTURE0);
+  glBindVertexArray(empty_vao);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glDepthFunc(GL_LESS);
+  glBindVertexArray(0);
+  timer.mark("background");
+  if (hud) {
+    glDisable(GL_DEPTH_TEST);
+    ImDrawList* dl = imgui.begin(settings.width, settings.height);
+    draw_hud(dl, imgui, scene.hud, settings.width, settings.height, view);
+    imgui.end();
+    timer.mark("hud");
+  }
+  fb->resolve_and_read(out);
+  timer.mark("resolve+read");
+}
+
+std::unique_ptr<Renderer> Renderer::create(const RenderSettings& settings, const vdm::SurfaceMesh& rest, std::string& error) {
+  std::unique_ptr<Renderer> r(new Renderer());
+  r->impl_ = std::make_unique<Impl>();
+  r->impl_->settings = settings;
+  if (settings.width < 16 || settings.height < 16 || settings.width > 8192 || settings.height > 8192) {
+    error = "render size " + std::to_string(settings.width) + "x" + std::to_string(settings.height) +
+            " out of range (16 to 8192)";
+    return nullptr;
+  }
+  if (!r->impl_->init(rest, error)) return nullptr;
+  return r;
+}
+
+Renderer::~Renderer() = default;
+
+void Renderer::draw_shaded(const RenderScene& scene, bool hud, Image& out) { impl_->draw(scene, nullptr, hud, out); }
+
+void Renderer::draw_stress(const RenderScene& scene, const StressView& view, bool hud, Image& out) {
+  impl_->draw(scene, &view, hud, out);
+}
+
+const Camera& Renderer::camera() const { return impl_->camera; }
+std::string Renderer::gl_renderer() const { return impl_->gl->renderer_name(); }
+
+}  // namespace render

@@ -1,0 +1,55 @@
+#pragma once
+// The offscreen renderer: draws a RenderScene with OpenGL 4.5 core on OSMesa into an RGBA
+// image. Two views: `shaded` (tissue material, key and fill lights, soft specular, floor
+// shadow) and `stress` (the organ coloured by a quantity through a colour map with a fixed
+// range), each with an optional ImGui HUD (scene, frame, time, force, pressure, volume
+// error, step time; a colour bar with units in the stress view). Multisampled.
+#include <memory>
+#include <string>
+
+#include "engine/types.hpp"
+#include "render/camera.hpp"
+#include "render/colormap.hpp"
+#include "render/image.hpp"
+#include "render/render_scene.hpp"
+
+namespace render {
+
+struct RenderSettings {
+  int width = 1280, height = 720;
+  int samples = 4;           // MSAA samples (1 = off)
+  bool auto_camera = true;   // frame the organ's rest bounding box
+  Camera camera;             // used when !auto_camera
+  bool floor = true;         // a floor under the organ, with the key light's shadow
+  bool shadows = true;
+};
+
+struct StressView {
+  Quantity quantity = Quantity::stress_magnitude;
+  ColorMapName colormap = ColorMapName::viridis;
+  double lo = 0, hi = 1;  // colour range, fixed across a sequence
+};
+
+class Renderer {
+ public:
+  // Creates the GL context and resources for the organ's fixed topology. nullptr + error on
+  // failure (no OSMesa, shader compile error).
+  static std::unique_ptr<Renderer> create(const RenderSettings& settings, const vdm::SurfaceMesh& rest,
+                                          std::string& error);
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  void draw_shaded(const RenderScene& scene, bool hud, Image& out);
+  void draw_stress(const RenderScene& scene, const StressView& view, bool hud, Image& out);
+  const Camera& camera() const;
+  std::string gl_renderer() const;
+
+  struct Impl;
+
+ private:
+  Renderer() = default;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace render

@@ -1,0 +1,179 @@
+#include "render/shaders.hpp"
+
+namespace render::shaders {
+
+const char* const kMeshVertex = R"(#version 450 core
+layout(location = 0) in vec3 a_position;
+layout(location = 1) in vec3 a_normal;
+layout(location = 2) in float a_scalar;
+uniform mat4 u_model;
+uniform mat3 u_normal_matrix;
+uniform mat4 u_view_proj;
+uniform vec3 u_key_dir;          // toward the key light
+uniform int u_capsules;          // instruments casting soft analytic shadows
+uniform vec4 u_capsule_a[4];     // xyz: one end, w: radius
+uniform vec4 u_capsule_b[4];     // xyz: the other end
+out vec3 v_position;
+out vec3 v_normal;
+out float v_scalar;
+out float v_shadow;
+
+// Light reaching p from the key light past the instruments (capsules): the distance from
+// the light ray to each capsule's segment gives a soft edge that widens with distance.
+float capsule_light(vec3 p) {
+  float light = 1.0;
+  for (int i = 0; i < u_capsules; ++i) {
+    vec3 a = u_capsule_a[i].xyz, b = u_capsule_b[i].xyz;
+    float r = u_capsule_a[i].w;
+    vec3 ab = b - a, ap = a - p;
+    // Closest points between the ray p + t L (t >= 0) and the segment a + s ab.
+    float d1 = dot(u_key_dir, u_key_dir), d2 = dot(ab, ab), d3 = dot(u_key_dir, ab);
+    float e1 = dot(u_key_dir, ap), e2 = dot(ab, ap);
+    float den = d1 * d2 - d3 * d3;
+    float s = den > 1e-12 ? clamp((d1 * e2 - d3 * e1) / den, 0.0, 1.0) : 0.0;
+    float t = max((dot(u_key_dir, a + s * ab - p)) / d1, 0.0);
+    s = clamp(dot(p + t * u_key_dir - a, ab) / max(d2, 1e-12), 0.0, 1.0);
+    float dist = length(p + t * u_key_dir - (a + s * ab));
+    float soft = 0.3 * r + 0.03 * t;
+    light *= mix(0.35, 1.0, smoothstep(r - soft, r + soft, dist));
+  }
+  return light;
+}
+
+void main() {
+  vec4 world = u_model * vec4(a_position, 1.0);
+  v_position = world.xyz;
+  v_normal = u_normal_matrix * a_normal;
+  v_scalar = a_scalar;
+  // Per vertex: the organ's mesh is much finer than a shadow's soft edge.
+  v_shadow = capsule_light(world.xyz);
+  gl_Position = u_view_proj * world;
+}
+)";
+
+const char* const kMeshFragment = R"(
+// Compiled once per material with MODE_TISSUE, MODE_COLORMAP or MODE_METAL defined:
+// llvmpipe runs every branch of a shader, so each material gets its own small program.
+// Lighting is done in an approximately linear space (gamma 2: square in, square root out).
+in vec3 v_position;
+in vec3 v_normal;
+in float v_scalar;
+in float v_shadow;
+uniform vec3 u_base_srgb;
+uniform vec3 u_eye;
+uniform vec3 u_key_dir;          // toward the key light
+uniform vec3 u_fill_dir;         // toward the fill light
+uniform vec2 u_range;            // colour map range
+uniform sampler2D u_colormap;    // 256 x 1, sRGB
+out vec4 frag_color;
+
+// x^32 by repeated squaring (cheaper than pow on llvmpipe).
+float pow32(float x) { x *= x; x *= x; x *= x; x *= x; return x * x; }
+
+void main() {
+  vec3 n = normalize(v_normal);
+  if (!gl_FrontFacing) n = -n;
+  vec3 v = normalize(u_eye - v_position);
+  float shadow = v_shadow;
+  float key = max(dot(n, u_key_dir), 0.0);
+  float fill = max(dot(n, u_fill_dir), 0.0);
+  float nh = max(dot(n, normalize(u_key_dir + v)), 0.0);
+#ifdef MODE_COLORMAP
+  // Colour map: the map's colours stay readable, shading only modulates them.
+  float t = clamp((v_scalar - u_range.x) / max(u_range.y - u_range.x, 1e-30), 0.0, 1.0);
+  vec3 c = texture(u_colormap, vec2((t * 255.0 + 0.5) / 256.0, 0.5)).rgb;
+  float shade = 0.62 + 0.30 * key * shadow + 0.10 * fill;
+  frag_color = vec4(clamp(c * shade + vec3(0.08 * pow32(nh) * shadow), 0.0, 1.0), 1.0);
+#else
+  float sky = 0.5 + 0.5 * n.z;
+  vec3 base = u_base_srgb * u_base_srgb;
+  vec3 color;
+#ifdef MODE_TISSUE
+  // Tissue: wrapped diffuse (light bleeds past the terminator), a moist highlight, a faint rim.
+  float wrap = max((dot(n, u_key_dir) + 0.35) / 1.35, 0.0);
+  float rim = 1.0 - max(dot(n, v), 0.0);
+  vec3 ambient = mix(vec3(0.10, 0.08, 0.08), vec3(0.20, 0.20, 0.23), sky);
+  color = base * (1.25 * wrap * shadow + 0.35 * fill + ambient * 1.6);
+  float nh2 = nh * nh;
+  color += vec3(0.22) * pow32(nh) * shadow + vec3(0.04) * (nh2 * nh2 * nh2) * shadow;
+  color += base * 0.30 * rim * rim * rim;
+#else
+  // Brushed steel.
+  vec3 ambient = mix(vec3(0.10), vec3(0.30), sky);
+  float fh = max(dot(n, normalize(u_fill_dir + v)), 0.0);
+  color = base * (1.0 * key * shadow + 0.45 * fill + ambient);
+  color += vec3(0.8) * pow32(nh) * pow32(nh) * shadow + vec3(0.12) * pow32(fh);
+#endif
+  frag_color = vec4(sqrt(clamp(color, 0.0, 1.0)), 1.0);
+#endif
+}
+)";
+
+const char* const kShadowMaskVertex = R"(#version 450 core
+layout(location = 0) in vec3 a_position;
+uniform mat4 u_model;
+uniform mat4 u_floor_proj;   // world -> along the key light onto the floor -> mask texture
+void main() { gl_Position = u_floor_proj * u_model * vec4(a_position, 1.0); }
+)";
+
+const char* const kShadowMaskFragment = R"(#version 450 core
+out vec4 frag_color;
+void main() { frag_color = vec4(0.0); }
+)";
+
+const char* const kBackgroundVertex = R"(#version 450 core
+uniform mat4 u_inv_view_proj;
+out vec2 v_ndc;
+out vec4 v_near;   // this pixel's ray: world points on the near and far planes (homogeneous,
+out vec4 v_far;    // linear in screen space, so interpolating them is exact)
+void main() {
+  vec2 p = vec2((gl_VertexID == 1) ? 3.0 : -1.0, (gl_VertexID == 2) ? 3.0 : -1.0);
+  v_ndc = p;
+  v_near = u_inv_view_proj * vec4(p, -1.0, 1.0);
+  v_far = u_inv_view_proj * vec4(p, 1.0, 1.0);
+  gl_Position = vec4(p, 1.0, 1.0);   // at the far plane: drawn only where nothing else is
+}
+)";
+
+const char* const kBackgroundFragment = R"(#version 450 core
+in vec2 v_ndc;
+in vec4 v_near;
+in vec4 v_far;
+uniform vec3 u_top_srgb;
+uniform vec3 u_bottom_srgb;
+uniform int u_floor;
+uniform int u_floor_shadow;
+uniform float u_floor_z;
+uniform vec3 u_floor_center;
+uniform float u_floor_radius;
+uniform float u_mask_half;      // half size of the shadow mask's square on the floor
+uniform sampler2D u_mask;        // 1 lit, 0 in shadow
+out vec4 frag_color;
+void main() {
+  vec3 color = mix(u_bottom_srgb, u_top_srgb, clamp(v_ndc.y * 0.5 + 0.5, 0.0, 1.0));
+  if (u_floor != 0) {
+    // The floor is found by casting this pixel's ray onto the plane z = u_floor_z.
+    vec3 o = v_near.xyz / v_near.w, d = v_far.xyz / v_far.w - o;
+    if (abs(d.z) > 1e-9) {
+      float t = (u_floor_z - o.z) / d.z;
+      if (t > 0.0 && t < 1.0) {
+        vec3 p = o + t * d;
+        float fade = smoothstep(0.30 * u_floor_radius, u_floor_radius, length(p.xy - u_floor_center.xy));
+        vec2 uv = (p.xy - u_floor_center.xy) / (2.0 * u_mask_half) + 0.5;
+        float lit = 1.0;
+        if (u_floor_shadow != 0) {
+          // Four bilinear taps a texel apart: a soft edge from a coarse mask.
+          vec2 o = 1.0 / vec2(textureSize(u_mask, 0));
+          lit = 0.25 * (texture(u_mask, uv + vec2(-o.x, -o.y)).r + texture(u_mask, uv + vec2(o.x, -o.y)).r +
+                        texture(u_mask, uv + vec2(-o.x, o.y)).r + texture(u_mask, uv + vec2(o.x, o.y)).r);
+        }
+        vec3 floor_color = vec3(0.74, 0.74, 0.75) * mix(0.55, 1.0, lit);
+        color = mix(floor_color, color, fade);
+      }
+    }
+  }
+  frag_color = vec4(color, 1.0);
+}
+)";
+
+}  // namespace render::shaders

@@ -1,0 +1,18 @@
+#pragma once
+// GLSL 4.50 sources of the renderer's programs (render-internal).
+namespace render::shaders {
+
+// Organ and instruments: world-space lighting with a key light, a fill light and a
+// sky/ground ambient; instruments cast soft analytic capsule shadows. The fragment source has
+// no #version line: the renderer prepends it and MODE_TISSUE, MODE_COLORMAP or MODE_METAL.
+extern const char* const kMeshVertex;
+extern const char* const kMeshFragment;
+// The floor's shadow mask: casters projected along the key light onto the floor plane.
+extern const char* const kShadowMaskVertex;
+extern const char* const kShadowMaskFragment;
+// Background gradient and the floor (by ray casting), drawn last at the far plane so that
+// only uncovered pixels pay for it.
+extern const char* const kBackgroundVertex;
+extern const char* const kBackgroundFragment;
+
+}  // namespace render::shaders
