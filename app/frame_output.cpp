@@ -51,6 +51,7 @@ bool FrameOutput::open(const PreparedScene& ps, const std::filesystem::path& dir
   queue_ = std::make_unique<render::PngQueue>(rd.png_compression);
   sheet_frames_ = render::contact_sheet_frames(frames, 12);
   scene_.hud.scene_name = ps.scene.name;
+  scene_.hud.show_step_time = rd.hud_step_time;
   return true;
 }
 

@@ -474,7 +474,7 @@ void read_render(Reader& r, const YAML::Node& n, SceneDef& s) {
   RenderDef& d = s.render;
   if (!r.require_map(n, "render")) return;
   r.check_keys(n, "render",
-               {"width", "height", "samples", "camera", "views", "stress", "hud", "floor", "shadows", "png_compression",
+               {"width", "height", "samples", "camera", "views", "stress", "hud", "hud_step_time", "floor", "shadows", "png_compression",
                 "fps"});
   if (const YAML::Node v = n["width"]) r.integer(v, "render.width", d.settings.width, 16, 8192);
   if (const YAML::Node v = n["height"]) r.integer(v, "render.height", d.settings.height, 16, 8192);
@@ -483,6 +483,7 @@ void read_render(Reader& r, const YAML::Node& n, SceneDef& s) {
       r.error(v, "render.samples", "expected 1, 2, 4, 8 or 16 (samples per pixel for anti-aliasing)");
   }
   if (const YAML::Node v = n["hud"]) r.boolean(v, "render.hud", d.hud);
+  if (const YAML::Node v = n["hud_step_time"]) r.boolean(v, "render.hud_step_time", d.hud_step_time);
   if (const YAML::Node v = n["floor"]) r.boolean(v, "render.floor", d.settings.floor);
   if (const YAML::Node v = n["shadows"]) r.boolean(v, "render.shadows", d.settings.shadows);
   if (const YAML::Node v = n["png_compression"]) r.integer(v, "render.png_compression", d.png_compression, 0, 9);

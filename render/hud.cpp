@@ -108,8 +108,10 @@ void draw_hud(ImDrawList* dl, const ImGuiLayer& layer, const HudInfo& hud, int w
   lines.push_back("pressure  " + with_unit(hud.pressure_pa, "Pa"));
   std::snprintf(buf, sizeof buf, "volume error  %.2e", hud.volume_rel_error);
   lines.push_back(buf);
-  std::snprintf(buf, sizeof buf, "step  %.2f ms", hud.step_ms);
-  lines.push_back(buf);
+  if (hud.show_step_time) {
+    std::snprintf(buf, sizeof buf, "step  %.2f ms", hud.step_ms);
+    lines.push_back(buf);
+  }
   float text_w = text_size(title, hud.scene_name).x;
   for (const std::string& l : lines) text_w = std::max(text_w, text_size(body, l).x);
   const float pad = fs * 0.6f, line_h = fs * 1.3f;
