@@ -10,6 +10,7 @@
 #include "app/organ_generator.hpp"
 #include "app/scene_run.hpp"
 #include "app/paper_cube.hpp"
+#include "app/paper_plots.hpp"
 #include "engine/geometry.hpp"
 
 namespace vdmsim {
@@ -178,7 +179,8 @@ int cmd_paper(const std::string& experiment, const std::string& out_dir, std::os
     const auto t0 = std::chrono::steady_clock::now();
     const CubeResult r = run_cube_stress(cfg);
     const std::string path = (fs::path(out_dir) / "cube-stress.csv").string();
-    if (!write_cube_stress_csv(path, r, error)) {
+    if (!write_cube_stress_csv(path, r, error) ||
+        !write_cube_stress_plot((fs::path(out_dir) / "cube-stress.png").string(), r, cfg, error)) {
       err << "vdmsim: error: " << error << "\n";
       return 1;
     }
@@ -187,7 +189,7 @@ int cmd_paper(const std::string& experiment, const std::string& out_dir, std::os
     out << "cube-stress: " << r.volume_rel_error.size() - 1 << " steps, " << cfg.compression * 100
         << " % compression, max |volume error| " << worst << ", "
         << std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() << " s -> "
-        << path << "\n";
+        << path << " and cube-stress.png\n";
   }
   if (all || experiment == "anisotropy") {
     const auto t0 = std::chrono::steady_clock::now();
@@ -196,7 +198,8 @@ int cmd_paper(const std::string& experiment, const std::string& out_dir, std::os
     std::vector<CubeResult> results;
     for (AnisotropyCase c : cases) results.push_back(run_anisotropy(cfg, c));
     const std::string path = (fs::path(out_dir) / "anisotropy.csv").string();
-    if (!write_anisotropy_csv(path, cases, results, error)) {
+    if (!write_anisotropy_csv(path, cases, results, error) ||
+        !write_anisotropy_plot((fs::path(out_dir) / "anisotropy.png").string(), cases, results, cfg, error)) {
       err << "vdmsim: error: " << error << "\n";
       return 1;
     }
