@@ -70,7 +70,7 @@ bool FrameOutput::write(int f, int frames, const SceneSimulation& sim) {
   for (size_t k = 0; k < poses.size(); ++k)
     scene_.instruments.push_back(render::instrument_view(ps_->scene.instruments[k], poses[k]));
   render::HudInfo& hud = scene_.hud;
-  hud.frame = f + 1;
+  hud.frame = f;          // the file's number, as in metrics.csv
   hud.frames = frames;
   hud.time_s = sim.time();
   hud.has_contact = sim.contact_simulated();

@@ -8,6 +8,7 @@
 #include <string>
 #include <unistd.h>
 
+#include "app/bench.hpp"
 #include "app/commands.hpp"
 
 int main(int argc, char** argv) {
@@ -42,6 +43,11 @@ int main(int argc, char** argv) {
   run->add_option("--frames", run_frames, "Simulate only this many frames")->check(CLI::PositiveNumber);
   run->add_flag("--no-render", no_render, "Do not render images (metrics.csv and run.json only)");
   run->add_flag("--video", video, "Also write video.mp4 (H.264, needs the ffmpeg program)");
+  std::string bench_out = "out/bench";
+  bool bench_quick = false;
+  auto* bench = app.add_subcommand("bench", "Performance cases: writes bench.csv and scaling.png");
+  bench->add_option("--out", bench_out, "Output folder (default: out/bench)");
+  bench->add_flag("--quick", bench_quick, "Fewer cases and repeats (under 2 minutes)");
   auto* check = app.add_subcommand("check", "Validate a scene and its mesh without simulating");
   check->add_option("SCENE", scene_path, "Scene file (YAML)")->required();
 
@@ -59,6 +65,7 @@ int main(int argc, char** argv) {
     if (mesh_info->parsed()) return vdmsim::cmd_mesh_info(mesh_path, mesh_scale, std::cout, std::cerr);
     if (run->parsed())
       return vdmsim::cmd_run(scene_path, run_out, run_frames, !no_render, video, std::cout, std::cerr, isatty(2) != 0);
+    if (bench->parsed()) return vdmsim::cmd_bench(bench_out, bench_quick, std::cout, std::cerr);
     if (check->parsed()) return vdmsim::cmd_check(scene_path, std::cout, std::cerr);
     if (make_organ->parsed()) return vdmsim::cmd_make_organ(organ, organ_level, organ_out, std::cout, std::cerr);
     if (paper->parsed()) return vdmsim::cmd_paper(experiment, out_dir, std::cout, std::cerr);

@@ -106,7 +106,11 @@ bool prepare_scene(const std::string& path, PreparedScene& out, std::vector<Scen
   SceneLoadResult loaded = load_scene(path);
   problems = loaded.problems;
   if (!loaded.ok()) return false;
-  out.scene = loaded.scene;
+  return prepare_scene_def(loaded.scene, out, problems);
+}
+
+bool prepare_scene_def(const SceneDef& scene, PreparedScene& out, std::vector<SceneProblem>& problems) {
+  out.scene = scene;
   const SceneDef& s = out.scene;
 
   MeshLoadOptions mopt;

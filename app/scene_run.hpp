@@ -26,6 +26,8 @@ struct PreparedScene {
 // Loads and validates the scene and its mesh and builds the model. On failure returns false
 // with every problem in `problems` (warnings are there too on success).
 bool prepare_scene(const std::string& path, PreparedScene& out, std::vector<SceneProblem>& problems);
+// The same from an already loaded (and possibly edited) scene.
+bool prepare_scene_def(const SceneDef& scene, PreparedScene& out, std::vector<SceneProblem>& problems);
 
 struct RunOptions {
   std::string out_dir;      // empty: out/<scene name>

@@ -102,7 +102,7 @@ void draw_hud(ImDrawList* dl, const ImGuiLayer& layer, const HudInfo& hud, int w
   const float fs = body->FontSize;
   std::vector<std::string> lines;
   char buf[160];
-  std::snprintf(buf, sizeof buf, "frame %d / %d    t = %.3f s", hud.frame, hud.frames, hud.time_s);
+  std::snprintf(buf, sizeof buf, "frame %d / %d    t = %.3f s", hud.frame, hud.frames - 1, hud.time_s);
   lines.push_back(buf);
   lines.push_back(hud.has_contact ? "contact force  " + with_unit(hud.contact_force_n, "N") : "contact  not simulated");
   lines.push_back("pressure  " + with_unit(hud.pressure_pa, "Pa"));

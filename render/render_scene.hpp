@@ -45,7 +45,7 @@ InstrumentView instrument_view(const tools::InstrumentDef& def, const tools::Ins
 // Numbers shown by the HUD.
 struct HudInfo {
   std::string scene_name;
-  int frame = 0, frames = 0;
+  int frame = 0, frames = 0;  // frame number (from 0, as in the file names) of `frames`
   double time_s = 0;
   bool has_contact = false;
   double contact_force_n = 0;

@@ -1,0 +1,299 @@
+#include "app/bench.hpp"
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iomanip>
+#include <sstream>
+#include <vector>
+
+#include "app/commands.hpp"
+#include "app/frame_output.hpp"
+#include "app/scene_simulation.hpp"
+#include "render/number_format.hpp"
+#include "render/plot.hpp"
+#include "render/png_io.hpp"
+
+namespace vdmsim {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+
+struct Row {
+  std::string name, model;
+  long nodes = 0;
+  double median_ms = 0, p95_ms = 0, iterations = 0, volume_rel_error = 0, peak_mb = 0;
+};
+
+double quantile(std::vector<double> v, double q) {
+  if (v.empty()) return 0;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<size_t>(q * (v.size() - 1) + 0.5))];
+}
+
+double peak_mb() {
+  std::ifstream f("/proc/self/status");
+  std::string line;
+  while (std::getline(f, line))
+    if (line.rfind("VmHWM:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;
+  return 0;
+}
+
+// Runs `body` in a child process; the child prints one CSV row on a pipe.
+bool run_isolated(const std::function<Row()>& body, Row& row, std::string& error) {
+  int fd[2];
+  if (pipe(fd) != 0) {
+    error = "pipe failed";
+    return false;
+  }
+  const pid_t pid = fork();
+  if (pid == 0) {
+    close(fd[0]);
+    Row r = body();
+    r.peak_mb = peak_mb();
+    std::ostringstream s;
+    s << std::setprecision(9) << r.name << ',' << r.model << ',' << r.nodes << ',' << r.median_ms << ',' << r.p95_ms << ','
+      << r.iterations << ',' << r.volume_rel_error << ',' << r.peak_mb << '\n';
+    const std::string text = s.str();
+    const ssize_t w = write(fd[1], text.data(), text.size());
+    close(fd[1]);
+    _exit(w == ssize_t(text.size()) ? 0 : 1);
+  }
+  close(fd[1]);
+  std::string text;
+  char buf[512];
+  ssize_t n;
+  while ((n = read(fd[0], buf, sizeof buf)) > 0) text.append(buf, size_t(n));
+  close(fd[0]);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || text.empty()) {
+    error = "the benchmark process failed";
+    return false;
+  }
+  std::stringstream s(text);
+  std::string field;
+  std::vector<std::string> f;
+  while (std::getline(s, field, ',')) f.push_back(field);
+  if (f.size() != 8) {
+    error = "bad benchmark output: " + text;
+    return false;
+  }
+  row = {f[0], f[1], std::stol(f[2]), std::stod(f[3]), std::stod(f[4]), std::stod(f[5]), std::stod(f[6]), std::stod(f[7])};
+  return true;
+}
+
+// The probe scene on a given mesh: a probe (8 mm, so that it meets nodes on every mesh)
+// presses into the right lobe. Steps in contact are timed after `warmup` of them.
+PreparedScene probe_scene(const std::string& mesh, int frames, bool render, std::string& error) {
+  PreparedScene ps;
+  std::vector<SceneProblem> problems;
+  const std::string path = (fs::path(VDMSIM_SOURCE_DIR_STR) / "assets" / "scenes" / "probe_poke.yaml").string();
+  SceneLoadResult loaded = load_scene(path);
+  if (!loaded.ok()) {
+    error = path + ": cannot load";
+    return ps;
+  }
+  SceneDef s = loaded.scene;
+  s.mesh_path = (fs::path(VDMSIM_SOURCE_DIR_STR) / "assets" / "meshes" / mesh).string();
+  s.frames = frames;
+  for (auto& in : s.instruments) in.radius = 0.008;
+  if (!render) s.has_render = false;
+  s.render.stress = false;
+  if (!prepare_scene_def(s, ps, problems)) error = problems.empty() ? "cannot prepare" : problems.back().text();
+  return ps;
+}
+
+Row bench_probe(const std::string& mesh, int repeats) {
+  Row r{"liver_probe", "vdm"};
+  std::string error;
+  PreparedScene ps = probe_scene(mesh, 60, false, error);
+  std::vector<double> times;
+  double iterations = 0, vol = 0;
+  for (int rep = 0; rep < repeats; ++rep) {
+    SceneSimulation sim(ps);
+    for (int f = 0; f < 60; ++f) {
+      sim.advance(f);
+      if (sim.contact_report().nodes == 0) continue;  // only steps in contact are timed
+      if (rep > 0 || f > 20) {                       // the first contact steps warm up
+        times.push_back(sim.frame_step_ms());
+        iterations += sim.frame_iterations();
+        vol = std::max(vol, std::abs(sim.state().volume_rel_error));
+      }
+    }
+  }
+  r.nodes = ps.model.n;
+  r.median_ms = quantile(times, 0.5);
+  r.p95_ms = quantile(times, 0.95);
+  r.iterations = times.empty() ? 0 : iterations / double(times.size());
+  r.volume_rel_error = vol;
+  return r;
+}
+
+Row bench_grasp(int repeats) {
+  Row r{"grasp_lift", "vdm"};
+  PreparedScene ps;
+  std::vector<SceneProblem> problems;
+  prepare_scene((fs::path(VDMSIM_SOURCE_DIR_STR) / "assets" / "scenes" / "grasp_lift.yaml").string(), ps, problems);
+  std::vector<double> times;
+  double iterations = 0, vol = 0;
+  for (int rep = 0; rep < repeats; ++rep) {
+    SceneSimulation sim(ps);
+    for (int f = 0; f < 60; ++f) {
+      sim.advance(f);
+      if (f < 5 && rep == 0) continue;
+      times.push_back(sim.frame_step_ms());
+      iterations += sim.frame_iterations();
+      vol = std::max(vol, std::abs(sim.state().volume_rel_error));
+    }
+  }
+  r.nodes = ps.model.n;
+  r.median_ms = quantile(times, 0.5);
+  r.p95_ms = quantile(times, 0.95);
+  r.iterations = times.empty() ? 0 : iterations / double(times.size());
+  r.volume_rel_error = vol;
+  return r;
+}
+
+// Rendering one 1280x720 frame with the HUD plus encoding it to PNG, serially.
+Row bench_render(const fs::path& dir, int frames) {
+  Row r{"render_720p", "pipeline"};
+  std::string error;
+  PreparedScene ps = probe_scene("liver_L5.obj", frames + 40, true, error);
+  SceneSimulation sim(ps);
+  for (int f = 0; f < 40; ++f) sim.advance(f);  // the probe in the tissue
+  render::RenderSettings settings = ps.scene.render.settings;
+  auto renderer = render::Renderer::create(settings, ps.model.rest, error);
+  if (!renderer) return r;
+  render::RenderScene scene;
+  scene.positions = &sim.state().x;
+  scene.hud.scene_name = "bench";
+  for (size_t k = 0; k < ps.scene.instruments.size(); ++k)
+    scene.instruments.push_back(render::instrument_view(ps.scene.instruments[k], sim.poses(sim.time())[k]));
+  render::Image image;
+  std::vector<double> times;
+  for (int f = 0; f < frames + 2; ++f) {
+    const auto t0 = Clock::now();
+    renderer->draw_shaded(scene, true, image);
+    render::write_png((dir / "bench_frame.png").string(), image, ps.scene.render.png_compression, false, error);
+    if (f >= 2) times.push_back(ms_since(t0));
+  }
+  fs::remove(dir / "bench_frame.png");
+  r.nodes = ps.model.n;
+  r.median_ms = quantile(times, 0.5);
+  r.p95_ms = quantile(times, 0.95);
+  return r;
+}
+
+// The whole pipeline as `vdmsim run` does it: simulate, render 1280x720 with the HUD, encode
+// PNGs on the writer thread. The figure is wall time per frame over the run.
+Row bench_pipeline(const fs::path& dir, int frames) {
+  Row r{"pipeline_720p", "pipeline"};
+  std::string error;
+  PreparedScene ps = probe_scene("liver_L5.obj", frames, true, error);
+  RunOptions opt;
+  opt.out_dir = (dir / "pipeline_run").string();
+  std::ostringstream o, e;
+  const auto t0 = Clock::now();
+  run_scene(ps, opt, o, e, false);
+  const double per_frame = ms_since(t0) / frames;
+  r.nodes = ps.model.n;
+  r.median_ms = per_frame;
+  r.p95_ms = per_frame;
+  std::error_code ec;
+  fs::remove_all(dir / "pipeline_run", ec);
+  return r;
+}
+
+}  // namespace
+
+int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::ostream& err) {
+  std::string error;
+  if (!prepare_output_dir(out_dir, error)) {
+    err << "vdmsim: error: " << error << "\n";
+    return 2;
+  }
+  const fs::path dir(out_dir);
+  const int repeats = quick ? 1 : 3;
+  std::vector<std::pair<std::string, std::function<Row()>>> cases = {
+      {"liver_probe 2.5k", [&] { return bench_probe("liver_L4.obj", repeats); }},
+      {"liver_probe 10k", [&] { return bench_probe("liver_L5.obj", repeats); }},
+  };
+  if (!quick) cases.push_back({"liver_probe 40k", [&] { return bench_probe("liver_L6.obj", 1); }});
+  cases.push_back({"grasp_lift", [&] { return bench_grasp(repeats); }});
+  cases.push_back({"render_720p", [&] { return bench_render(dir, quick ? 6 : 20); }});
+  cases.push_back({"pipeline_720p", [&] { return bench_pipeline(dir, quick ? 20 : 60); }});
+
+  std::vector<Row> rows;
+  for (const auto& [label, body] : cases) {
+    Row row;
+    out << "bench: " << label << " ..." << std::flush;
+    if (!run_isolated(body, row, error)) {
+      out << " failed\n";
+      err << "vdmsim: error: " << label << ": " << error << "\n";
+      return 1;
+    }
+    out << " median " << row.median_ms << " ms, p95 " << row.p95_ms << " ms, " << row.nodes << " nodes, peak "
+        << std::lround(row.peak_mb) << " MB\n";
+    rows.push_back(row);
+  }
+  std::ofstream csv(dir / "bench.csv");
+  csv << "case,model,nodes,median_ms,p95_ms,iterations,volume_rel_error,peak_mb\n" << std::setprecision(6);
+  for (const Row& r : rows)
+    csv << r.name << ',' << r.model << ',' << r.nodes << ',' << r.median_ms << ',' << r.p95_ms << ',' << r.iterations
+        << ',' << r.volume_rel_error << ',' << r.peak_mb << '\n';
+  csv.flush();
+  if (!csv) {
+    err << "vdmsim: error: " << (dir / "bench.csv").string() << ": write failed\n";
+    return 1;
+  }
+  // Scaling of the probe step with the node count: log-log fit and plot.
+  render::Panel p;
+  p.title = "VDM step with a probe in contact";
+  p.x_label = "surface nodes";
+  p.y_label = "median ms per step";
+  p.log_x = p.log_y = true;
+  render::Series s;
+  s.label = "vdm";
+  s.markers = true;
+  for (const Row& r : rows)
+    if (r.name == "liver_probe") {
+      s.x.push_back(double(r.nodes));
+      s.y.push_back(r.median_ms);
+    }
+  p.series.push_back(s);
+  if (s.x.size() >= 2) {
+    double sx = 0, sy = 0, sxx = 0, sxy = 0;
+    const double n = double(s.x.size());
+    for (size_t i = 0; i < s.x.size(); ++i) {
+      const double lx = std::log(s.x[i]), ly = std::log(s.y[i]);
+      sx += lx;
+      sy += ly;
+      sxx += lx * lx;
+      sxy += lx * ly;
+    }
+    const double slope = (n * sxy - sx * sy) / (n * sxx - sx * sx);
+    out << "scaling: ms per step grows as nodes^" << std::setprecision(3) << slope << " (log-log fit over "
+        << s.x.size() << " sizes)\n";
+    p.title += " (fit: nodes^" + render::format_number(slope, 3) + ")";
+  }
+  render::Figure fig;
+  fig.panels.push_back(p);
+  if (!render::write_figure_png(fig, (dir / "scaling.png").string(), error)) {
+    err << "vdmsim: error: " << error << "\n";
+    return 1;
+  }
+  out << "bench: wrote " << (dir / "bench.csv").string() << " and " << (dir / "scaling.png").string() << "\n";
+  return 0;
+}
+
+}  // namespace vdmsim
