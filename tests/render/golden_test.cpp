@@ -47,13 +47,15 @@ void expect_matches_golden(const fs::path& actual_path, const std::string& name,
   if (update_mode()) {
     render::Image old;
     const bool had = render::read_png(golden.string(), old, error);
-    const bool same = had && render::compare_images(old, actual, tol, nullptr).match;
-    if (!same) {
-      ASSERT_TRUE(render::write_png(golden.string(), actual, 9, false, error)) << error;
-      std::printf("golden %s: %s\n", name.c_str(), had ? "CHANGED, updated" : "created");
-    } else {
-      std::printf("golden %s: unchanged (within tolerance)\n", name.c_str());
+    const bool identical = had && render::compare_images(old, actual, {0, 0.0}, nullptr).match;
+    if (identical) {
+      std::printf("golden %s: unchanged\n", name.c_str());
+      return;
     }
+    const bool within = had && render::compare_images(old, actual, tol, nullptr).match;
+    ASSERT_TRUE(render::write_png(golden.string(), actual, 9, false, error)) << error;
+    std::printf("golden %s: %s\n", name.c_str(),
+                !had ? "created" : within ? "updated (changed within the test's tolerance)" : "UPDATED (changed beyond the tolerance)");
     return;
   }
   if (!fs::exists(golden)) {
