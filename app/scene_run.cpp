@@ -1,6 +1,7 @@
 #include "app/scene_run.hpp"
 
 #include <algorithm>
+#include <csignal>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -20,6 +21,33 @@
 
 namespace vdmsim {
 namespace {
+
+// Ctrl-C (SIGINT) and SIGTERM during a run: the loop stops after the current frame, writes
+// everything so far and says "interrupted" in run.json.
+volatile std::sig_atomic_t g_stop_signal = 0;
+void on_stop_signal(int sig) {
+  g_stop_signal = sig;
+  std::signal(sig, SIG_DFL);  // a second Ctrl-C stops at once
+}
+
+// Installs the handlers for the lifetime of a run and restores the previous ones.
+class StopSignals {
+ public:
+  StopSignals() {
+    g_stop_signal = 0;
+    old_int_ = std::signal(SIGINT, on_stop_signal);
+    old_term_ = std::signal(SIGTERM, on_stop_signal);
+  }
+  ~StopSignals() {
+    std::signal(SIGINT, old_int_);
+    std::signal(SIGTERM, old_term_);
+  }
+  int received() const { return g_stop_signal; }
+
+ private:
+  void (*old_int_)(int) = SIG_DFL;
+  void (*old_term_)(int) = SIG_DFL;
+};
 
 using Clock = std::chrono::steady_clock;
 double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
@@ -186,6 +214,7 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
   if (has_grasper && !s.has(Effect::grasp))
     err << "vdmsim: note: the scene has graspers but does not list the grasp effect: they hold nothing\n";
 
+  const StopSignals signals;
   FrameOutput output;
   if (rendering && !output.open(ps, dir, frames, error)) {
     err << "vdmsim: error: " << error << "\n";
@@ -215,7 +244,7 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
     std::vector<float> field;
     double lo = 0, hi = 0;
     int last_pct = -1;
-    for (int f = 0; f < frames; ++f) {
+    for (int f = 0; f < frames && !signals.received(); ++f) {
       pass.advance(f);
       if (!pass.state().u.allFinite()) break;
       // The 0.5 % and 99.5 % quantiles of each frame (a handful of nodes under an
@@ -258,6 +287,12 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
   std::string status = "completed", reason;
   int done = 0, last_pct = -1;
   for (int f = 0; f < frames; ++f) {
+    if (signals.received()) {
+      status = "interrupted";
+      reason = std::string(signals.received() == SIGINT ? "SIGINT (Ctrl-C)" : "SIGTERM") + " before frame " +
+               std::to_string(f) + "; every frame before it is complete";
+      break;
+    }
     sim.advance(f);
     const vdm::SimState& state = sim.state();
     const vdm::StepStats& st = state.stats;
@@ -305,7 +340,7 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
   }
   // Video from the PNG sequences.
   std::string video_status = opt.video ? "" : "not requested";
-  if (opt.video && done > 0) {
+  if (opt.video && done > 0 && status == "completed") {
     const double t0_ms = ms_since(t_run);
     bool ok = true;
     if (s.render.shaded)
@@ -373,6 +408,10 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
   out << s.name << ": " << done << " frames, " << m.n << " nodes, median step " << median << " ms, max |volume error| "
       << max_vol << (rendering ? ", " + std::to_string(output.images_written()) + " images" : std::string())
       << ", status " << status << " -> " << dir.string() << "\n";
+  if (status == "interrupted") {
+    err << "vdmsim: interrupted: " << reason << "\n";
+    return 130;
+  }
   if (status != "completed") err << "vdmsim: error: " << reason << "\n";
   return status == "completed" ? 0 : 1;
 }
