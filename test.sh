@@ -17,6 +17,8 @@ if [ "${1:-}" != "--no-sanitizers" ]; then
   # alloc_dealloc_mismatch=0: Debian's libfcl.so allocates BVH arrays with Eigen's aligned
   # operator new[] (malloc) while the header-instantiated ~BVHModel frees them with the plain
   # delete[]; both end in malloc/free, but ASan flags the pair inside FCL.
+  # tests/lsan.supp: small records Mesa's OSMesa keeps after a context is destroyed.
+  LSAN_OPTIONS="suppressions=$PWD/tests/lsan.supp:print_suppressions=0" \
   ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:alloc_dealloc_mismatch=0 \
   UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
     ctest --test-dir build-asan --output-on-failure -j "$jobs"
