@@ -67,8 +67,15 @@ bool FrameOutput::write(int f, int frames, const SceneSimulation& sim) {
   scene_.positions = &st.x;
   scene_.instruments.clear();
   const std::vector<tools::InstrumentPose> poses = sim.poses(sim.time());
-  for (size_t k = 0; k < poses.size(); ++k)
-    scene_.instruments.push_back(render::instrument_view(ps_->scene.instruments[k], poses[k]));
+  for (size_t k = 0; k < poses.size(); ++k) {
+    render::InstrumentView v = render::instrument_view(ps_->scene.instruments[k], poses[k]);
+    if (k < ps_->skins.size()) {
+      v.skin = ps_->skins[k].body.get();
+      v.jaw_skins[0] = ps_->skins[k].jaws[0].get();
+      v.jaw_skins[1] = ps_->skins[k].jaws[1].get();
+    }
+    scene_.instruments.push_back(v);
+  }
   render::HudInfo& hud = scene_.hud;
   hud.frame = f;          // the file's number, as in metrics.csv
   hud.frames = frames;

@@ -409,7 +409,7 @@ void read_simulation(Reader& r, const YAML::Node& sim, SceneDef& s) {
   }
 }
 
-void read_instruments(Reader& r, const YAML::Node& list, SceneDef& s) {
+void read_instruments(Reader& r, const YAML::Node& list, SceneDef& s, const std::filesystem::path& base) {
   if (!r.require_sequence(list, "instruments")) return;
   for (size_t i = 0; i < list.size(); ++i) {
     const std::string fi = Reader::item("instruments", i);
@@ -435,6 +435,30 @@ void read_instruments(Reader& r, const YAML::Node& list, SceneDef& s) {
     if (const YAML::Node v = n["length"]) r.number(v, Reader::sub(fi, "length"), in.length, 0, 10, "m", false, true);
     if (const YAML::Node v = n["jaw_length"]) r.number(v, Reader::sub(fi, "jaw_length"), in.jaw_length, 0, 1, "m", false, true);
     if (const YAML::Node v = n["grasp_width"]) r.number(v, Reader::sub(fi, "grasp_width"), in.grasp_width, 0, 1, "m", false, true);
+    SkinDef skin;
+    if (const YAML::Node sk = n["skin"]; sk && r.require_map(sk, Reader::sub(fi, "skin"))) {
+      const std::string fs = Reader::sub(fi, "skin");
+      r.check_keys(sk, fs, {"body", "jaws", "scale", "origin", "rotate_deg"});
+      skin.present = true;
+      skin.where = r.where(sk);
+      auto file = [&](const YAML::Node& v, const std::string& field, std::string& out) {
+        std::string rel;
+        if (!r.text(v, field, rel)) return;
+        out = (base / rel).lexically_normal().string();
+        std::error_code ec;
+        if (!std::filesystem::is_regular_file(out, ec)) r.error(v, field, "no such mesh file: " + out);
+      };
+      if (const YAML::Node v = sk["body"]) file(v, Reader::sub(fs, "body"), skin.body);
+      if (const YAML::Node j = sk["jaws"]) {
+        if (!j.IsSequence() || j.size() != 2) r.error(j, Reader::sub(fs, "jaws"), "expected two mesh files [upper, lower]");
+        else
+          for (size_t k = 0; k < 2; ++k) file(j[k], Reader::item(Reader::sub(fs, "jaws"), k), skin.jaws[k]);
+      }
+      if (const YAML::Node v = sk["scale"]) r.number(v, Reader::sub(fs, "scale"), skin.scale, 0, kInf, "mesh units -> m", false, true);
+      if (const YAML::Node v = sk["origin"]) r.vec3(v, Reader::sub(fs, "origin"), skin.origin, "m");
+      if (const YAML::Node v = sk["rotate_deg"]) r.vec3(v, Reader::sub(fs, "rotate_deg"), skin.rotate_deg, "degrees");
+      if (!sk["body"] && !sk["jaws"]) r.error(sk, fs, "give body: MESH and/or jaws: [MESH, MESH]");
+    }
     const YAML::Node script = r.required(n, "script", fi, "a timeline of keyframes [{t, tip, axis, jaw}, ...]");
     if (!script || !r.require_sequence(script, Reader::sub(fi, "script"))) continue;
     if (script.size() == 0) r.error(script, Reader::sub(fi, "script"), "the timeline is empty: give at least one keyframe");
@@ -467,6 +491,7 @@ void read_instruments(Reader& r, const YAML::Node& list, SceneDef& s) {
       r.error(script[0], Reader::sub(Reader::item(Reader::sub(fi, "script"), 0), "tip"),
               "the first keyframe must give the tip position [x, y, z] (m)");
     s.instruments.push_back(in);
+    s.instrument_skins.push_back(skin);
   }
 }
 
@@ -607,7 +632,7 @@ SceneLoadResult load_scene(const std::string& path) {
   if (s.name.empty()) s.name = std::filesystem::path(path).stem().string();
   if (const YAML::Node organ = r.required(root, "organ", "", "the organ: {mesh, material, ...}")) read_organ(r, organ, s, base);
   if (const YAML::Node sim = root["simulation"]) read_simulation(r, sim, s);
-  if (const YAML::Node ins = root["instruments"]) read_instruments(r, ins, s);
+  if (const YAML::Node ins = root["instruments"]) read_instruments(r, ins, s, base);
   if (const YAML::Node render = root["render"]) {
     s.has_render = true;
     read_render(r, render, s);

@@ -47,6 +47,20 @@ struct PrescribedDef {
   double t0 = 0, t1 = 0;
 };
 
+// An instrument's optional mesh skin, for the picture only (collision and grasping keep the
+// parametric shape). Mesh files (any format assimp reads, e.g. STL) are placed in the
+// instrument frame (origin at the tip, +z from the handle toward the tip): scaled by `scale`,
+// rotated by `rotate_deg` (x, then y, then z), and their origin moved to `origin`.
+struct SkinDef {
+  bool present = false;
+  std::string body;                 // probe, or grasper shaft (resolved path; may be empty)
+  std::array<std::string, 2> jaws;  // grasper jaws (upper, lower), closed pose, pivot at the origin
+  double scale = 1.0;
+  vdm::Vec3 origin = vdm::Vec3::Zero();      // m, in the instrument frame
+  vdm::Vec3 rotate_deg = vdm::Vec3::Zero();
+  std::string where;                // file:line:col
+};
+
 using Keyframe = tools::Keyframe;
 using InstrumentDef = tools::InstrumentDef;
 
@@ -89,6 +103,7 @@ struct SceneDef {
   // instruments and rendering
   std::vector<InstrumentDef> instruments;
   std::vector<std::string> instrument_where;  // file:line:col of each instrument
+  std::vector<SkinDef> instrument_skins;      // one per instrument
   bool has_render = false;     // the scene has a render: section
   RenderDef render;
 

@@ -137,9 +137,58 @@ bool prepare_scene(const std::string& path, PreparedScene& out, std::vector<Scen
   return prepare_scene_def(loaded.scene, out, problems);
 }
 
+namespace {
+// A skin mesh file as flat-shaded triangles (one normal per facet), placed by the skin's
+// scale, rotation and origin in the instrument frame.
+std::shared_ptr<render::SkinMesh> load_skin(const SkinDef& def, const std::string& path, std::string& error) {
+  if (path.empty()) return nullptr;
+  MeshLoadOptions opt;
+  opt.scale = def.scale;
+  opt.validate = false;
+  const MeshLoadResult r = load_surface_mesh(path, opt);
+  if (!r.ok) {
+    error = r.error;
+    return nullptr;
+  }
+  const double k = 3.14159265358979323846 / 180.0;
+  const Eigen::Matrix3d R = (Eigen::AngleAxisd(def.rotate_deg.z() * k, vdm::Vec3::UnitZ()) *
+                             Eigen::AngleAxisd(def.rotate_deg.y() * k, vdm::Vec3::UnitY()) *
+                             Eigen::AngleAxisd(def.rotate_deg.x() * k, vdm::Vec3::UnitX()))
+                                .toRotationMatrix();
+  auto skin = std::make_shared<render::SkinMesh>();
+  const vdm::TriMat& t = r.mesh.triangles;
+  for (Eigen::Index f = 0; f < t.rows(); ++f) {
+    vdm::Vec3 p[3];
+    for (int c = 0; c < 3; ++c) p[c] = R * r.mesh.positions.row(t(f, c)).transpose() + def.origin;
+    const vdm::Vec3 n = (p[1] - p[0]).cross(p[2] - p[0]);
+    const Eigen::Vector3f nf = n.norm() > 0 ? Eigen::Vector3f(n.normalized().cast<float>()) : Eigen::Vector3f::UnitZ();
+    for (int c = 0; c < 3; ++c) {
+      skin->indices.push_back(unsigned(skin->positions.size()));
+      skin->positions.push_back(p[c].cast<float>());
+      skin->normals.push_back(nf);
+    }
+  }
+  return skin;
+}
+}  // namespace
+
 bool prepare_scene_def(const SceneDef& scene, PreparedScene& out, std::vector<SceneProblem>& problems) {
   out.scene = scene;
   const SceneDef& s = out.scene;
+  // Instrument skins (pictures only): loaded now so that `check` finds a broken file.
+  out.skins.assign(s.instruments.size(), InstrumentSkin{});
+  for (size_t k = 0; k < s.instrument_skins.size() && k < s.instruments.size(); ++k) {
+    const SkinDef& d = s.instrument_skins[k];
+    if (!d.present) continue;
+    std::string error;
+    const std::string field = "instruments[" + std::to_string(k) + "].skin";
+    out.skins[k].body = load_skin(d, d.body, error);
+    for (int j = 0; j < 2 && error.empty(); ++j) out.skins[k].jaws[j] = load_skin(d, d.jaws[j], error);
+    if (!error.empty()) {
+      problems.push_back({d.where, field, error, false});
+      return false;
+    }
+  }
 
   MeshLoadOptions mopt;
   mopt.scale = s.scale;

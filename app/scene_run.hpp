@@ -1,6 +1,7 @@
 #pragma once
 // Running a scene: the simulator's main loop. Builds the organ from the scene, applies the
 // scripted loads and motions each frame, steps the engine, writes metrics.csv and run.json.
+#include <memory>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -15,12 +16,18 @@ namespace vdmsim {
 std::vector<int> select_nodes(const Region& region, const vdm::NodeMat& rest, const std::string& field,
                               std::vector<SceneProblem>& problems);
 
+// An instrument's skin meshes, loaded and placed in the instrument frame (empty: parametric).
+struct InstrumentSkin {
+  std::shared_ptr<render::SkinMesh> body, jaws[2];
+};
+
 struct PreparedScene {
   SceneDef scene;
   vdm::TissueModel model;
   std::vector<std::vector<int>> load_nodes;        // per organ.loads entry
   std::vector<std::vector<int>> prescribed_nodes;  // per organ.prescribed entry
   std::vector<vdm::Vec3> prescribed_about;         // rotation centre per entry (m)
+  std::vector<InstrumentSkin> skins;               // per instrument
 };
 
 // Loads and validates the scene and its mesh and builds the model. On failure returns false
