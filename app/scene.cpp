@@ -415,7 +415,7 @@ void read_instruments(Reader& r, const YAML::Node& list, SceneDef& s, const std:
     const std::string fi = Reader::item("instruments", i);
     const YAML::Node n = list[i];
     if (!r.require_map(n, fi)) continue;
-    r.check_keys(n, fi, {"type", "radius", "length", "jaw_length", "grasp_width", "script", "skin"});
+    r.check_keys(n, fi, {"type", "radius", "length", "jaw_length", "grasp_width", "script", "skin", "path"});
     InstrumentDef in;
     s.instrument_where.push_back(r.where(n));
     if (const YAML::Node t = r.required(n, "type", fi, "probe or grasper")) {
@@ -435,6 +435,14 @@ void read_instruments(Reader& r, const YAML::Node& list, SceneDef& s, const std:
     if (const YAML::Node v = n["length"]) r.number(v, Reader::sub(fi, "length"), in.length, 0, 10, "m", false, true);
     if (const YAML::Node v = n["jaw_length"]) r.number(v, Reader::sub(fi, "jaw_length"), in.jaw_length, 0, 1, "m", false, true);
     if (const YAML::Node v = n["grasp_width"]) r.number(v, Reader::sub(fi, "grasp_width"), in.grasp_width, 0, 1, "m", false, true);
+    if (const YAML::Node v = n["path"]) {
+      std::string p;
+      if (r.text(v, Reader::sub(fi, "path"), p)) {
+        if (p == "linear") in.path = InstrumentDef::Path::linear;
+        else if (p == "spline") in.path = InstrumentDef::Path::spline;
+        else r.error(v, Reader::sub(fi, "path"), "unknown path '" + p + "': expected linear or spline");
+      }
+    }
     SkinDef skin;
     if (const YAML::Node sk = n["skin"]; sk && r.require_map(sk, Reader::sub(fi, "skin"))) {
       const std::string fs = Reader::sub(fi, "skin");

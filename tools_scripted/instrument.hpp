@@ -1,7 +1,9 @@
 #pragma once
 // Scripted instruments: a definition (shape and keyframe timeline) and its pose at any time.
-// Positions are interpolated linearly between keyframes, axes by slerp; a keyframe that omits
-// a field keeps the previous one. Before the first keyframe the instrument waits at it; after
+// Positions are interpolated linearly between keyframes, or by a spline (a monotone cubic
+// Hermite per coordinate: through every keyframe, continuous velocity, no overshoot, at rest at
+// the first and last keyframe and wherever a coordinate turns or holds); axes by slerp. A
+// keyframe that omits a field keeps the previous one. Before the first keyframe the instrument waits at it; after
 // the last it stays there.
 #include <optional>
 #include <vector>
@@ -25,6 +27,7 @@ struct InstrumentDef {
   double jaw_length = 0.02;          // grasper: jaws from the pivot to the tip (m)
   double grasp_width = 0.005;        // grasper: nodes within this of the closed jaws are held (m)
   std::vector<Keyframe> script;      // strictly increasing t, first keyframe has a tip
+  enum class Path { linear, spline } path = Path::linear;  // how tip positions are interpolated
 };
 
 struct InstrumentPose {

@@ -54,5 +54,57 @@ TEST(Instrument, ProbeCapsuleEndsAtTheTip) {
   EXPECT_NEAR((c.p1 - c.p0).norm() + 2 * c.radius, d.length, 1e-15);
 }
 
+
+// A poke: down, hold, up, with a sideways drift, interpolated by the spline.
+InstrumentDef poke_spline() {
+  InstrumentDef d;
+  d.path = InstrumentDef::Path::spline;
+  const double t[] = {0.0, 0.5, 1.5, 2.0, 3.0};
+  const vdm::Vec3 p[] = {{0, 0, 0.075}, {0.01, 0, 0.06}, {0.02, 0, 0.045}, {0.02, 0, 0.045}, {0.03, 0, 0.075}};
+  for (int k = 0; k < 5; ++k) {
+    Keyframe key;
+    key.t = t[k];
+    key.tip = p[k];
+    if (k == 0) key.axis = vdm::Vec3(0, 0, -1);
+    d.script.push_back(key);
+  }
+  return d;
+}
+
+TEST(InstrumentSpline, PassesThroughEveryKeyframeAndHoldsExactly) {
+  const InstrumentDef d = poke_spline();
+  for (const Keyframe& k : d.script) EXPECT_NEAR((pose_at(d, k.t).tip - *k.tip).norm(), 0.0, 1e-15) << k.t;
+  for (double t = 1.5; t <= 2.0; t += 0.05) EXPECT_NEAR((pose_at(d, t).tip - vdm::Vec3(0.02, 0, 0.045)).norm(), 0.0, 1e-15);
+}
+
+TEST(InstrumentSpline, VelocityIsContinuousAndTheSplineNeverOvershoots) {
+  const InstrumentDef d = poke_spline();
+  const double e = 1e-6;
+  for (const Keyframe& k : d.script) {
+    const vdm::Vec3 left = (pose_at(d, k.t).tip - pose_at(d, k.t - e).tip) / e;
+    const vdm::Vec3 right = (pose_at(d, k.t + e).tip - pose_at(d, k.t).tip) / e;
+    EXPECT_LT((left - right).norm(), 1e-4) << "velocity jumps at t = " << k.t;
+  }
+  // The linear path's velocity jumps at the same keyframe (so the check above can fail).
+  InstrumentDef lin = d;
+  lin.path = InstrumentDef::Path::linear;
+  const vdm::Vec3 jl = (pose_at(lin, 0.5).tip - pose_at(lin, 0.5 - e).tip) / e;
+  const vdm::Vec3 jr = (pose_at(lin, 0.5 + e).tip - pose_at(lin, 0.5).tip) / e;
+  EXPECT_GT((jl - jr).norm(), 1e-3);
+  // Between two keyframes every coordinate stays within their values (no overshoot), and the
+  // instrument starts and ends at rest.
+  for (size_t k = 0; k + 1 < d.script.size(); ++k)
+    for (int i = 1; i < 100; ++i) {
+      const double t = d.script[k].t + (d.script[k + 1].t - d.script[k].t) * i / 100.0;
+      const vdm::Vec3 p = pose_at(d, t).tip;
+      for (int c = 0; c < 3; ++c) {
+        EXPECT_GE(p[c], std::min((*d.script[k].tip)[c], (*d.script[k + 1].tip)[c]) - 1e-15);
+        EXPECT_LE(p[c], std::max((*d.script[k].tip)[c], (*d.script[k + 1].tip)[c]) + 1e-15);
+      }
+    }
+  EXPECT_LT((pose_at(d, e).tip - pose_at(d, 0).tip).norm() / e, 1e-4);
+  EXPECT_LT((pose_at(d, 3.0).tip - pose_at(d, 3.0 - e).tip).norm() / e, 1e-4);
+}
+
 }  // namespace
 }  // namespace tools
