@@ -86,7 +86,8 @@ struct Renderer::Impl {
   RenderSettings settings;
   std::unique_ptr<GlContext> gl;
   std::unique_ptr<Framebuffer> fb;
-  GlProgram materials[3], mask_program, background;
+  GlProgram materials[3], mask_program, floor_program, background;
+  GpuMesh floor;
   GLuint empty_vao = 0;
   // The organ: topology fixed, positions, normals and the scalar streamed each frame.
   GLuint organ_vao = 0, organ_vbo = 0, organ_ebo = 0;
@@ -120,6 +121,7 @@ struct Renderer::Impl {
       m.jaws[1].destroy();
     }
     for (auto& [key, m] : skins) m.destroy();
+    floor.destroy();
     glDeleteVertexArrays(1, &organ_vao);
     glDeleteBuffers(1, &organ_vbo);
     glDeleteBuffers(1, &organ_ebo);
@@ -156,6 +158,7 @@ bool Renderer::Impl::init(const vdm::SurfaceMesh& rest, std::string& error) {
     if (!materials[k].build(shaders::kMeshVertex, fragment.c_str(), error)) return false;
   }
   if (!mask_program.build(shaders::kShadowMaskVertex, shaders::kShadowMaskFragment, error) ||
+      !floor_program.build(shaders::kMeshVertex, shaders::kFloorFragment, error) ||
       !background.build(shaders::kBackgroundVertex, shaders::kBackgroundFragment, error))
     return false;
   glGenVertexArrays(1, &empty_vao);
@@ -198,8 +201,8 @@ bool Renderer::Impl::init(const vdm::SurfaceMesh& rest, std::string& error) {
   mask_half = 1.6 * radius;
   glGenTextures(1, &mask_tex);
   glBindTexture(GL_TEXTURE_2D, mask_tex);
-  glTexStorage2D(GL_TEXTURE_2D, 1, GL_R8, kMaskSize, kMaskSize);
-  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glTexStorage2D(GL_TEXTURE_2D, 4, GL_R8, kMaskSize, kMaskSize);
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
@@ -223,6 +226,16 @@ bool Renderer::Impl::init(const vdm::SurfaceMesh& rest, std::string& error) {
   to_mask(0, 3) = -centre.x() / mask_half;
   to_mask(1, 3) = -centre.y() / mask_half;
   floor_proj = (to_mask * along).cast<float>();
+
+  // The floor: a square of half side 3 R under the organ (it has faded out at its edge).
+  SkinMesh square;
+  const float fr = float(3 * radius), cx = float(centre.x()), cy = float(centre.y()), fz = float(floor_z);
+  for (int k = 0; k < 4; ++k) {
+    square.positions.emplace_back(cx + ((k == 1 || k == 2) ? fr : -fr), cy + (k >= 2 ? fr : -fr), fz);
+    square.normals.emplace_back(0.0f, 0.0f, 1.0f);
+  }
+  square.indices = {0, 1, 2, 0, 2, 3};
+  floor.upload(square);
 
   const float body_px = std::max(12.0f, settings.height / 40.0f);
   return imgui.init(body_px, error);
@@ -345,6 +358,9 @@ void Renderer::Impl::shadow_mask_pass(const RenderScene& scene) {
   glBindVertexArray(organ_vao);
   glDrawElements(GL_TRIANGLES, organ_count, GL_UNSIGNED_INT, nullptr);
   draw_instruments(scene, mask_program, true);
+  // Its mipmaps: the floor samples a coarser level, a cheap blur for a soft edge.
+  glBindTexture(GL_TEXTURE_2D, mask_tex);
+  glGenerateMipmap(GL_TEXTURE_2D);
 }
 
 GlProgram& Renderer::Impl::use(Material m) {
@@ -409,23 +425,32 @@ void Renderer::Impl::draw(const RenderScene& scene, const StressView* view, bool
   draw_instruments(scene, metal, false);
   timer.mark("instruments");
 
-  // Background and floor last, at the far plane: only uncovered pixels are shaded.
+  // The floor under the organ, then the background gradient at the far plane: each pixel
+  // is shaded once.
+  const Eigen::Vector3f top(0.80f, 0.82f, 0.85f), bottom(0.47f, 0.49f, 0.53f);
+  if (settings.floor) {
+    glUseProgram(floor_program.id());
+    glUniformMatrix4fv(floor_program.uniform("u_model"), 1, GL_FALSE, identity.data());
+    glUniformMatrix3fv(floor_program.uniform("u_normal_matrix"), 1, GL_FALSE, identity3.data());
+    glUniformMatrix4fv(floor_program.uniform("u_view_proj"), 1, GL_FALSE, view_proj.data());
+    glUniform3fv(floor_program.uniform("u_top_srgb"), 1, top.data());
+    glUniform3fv(floor_program.uniform("u_bottom_srgb"), 1, bottom.data());
+    glUniform1f(floor_program.uniform("u_height"), float(settings.height));
+    glUniform3fv(floor_program.uniform("u_floor_center"), 1, f3(centre).data());
+    glUniform1f(floor_program.uniform("u_floor_radius"), float(3 * radius));
+    glUniform1f(floor_program.uniform("u_mask_half"), float(mask_half));
+    glUniform1i(floor_program.uniform("u_floor_shadow"), settings.shadows ? 1 : 0);
+    glUniform1i(floor_program.uniform("u_mask"), 1);
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_2D, mask_tex);
+    glActiveTexture(GL_TEXTURE0);
+    floor.draw();
+  }
   glDepthFunc(GL_LEQUAL);
   glUseProgram(background.id());
-  glUniform3f(background.uniform("u_top_srgb"), 0.80f, 0.82f, 0.85f);
-  glUniform3f(background.uniform("u_bottom_srgb"), 0.47f, 0.49f, 0.53f);
-  glUniform1i(background.uniform("u_floor"), settings.floor ? 1 : 0);
-  glUniform1i(background.uniform("u_floor_shadow"), settings.shadows ? 1 : 0);
-  const Eigen::Matrix4f inv = view_proj.inverse();
-  glUniformMatrix4fv(background.uniform("u_inv_view_proj"), 1, GL_FALSE, inv.data());
-  glUniform1f(background.uniform("u_floor_z"), float(floor_z));
-  glUniform3fv(background.uniform("u_floor_center"), 1, f3(centre).data());
-  glUniform1f(background.uniform("u_floor_radius"), float(3 * radius));
-  glUniform1f(background.uniform("u_mask_half"), float(mask_half));
-  glUniform1i(background.uniform("u_mask"), 1);
-  glActiveTexture(GL_TEXTURE1);
-  glBindTexture(GL_TEXTURE_2D, mask_tex);
-  glActiveTexture(GL_TEXTURE0);
+  glUniform3fv(background.uniform("u_top_srgb"), 1, top.data());
+  glUniform3fv(background.uniform("u_bottom_srgb"), 1, bottom.data());
+  glUniform1f(background.uniform("u_height"), float(settings.height));
   glBindVertexArray(empty_vao);
   glDrawArrays(GL_TRIANGLES, 0, 3);
   glDepthFunc(GL_LESS);

@@ -121,59 +121,41 @@ out vec4 frag_color;
 void main() { frag_color = vec4(0.0); }
 )";
 
+const char* const kFloorFragment = R"(#version 450 core
+// The floor, drawn as a square under the organ after it (so covered pixels cost nothing): lit
+// by the sky, darkened by the shadow mask, fading into the background gradient with distance.
+in vec3 v_position;
+uniform vec3 u_top_srgb;
+uniform vec3 u_bottom_srgb;
+uniform float u_height;          // viewport height (pixels)
+uniform vec3 u_floor_center;
+uniform float u_floor_radius;
+uniform float u_mask_half;       // half size of the shadow mask's square on the floor
+uniform int u_floor_shadow;
+uniform sampler2D u_mask;        // 1 lit, 0 in shadow; mipmapped
+out vec4 frag_color;
+void main() {
+  vec3 background = mix(u_bottom_srgb, u_top_srgb, gl_FragCoord.y / u_height);
+  vec2 d = v_position.xy - u_floor_center.xy;
+  float fade = smoothstep(0.30 * u_floor_radius, u_floor_radius, length(d));
+  float lit = u_floor_shadow != 0 ? textureLod(u_mask, d / (2.0 * u_mask_half) + 0.5, 1.6).r : 1.0;
+  frag_color = vec4(mix(vec3(0.74, 0.74, 0.75) * mix(0.55, 1.0, lit), background, fade), 1.0);
+}
+)";
+
 const char* const kBackgroundVertex = R"(#version 450 core
-uniform mat4 u_inv_view_proj;
-out vec2 v_ndc;
-out vec4 v_near;   // this pixel's ray: world points on the near and far planes (homogeneous,
-out vec4 v_far;    // linear in screen space, so interpolating them is exact)
 void main() {
   vec2 p = vec2((gl_VertexID == 1) ? 3.0 : -1.0, (gl_VertexID == 2) ? 3.0 : -1.0);
-  v_ndc = p;
-  v_near = u_inv_view_proj * vec4(p, -1.0, 1.0);
-  v_far = u_inv_view_proj * vec4(p, 1.0, 1.0);
   gl_Position = vec4(p, 1.0, 1.0);   // at the far plane: drawn only where nothing else is
 }
 )";
 
 const char* const kBackgroundFragment = R"(#version 450 core
-in vec2 v_ndc;
-in vec4 v_near;
-in vec4 v_far;
 uniform vec3 u_top_srgb;
 uniform vec3 u_bottom_srgb;
-uniform int u_floor;
-uniform int u_floor_shadow;
-uniform float u_floor_z;
-uniform vec3 u_floor_center;
-uniform float u_floor_radius;
-uniform float u_mask_half;      // half size of the shadow mask's square on the floor
-uniform sampler2D u_mask;        // 1 lit, 0 in shadow
+uniform float u_height;
 out vec4 frag_color;
-void main() {
-  vec3 color = mix(u_bottom_srgb, u_top_srgb, clamp(v_ndc.y * 0.5 + 0.5, 0.0, 1.0));
-  if (u_floor != 0) {
-    // The floor is found by casting this pixel's ray onto the plane z = u_floor_z.
-    vec3 o = v_near.xyz / v_near.w, d = v_far.xyz / v_far.w - o;
-    if (abs(d.z) > 1e-9) {
-      float t = (u_floor_z - o.z) / d.z;
-      if (t > 0.0 && t < 1.0) {
-        vec3 p = o + t * d;
-        float fade = smoothstep(0.30 * u_floor_radius, u_floor_radius, length(p.xy - u_floor_center.xy));
-        vec2 uv = (p.xy - u_floor_center.xy) / (2.0 * u_mask_half) + 0.5;
-        float lit = 1.0;
-        if (u_floor_shadow != 0) {
-          // Four bilinear taps a texel apart: a soft edge from a coarse mask.
-          vec2 o = 1.0 / vec2(textureSize(u_mask, 0));
-          lit = 0.25 * (texture(u_mask, uv + vec2(-o.x, -o.y)).r + texture(u_mask, uv + vec2(o.x, -o.y)).r +
-                        texture(u_mask, uv + vec2(-o.x, o.y)).r + texture(u_mask, uv + vec2(o.x, o.y)).r);
-        }
-        vec3 floor_color = vec3(0.74, 0.74, 0.75) * mix(0.55, 1.0, lit);
-        color = mix(floor_color, color, fade);
-      }
-    }
-  }
-  frag_color = vec4(color, 1.0);
-}
+void main() { frag_color = vec4(mix(u_bottom_srgb, u_top_srgb, gl_FragCoord.y / u_height), 1.0); }
 )";
 
 }  // namespace render::shaders

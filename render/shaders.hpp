@@ -10,8 +10,9 @@ extern const char* const kMeshFragment;
 // The floor's shadow mask: casters projected along the key light onto the floor plane.
 extern const char* const kShadowMaskVertex;
 extern const char* const kShadowMaskFragment;
-// Background gradient and the floor (by ray casting), drawn last at the far plane so that
-// only uncovered pixels pay for it.
+// The floor (with kMeshVertex), fading into the background gradient.
+extern const char* const kFloorFragment;
+// The background gradient, drawn last at the far plane so that only uncovered pixels pay.
 extern const char* const kBackgroundVertex;
 extern const char* const kBackgroundFragment;
 
