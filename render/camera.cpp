@@ -10,14 +10,20 @@ Camera auto_frame(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, double f
   Camera c;
   c.fov_deg = fov_deg;
   c.target = 0.5 * (lo + hi);
-  const double radius = std::max(0.5 * (hi - lo).norm(), 1e-6);
-  const double half_v = 0.5 * fov_deg * M_PI / 180.0;
-  const double half_h = std::atan(std::tan(half_v) * aspect);
-  const double half = std::min(half_v, half_h);
-  const double distance = 1.02 * radius / std::sin(half);
-  const Eigen::Vector3d dir = Eigen::Vector3d(0.35, -1.0, 0.75).normalized();
-  c.eye = c.target + distance * dir;
   c.up = Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d dir = Eigen::Vector3d(0.35, -1.0, 0.75).normalized();  // target -> eye
+  // Camera axes, then the distance at which every corner of the box fits the view with a 6 %
+  // margin on each side.
+  const Eigen::Vector3d forward = -dir, side = forward.cross(c.up).normalized(), up = side.cross(forward);
+  const double tan_v = std::tan(0.5 * fov_deg * M_PI / 180.0) * 0.88, tan_h = tan_v * aspect;
+  double distance = 1e-6;
+  for (int k = 0; k < 8; ++k) {
+    const Eigen::Vector3d corner((k & 1) ? hi.x() : lo.x(), (k & 2) ? hi.y() : lo.y(), (k & 4) ? hi.z() : lo.z());
+    const Eigen::Vector3d r = corner - c.target;
+    const double depth = r.dot(dir);  // toward the eye
+    distance = std::max({distance, depth + std::abs(r.dot(side)) / tan_h, depth + std::abs(r.dot(up)) / tan_v});
+  }
+  c.eye = c.target + distance * dir;
   return c;
 }
 

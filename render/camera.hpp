@@ -13,7 +13,7 @@ struct Camera {
 };
 
 // A camera that frames the box [lo, hi] from the front, to the right and above (looking
-// along +y with z up), fitting its bounding sphere in the narrower field of view.
+// along +y with z up), as close as the box's corners allow with a small margin.
 Camera auto_frame(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, double fov_deg, double aspect);
 
 Eigen::Matrix4f look_at(const Eigen::Vector3d& eye, const Eigen::Vector3d& target, const Eigen::Vector3d& up);
