@@ -273,6 +273,7 @@ void step(const TissueModel& m, const StepInput& in, SimState& s) {
   }
   double current_volume = 0.0;
   double last_c = 0.0;
+  double last_du = 0.0;
   double omega = 1.0;  // Aitken relaxation of the nonlinear (fixed-point) iteration
 
   const int max_it = m.solver.nonlinear_iterations;
@@ -356,11 +357,18 @@ void step(const TissueModel& m, const StepInput& in, SimState& s) {
     for (int d = 0; d < 3; ++d)
       for (int i = 0; i < m.n; ++i)
         if (w.mask(i, d)) w.u_new(i, d) = w.u_fixed(i, d);
-    // Nonlinear iterations are a fixed point u <- G(u) on the geometry, which oscillates on
-    // large deformations; Aitken's relaxation (the first solve, the load increment, is taken
-    // whole) makes it converge: u += omega (G(u) - u), omega from the last two residuals.
+    // Nonlinear iterations are a fixed point u <- G(u) on the geometry. Aitken's relaxation
+    // (the first solve, the load increment, is taken whole): u += omega (G(u) - u), omega
+    // from the last two residuals; it saves iterations where the plain iteration converges.
     w.u_new -= s.u;  // the fixed-point residual r = G(u) - u
     const double du = w.u_new.cwiseAbs().maxCoeff();
+    if (it >= 2 && du > last_du && du > 10.0 * m.solver.nonlinear_tolerance * m.size) {
+      // Diverging: past some deformation the geometric fixed point loses stability (its
+      // contraction factor passes 1). Keep the current iterate, the best so far.
+      st.nonlinear_change = du / m.size;
+      break;
+    }
+    last_du = du;
     if (it > 0) {
       const double num = (w.residual_prev.array() * (w.u_new - w.residual_prev).array()).sum();
       const double den = (w.u_new - w.residual_prev).squaredNorm();
