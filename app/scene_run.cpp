@@ -199,7 +199,7 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
     return 2;
   }
   metrics << "frame,time_s,step_ms,iterations,residual,volume,volume_rel_error,pressure_pa,contact_nodes,"
-             "contact_force_n,max_penetration_m,max_displacement_m,max_stress_pa\n";
+             "contact_force_n,max_penetration_m,max_displacement_m,max_stress_pa,fallbacks\n";
   metrics << std::setprecision(9);
 
   vdm::SimState state = vdm::make_sim_state(m);
@@ -244,7 +244,7 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
     if (!grasps.empty()) grasp_ms += ms_since(t_grasp);
 
     double frame_step_ms = 0;
-    int frame_iterations = 0;
+    int frame_iterations = 0, frame_fallbacks = 0;
     if (contact) {
       // Sub-step when a probe moves more than its radius in a frame, so it cannot tunnel.
       double substeps = 1;
@@ -263,18 +263,26 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
         contact->step(m, input, capsules, state, report);
         frame_step_ms += ms_since(t_contact);
         frame_iterations += state.stats.iterations;
+        frame_fallbacks += state.stats.fallbacks;
         collision_ms += report.collision_ms;
         queries += report.queries;
+        if (state.failed) break;
       }
     } else {
       vdm::step(m, input, state);
       frame_step_ms = state.stats.step_ms;
       frame_iterations = state.stats.iterations;
+      frame_fallbacks = state.stats.fallbacks;
     }
     const vdm::StepStats& st = state.stats;
     assemble_ms += st.assemble_ms;
     solve_ms += st.solve_ms;
     stress_ms += st.stress_ms;
+    if (state.failed) {  // the engine could not do this frame: stop, keeping every frame so far
+      status = "failed";
+      reason = "frame " + std::to_string(f) + ": " + state.failure;
+      break;
+    }
     if (!state.u.allFinite()) {
       status = "failed";
       reason = "non-finite displacement at frame " + std::to_string(f);
@@ -293,7 +301,7 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
       metrics << ",,,";  // the contact effect is not simulated: its columns stay empty
     metrics << state.u.rowwise().norm().maxCoeff() << ',';
     if (m.compute_stress) metrics << state.stress.rowwise().norm().maxCoeff();
-    metrics << '\n';
+    metrics << ',' << frame_fallbacks << '\n';
     if (!metrics) {
       status = "failed";
       reason = "writing metrics.csv failed (disk full?)";
