@@ -55,7 +55,11 @@ void collect(const aiScene* scene, const aiNode* node, const aiMatrix4x4& parent
 std::string check_ply_header(const std::string& path, std::uintmax_t file_bytes) {
   std::ifstream f(path, std::ios::binary);
   std::string line;
-  if (!std::getline(f, line) || line.rfind("ply", 0) != 0) return "";
+  if (!std::getline(f, line) || line.size() < 3) return "";
+  // Case-insensitive, as assimp reads it: "plY" with no end_header hung assimp (fuzzing).
+  std::string magic = line.substr(0, 3);
+  for (char& c : magic) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (magic != "ply") return "";
   bool ascii = false;
   long double needed = 0;
   std::string element;

@@ -2,8 +2,6 @@
 // Support for the hard-case tests (issue 7): a concrete "sensible shape" check and the
 // awkward meshes (slivers, near-zero areas, graded refinement, valence 3 and 12).
 #include <algorithm>
-#include <cstdio>
-#include <cstdlib>
 #include <cmath>
 #include <map>
 #include <sstream>
@@ -47,6 +45,25 @@ inline Vec3 tri_normal(const NodeMat& x, const TriMat& t, int k) {
   return (b - a).cross(c - a);
 }
 
+// The pairs of triangles that share an edge (cached for the last mesh asked about).
+inline const std::vector<std::pair<int, int>>& triangle_pairs(const TriMat& t) {
+  static TriMat cached;
+  static std::vector<std::pair<int, int>> pairs;
+  if (cached.rows() == t.rows() && cached == t) return pairs;
+  cached = t;
+  pairs.clear();
+  std::map<std::pair<int, int>, int> first;
+  for (int k = 0; k < t.rows(); ++k)
+    for (int e = 0; e < 3; ++e) {
+      const int a = t(k, e), b = t(k, (e + 1) % 3);
+      const auto key = std::make_pair(std::min(a, b), std::max(a, b));
+      const auto it = first.find(key);
+      if (it == first.end()) first.emplace(key, k);
+      else pairs.emplace_back(k, it->second);
+    }
+  return pairs;
+}
+
 inline ShapeReport shape_of(const TissueModel& m, const SimState& s) {
   ShapeReport r;
   r.finite = s.u.allFinite() && s.x.allFinite() && std::isfinite(s.pressure) && s.stress.allFinite() &&
@@ -63,26 +80,11 @@ inline ShapeReport shape_of(const TissueModel& m, const SimState& s) {
     n_rest[k] = tri_normal(m.rest.positions, t, k);
     if (n_now[k].norm() <= 1e-6 * n_rest[k].norm()) ++r.collapsed;
   }
-  std::map<std::pair<int, int>, int> first;
-  for (int k = 0; k < nt; ++k)
-    for (int e = 0; e < 3; ++e) {
-      const int a = t(k, e), b = t(k, (e + 1) % 3);
-      const auto key = std::make_pair(std::min(a, b), std::max(a, b));
-      auto it = first.find(key);
-      if (it == first.end()) {
-        first.emplace(key, k);
-        continue;
-      }
-      const int o = it->second;
-      const double now = std::acos(std::clamp(n_now[k].normalized().dot(n_now[o].normalized()), -1.0, 1.0));
-      const double rest = std::acos(std::clamp(n_rest[k].normalized().dot(n_rest[o].normalized()), -1.0, 1.0));
-      if (now >= kFoldAngle && now - rest >= kFoldTurn) {
-        ++r.folded;
-        if (std::getenv("VDMSIM_DEBUG_FOLDS"))
-          std::fprintf(stderr, "fold edge %d-%d rest (%g %g %g) now (%g %g %g) dot %g\n", a, b, m.rest.positions(a, 0),
-                       m.rest.positions(a, 1), m.rest.positions(a, 2), s.x(a, 0), s.x(a, 1), s.x(a, 2), now);
-      }
-    }
+  for (const auto& [k, o] : triangle_pairs(t)) {
+    const double now = std::acos(std::clamp(n_now[k].normalized().dot(n_now[o].normalized()), -1.0, 1.0));
+    const double rest = std::acos(std::clamp(n_rest[k].normalized().dot(n_rest[o].normalized()), -1.0, 1.0));
+    if (now >= kFoldAngle && now - rest >= kFoldTurn) ++r.folded;
+  }
   return r;
 }
 
