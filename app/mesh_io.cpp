@@ -33,14 +33,16 @@ void collect(const aiScene* scene, const aiNode* node, const aiMatrix4x4& parent
     }
     for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
       const aiFace& face = mesh->mFaces[f];
-      if (face.mNumIndices != 3) {
+      if (face.mNumIndices < 3 || !face.mIndices) {
         ++non_triangles;  // points and lines carry no surface
         continue;
       }
-      std::array<int, 3> t{};
-      for (int c = 0; c < 3; ++c)  // an index past this mesh's vertices becomes -1 (rejected later)
-        t[c] = face.mIndices[c] < mesh->mNumVertices ? base + static_cast<int>(face.mIndices[c]) : -1;
-      tris.push_back(t);
+      // Polygons as fans (0, k, k+1): assimp's own triangulation aborts on some malformed
+      // faces (found by fuzzing). An index past this mesh's vertices becomes -1 (rejected later).
+      auto index = [&](unsigned c) {
+        return face.mIndices[c] < mesh->mNumVertices ? base + static_cast<int>(face.mIndices[c]) : -1;
+      };
+      for (unsigned k = 1; k + 1 < face.mNumIndices; ++k) tris.push_back({index(0), index(k), index(k + 1)});
     }
   }
   for (unsigned c = 0; c < node->mNumChildren; ++c)
@@ -53,7 +55,11 @@ void collect(const aiScene* scene, const aiNode* node, const aiMatrix4x4& parent
 std::string check_ply_header(const std::string& path, std::uintmax_t file_bytes) {
   std::ifstream f(path, std::ios::binary);
   std::string line;
-  if (!std::getline(f, line) || line.rfind("ply", 0) != 0) return "";
+  if (!std::getline(f, line) || line.size() < 3) return "";
+  // Case-insensitive, as assimp reads it: "plY" with no end_header hung assimp (fuzzing).
+  std::string magic = line.substr(0, 3);
+  for (char& c : magic) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (magic != "ply") return "";
   bool ascii = false;
   long double needed = 0;
   std::string element;
@@ -138,8 +144,7 @@ MeshLoadResult load_surface_mesh(const std::string& path, const MeshLoadOptions&
                                     aiComponent_TEXTURES | aiComponent_LIGHTS |
                                     aiComponent_CAMERAS | aiComponent_MATERIALS);
     const aiScene* scene = importer.ReadFile(
-        path, aiProcess_ValidateDataStructure | aiProcess_RemoveComponent | aiProcess_Triangulate |
-                  aiProcess_JoinIdenticalVertices);
+        path, aiProcess_ValidateDataStructure | aiProcess_RemoveComponent | aiProcess_JoinIdenticalVertices);
     if (!scene || !scene->mRootNode) {
       std::string why = importer.GetErrorString();
       if (why.empty()) why = "unknown reason";

@@ -295,7 +295,7 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
     int last_pct = -1;
     for (int f = 0; f < frames && !signals.received(); ++f) {
       pass.advance(f);
-      if (!pass.state().u.allFinite()) break;
+      if (pass.state().failed || !pass.state().u.allFinite()) break;
       // The 0.5 % and 99.5 % quantiles of each frame (a handful of nodes under an
       // instrument would otherwise set the range and leave the rest of the organ one colour);
       // values beyond the range saturate.
@@ -326,7 +326,7 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
     return 2;
   }
   metrics << "frame,time_s,step_ms,iterations,residual,volume,volume_rel_error,pressure_pa,contact_nodes,"
-             "contact_force_n,max_penetration_m,max_displacement_m,max_stress_pa\n";
+             "contact_force_n,max_penetration_m,max_displacement_m,max_stress_pa,fallbacks\n";
   metrics << std::setprecision(9);
 
   SceneSimulation sim(ps);
@@ -345,6 +345,11 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
     sim.advance(f);
     const vdm::SimState& state = sim.state();
     const vdm::StepStats& st = state.stats;
+    if (state.failed) {  // the engine could not do this frame: stop, keeping every frame so far
+      status = "failed";
+      reason = "frame " + std::to_string(f) + ": " + state.failure;
+      break;
+    }
     if (!state.u.allFinite()) {
       status = "failed";
       reason = "non-finite displacement at frame " + std::to_string(f);
@@ -366,7 +371,7 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
     }
     metrics << state.u.rowwise().norm().maxCoeff() << ',';
     if (m.compute_stress) metrics << state.stress.rowwise().norm().maxCoeff();
-    metrics << '\n';
+    metrics << ',' << sim.frame_fallbacks() << '\n';
     if (!metrics) {
       status = "failed";
       reason = "writing metrics.csv failed (disk full?)";

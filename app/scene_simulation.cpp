@@ -77,6 +77,7 @@ void SceneSimulation::advance(int f) {
 
   frame_step_ms_ = 0;
   frame_iterations_ = 0;
+  frame_fallbacks_ = 0;
   if (contact_) {
     // Sub-step when a probe moves more than its radius in a frame, so it cannot tunnel.
     double substeps = 1;
@@ -95,13 +96,16 @@ void SceneSimulation::advance(int f) {
       contact_->step(m, input_, capsules_, state_, report_);
       frame_step_ms_ += ms_since(t_contact);
       frame_iterations_ += state_.stats.iterations;
+      frame_fallbacks_ += state_.stats.fallbacks;
       times_.collision += report_.collision_ms;
       times_.collision_queries += report_.queries;
+      if (state_.failed) break;  // the caller stops the run
     }
   } else {
     vdm::step(m, input_, state_);
     frame_step_ms_ = state_.stats.step_ms;
     frame_iterations_ = state_.stats.iterations;
+    frame_fallbacks_ = state_.stats.fallbacks;
   }
   times_.assemble += state_.stats.assemble_ms;
   times_.solve += state_.stats.solve_ms;

@@ -28,6 +28,7 @@ class SceneSimulation {
   double time() const { return time_; }
   double frame_step_ms() const { return frame_step_ms_; }   // engine time of the last frame
   int frame_iterations() const { return frame_iterations_; }
+  int frame_fallbacks() const { return frame_fallbacks_; }  // solves redone by the direct solver
   bool contact_simulated() const { return contact_ != nullptr; }
   const vdm::ContactReport& contact_report() const { return report_; }
   const StageTimes& stage_times() const { return times_; }
@@ -45,7 +46,7 @@ class SceneSimulation {
   vdm::StepInput input_;
   StageTimes times_;
   double time_ = 0, frame_step_ms_ = 0;
-  int frame_iterations_ = 0;
+  int frame_iterations_ = 0, frame_fallbacks_ = 0;
 };
 
 }  // namespace vdmsim

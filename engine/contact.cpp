@@ -76,9 +76,7 @@ ContactSolver::ContactSolver(const TissueModel& m, ContactSettings settings)
   target_ = NodeMat::Zero(m.n, 3);
   normal_ = NodeMat::Zero(m.n, 3);
   candidates_.reserve(static_cast<size_t>(m.n));
-  u0_ = NodeMat::Zero(m.n, 3);
   x0_ = NodeMat::Zero(m.n, 3);
-  v0_ = NodeMat::Zero(m.n, 3);
 }
 
 ContactSolver::~ContactSolver() = default;
@@ -119,11 +117,7 @@ void ContactSolver::step(const TissueModel& m, const StepInput& base, const std:
                          ContactReport& rep) {
   rep = ContactReport();
   const auto t0 = Clock::now();
-  u0_ = s.u;
-  x0_ = s.x;
-  v0_ = s.velocity;
-  const long step0 = s.step;
-  const double time0 = s.time;
+  x0_ = s.x;  // positions at the step's start: a node's own motion in the step is x - x0_
   // Contacts at the start: nodes inside (or touching) an instrument at its new pose.
   std::fill(active_.begin(), active_.end(), 0);
   refit(s.x);
@@ -158,7 +152,11 @@ void ContactSolver::step(const TissueModel& m, const StepInput& base, const std:
   }
   rep.collision_ms += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 
-  for (int it = 0; it < settings_.max_active_set_iterations; ++it) {
+  // Active set: solve, release adhesive nodes, catch penetrating ones, solve again. When the
+  // cap is reached with the set still changing, one last solve makes the state and the set
+  // agree (that set is not checked again: rep.converged says so).
+  const int max_it = std::max(1, settings_.max_active_set_iterations);
+  for (int it = 0; it <= max_it; ++it) {
     input_.force = base.force;
     input_.pressure = base.pressure;
     input_.prescribed = base.prescribed.rows() == m.n ? base.prescribed : FlagMat::Zero(m.n, 3);
@@ -168,24 +166,20 @@ void ContactSolver::step(const TissueModel& m, const StepInput& base, const std:
         input_.prescribed.row(i).setOnes();
         input_.prescribed_u.row(i) = target_.row(i) - m.rest.positions.row(i);
       }
-    if (it > 0) {  // solve the same step again from its start
-      s.u = u0_;
-      s.x = x0_;
-      s.velocity = v0_;
-      s.step = step0;
-      s.time = time0;
-    }
+    if (it > 0) rewind_step(m, s);  // solve the same step again from its start
     vdm::step(m, input_, s);
     ++rep.solves;
+    if (s.failed) return;  // the caller stops; the state is the step's start
 
     const auto tc = Clock::now();
     bool changed = false;
     // Release nodes the instrument would have to pull (adhesion).
-    for (int i = 0; i < m.n; ++i)
-      if (active_[i] && s.reaction.row(i).dot(normal_.row(i)) < 0.0) {
-        active_[i] = 0;
-        changed = true;
-      }
+    if (it < max_it)
+      for (int i = 0; i < m.n; ++i)
+        if (active_[i] && s.reaction.row(i).dot(normal_.row(i)) < 0.0) {
+          active_[i] = 0;
+          changed = true;
+        }
     // Catch free nodes that the step pushed into an instrument.
     refit(s.x);
     candidates_.clear();
@@ -199,10 +193,13 @@ void ContactSolver::step(const TissueModel& m, const StepInput& base, const std:
         const double dist = capsule_distance(c, s.x.row(i).transpose(), p, nrm);
         rep.max_penetration = std::max(rep.max_penetration, -dist);
       }
-      if (classify(i, false, true)) changed = true;
+      if (it < max_it && classify(i, false, true)) changed = true;
     }
     rep.collision_ms += std::chrono::duration<double, std::milli>(Clock::now() - tc).count();
-    if (!changed) break;
+    if (!changed) {
+      rep.converged = it < max_it;
+      break;
+    }
   }
   for (int i = 0; i < m.n; ++i)
     if (active_[i]) {

@@ -42,6 +42,7 @@ struct ContactReport {
   Vec3 force = Vec3::Zero();       // total force of the organ on the instruments (N)
   double max_penetration = 0.0;    // deepest free node inside an instrument after the step (m)
   int solves = 0;                  // engine solves this step (active-set iterations)
+  bool converged = true;           // the active set stopped changing within the cap
   long queries = 0;                // FCL collision queries this step
   double collision_ms = 0.0;       // broad + narrow phase time
 };
@@ -71,7 +72,7 @@ class ContactSolver {
   NodeMat target_;                 // held position of active nodes (m)
   NodeMat normal_;                 // contact normal of active nodes
   std::vector<int> candidates_;
-  NodeMat u0_, x0_, v0_;
+  NodeMat x0_;
 };
 
 }  // namespace vdm

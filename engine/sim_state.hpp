@@ -24,12 +24,16 @@ StepInput make_step_input(const TissueModel& model);
 struct StepStats {
   int iterations = 0;            // Krylov iterations this step (sum over all solves)
   double residual = 0;           // relative residual of the full 3N+1 system after the step
-  bool converged = true;         // every linear solve reached its tolerance
+  bool converged = true;         // every linear solve reached its tolerance (after fallbacks)
   int nonlinear_iterations = 0;  // solves this step
+  double nonlinear_change = 0;   // last max |u_solved - u| / model size of the nonlinear iteration
+  double relaxation = 1;         // last relaxation factor of the nonlinear iteration (Aitken)
+  int fallbacks = 0;             // solves redone another way this step (see `fallback`)
+  const char* fallback = nullptr;  // why the last fallback happened (static text), or null
   bool refreshed = false;        // geometry and matrix recomputed this step
   int factorizations = 0;        // matrix (re)factorisations / preconditioner setups this step
   double step_ms = 0, assemble_ms = 0, solve_ms = 0, stress_ms = 0;
-  long total_refreshes = 0, total_factorizations = 0;
+  long total_refreshes = 0, total_factorizations = 0, total_fallbacks = 0;
 };
 
 struct StepWorkspace;  // solver matrices and scratch (engine-internal)
@@ -52,6 +56,11 @@ struct SimState {
   NodeMat stress;          // N x 3 per-axis stress (Pa), eq (6)
   StepStats stats;
   std::vector<std::string> warnings;  // numerical trouble met so far (kept short)
+  // The last step could not be done at all (bad input, or every solver failed): the state
+  // was left as it was before that step (step and time not advanced) and `failure` says why.
+  // The caller should stop. Cleared by the next step.
+  bool failed = false;
+  std::string failure;
   std::unique_ptr<StepWorkspace> work;
 
   SimState();
@@ -64,6 +73,14 @@ struct SimState {
 SimState make_sim_state(const TissueModel& model);
 
 // One quasi-static (or, with inertia, implicit Euler) step (vdm-model.md section 4).
+// When an iterative solve does not converge (or gives a non-finite result) the solve is
+// redone with the direct solver (stats.fallbacks, stats.fallback); when that fails too, or
+// the input is malformed, the step fails (state.failed, state.failure) and changes nothing.
 void step(const TissueModel& model, const StepInput& input, SimState& state);
+
+// Puts the state back as it was before the last step() call: displacement, velocity,
+// pressure, step count and time, and the engine's geometry, matrices and refresh counter,
+// so that the same step can be solved again with other constraints (contact's active set).
+void rewind_step(const TissueModel& model, SimState& state);
 
 }  // namespace vdm

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 
@@ -20,10 +21,20 @@ void add_warning(SimState& s, const char* what) {
   if (s.warnings.size() < 64) s.warnings.emplace_back(what);
 }
 
-// Step 1 of section 4: A_i, V_i, V and every K^d at the current geometry. Returns V.
-double refresh_geometry(const TissueModel& m, SimState& s, StepWorkspace& w) {
-  distributed_area_vectors(s.x, m.rest.triangles, s.area_vectors);
-  const double v = enclosed_volume(s.x, m.rest.triangles, m.origin);
+// Step 1 of section 4: A_i, V_i, V and every K^d at the positions `x`. Returns V. A geometry
+// that encloses no positive volume (inverted mid-run) would make K indefinite: then the last
+// valid geometry is kept (returns -1 after restoring it) and the caller says so.
+double refresh_geometry(const TissueModel& m, const NodeMat& x, SimState& s, StepWorkspace& w) {
+  distributed_area_vectors(x, m.rest.triangles, s.area_vectors);
+  const double v = enclosed_volume(x, m.rest.triangles, m.origin);
+  if (!(v > 0.0) || !std::isfinite(v) || !s.area_vectors.allFinite()) {
+    if (w.have_geometry) {  // back to the geometry K was built from
+      distributed_area_vectors(w.x_refresh, m.rest.triangles, s.area_vectors);
+      distributed_volumes(s.area_vectors, enclosed_volume(w.x_refresh, m.rest.triangles, m.origin),
+                          s.node_volumes);
+    }
+    return -1.0;
+  }
   distributed_volumes(s.area_vectors, v, s.node_volumes);
   if (m.use_inertia) {
     const double h = m.dt;
@@ -33,15 +44,36 @@ double refresh_geometry(const TissueModel& m, SimState& s, StepWorkspace& w) {
     }
   }
   assemble_stiffness(m, s.area_vectors, s.node_volumes, w.extra_diagonal, w.K);
+  if (&x != &w.x_refresh) w.x_refresh = x;
   w.matrix_dirty = true;
   w.have_geometry = true;
   w.steps_since_refresh = 0;
   return v;
 }
 
-// Constrained entries this step: held (fixed, infinite B) and prescribed by the input.
+// The input's arrays must be sized for the model and finite where used. Returns the reason
+// when not (static text), null when the input is fine.
+const char* check_input(const TissueModel& m, const StepInput& in) {
+  const bool has_prescribed = in.prescribed.rows() != 0;
+  if (has_prescribed && in.prescribed.rows() != m.n) return "StepInput.prescribed has the wrong number of rows";
+  if (has_prescribed && in.prescribed_u.rows() != m.n)
+    return "StepInput.prescribed_u has the wrong number of rows";
+  if (in.force.rows() != 0 && in.force.rows() != m.n) return "StepInput.force has the wrong number of rows";
+  if (in.pressure.size() != 0 && in.pressure.size() != m.n) return "StepInput.pressure has the wrong size";
+  if (in.force.rows() == m.n && !in.force.allFinite()) return "StepInput.force is not finite";
+  if (in.pressure.size() == m.n && !in.pressure.allFinite()) return "StepInput.pressure is not finite";
+  if (has_prescribed)
+    for (int d = 0; d < 3; ++d)
+      for (int i = 0; i < m.n; ++i)
+        if (in.prescribed(i, d) && !std::isfinite(in.prescribed_u(i, d)))
+          return "StepInput.prescribed_u is not finite at a prescribed entry";
+  return nullptr;
+}
+
+// Constrained entries this step: held (fixed, infinite B) and prescribed by the input
+// (sizes checked by check_input).
 void build_constraints(const TissueModel& m, const StepInput& in, StepWorkspace& w) {
-  const bool has_prescribed = in.prescribed.rows() == m.n;
+  const bool has_prescribed = in.prescribed.rows() == m.n && in.prescribed_u.rows() == m.n;
   for (int d = 0; d < 3; ++d)
     for (int i = 0; i < m.n; ++i) {
       const bool held = m.held(i, d) != 0;
@@ -58,7 +90,9 @@ void build_loads(const TissueModel& m, const StepInput& in, SimState& s, StepWor
   else w.force.setZero();
   if (in.pressure.size() == m.n)
     for (int i = 0; i < m.n; ++i) w.force.row(i) -= in.pressure[i] * A.row(i);
-  if (m.use_gravity) add_hydrostatic_loads(m, s.x, A, w.scratch, w.force);
+  // Area vectors and depths of the same geometry (the last refresh), so that between
+  // refreshes the load is that of one surface: summed, exactly the weight.
+  if (m.use_gravity) add_hydrostatic_loads(m, w.x_refresh, A, w.scratch, w.force);
   if (m.use_inertia) {
     const double h = m.dt;
     for (int i = 0; i < m.n; ++i) {
@@ -73,7 +107,7 @@ void build_loads(const TissueModel& m, const StepInput& in, SimState& s, StepWor
 // dP += dP', with dV/d(dP') = A(x) . s. K u - dP a = f still holds exactly, and V -> V_0.
 // Returns the change of the volume row's right-hand side, sum dP' (a . s), so the reported
 // residual is that of the corrected system.
-double correct_volume(const TissueModel& m, SimState& s, StepWorkspace& w) {
+double correct_volume(const TissueModel& m, SimState& s, StepWorkspace& w, LinearSolver& solver) {
   const int max_corr = m.solver.volume_corrections;
   double c_shift = 0.0;
   if (max_corr <= 0) return c_shift;
@@ -81,7 +115,8 @@ double correct_volume(const TissueModel& m, SimState& s, StepWorkspace& w) {
   for (int k = 0; k < max_corr; ++k) {
     const double err = m.rest_volume - enclosed_volume(s.x, m.rest.triangles, m.origin);
     if (std::abs(err) <= m.solver.volume_tolerance * m.rest_volume) return c_shift;
-    if (!response) response = &w.solver->pressure_response(w.K_masked, w.a_free);
+    if (!response) response = &solver.pressure_response(w.K_masked, w.a_free);
+    if (!response->allFinite()) return c_shift;
     distributed_area_vectors(s.x, m.rest.triangles, w.area_now);
     double slope = 0.0;
     for (int d = 0; d < 3; ++d) slope += w.area_now.col(d).dot(response->col(d));
@@ -144,12 +179,66 @@ SimState make_sim_state(const TissueModel& m) {
   w->u_start = NodeMat::Zero(n, 3);
   w->u_new = NodeMat::Zero(n, 3);
   w->area_now = NodeMat::Zero(n, 3);
+  w->x_refresh = m.rest.positions;
+  w->x_refresh_start = m.rest.positions;
+  w->residual_prev = NodeMat::Zero(n, 3);
+  w->velocity_start = NodeMat::Zero(n, 3);
   if (m.use_inertia) w->extra_diagonal = Vec::Zero(n);
   w->scratch = Vec::Zero(n);
   w->solver = make_linear_solver(m.solver);
   w->solver->analyze(m.pattern.matrix);
   s.work = std::move(w);
   return s;
+}
+
+namespace {
+
+// Gives up on this step: the state goes back to the step's start and says why.
+void fail_step(const TissueModel& m, SimState& s, const char* why) {
+  rewind_step(m, s);
+  s.failed = true;
+  s.failure = why;
+  add_warning(s, why);
+}
+
+// The direct solver as a fallback for a failed iterative solve; factorised lazily.
+LinearSolver& fallback_solver(const TissueModel& m, StepWorkspace& w) {
+  if (!w.fallback) {
+    SolverSettings fs = m.solver;
+    fs.method = SolverMethod::direct;
+    w.fallback = make_linear_solver(fs);
+    w.fallback->analyze(m.pattern.matrix);
+    w.fallback_stale = true;
+  }
+  if (w.fallback_stale) {
+    w.fallback->matrices_changed(w.K_masked);
+    w.fallback_stale = false;
+  }
+  return *w.fallback;
+}
+
+}  // namespace
+
+void rewind_step(const TissueModel& m, SimState& s) {
+  StepWorkspace& w = *s.work;
+  s.u = w.u_start;
+  s.x = m.rest.positions + s.u;
+  s.velocity = w.velocity_start;
+  s.pressure = w.pressure_start;
+  s.step = w.step_start;
+  s.time = w.time_start;
+  if (w.refreshed_in_step) {
+    // K, A_i, V_i were rebuilt during the step: bring back those of the step's start (the
+    // next step refreshes anyway when the counter says so, or when there was no geometry).
+    if (!w.have_geometry_start) {
+      w.have_geometry = false;
+    } else if (w.since_refresh_start < m.solver.refresh_every) {
+      w.x_refresh = w.x_refresh_start;
+      refresh_geometry(m, w.x_refresh, s, w);
+    }
+    w.refreshed_in_step = false;
+  }
+  w.steps_since_refresh = w.since_refresh_start;
 }
 
 void step(const TissueModel& m, const StepInput& in, SimState& s) {
@@ -159,26 +248,55 @@ void step(const TissueModel& m, const StepInput& in, SimState& s) {
   st.iterations = 0;
   st.converged = true;
   st.nonlinear_iterations = 0;
+  st.nonlinear_change = 0;
+  st.relaxation = 1;
+  st.fallbacks = 0;
+  st.fallback = nullptr;
   st.refreshed = false;
   st.factorizations = 0;
   st.assemble_ms = st.solve_ms = st.stress_ms = 0;
+  s.failed = false;
+  s.failure.clear();
+  // The start of the step, for rewind_step().
   w.u_start = s.u;
-  const double pressure_start = s.pressure;
-  bool rejected = false;
+  w.velocity_start = s.velocity;
+  w.pressure_start = s.pressure;
+  w.step_start = s.step;
+  w.time_start = s.time;
+  w.since_refresh_start = w.steps_since_refresh;
+  w.have_geometry_start = w.have_geometry;
+  w.refreshed_in_step = false;
+  if (m.solver.refresh_every > 1 && m.solver.nonlinear_iterations > 1) w.x_refresh_start = w.x_refresh;
+  if (const char* bad = check_input(m, in)) {
+    fail_step(m, s, bad);
+    return;
+  }
   double current_volume = 0.0;
   double last_c = 0.0;
+  double last_du = 0.0;
+  double omega = 1.0;  // Aitken relaxation of the nonlinear (fixed-point) iteration
 
   const int max_it = m.solver.nonlinear_iterations;
   for (int it = 0; it < max_it; ++it) {
     const auto t_asm = Clock::now();
     const bool refresh = !w.have_geometry || it > 0 || w.steps_since_refresh >= m.solver.refresh_every;
+    current_volume = -1.0;
     if (refresh) {
-      current_volume = refresh_geometry(m, s, w);
-      st.refreshed = true;
-      ++st.total_refreshes;
-    } else {
-      current_volume = enclosed_volume(s.x, m.rest.triangles, m.origin);
+      current_volume = refresh_geometry(m, s.x, s, w);
+      if (current_volume > 0.0) {
+        st.refreshed = true;
+        w.refreshed_in_step = true;
+        ++st.total_refreshes;
+      } else if (!w.have_geometry) {
+        fail_step(m, s, "the geometry encloses no positive volume");
+        return;
+      } else {
+        add_warning(s, "the deformed surface encloses no positive volume: kept the last valid geometry");
+        ++st.fallbacks;
+        st.fallback = "inverted geometry: kept the last valid one";
+      }
     }
+    if (current_volume <= 0.0) current_volume = enclosed_volume(s.x, m.rest.triangles, m.origin);
 
     build_constraints(m, in, w);
     if (w.matrix_dirty || w.mask != w.last_mask) {
@@ -188,6 +306,7 @@ void step(const TissueModel& m, const StepInput& in, SimState& s) {
         for (int i = 0; i < m.n; ++i)
           if (w.mask(i, d)) w.a_free(i, d) = 0.0;
       w.solver->matrices_changed(w.K_masked);
+      w.fallback_stale = true;
       w.last_mask = w.mask;
       w.matrix_dirty = false;
     }
@@ -207,35 +326,62 @@ void step(const TissueModel& m, const StepInput& in, SimState& s) {
     st.assemble_ms += ms_since(t_asm);
 
     const auto t_solve = Clock::now();
+    LinearSolver* solver = w.solver.get();
     w.u_new = s.u;
-    const SolveReport rep =
-        w.solver->solve(w.K_masked, w.rhs, w.a_free, c, m.volume_constraint, w.u_new, s.pressure);
-    st.solve_ms += ms_since(t_solve);
+    double p_new = s.pressure;
+    SolveReport rep = solver->solve(w.K_masked, w.rhs, w.a_free, c, m.volume_constraint, w.u_new, p_new);
     st.iterations += rep.iterations;
     st.factorizations += rep.factorizations;
-    st.converged = st.converged && rep.converged;
+    bool ok = rep.converged && w.u_new.allFinite() && std::isfinite(p_new);
+    if (!ok && m.solver.method != SolverMethod::direct) {
+      // Fallback: the same system by the direct solver (exact up to round-off).
+      st.fallback = rep.converged ? "iterative solve gave a non-finite result: redone by the direct solver"
+                                  : "iterative solve did not converge: redone by the direct solver";
+      ++st.fallbacks;
+      add_warning(s, st.fallback);
+      solver = &fallback_solver(m, w);
+      w.u_new = s.u;
+      p_new = s.pressure;
+      rep = solver->solve(w.K_masked, w.rhs, w.a_free, c, m.volume_constraint, w.u_new, p_new);
+      st.factorizations += rep.factorizations;
+      ok = rep.converged && w.u_new.allFinite() && std::isfinite(p_new);
+    }
+    st.solve_ms += ms_since(t_solve);
     ++st.nonlinear_iterations;
-
-    if (!w.u_new.allFinite() || !std::isfinite(s.pressure)) {
-      // Numerical failure: keep the last good state and say so (issue 7 adds fallbacks).
-      add_warning(s, "solver produced a non-finite displacement; step rejected");
-      st.converged = false;
-      s.u = w.u_start;
-      s.pressure = pressure_start;
-      rejected = true;
-      s.x = m.rest.positions + s.u;
-      break;
+    if (!ok) {
+      fail_step(m, s, "no solver could solve the step (singular or non-finite system)");
+      return;
     }
     // Constrained entries take their prescribed values exactly (an iterative solve meets
     // its identity rows only to tolerance).
     for (int d = 0; d < 3; ++d)
       for (int i = 0; i < m.n; ++i)
         if (w.mask(i, d)) w.u_new(i, d) = w.u_fixed(i, d);
-    const double du = (w.u_new - s.u).cwiseAbs().maxCoeff();
-    s.u = w.u_new;
+    // Nonlinear iterations are a fixed point u <- G(u) on the geometry. Aitken's relaxation
+    // (the first solve, the load increment, is taken whole): u += omega (G(u) - u), omega
+    // from the last two residuals; it saves iterations where the plain iteration converges.
+    w.u_new -= s.u;  // the fixed-point residual r = G(u) - u
+    const double du = w.u_new.cwiseAbs().maxCoeff();
+    if (it >= 2 && du > last_du && du > 10.0 * m.solver.nonlinear_tolerance * m.size) {
+      // Diverging: past some deformation the geometric fixed point loses stability (its
+      // contraction factor passes 1). Keep the current iterate, the best so far.
+      st.nonlinear_change = du / m.size;
+      break;
+    }
+    last_du = du;
+    if (it > 0) {
+      const double num = (w.residual_prev.array() * (w.u_new - w.residual_prev).array()).sum();
+      const double den = (w.u_new - w.residual_prev).squaredNorm();
+      if (den > 0.0 && std::isfinite(num)) omega = std::clamp(-omega * num / den, 0.05, 1.0);
+    }
+    st.relaxation = omega;
+    st.nonlinear_change = du / m.size;
+    if (it + 1 < max_it) w.residual_prev = w.u_new;
+    s.u.noalias() += omega * w.u_new;
+    s.pressure += omega * (p_new - s.pressure);
     s.x = m.rest.positions + s.u;
     if (m.volume_constraint) {
-      last_c += correct_volume(m, s, w);
+      last_c += correct_volume(m, s, w, *solver);
       // s is zero on constrained entries only to solver tolerance: pin them again.
       for (int d = 0; d < 3; ++d)
         for (int i = 0; i < m.n; ++i)
@@ -246,7 +392,7 @@ void step(const TissueModel& m, const StepInput& in, SimState& s) {
   }
   ++w.steps_since_refresh;
   st.total_factorizations += st.factorizations;
-  if (!st.converged) add_warning(s, "a linear solve did not reach its tolerance");
+  st.total_fallbacks += st.fallbacks;
 
   // Results: volume, reactions at constrained entries, contact pressure, strain and stress.
   s.volume = enclosed_volume(s.x, m.rest.triangles, m.origin);
@@ -280,7 +426,7 @@ void step(const TissueModel& m, const StepInput& in, SimState& s) {
     compute_strain_stress(m, s);
     st.stress_ms = ms_since(t_stress);
   }
-  if (!rejected) s.velocity = (s.u - w.u_start) / m.dt;  // a rejected step keeps its momentum
+  s.velocity = (s.u - w.u_start) / m.dt;
   ++s.step;
   s.time += m.dt;
   st.step_ms = ms_since(t_step);

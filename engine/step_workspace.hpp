@@ -20,9 +20,19 @@ struct StepWorkspace {
   NodeMat u_start;                // u at the start of the step
   NodeMat u_new;                  // solver output
   NodeMat area_now;               // area vectors at the current iterate (volume corrections)
+  NodeMat x_refresh;              // positions at the last refresh: the geometry of K, A, V_i, loads
+  NodeMat residual_prev;          // previous fixed-point residual (Aitken relaxation)
+  // The start of the current step, for rewind_step().
+  NodeMat velocity_start, x_refresh_start;
+  double pressure_start = 0, time_start = 0;
+  long step_start = 0;
+  int since_refresh_start = 0;
+  bool have_geometry_start = false, refreshed_in_step = false;
   Vec extra_diagonal;             // inertia M/h^2 + D/h (empty without inertia)
   Vec scratch;                    // N
   std::unique_ptr<LinearSolver> solver;
+  std::unique_ptr<LinearSolver> fallback;  // direct solver, made on the first failed solve
+  bool fallback_stale = true;              // fallback not factorised for the current K_masked
   bool matrix_dirty = true;       // K changed since K_masked was built
   bool have_geometry = false;     // a refresh has happened
   int steps_since_refresh = 0;

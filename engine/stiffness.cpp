@@ -1,5 +1,6 @@
 #include "engine/stiffness.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -54,10 +55,12 @@ void assemble_stiffness(const TissueModel& m, const NodeMat& A, const Vec& Vi,
   }
   // Bulk: per node and axis.
   const bool extra = extra_diagonal.size() == m.n;
+  const double floor = m.axis_stiffness_floor;
   for (int i = 0; i < m.n; ++i) {
     const int di = m.pattern.diagonal[i];
+    const double a2 = floor * A.row(i).squaredNorm();
     for (int d = 0; d < 3; ++d) {
-      v[d][di] += m.bulk(i, d) * A(i, d) * A(i, d) / Vi[i];
+      v[d][di] += m.bulk(i, d) * std::max(A(i, d) * A(i, d), a2) / Vi[i];
       if (extra) v[d][di] += extra_diagonal[i];
     }
   }

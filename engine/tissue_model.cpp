@@ -53,6 +53,10 @@ bool build_tissue_model(const TissueDef& def, TissueModel& m, std::string& error
     error = "connectivity_modulus must be finite and >= 0";
     return false;
   }
+  if (!(def.axis_stiffness_floor >= 0 && def.axis_stiffness_floor <= 1)) {
+    error = "axis_stiffness_floor must be in [0, 1]";
+    return false;
+  }
   if (!(def.density > 0) || !std::isfinite(def.density)) {
     error = "density must be finite and > 0";
     return false;
@@ -105,6 +109,7 @@ bool build_tissue_model(const TissueDef& def, TissueModel& m, std::string& error
       }
     }
   m.connectivity_modulus = def.connectivity_modulus;
+  m.axis_stiffness_floor = def.axis_stiffness_floor;
   m.density = def.density;
   m.gravity = def.gravity;
   m.use_gravity = def.use_gravity;

@@ -21,6 +21,11 @@ struct TissueDef {
                                         // (a constraint u_i^d = 0). Empty: use `bulk`.
   double bulk = 20000.0;                // uniform B (Pa) when bulk_modulus is empty
   double connectivity_modulus = 2000.0; // B_ij (Pa), eq (4)
+  // Floor of the per-axis bulk stiffness, as a fraction of the node's full-area stiffness:
+  // k_i^d = B_i^d max((A_i^d)^2, floor |A_i|^2) / V_i. Without it a node whose area vector
+  // has almost no component along d (a flat face, d in its plane) is held along d by the
+  // connectivity term alone, and moves as 1 / A_i^d when that is weak. 0 = the paper's term.
+  double axis_stiffness_floor = 0.0;
   double density = 1060.0;              // kg/m^3
   Vec3 gravity = Vec3(0, 0, -9.81);     // m/s^2, used when `use_gravity`
   bool use_gravity = false;             // hydrostatic load, eq (9)
@@ -48,6 +53,7 @@ struct TissueModel {
   FlagMat infinite;                      // N x 3: B_i^d = inf, handled as u_i^d = 0
   FlagMat held;                          // N x 3: fixed or infinite: always constrained
   double connectivity_modulus = 0;
+  double axis_stiffness_floor = 0;
   double density = 0;
   Vec3 gravity = Vec3::Zero();
   bool use_gravity = false;

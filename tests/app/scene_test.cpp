@@ -188,7 +188,7 @@ TEST(SceneRun, WritesMetricsAndRunJson) {
   ASSERT_EQ(lines.size(), 4u);
   EXPECT_EQ(lines[0],
             "frame,time_s,step_ms,iterations,residual,volume,volume_rel_error,pressure_pa,contact_nodes,"
-            "contact_force_n,max_penetration_m,max_displacement_m,max_stress_pa");
+            "contact_force_n,max_penetration_m,max_displacement_m,max_stress_pa,fallbacks");
   const auto json = read_lines(out_dir / "run.json");
   std::string all;
   for (const auto& l : json) all += l + "\n";

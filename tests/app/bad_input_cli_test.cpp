@@ -1,0 +1,149 @@
+// Every class of bad input of issue 7 through the real binary: exit code 2 and one message
+// naming the file and the problem (`vdmsim mesh-info` for meshes, `vdmsim check` / `run` for
+// scenes). The library-level tests (mesh_io_test, scene_test) check the details.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <random>
+#include <string>
+#include <sys/wait.h>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Cli {
+  int code;
+  std::string output;
+};
+
+Cli run(const std::string& args) {
+  const std::string cmd = std::string(VDMSIM_BINARY) + " " + args + " 2>&1";
+  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(cmd.c_str(), "r"), pclose);
+  std::string out;
+  std::array<char, 4096> buf{};
+  size_t n;
+  while ((n = fread(buf.data(), 1, buf.size(), pipe.get())) > 0) out.append(buf.data(), n);
+  const int status = pclose(pipe.release());
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+fs::path dir() {
+  const fs::path d = fs::temp_directory_path() / "vdmsim_bad_input_cli";
+  fs::create_directories(d);
+  return d;
+}
+
+std::string write(const std::string& name, const std::string& text) {
+  const fs::path p = dir() / name;
+  std::ofstream(p, std::ios::binary) << text;
+  return p.string();
+}
+
+// A closed, outward octahedron; the bad meshes are edits of it.
+const char* kVerts = "v 1 0 0\nv -1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nv 0 0 -1\n";
+const char* kFaces = "f 1 3 5\nf 3 2 5\nf 2 4 5\nf 4 1 5\nf 3 1 6\nf 2 3 6\nf 4 2 6\nf 1 4 6\n";
+
+struct MeshCase {
+  const char* name;
+  std::string text;
+  const char* problem;  // what the message must say
+};
+
+TEST(BadInputCli, EveryBrokenMeshExitsWith2NamingFileAndProblem) {
+  std::mt19937 rng(3);
+  std::string junk(4096, '\0');
+  for (char& c : junk) c = static_cast<char>(rng() & 0xff);
+  const std::string faces = kFaces;
+  std::string second;  // the octahedron moved by 10 along x, as a second piece
+  for (const char* v : {"v 11 0 0\n", "v 9 0 0\n", "v 10 1 0\n", "v 10 -1 0\n", "v 10 0 1\n", "v 10 0 -1\n"}) second += v;
+  second += "f 7 9 11\nf 9 8 11\nf 8 10 11\nf 10 7 11\nf 9 7 12\nf 8 9 12\nf 10 8 12\nf 7 10 12\n";
+  const std::vector<MeshCase> cases = {
+      {"empty.obj", "", "empty"},
+      {"garbage.stl", junk, ""},
+      {"nan.obj", std::string("v nan 0 0\n") + (kVerts + 8) + faces, "non-finite"},
+      {"open.obj", kVerts + faces.substr(0, faces.rfind("f ")), "open surface"},
+      {"fin.obj", std::string(kVerts) + "v 3 3 3\n" + faces + "f 1 3 7\n", "non-manifold edge"},
+      {"inconsistent.obj", std::string(kVerts) + "f 1 5 3\n" + faces.substr(faces.find('\n') + 1), "inconsistent orientation"},
+      {"two.obj", std::string(kVerts) + faces + second, "separate connected pieces"},
+      // node 5 on the midpoint of edge 1-3: triangle 1 3 5 has zero area
+      {"degenerate.obj", "v 1 0 0\nv -1 0 0\nv 0 1 0\nv 0 -1 0\nv 0.5 0.5 0\nv 0 0 -1\n" + faces, "zero area"},
+      {"huge.ply",
+       "ply\nformat binary_little_endian 1.0\nelement vertex 400000000\nproperty float x\nproperty float y\n"
+       "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n",
+       "declares"},
+  };
+  for (const MeshCase& c : cases) {
+    const std::string p = write(c.name, c.text);
+    const Cli r = run("mesh-info " + p);
+    if (std::getenv("VDMSIM_SHOW")) std::printf("%s -> %d: %s\n", c.name, r.code, r.output.c_str());
+    EXPECT_EQ(r.code, 2) << c.name << ":\n" << r.output;
+    EXPECT_NE(r.output.find(p), std::string::npos) << c.name << ":\n" << r.output;
+    EXPECT_NE(r.output.find("error"), std::string::npos) << c.name << ":\n" << r.output;
+    if (*c.problem) {
+      EXPECT_NE(r.output.find(c.problem), std::string::npos) << c.name << ":\n" << r.output;
+    }
+  }
+}
+
+std::string scene(const std::string& organ_extra, const std::string& sim, const std::string& tail = "") {
+  return "name: bad\norgan:\n  mesh: " + (fs::path(VDMSIM_SOURCE_DIR) / "assets/meshes/liver_L4.obj").string() +
+         "\n" + organ_extra + "simulation:\n" + sim + tail;
+}
+
+struct SceneCase {
+  const char* name;
+  std::string text;
+  const char* problem;
+};
+
+TEST(BadInputCli, EveryBrokenSceneExitsWith2NamingFileAndProblem) {
+  const std::string ok_sim = "  frames: 2\n  dt: 0.04\n";
+  const std::string probe = "instruments:\n  - type: probe\n    radius: 0.004\n    script:\n";
+  const std::vector<SceneCase> cases = {
+      {"missing.yaml", "name: x\nsimulation:\n" + ok_sim, "organ"},
+      {"wrong_type.yaml", scene("", "  frames: many\n  dt: 0.04\n"), "simulation.frames"},
+      {"units.yaml", scene("", "  frames: 2\n  dt: 40ms\n"), "without units"},
+      {"negative_modulus.yaml", scene("  material: {bulk_modulus: -5}\n", ok_sim), "organ.material.bulk_modulus"},
+      {"zero_modulus.yaml", scene("  material: {bulk_modulus: [20000, 0, 20000]}\n", ok_sim), "organ.material.bulk_modulus"},
+      {"zero_dt.yaml", scene("", "  frames: 2\n  dt: 0\n"), "simulation.dt"},
+      {"negative_dt.yaml", scene("", "  frames: 2\n  dt: -0.01\n"), "simulation.dt"},
+      {"order.yaml", scene("", ok_sim, probe + "      - {t: 0.5, tip: [0, 0, 0.1]}\n      - {t: 0.2, tip: [0, 0, 0.05]}\n"),
+       "instruments[0].script"},
+      {"radius.yaml",
+       scene("", ok_sim, "instruments:\n  - type: probe\n    radius: 0\n    script: [{t: 0, tip: [0, 0, 0.1]}]\n"),
+       "instruments[0].radius"},
+      {"not_yaml.yaml", "organ: [unclosed\n", "not valid YAML"},
+  };
+  for (const SceneCase& c : cases) {
+    const std::string p = write(c.name, c.text);
+    const Cli r = run("check " + p);
+    if (std::getenv("VDMSIM_SHOW")) std::printf("%s -> %d: %s\n", c.name, r.code, r.output.c_str());
+    EXPECT_EQ(r.code, 2) << c.name << ":\n" << r.output;
+    EXPECT_NE(r.output.find(p), std::string::npos) << c.name << ":\n" << r.output;
+    EXPECT_NE(r.output.find(c.problem), std::string::npos) << c.name << ":\n" << r.output;
+  }
+}
+
+TEST(BadInputCli, UnknownKeyIsWarnedWithTheClosestKnownKey) {
+  const std::string p = write("typo.yaml", scene("", "  frames: 2\n  dt: 0.04\n  volume_constrant: true\n"));
+  const Cli r = run("check " + p);
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find(p), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("did you mean 'volume_constraint'?"), std::string::npos) << r.output;
+}
+
+TEST(BadInputCli, OutputFolderThatCannotBeWrittenExitsWith2) {
+  const std::string p = write("good.yaml", scene("", "  frames: 1\n  dt: 0.04\n"));
+  const std::string blocker = write("a_file", "not a folder");
+  const Cli r = run("run " + p + " --out " + blocker + "/out --no-render");
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find(blocker), std::string::npos) << r.output;
+}
+
+}  // namespace

@@ -1,0 +1,88 @@
+// The run loop under solver trouble (issue 7): fallbacks are counted in metrics.csv; a step
+// the engine cannot do stops the run cleanly, keeping every frame so far, and run.json says why.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "app/commands.hpp"
+#include "app/scene_run.hpp"
+
+namespace vdmsim {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path dir() {
+  const fs::path d = fs::temp_directory_path() / "vdmsim_run_robust_test";
+  fs::create_directories(d);
+  return d;
+}
+
+std::string scene(const std::string& solver) {
+  const fs::path p = dir() / "scene.yaml";
+  std::ofstream(p) << "name: robust\n"
+                      "organ:\n"
+                      "  mesh: " << (fs::path(VDMSIM_SOURCE_DIR) / "assets/meshes/liver_L4.obj").string() << "\n"
+                      "  fixed: [{box: {min: [-1, -1, -1], max: [1, 1, -0.03]}}]\n"
+                      "  prescribed: [{sphere: {center: [0.035, -0.01, 0.06], radius: 0.015}, translate: [0, 0, -0.01], t: [0, 0.12]}]\n"
+                      "simulation:\n"
+                      "  frames: 3\n"
+                      "  dt: 0.04\n"
+                      "  solver: " << solver << "\n";
+  return p.string();
+}
+
+std::string read(const fs::path& p) {
+  std::ifstream f(p);
+  std::stringstream ss;
+  ss << f.rdbuf();
+  return ss.str();
+}
+
+TEST(RunRobust, FallbacksAreCountedInTheLastMetricsColumn) {
+  const fs::path out = dir() / "fallback_out";
+  fs::remove_all(out);
+  std::ostringstream o, e;
+  ASSERT_EQ(cmd_run(scene("{method: structured, max_iterations: 1}"), out.string(), -1, false, false, o, e, false), 0)
+      << e.str();
+  std::istringstream csv(read(out / "metrics.csv"));
+  std::string header, row;
+  std::getline(csv, header);
+  EXPECT_EQ(header.substr(header.rfind(',') + 1), "fallbacks");
+  int rows = 0;
+  while (std::getline(csv, row)) {
+    ++rows;
+    EXPECT_EQ(row.substr(row.rfind(',') + 1), "1") << row;  // one solve per frame, redone directly
+  }
+  EXPECT_EQ(rows, 3);
+  EXPECT_NE(read(out / "run.json").find("\"status\": \"completed\""), std::string::npos);
+  EXPECT_NE(read(out / "run.json").find("redone by the direct solver"), std::string::npos);
+}
+
+TEST(RunRobust, AStepTheEngineCannotDoStopsTheRunWithTheReason) {
+  PreparedScene ps;
+  std::vector<SceneProblem> problems;
+  ASSERT_TRUE(prepare_scene(scene("{method: structured}"), ps, problems));
+  ps.model.bulk(0, 0) = std::nan("");  // every solver now meets NaN
+  const fs::path out = dir() / "fail_out";
+  fs::remove_all(out);
+  RunOptions opt;
+  opt.out_dir = out.string();
+  opt.render = false;
+  std::ostringstream o, e;
+  EXPECT_EQ(run_scene(ps, opt, o, e, false), 1);
+  const std::string json = read(out / "run.json");
+  EXPECT_NE(json.find("\"status\": \"failed\""), std::string::npos) << json;
+  EXPECT_NE(json.find("\"reason\": \"frame 0: no solver could solve the step"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"frames\": 0"), std::string::npos) << json;
+  // metrics.csv is complete: its header, no half row.
+  const std::string csv = read(out / "metrics.csv");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1) << csv;
+}
+
+}  // namespace
+}  // namespace vdmsim

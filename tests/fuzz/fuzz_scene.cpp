@@ -1,0 +1,7 @@
+// libFuzzer target: scene files (build with -DVDMSIM_FUZZ=ON and clang).
+#include "fuzz/fuzz_entries.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  vdmsim::fuzz::scene_input(data, size);
+  return 0;
+}
