@@ -98,7 +98,7 @@ int cmd_check(const std::string& scene_path, std::ostream& out, std::ostream& er
   return 0;
 }
 
-int cmd_run(const std::string& scene_path, const std::string& out_dir, int frames, bool render, bool video, std::ostream& out,
+int cmd_run(const std::string& scene_path, const std::string& out_dir, int frames, bool render, bool video, bool resume, std::ostream& out,
             std::ostream& err, bool terminal) {
   PreparedScene ps;
   std::vector<SceneProblem> problems;
@@ -109,6 +109,7 @@ int cmd_run(const std::string& scene_path, const std::string& out_dir, int frame
   opt.frames = frames;
   opt.render = render;
   opt.video = video;
+  opt.resume = resume;
   return run_scene(ps, opt, out, err, terminal);
 }
 

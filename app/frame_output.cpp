@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
+
+#include "render/png_io.hpp"
 #include <cstdio>
 
 namespace vdmsim {
@@ -27,7 +29,8 @@ std::string frame_file_name(const std::string& prefix, int f) {
   return buf;
 }
 
-bool FrameOutput::open(const PreparedScene& ps, const std::filesystem::path& dir, int frames, std::string& error) {
+bool FrameOutput::open(const PreparedScene& ps, const std::filesystem::path& dir, int frames, std::string& error,
+                       int resume_from) {
   ps_ = &ps;
   dir_ = dir;
   const RenderDef& rd = ps.scene.render;
@@ -41,7 +44,7 @@ bool FrameOutput::open(const PreparedScene& ps, const std::filesystem::path& dir
       error = (dir / sub).string() + ": cannot create the folder (" + ec.message() + ")";
       return false;
     }
-    remove_old_frames(dir / sub, std::string(sub) == "frames" ? "frame" : "stress");
+    if (resume_from == 0) remove_old_frames(dir / sub, std::string(sub) == "frames" ? "frame" : "stress");
   }
   renderer_ = render::Renderer::create(rd.settings, ps.model.rest, error);
   if (!renderer_) {
@@ -50,6 +53,14 @@ bool FrameOutput::open(const PreparedScene& ps, const std::filesystem::path& dir
   }
   queue_ = std::make_unique<render::PngQueue>(rd.png_compression);
   sheet_frames_ = render::contact_sheet_frames(frames, 12);
+  // Thumbnails of the frames an interrupted run already wrote.
+  const std::string prefix = rd.shaded ? "frame" : "stress", sub = rd.shaded ? "frames" : "stress";
+  for (int f : sheet_frames_) {
+    if (f >= resume_from) break;
+    render::Image im;
+    if (!render::read_png((dir / sub / frame_file_name(prefix, f)).string(), im, error)) return false;
+    thumbnails_.push_back({f, render::downscale(im, std::max(1, im.width / 320))});
+  }
   scene_.hud.scene_name = ps.scene.name;
   scene_.hud.show_step_time = rd.hud_step_time;
   return true;
@@ -108,6 +119,8 @@ bool FrameOutput::write(int f, int frames, const SceneSimulation& sim) {
   render_ms_ += ms_since(t0);
   return ok;
 }
+
+bool FrameOutput::flush() { return !queue_ || queue_->finish(); }
 
 bool FrameOutput::finish(std::string& error) {
   if (!queue_) return true;

@@ -18,11 +18,16 @@ class FrameOutput {
  public:
   // Creates the renderer and the frames/ and stress/ folders (removing frames of an earlier
   // run there). False with `error` when rendering cannot start.
-  bool open(const PreparedScene& prepared, const std::filesystem::path& dir, int frames, std::string& error);
+  // With `resume_from` > 0 the frames before it are kept, and their contact-sheet thumbnails
+  // are read back from disk.
+  bool open(const PreparedScene& prepared, const std::filesystem::path& dir, int frames, std::string& error,
+            int resume_from = 0);
   void set_stress_range(double lo, double hi);
   const render::StressView& stress_view() const { return view_; }
   // Renders frame f of `sim` and queues its images. False once a write has failed (error()).
   bool write(int f, int frames, const SceneSimulation& sim);
+  // Waits until every queued PNG is on disk. False once a write has failed.
+  bool flush();
   // Waits for every PNG, then writes the contact sheet. False + error on a write failure.
   bool finish(std::string& error);
   std::string error() const;

@@ -10,6 +10,7 @@
 #include <memory>
 #include <sstream>
 
+#include "app/checkpoint.hpp"
 #include "app/commands.hpp"
 #include "app/frame_output.hpp"
 #include "app/mesh_io.hpp"
@@ -263,11 +264,33 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
   if (has_grasper && !s.has(Effect::grasp))
     err << "vdmsim: note: the scene has graspers but does not list the grasp effect: they hold nothing\n";
 
+  // Resuming: the checkpoint must belong to this scene and these options.
+  std::ostringstream options;
+  options << "frames=" << frames << ";render=" << rendering;
+  const std::string this_run = run_hash(s.file, options.str());
+  const fs::path checkpoint_path = dir / "checkpoint.json";
+  Checkpoint resume_cp;
+  int start = 0;  // first frame to write
+  if (opt.resume) {
+    if (!read_checkpoint(checkpoint_path.string(), resume_cp, error)) {
+      err << "vdmsim: error: " << error << "\n";
+      return 2;
+    }
+    if (resume_cp.run_hash != this_run) {
+      err << "vdmsim: error: " << checkpoint_path.string()
+          << ": the checkpoint belongs to another scene or other options (frames, --no-render): cannot resume\n";
+      return 2;
+    }
+    start = resume_cp.frame + 1;
+    if (start >= frames) {
+      err << "vdmsim: note: " << dir.string() << ": the run was already complete (" << frames << " frames)\n";
+    }
+  }
   const StopSignals signals;
   FrameOutput output;
-  if (rendering && !output.open(ps, dir, frames, error)) {
+  if (rendering && !output.open(ps, dir, frames, error, start)) {
     err << "vdmsim: error: " << error << "\n";
-    return 1;
+    return opt.resume ? 2 : 1;
   }
   const auto t_run = Clock::now();
   auto progress = [&](const std::string& what, int done, int total, int& last_pct) {
@@ -320,6 +343,20 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
     first_pass_ms = ms_since(t0);
   }
 
+  // metrics.csv: a resumed run keeps the rows of the frames before `start`.
+  std::vector<std::string> kept_rows;
+  std::string last_hash;  // state hash after the last complete frame
+  if (opt.resume) {
+    std::ifstream old(dir / "metrics.csv");
+    std::string line;
+    std::getline(old, line);  // header
+    while (static_cast<int>(kept_rows.size()) < start && std::getline(old, line)) kept_rows.push_back(line);
+    if (static_cast<int>(kept_rows.size()) < start) {
+      err << "vdmsim: error: " << (dir / "metrics.csv").string() << ": has fewer rows than the checkpoint's "
+          << start << " frames: cannot resume\n";
+      return 2;
+    }
+  }
   std::ofstream metrics(dir / "metrics.csv");
   if (!metrics) {
     err << "vdmsim: error: " << (dir / "metrics.csv").string() << ": cannot open for writing\n";
@@ -327,7 +364,12 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
   }
   metrics << "frame,time_s,step_ms,iterations,residual,volume,volume_rel_error,pressure_pa,contact_nodes,"
              "contact_force_n,max_penetration_m,max_displacement_m,max_stress_pa,fallbacks\n";
+  for (const std::string& row : kept_rows) metrics << row << '\n';
   metrics << std::setprecision(9);
+  auto checkpoint = [&](int frame) {
+    Checkpoint cp{this_run, frame, frames, last_hash};
+    return write_checkpoint(checkpoint_path.string(), cp, error);
+  };
 
   SceneSimulation sim(ps);
   double io_ms = 0, sum_step = 0, max_step = 0, max_vol = 0;
@@ -355,12 +397,24 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
       reason = "non-finite displacement at frame " + std::to_string(f);
       break;
     }
-    const auto t_io = Clock::now();
     const double step_ms = sim.frame_step_ms();
     sum_step += step_ms;
     max_step = std::max(max_step, step_ms);
     step_times.push_back(step_ms);
     max_vol = std::max(max_vol, std::abs(state.volume_rel_error));
+    if (f < start) {  // resuming: re-simulated only, already written
+      if (f == resume_cp.frame && state_hash(state) != resume_cp.state_hash) {
+        status = "failed";
+        reason = "resuming: re-simulating up to frame " + std::to_string(f) +
+                 " did not reproduce the checkpoint's state (was the program or a mesh changed?)";
+        break;
+      }
+      done = f + 1;
+      progress("replay", done, start, last_pct);
+      if (done == start) last_pct = -1;
+      continue;
+    }
+    const auto t_io = Clock::now();
     metrics << f << ',' << sim.time() << ',' << step_ms << ',' << sim.frame_iterations() << ',' << st.residual << ','
             << state.volume << ',' << state.volume_rel_error << ',' << state.pressure << ',';
     if (sim.contact_simulated()) {
@@ -384,13 +438,29 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
       break;
     }
     done = f + 1;
+    last_hash = state_hash(state);
     progress(rendering ? "render" : "simulate", done, frames, last_pct);
+    // A checkpoint every K frames, once this frame's images are on disk.
+    if (done % std::max(1, opt.checkpoint_every) == 0 && done < frames) {
+      metrics.flush();
+      if (!(rendering ? output.flush() : true) || !metrics || !checkpoint(f)) {
+        status = "failed";
+        reason = rendering && !output.error().empty() ? "writing images failed: " + output.error() : error;
+        break;
+      }
+    }
   }
   if (terminal) err << "\n";
   metrics.flush();
   if (rendering && !output.finish(error) && status == "completed") {
     status = "failed";
     reason = "writing images failed: " + error;
+  }
+  // The final checkpoint: the last frame whose row and images are complete.
+  if (done > start && (!rendering || output.error().empty()) && metrics) {
+    std::string cp_error;
+    Checkpoint cp{this_run, done - 1, frames, last_hash};
+    if (!write_checkpoint(checkpoint_path.string(), cp, cp_error)) err << "vdmsim: warning: " << cp_error << "\n";
   }
   // Video from the PNG sequences.
   std::string video_status = opt.video ? "" : "not requested";
@@ -425,6 +495,7 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
   js << "{\n  \"scene\": \"" << json_escape(s.name) << "\",\n  \"scene_file\": \"" << json_escape(s.file)
      << "\",\n  \"status\": \"" << status << "\",\n";
   if (!reason.empty()) js << "  \"reason\": \"" << json_escape(reason) << "\",\n";
+  if (opt.resume) js << "  \"resumed_from_frame\": " << start << ",\n";
   js << "  \"frames\": " << done << ",\n  \"frames_requested\": " << frames << ",\n  \"nodes\": " << m.n
      << ",\n  \"solver\": \"" << vdm::to_string(m.solver.method) << "\",\n  \"effects\": [";
   for (size_t i = 0; i < s.effects.size(); ++i) js << (i ? ", " : "") << '"' << to_string(s.effects[i]) << '"';

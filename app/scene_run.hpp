@@ -41,6 +41,8 @@ struct RunOptions {
   int frames = -1;          // override the scene's frame count when > 0
   bool render = true;       // render the scene's views (when it has a render: section)
   bool video = false;       // also encode DIR/video.mp4 with ffmpeg
+  bool resume = false;      // continue an interrupted run in out_dir from its checkpoint
+  int checkpoint_every = 30;  // frames between checkpoints (each waits for the PNG writer)
 };
 
 // Runs a prepared scene; returns the exit code (0, or 1 on a runtime failure). `progress`

@@ -1,0 +1,105 @@
+#include "app/checkpoint.hpp"
+
+#include <cctype>
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace vdmsim {
+namespace {
+
+struct Fnv {
+  std::uint64_t h = 1469598103934665603ull;
+  void bytes(const void* p, size_t n) {
+    const auto* c = static_cast<const unsigned char*>(p);
+    for (size_t i = 0; i < n; ++i) h = (h ^ c[i]) * 1099511628211ull;
+  }
+  std::string hex() const {
+    char buf[17];
+    std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
+    return buf;
+  }
+};
+
+// The value of "key": in a flat JSON object written by write_checkpoint.
+std::string field(const std::string& text, const std::string& key) {
+  const std::string tag = "\"" + key + "\": ";
+  const size_t at = text.find(tag);
+  if (at == std::string::npos) return "";
+  size_t b = at + tag.size(), e = b;
+  if (text[b] == '"') {
+    e = text.find('"', b + 1);
+    return e == std::string::npos ? "" : text.substr(b + 1, e - b - 1);
+  }
+  while (e < text.size() && (std::isdigit(static_cast<unsigned char>(text[e])) || text[e] == '-')) ++e;
+  return text.substr(b, e - b);
+}
+
+}  // namespace
+
+std::string state_hash(const vdm::SimState& s) {
+  Fnv f;
+  f.bytes(s.u.data(), sizeof(double) * size_t(s.u.size()));
+  f.bytes(s.velocity.data(), sizeof(double) * size_t(s.velocity.size()));
+  f.bytes(&s.pressure, sizeof s.pressure);
+  f.bytes(&s.step, sizeof s.step);
+  f.bytes(&s.time, sizeof s.time);
+  return f.hex();
+}
+
+std::string run_hash(const std::string& scene_file, const std::string& extra) {
+  std::ifstream in(scene_file, std::ios::binary);
+  if (!in) return "";
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string s = text.str() + '\0' + extra;
+  Fnv f;
+  f.bytes(s.data(), s.size());
+  return f.hex();
+}
+
+bool write_checkpoint(const std::string& path, const Checkpoint& cp, std::string& error) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream f(tmp);
+    f << "{\"run_hash\": \"" << cp.run_hash << "\", \"frame\": " << cp.frame << ", \"frames\": " << cp.frames
+      << ", \"state_hash\": \"" << cp.state_hash << "\"}\n";
+    f.flush();
+    if (!f) {
+      error = path + ": cannot write the checkpoint (disk full?)";
+      return false;
+    }
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    error = path + ": cannot write the checkpoint (" + ec.message() + ")";
+    return false;
+  }
+  return true;
+}
+
+bool read_checkpoint(const std::string& path, Checkpoint& cp, std::string& error) {
+  std::ifstream in(path);
+  if (!in) {
+    error = path + ": no checkpoint to resume from (run without --resume first)";
+    return false;
+  }
+  std::stringstream text;
+  text << in.rdbuf();
+  const std::string t = text.str();
+  cp.run_hash = field(t, "run_hash");
+  cp.state_hash = field(t, "state_hash");
+  const std::string frame = field(t, "frame"), frames = field(t, "frames");
+  if (cp.run_hash.empty() || cp.state_hash.empty() || frame.empty() || frames.empty()) {
+    error = path + ": not a vdmsim checkpoint";
+    return false;
+  }
+  cp.frame = std::stoi(frame);
+  cp.frames = std::stoi(frames);
+  return true;
+}
+
+}  // namespace vdmsim
