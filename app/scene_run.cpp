@@ -366,6 +366,8 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
              "contact_force_n,max_penetration_m,max_displacement_m,max_stress_pa,fallbacks\n";
   for (const std::string& row : kept_rows) metrics << row << '\n';
   metrics << std::setprecision(9);
+  metrics.flush();
+  std::uintmax_t metrics_good_size = static_cast<std::uintmax_t>(metrics.tellp());
   auto checkpoint = [&](int frame) {
     Checkpoint cp{this_run, frame, frames, last_hash};
     return write_checkpoint(checkpoint_path.string(), cp, error);
@@ -426,11 +428,18 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
     metrics << state.u.rowwise().norm().maxCoeff() << ',';
     if (m.compute_stress) metrics << state.stress.rowwise().norm().maxCoeff();
     metrics << ',' << sim.frame_fallbacks() << '\n';
+    // Each row reaches the file before the frame counts as done; a failed write (disk full) is
+    // cut back to the last whole row so that the file stays valid.
+    metrics.flush();
     if (!metrics) {
       status = "failed";
-      reason = "writing metrics.csv failed (disk full?)";
+      reason = (dir / "metrics.csv").string() + ": write failed at frame " + std::to_string(f) + " (disk full?)";
+      metrics.close();
+      std::error_code ec;
+      fs::resize_file(dir / "metrics.csv", metrics_good_size, ec);
       break;
     }
+    metrics_good_size = static_cast<std::uintmax_t>(metrics.tellp());
     io_ms += ms_since(t_io);
     if (rendering && !output.write(f, frames, sim)) {
       status = "failed";
@@ -443,21 +452,26 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
     // A checkpoint every K frames, once this frame's images are on disk.
     if (done % std::max(1, opt.checkpoint_every) == 0 && done < frames) {
       metrics.flush();
-      if (!(rendering ? output.flush() : true) || !metrics || !checkpoint(f)) {
+      if (rendering && !output.flush()) {
         status = "failed";
-        reason = rendering && !output.error().empty() ? "writing images failed: " + output.error() : error;
+        reason = "writing images failed: " + output.error();
+        break;
+      }
+      if (!checkpoint(f)) {
+        status = "failed";
+        reason = error;
         break;
       }
     }
   }
   if (terminal) err << "\n";
-  metrics.flush();
+  if (metrics.is_open()) metrics.flush();
   if (rendering && !output.finish(error) && status == "completed") {
     status = "failed";
     reason = "writing images failed: " + error;
   }
   // The final checkpoint: the last frame whose row and images are complete.
-  if (done > start && (!rendering || output.error().empty()) && metrics) {
+  if (done > start && (!rendering || output.error().empty())) {
     std::string cp_error;
     Checkpoint cp{this_run, done - 1, frames, last_hash};
     if (!write_checkpoint(checkpoint_path.string(), cp, cp_error)) err << "vdmsim: warning: " << cp_error << "\n";
