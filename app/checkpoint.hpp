@@ -18,7 +18,7 @@ struct Checkpoint {
   std::string state_hash;  // of the state after `frame`
 };
 
-// 64-bit FNV-1a of the displacement, velocity, pressure, step and time, as hex.
+// A 64-bit FNV-1a-style hash of the displacement, velocity, pressure, step and time (hex).
 std::string state_hash(const vdm::SimState& state);
 // Hash of a file's bytes plus `extra` (hex); empty if the file cannot be read.
 std::string run_hash(const std::string& scene_file, const std::string& extra);
