@@ -165,13 +165,14 @@ Row bench_grasp(int repeats) {
 }
 
 // Rendering one 1280x720 frame with the HUD plus encoding it to PNG, serially.
-Row bench_render(const fs::path& dir, int frames) {
-  Row r{"render_720p", "pipeline"};
+Row bench_render(const fs::path& dir, int frames, int samples) {
+  Row r{samples == 4 ? "render_720p" : "render_720p_" + std::to_string(samples) + "x", "pipeline"};
   std::string error;
   PreparedScene ps = probe_scene("liver_L5.obj", frames + 40, true, error);
   SceneSimulation sim(ps);
   for (int f = 0; f < 40; ++f) sim.advance(f);  // the probe in the tissue
   render::RenderSettings settings = ps.scene.render.settings;
+  settings.samples = samples;
   auto renderer = render::Renderer::create(settings, ps.model.rest, error);
   if (!renderer) return r;
   render::RenderScene scene;
@@ -230,7 +231,8 @@ int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::os
   };
   if (!quick) cases.push_back({"liver_probe 40k", [&] { return bench_probe("liver_L6.obj", 1); }});
   cases.push_back({"grasp_lift", [&] { return bench_grasp(repeats); }});
-  cases.push_back({"render_720p", [&] { return bench_render(dir, quick ? 6 : 20); }});
+  cases.push_back({"render_720p", [&] { return bench_render(dir, quick ? 6 : 20, 4); }});
+  cases.push_back({"render_720p_1x", [&] { return bench_render(dir, quick ? 6 : 20, 1); }});
   cases.push_back({"pipeline_720p", [&] { return bench_pipeline(dir, quick ? 20 : 60); }});
 
   std::vector<Row> rows;
