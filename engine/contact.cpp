@@ -1,4 +1,5 @@
 #include "engine/contact.hpp"
+#include "engine/organ_solver.hpp"
 
 #include <fcl/fcl.h>
 
@@ -175,7 +176,8 @@ void ContactSolver::step(const TissueModel& m, const StepInput& base, const std:
       s.step = step0;
       s.time = time0;
     }
-    vdm::step(m, input_, s);
+    if (solver_) solver_->step(input_, s);
+    else vdm::step(m, input_, s);
     ++rep.solves;
 
     const auto tc = Clock::now();
