@@ -23,7 +23,7 @@ int main(int argc, char** argv) {
 
   std::string experiment, out_dir;
   auto* paper = app.add_subcommand("paper", "Reproduce an experiment of the VDM paper");
-  paper->add_option("EXPERIMENT", experiment, "cube-stress | anisotropy | all")->required();
+  paper->add_option("EXPERIMENT", experiment, "cube-stress | anisotropy | beam-stretch | beam-bend | beam-twist | all")->required();
   paper->add_option("--out", out_dir, "Output folder")->required();
 
   std::string organ = "liver", organ_out;

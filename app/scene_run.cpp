@@ -138,6 +138,7 @@ bool prepare_scene(const std::string& path, PreparedScene& out, std::vector<Scen
   def.compute_stress = s.has(Effect::stress);
   def.damping = s.damping;
   def.volume_constraint = s.volume_constraint;
+  if (s.model != "vdm") def.compute_stress = false;  // fem and mass_spring report no VDM stress
   def.solver = s.solver;
   def.fixed = vdm::FlagMat::Zero(n, 3);
   for (size_t k = 0; k < s.fixed.size(); ++k)
@@ -158,6 +159,10 @@ bool prepare_scene(const std::string& path, PreparedScene& out, std::vector<Scen
   std::string error;
   if (!vdm::build_tissue_model(def, out.model, error)) {
     problems.push_back({s.file, "organ", error, false});
+    return false;
+  }
+  if (!make_organ_solver(s, out.model, out.organ, error)) {
+    problems.push_back({s.file, "organ.model", error, false});
     return false;
   }
   return true;
@@ -186,6 +191,7 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
   double grasp_ms = 0;
   std::unique_ptr<vdm::ContactSolver> contact;
   if (s.has(Effect::contact) && !probes.empty()) contact = std::make_unique<vdm::ContactSolver>(m);
+  if (contact) contact->set_solver(ps.organ.get());
   std::vector<vdm::Capsule> capsules(probes.size());
   vdm::ContactReport report;
   double collision_ms = 0;
@@ -267,7 +273,8 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
         queries += report.queries;
       }
     } else {
-      vdm::step(m, input, state);
+      if (ps.organ) ps.organ->step(input, state);  // organ.model fem or mass_spring
+      else vdm::step(m, input, state);
       frame_step_ms = state.stats.step_ms;
       frame_iterations = state.stats.iterations;
     }
@@ -326,7 +333,8 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
      << "\",\n  \"status\": \"" << status << "\",\n";
   if (!reason.empty()) js << "  \"reason\": \"" << json_escape(reason) << "\",\n";
   js << "  \"frames\": " << done << ",\n  \"frames_requested\": " << frames << ",\n  \"nodes\": " << m.n
-     << ",\n  \"solver\": \"" << vdm::to_string(m.solver.method) << "\",\n  \"effects\": [";
+     << ",\n  \"model\": \"" << s.model << "\",\n  \"solver\": \"" << vdm::to_string(m.solver.method)
+     << "\",\n  \"effects\": [";
   for (size_t i = 0; i < s.effects.size(); ++i) js << (i ? ", " : "") << '"' << to_string(s.effects[i]) << '"';
   js << "],\n  \"wall_time_s\": " << wall << ",\n  \"mean_step_ms\": " << (done ? sum_step / done : 0.0)
      << ",\n  \"median_step_ms\": " << median << ",\n  \"max_step_ms\": " << max_step
