@@ -248,3 +248,64 @@ int paper_beams(const std::vector<BeamCase>& beams, const BeamConfig& cfg, const
 }
 
 }  // namespace vdmsim
+
+namespace vdmsim {
+
+int cmd_calibrate(const std::string& mesh_path, double scale, double young, double poisson, int steps, double tet_size,
+                  const std::string& out_path, std::ostream& out, std::ostream& err) {
+  if (!(young > 0)) {
+    err << "vdmsim: error: --young " << young << " is out of range: expected > 0 (Pa)\n";
+    return 2;
+  }
+  if (!(poisson >= 0 && poisson < 0.5)) {
+    err << "vdmsim: error: --poisson " << poisson << " is out of range: expected >= 0 and < 0.5\n";
+    return 2;
+  }
+  if (steps < 1) {
+    err << "vdmsim: error: --steps must be >= 1\n";
+    return 2;
+  }
+  MeshLoadOptions mopt;
+  mopt.scale = scale;
+  const MeshLoadResult mesh = load_surface_mesh(mesh_path, mopt);
+  if (!mesh.ok) {
+    err << "vdmsim: error: " << mesh.error << "\n";
+    return 2;
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  vdm::fem::TetMesh tets;
+  std::string error;
+  if (!tetrahedralize(mesh.mesh, tet_size, tets, error)) {
+    err << "vdmsim: error: " << mesh_path << ": " << error << "\n";
+    return 1;
+  }
+  const std::vector<LoadCase> cases = organ_load_cases(mesh.mesh, steps);
+  if (cases.empty() || cases[0].moved.empty()) {
+    err << "vdmsim: error: " << mesh_path << ": no node in the top patch to drive\n";
+    return 1;
+  }
+  std::vector<CaseResult> fem;
+  for (const LoadCase& c : cases) fem.push_back(run_fem_case(tets, young, poisson, c));
+  VdmParams start;
+  start.solver.method = vdm::SolverMethod::direct;
+  start.bulk = young;
+  start.connectivity = young / 10;
+  const CalibrationResult r = calibrate_vdm(mesh.mesh, cases, fem, start);
+  const std::filesystem::path parent = std::filesystem::path(out_path).parent_path();
+  if (!parent.empty() && !prepare_output_dir(parent.string(), error)) {
+    err << "vdmsim: error: " << error << "\n";
+    return 2;
+  }
+  if (!write_calibration_yaml(out_path, r, young, poisson, mesh_path, error)) {
+    err << "vdmsim: error: " << error << "\n";
+    return 2;
+  }
+  out << mesh_path << ": " << tets.node_count() << " nodes, " << tets.tet_count() << " tets; fitted bulk_modulus "
+      << r.params.bulk << " Pa, connectivity_modulus " << r.params.connectivity << " Pa; RMS displacement difference "
+      << 100 * r.rms_displacement << " % of the largest, mean |u| difference press " << 100 * r.mean_relative_difference[0]
+      << " %, pull " << 100 * r.mean_relative_difference[1] << " %; "
+      << std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() << " s -> " << out_path << "\n";
+  return 0;
+}
+
+}  // namespace vdmsim

@@ -16,6 +16,12 @@ int cmd_paper(const std::string& experiment, const std::string& out_dir, std::os
 int paper_beams(const std::vector<BeamCase>& beams, const BeamConfig& config, const std::string& out_dir,
                 std::ostream& out, std::ostream& err);
 
+// vdmsim calibrate: fits VDM's bulk and connectivity moduli to the FEM reference (E, nu) on
+// the organ `mesh` (tets by gmsh), pressed and pulled at its top with its base held; writes
+// the material block to `out_path` (YAML).
+int cmd_calibrate(const std::string& mesh, double scale, double young, double poisson, int steps, double tet_size,
+                  const std::string& out_path, std::ostream& out, std::ostream& err);
+
 // Meshes the project's liver at icosphere `level` and writes it as OBJ to `out_path`.
 int cmd_make_organ(const std::string& organ, int level, const std::string& out_path, std::ostream& out,
                    std::ostream& err);

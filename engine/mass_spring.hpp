@@ -25,8 +25,9 @@ struct MassSpringDef {
   double thickness = 0.005;              // skin thickness (m): k_e = E t sum_{tri on e} area / L_e^2
   double volume_modulus = 0;             // K_v (Pa); 0 = no volume spring
   FlagMat fixed;                         // N x 3; empty = none
-  double tolerance = 1e-9;               // free residual / force scale
-  int max_iterations = 60;
+  double tolerance = 1e-6;               // free residual / force scale (converges linearly where
+                                         // springs are compressed: their Hessian is projected)
+  int max_iterations = 100;
 };
 
 struct MassSpringModel {
@@ -39,8 +40,8 @@ struct MassSpringModel {
   Vec3 origin = Vec3::Zero();
   FlagMat fixed;
   double size = 0;
-  double tolerance = 1e-9;
-  int max_iterations = 60;
+  double tolerance = 1e-6;
+  int max_iterations = 100;
   int n = 0;
 };
 

@@ -26,6 +26,12 @@ struct FemSettings {
   int max_iterations = 40;     // Newton iterations per (sub)step
   int max_bisections = 6;      // a failed step is split in two, at most this deep
   bool nodal_volumetric = true;  // average nodal volumetric strain (anti-locking); false: per tet
+  // Linear solves of Newton: sparse LDL^T up to `direct_max_dofs` unknowns, else conjugate
+  // gradients with an incomplete Cholesky preconditioner (on the projected, PSD tangent) to
+  // `cg_tolerance`. Simplicial LDL^T of a 3D mesh grows too fast past ~10^4 unknowns.
+  int direct_max_dofs = 12000;
+  double cg_tolerance = 1e-6;
+  int cg_max_iterations = 5000;
 };
 
 struct FemDef {

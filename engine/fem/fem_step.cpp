@@ -1,4 +1,5 @@
 #include <Eigen/SVD>
+#include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCholesky>
 
 #include <chrono>
@@ -24,6 +25,7 @@ struct FemWorkspace {
   std::vector<Eigen::Triplet<double>> triplets, gtriplets;
   SpMat K, G;
   Eigen::SimplicialLDLT<SpMat> ldlt;
+  Eigen::ConjugateGradient<SpMat, Eigen::Lower | Eigen::Upper, Eigen::IncompleteCholesky<double>> cg;
   long analyzed_nonzeros = -1;
   Vec rhs, du, dof_mask, du_c;
   NodeMat f_ext, grad, u_try, u_target;
@@ -208,7 +210,23 @@ bool newton(const FemModel& m, FemState& s, FemWorkspace& w) {
     if (jump == 0 && s.stats.residual <= m.settings.tolerance) return true;
     ++s.stats.iterations;
     // Exact tangent first (quadratic convergence); projected when it is not positive definite.
+    // Large meshes: projected tangent, preconditioned CG.
+    const bool direct = dofs <= m.settings.direct_max_dofs;
     bool factored = false;
+    if (!direct) {
+      assemble(m, w, true);
+      to_dofs(w.grad, w.rhs);
+      w.rhs = -w.rhs - w.K * w.du_c;
+      for (int k = 0; k < dofs; ++k)
+        if (w.dof_mask[k] != 0) w.rhs[k] = w.du_c[k];
+      apply_mask(w);
+      w.cg.setTolerance(m.settings.cg_tolerance);
+      w.cg.setMaxIterations(m.settings.cg_max_iterations);
+      w.cg.compute(w.K);
+      if (w.cg.info() != Eigen::Success) return false;
+      w.du = w.cg.solve(w.rhs);
+      factored = true;
+    }
     for (int project = 0; project < 2 && !factored; ++project) {
       assemble(m, w, project != 0);
       if (project == 0) {
@@ -226,7 +244,7 @@ bool newton(const FemModel& m, FemState& s, FemWorkspace& w) {
       factored = w.ldlt.info() == Eigen::Success && w.ldlt.vectorD().minCoeff() > 0;
     }
     if (!factored) return false;
-    w.du = w.ldlt.solve(w.rhs);
+    if (direct) w.du = w.ldlt.solve(w.rhs);
     if (!w.du.allFinite()) return false;
     if (jump > 0) {  // the constrained entries move to their targets: take the full step
       for (int i = 0; i < n; ++i)
