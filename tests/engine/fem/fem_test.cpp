@@ -154,6 +154,7 @@ double cantilever_tip(double nu, bool nodal, int across, int along, double* theo
   def.young_modulus = E;
   def.poisson_ratio = nu;
   def.settings.nodal_volumetric = nodal;
+  def.settings.direct_max_dofs = 1 << 30;  // LDL^T: a slender beam is hard for CG
   const int ns = def.mesh.surface_nodes;
   def.fixed = FlagMat::Zero(ns, 3);
   for (int i = 0; i < ns; ++i)
