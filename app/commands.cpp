@@ -11,6 +11,9 @@
 #include "app/scene_run.hpp"
 #include "app/paper_cube.hpp"
 #include "app/paper_plots.hpp"
+#include "app/paper_beam.hpp"
+#include "app/calibrate.hpp"
+#include "app/tet_mesher.hpp"
 #include "engine/geometry.hpp"
 
 namespace vdmsim {
@@ -164,9 +167,13 @@ int cmd_make_organ(const std::string& organ, int level, const std::string& out_p
 int cmd_paper(const std::string& experiment, const std::string& out_dir, std::ostream& out,
               std::ostream& err) {
   const bool all = experiment == "all";
-  if (!all && experiment != "cube-stress" && experiment != "anisotropy") {
+  std::vector<BeamCase> beams;
+  if (all || experiment == "beam-stretch") beams.push_back(BeamCase::stretch);
+  if (all || experiment == "beam-bend") beams.push_back(BeamCase::bend);
+  if (all || experiment == "beam-twist") beams.push_back(BeamCase::twist);
+  if (!all && experiment != "cube-stress" && experiment != "anisotropy" && beams.empty()) {
     err << "vdmsim: error: unknown experiment '" << experiment
-        << "' (expected cube-stress, anisotropy or all; the beam experiments come with the FEM reference)\n";
+        << "' (expected cube-stress, anisotropy, beam-stretch, beam-bend, beam-twist or all)\n";
     return 2;
   }
   std::string error;
@@ -214,6 +221,95 @@ int cmd_paper(const std::string& experiment, const std::string& out_dir, std::os
           << " m\n";
     }
   }
+  if (!beams.empty()) return paper_beams(beams, BeamConfig{}, out_dir, out, err);
+  return 0;
+}
+
+int paper_beams(const std::vector<BeamCase>& beams, const BeamConfig& cfg, const std::string& out_dir,
+                std::ostream& out, std::ostream& err) {
+  namespace fs = std::filesystem;
+  const auto t0 = std::chrono::steady_clock::now();
+  const BeamStudy study = run_beam_study(cfg, beams);
+  out << "beam " << cfg.length * 100 << " x " << cfg.width * 100 << " x " << cfg.width * 100 << " cm, "
+      << cfg.cells_across << " x " << cfg.cells_along << " cells (" << 24 * cfg.cells_across * cfg.cells_across * cfg.cells_along
+      << " tets), FEM E = " << cfg.young << " Pa, nu = " << cfg.poisson << "; VDM B = " << study.used.bulk
+      << " Pa, B_ij = " << study.used.connectivity << " Pa" << (cfg.calibrate ? " (fitted)" : "") << "\n";
+  for (const BeamCaseResult& r : study.cases) {
+    std::string error;
+    const std::string path = (fs::path(out_dir) / ("beam-" + std::string(to_string(r.which)) + ".csv")).string();
+    if (!write_beam_csv(path, r, error)) {
+      err << "vdmsim: error: " << error << "\n";
+      return 1;
+    }
+    double vv = 0, vf = 0;
+    for (double v : r.vdm.volume_rel) vv = std::max(vv, std::abs(v));
+    for (double v : r.fem.volume_rel) vf = std::max(vf, std::abs(v));
+    out << "beam-" << to_string(r.which) << ": " << r.fem.u.size() - 1 << " steps, mean |u| difference VDM vs FEM "
+        << 100 * r.mean_relative_difference << " %, max |volume change| VDM " << vv << ", FEM " << vf
+        << (r.fem.converged ? "" : " (FEM did not converge on every step)") << " -> " << path << "\n";
+  }
+  out << "beam experiments: " << std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() << " s\n";
+  return 0;
+}
+
+}  // namespace vdmsim
+
+namespace vdmsim {
+
+int cmd_calibrate(const std::string& mesh_path, double scale, double young, double poisson, int steps, double tet_size,
+                  const std::string& out_path, std::ostream& out, std::ostream& err) {
+  if (!(young > 0)) {
+    err << "vdmsim: error: --young " << young << " is out of range: expected > 0 (Pa)\n";
+    return 2;
+  }
+  if (!(poisson >= 0 && poisson < 0.5)) {
+    err << "vdmsim: error: --poisson " << poisson << " is out of range: expected >= 0 and < 0.5\n";
+    return 2;
+  }
+  if (steps < 1) {
+    err << "vdmsim: error: --steps must be >= 1\n";
+    return 2;
+  }
+  MeshLoadOptions mopt;
+  mopt.scale = scale;
+  const MeshLoadResult mesh = load_surface_mesh(mesh_path, mopt);
+  if (!mesh.ok) {
+    err << "vdmsim: error: " << mesh.error << "\n";
+    return 2;
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  vdm::fem::TetMesh tets;
+  std::string error;
+  if (!tetrahedralize(mesh.mesh, tet_size, tets, error)) {
+    err << "vdmsim: error: " << mesh_path << ": " << error << "\n";
+    return 1;
+  }
+  const std::vector<LoadCase> cases = organ_load_cases(mesh.mesh, steps);
+  if (cases.empty() || cases[0].moved.empty()) {
+    err << "vdmsim: error: " << mesh_path << ": no node in the top patch to drive\n";
+    return 1;
+  }
+  std::vector<CaseResult> fem;
+  for (const LoadCase& c : cases) fem.push_back(run_fem_case(tets, young, poisson, c));
+  VdmParams start;
+  start.solver.method = vdm::SolverMethod::direct;
+  start.bulk = young;
+  start.connectivity = young / 10;
+  const CalibrationResult r = calibrate_vdm(mesh.mesh, cases, fem, start);
+  const std::filesystem::path parent = std::filesystem::path(out_path).parent_path();
+  if (!parent.empty() && !prepare_output_dir(parent.string(), error)) {
+    err << "vdmsim: error: " << error << "\n";
+    return 2;
+  }
+  if (!write_calibration_yaml(out_path, r, young, poisson, mesh_path, error)) {
+    err << "vdmsim: error: " << error << "\n";
+    return 2;
+  }
+  out << mesh_path << ": " << tets.node_count() << " nodes, " << tets.tet_count() << " tets; fitted bulk_modulus "
+      << r.params.bulk << " Pa, connectivity_modulus " << r.params.connectivity << " Pa; RMS displacement difference "
+      << 100 * r.rms_displacement << " % of the largest, mean |u| difference press " << 100 * r.mean_relative_difference[0]
+      << " %, pull " << 100 * r.mean_relative_difference[1] << " %; "
+      << std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() << " s -> " << out_path << "\n";
   return 0;
 }
 

@@ -24,7 +24,7 @@ int main(int argc, char** argv) {
 
   std::string experiment, out_dir;
   auto* paper = app.add_subcommand("paper", "Reproduce an experiment of the VDM paper");
-  paper->add_option("EXPERIMENT", experiment, "cube-stress | anisotropy | all")->required();
+  paper->add_option("EXPERIMENT", experiment, "cube-stress | anisotropy | beam-stretch | beam-bend | beam-twist | all")->required();
   paper->add_option("--out", out_dir, "Output folder")->required();
 
   std::string organ = "liver", organ_out;
@@ -33,6 +33,18 @@ int main(int argc, char** argv) {
   make_organ->add_option("ORGAN", organ, "Organ to generate: liver")->required();
   make_organ->add_option("--level", organ_level, "Subdivision level: 4, 5, 6 give 2562, 10242, 40962 nodes");
   make_organ->add_option("--out", organ_out, "Output OBJ file")->required();
+
+  std::string calib_mesh, calib_out;
+  double calib_scale = 1.0, calib_young = 3000, calib_poisson = 0.45, calib_tet = 0;
+  int calib_steps = 5;
+  auto* calibrate = app.add_subcommand("calibrate", "Fit VDM's bulk and connectivity moduli to an FEM reference");
+  calibrate->add_option("--mesh", calib_mesh, "Organ surface mesh (closed)")->required();
+  calibrate->add_option("--scale", calib_scale, "Mesh units to metres");
+  calibrate->add_option("--young", calib_young, "FEM Young's modulus (Pa)");
+  calibrate->add_option("--poisson", calib_poisson, "FEM Poisson's ratio, [0, 0.5)");
+  calibrate->add_option("--steps", calib_steps, "Steps of each load case");
+  calibrate->add_option("--tet-size", calib_tet, "Largest tet edge (m); 0: graded from the surface");
+  calibrate->add_option("--out", calib_out, "Output YAML with the fitted material")->required();
 
   std::string scene_path, run_out;
   int run_frames = -1;
@@ -69,6 +81,9 @@ int main(int argc, char** argv) {
     if (bench->parsed()) return vdmsim::cmd_bench(bench_out, bench_quick, std::cout, std::cerr);
     if (check->parsed()) return vdmsim::cmd_check(scene_path, std::cout, std::cerr);
     if (make_organ->parsed()) return vdmsim::cmd_make_organ(organ, organ_level, organ_out, std::cout, std::cerr);
+    if (calibrate->parsed())
+      return vdmsim::cmd_calibrate(calib_mesh, calib_scale, calib_young, calib_poisson, calib_steps, calib_tet, calib_out,
+                                   std::cout, std::cerr);
     if (paper->parsed()) return vdmsim::cmd_paper(experiment, out_dir, std::cout, std::cerr);
   } catch (const std::exception& e) {
     std::cerr << "vdmsim: error: " << e.what() << "\n";

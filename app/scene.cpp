@@ -265,7 +265,7 @@ void read_ramp(Reader& r, const YAML::Node& n, const std::string& field, double&
 void read_organ(Reader& r, const YAML::Node& organ, SceneDef& s, const std::filesystem::path& base) {
   const std::string f = "organ";
   if (!r.require_map(organ, f)) return;
-  r.check_keys(organ, f, {"mesh", "scale", "material", "fixed", "model", "loads", "prescribed"});
+  r.check_keys(organ, f, {"mesh", "scale", "material", "fixed", "model", "loads", "prescribed", "tet_size"});
   if (const YAML::Node m = r.required(organ, "mesh", f, "the organ's surface mesh file (relative to the scene)")) {
     std::string rel;
     if (r.text(m, "organ.mesh", rel)) {
@@ -278,16 +278,31 @@ void read_organ(Reader& r, const YAML::Node& organ, SceneDef& s, const std::file
   }
   if (const YAML::Node n = organ["scale"]) r.number(n, "organ.scale", s.scale, 0, kInf, "mesh units to metres", false, true);
   if (const YAML::Node n = organ["model"]) {
-    if (r.text(n, "organ.model", s.model) && s.model != "vdm") {
-      if (s.model == "fem" || s.model == "mass_spring")
-        r.error(n, "organ.model", "model '" + s.model + "' is not available yet in this version (expected vdm)");
-      else
-        r.error(n, "organ.model", "unknown model '" + s.model + "' (expected vdm, fem or mass_spring)");
+    if (r.text(n, "organ.model", s.model) && s.model != "vdm" && s.model != "fem" && s.model != "mass_spring") {
+      const std::string near = closest(s.model, {"vdm", "fem", "mass_spring"});
+      r.error(n, "organ.model", "unknown model '" + s.model + "'" + (near.empty() ? "" : " (did you mean '" + near + "'?)") +
+                                    "; expected vdm, fem or mass_spring");
     }
   }
+  if (const YAML::Node n = organ["tet_size"]) r.number(n, "organ.tet_size", s.tet_size, 0, kInf, "m");
   if (const YAML::Node mat = organ["material"]) {
     if (r.require_map(mat, "organ.material")) {
-      r.check_keys(mat, "organ.material", {"bulk_modulus", "connectivity_modulus", "density", "damping"});
+      r.check_keys(mat, "organ.material", {"bulk_modulus", "connectivity_modulus", "density", "damping", "young_modulus",
+                                           "poisson_ratio", "thickness", "volume_modulus"});
+      if (const YAML::Node n = mat["young_modulus"])
+        r.number(n, "organ.material.young_modulus", s.young_modulus, 0, 1e12, "Pa", false, true);
+      if (const YAML::Node n = mat["poisson_ratio"]) {
+        double nu = 0;
+        if (r.number(n, "organ.material.poisson_ratio", nu, 0, 0.5, "")) {
+          if (nu >= 0.5)
+            r.error(n, "organ.material.poisson_ratio",
+                    "value " + n.Scalar() + " is out of range: expected >= 0 and < 0.5 (0.5 is exactly incompressible; use up to 0.49)");
+          else
+            s.poisson_ratio = nu;
+        }
+      }
+      if (const YAML::Node n = mat["thickness"]) r.number(n, "organ.material.thickness", s.thickness, 0, 10, "m", false, true);
+      if (const YAML::Node n = mat["volume_modulus"]) r.number(n, "organ.material.volume_modulus", s.volume_modulus, 0, 1e12, "Pa");
       if (const YAML::Node b = mat["bulk_modulus"]) {
         if (b.IsSequence()) {
           if (b.size() != 3) {

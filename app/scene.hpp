@@ -89,7 +89,12 @@ struct SceneDef {
   double connectivity_modulus = 2000.0;
   double density = 1060.0;
   double damping = 0.0;        // 1/s, with the inertia effect
-  std::string model = "vdm";
+  std::string model = "vdm";   // vdm | fem | mass_spring
+  double young_modulus = 3000;  // fem, mass_spring (Pa)
+  double poisson_ratio = 0.45;  // fem, in [0, 0.5)
+  double thickness = 0.005;     // mass_spring: skin thickness giving the springs' stiffness (m)
+  double volume_modulus = 0;    // mass_spring: volume spring K_v (Pa), 0 = none
+  double tet_size = 0;          // fem: largest tet edge (m) for gmsh, 0 = graded from the surface
   std::vector<FixedDef> fixed;
   std::vector<LoadDef> loads;
   std::vector<PrescribedDef> prescribed;

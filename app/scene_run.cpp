@@ -211,6 +211,7 @@ bool prepare_scene_def(const SceneDef& scene, PreparedScene& out, std::vector<Sc
   def.compute_stress = s.has(Effect::stress);
   def.damping = s.damping;
   def.volume_constraint = s.volume_constraint;
+  if (s.model != "vdm") def.compute_stress = false;  // fem and mass_spring report no VDM stress
   def.solver = s.solver;
   def.fixed = vdm::FlagMat::Zero(n, 3);
   for (size_t k = 0; k < s.fixed.size(); ++k)
@@ -231,6 +232,10 @@ bool prepare_scene_def(const SceneDef& scene, PreparedScene& out, std::vector<Sc
   std::string error;
   if (!vdm::build_tissue_model(def, out.model, error)) {
     problems.push_back({s.file, "organ", error, false});
+    return false;
+  }
+  if (!make_organ_solver(s, out.model, out.organ, error)) {
+    problems.push_back({s.file, "organ.model", error, false});
     return false;
   }
   return true;
@@ -511,7 +516,8 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
   if (!reason.empty()) js << "  \"reason\": \"" << json_escape(reason) << "\",\n";
   if (opt.resume) js << "  \"resumed_from_frame\": " << start << ",\n";
   js << "  \"frames\": " << done << ",\n  \"frames_requested\": " << frames << ",\n  \"nodes\": " << m.n
-     << ",\n  \"solver\": \"" << vdm::to_string(m.solver.method) << "\",\n  \"effects\": [";
+     << ",\n  \"model\": \"" << s.model << "\",\n  \"solver\": \"" << vdm::to_string(m.solver.method)
+     << "\",\n  \"effects\": [";
   for (size_t i = 0; i < s.effects.size(); ++i) js << (i ? ", " : "") << '"' << to_string(s.effects[i]) << '"';
   js << "],\n  \"wall_time_s\": " << wall << ",\n  \"mean_step_ms\": " << (done ? sum_step / done : 0.0)
      << ",\n  \"median_step_ms\": " << median << ",\n  \"max_step_ms\": " << max_step

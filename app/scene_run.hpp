@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "app/scene.hpp"
+#include "engine/organ_solver.hpp"
 #include "engine/tissue_model.hpp"
 
 namespace vdmsim {
@@ -28,7 +29,13 @@ struct PreparedScene {
   std::vector<std::vector<int>> prescribed_nodes;  // per organ.prescribed entry
   std::vector<vdm::Vec3> prescribed_about;         // rotation centre per entry (m)
   std::vector<InstrumentSkin> skins;               // per instrument
+  std::unique_ptr<vdm::OrganSolver> organ;         // organ.model fem or mass_spring; null: vdm::step
 };
+
+// The organ's solver for organ.model fem (tet mesh by gmsh) or mass_spring, on `model`'s
+// surface with its fixed entries; null for vdm. False with a message on failure.
+bool make_organ_solver(const SceneDef& scene, const vdm::TissueModel& model, std::unique_ptr<vdm::OrganSolver>& out,
+                       std::string& error);
 
 // Loads and validates the scene and its mesh and builds the model. On failure returns false
 // with every problem in `problems` (warnings are there too on success).

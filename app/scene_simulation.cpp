@@ -32,6 +32,7 @@ SceneSimulation::SceneSimulation(const PreparedScene& ps)
     (in.type == tools::InstrumentDef::Type::probe ? probes_ : graspers_).push_back(&in);
   if (s.has(Effect::grasp)) grasps_.resize(graspers_.size());
   if (s.has(Effect::contact) && !probes_.empty()) contact_ = std::make_unique<vdm::ContactSolver>(ps.model);
+  if (contact_) contact_->set_solver(ps.organ.get());  // organ.model fem or mass_spring
   capsules_.resize(probes_.size());
 }
 
@@ -102,7 +103,8 @@ void SceneSimulation::advance(int f) {
       if (state_.failed) break;  // the caller stops the run
     }
   } else {
-    vdm::step(m, input_, state_);
+    if (ps_.organ) ps_.organ->step(input_, state_);  // organ.model fem or mass_spring
+    else vdm::step(m, input_, state_);
     frame_step_ms_ = state_.stats.step_ms;
     frame_iterations_ = state_.stats.iterations;
     frame_fallbacks_ = state_.stats.fallbacks;

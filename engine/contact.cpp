@@ -1,4 +1,5 @@
 #include "engine/contact.hpp"
+#include "engine/organ_solver.hpp"
 
 #include <fcl/fcl.h>
 
@@ -77,6 +78,8 @@ ContactSolver::ContactSolver(const TissueModel& m, ContactSettings settings)
   normal_ = NodeMat::Zero(m.n, 3);
   candidates_.reserve(static_cast<size_t>(m.n));
   x0_ = NodeMat::Zero(m.n, 3);
+  u0_ = NodeMat::Zero(m.n, 3);
+  v0_ = NodeMat::Zero(m.n, 3);
 }
 
 ContactSolver::~ContactSolver() = default;
@@ -118,6 +121,12 @@ void ContactSolver::step(const TissueModel& m, const StepInput& base, const std:
   rep = ContactReport();
   const auto t0 = Clock::now();
   x0_ = s.x;  // positions at the step's start: a node's own motion in the step is x - x0_
+  // The start of the step, for re-solving it with a reference model (fem, mass_spring); the
+  // VDM engine restores itself with rewind_step().
+  u0_ = s.u;
+  v0_ = s.velocity;
+  const long step0 = s.step;
+  const double time0 = s.time;
   // Contacts at the start: nodes inside (or touching) an instrument at its new pose.
   std::fill(active_.begin(), active_.end(), 0);
   refit(s.x);
@@ -166,8 +175,19 @@ void ContactSolver::step(const TissueModel& m, const StepInput& base, const std:
         input_.prescribed.row(i).setOnes();
         input_.prescribed_u.row(i) = target_.row(i) - m.rest.positions.row(i);
       }
-    if (it > 0) rewind_step(m, s);  // solve the same step again from its start
-    vdm::step(m, input_, s);
+    if (it > 0) {  // solve the same step again from its start
+      if (solver_) {
+        s.u = u0_;
+        s.x = x0_;
+        s.velocity = v0_;
+        s.step = step0;
+        s.time = time0;
+      } else {
+        rewind_step(m, s);
+      }
+    }
+    if (solver_) solver_->step(input_, s);
+    else vdm::step(m, input_, s);
     ++rep.solves;
     if (s.failed) return;  // the caller stops; the state is the step's start
 

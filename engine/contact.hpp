@@ -13,6 +13,8 @@
 
 namespace vdm {
 
+class OrganSolver;
+
 // A capsule: the segment p0-p1 swept by a sphere of `radius` (m). A probe is one.
 struct Capsule {
   Vec3 p0 = Vec3::Zero(), p1 = Vec3::UnitZ();  // p0: centre of the tip's rounded end
@@ -55,6 +57,8 @@ class ContactSolver {
   // not modified); the instruments' constraints are added on top.
   void step(const TissueModel& model, const StepInput& base, const std::vector<Capsule>& tools, SimState& state,
             ContactReport& report);
+  // Steps the organ with `solver` (fem, mass_spring) instead of vdm::step; null: vdm::step.
+  void set_solver(OrganSolver* solver) { solver_ = solver; }
   // Per-node flag: held by an instrument after the last step.
   const std::vector<char>& active() const { return active_; }
 
@@ -68,11 +72,12 @@ class ContactSolver {
   ContactSettings settings_;
   const TriMat* triangles_ = nullptr;
   StepInput input_;
+  OrganSolver* solver_ = nullptr;
   std::vector<char> active_, mark_;
   NodeMat target_;                 // held position of active nodes (m)
   NodeMat normal_;                 // contact normal of active nodes
   std::vector<int> candidates_;
-  NodeMat x0_;
+  NodeMat x0_, u0_, v0_;
 };
 
 }  // namespace vdm
