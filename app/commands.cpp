@@ -237,7 +237,8 @@ int paper_beams(const std::vector<BeamCase>& beams, const BeamConfig& cfg, const
   for (const BeamCaseResult& r : study.cases) {
     std::string error;
     const std::string path = (fs::path(out_dir) / ("beam-" + std::string(to_string(r.which)) + ".csv")).string();
-    if (!write_beam_csv(path, r, error)) {
+    if (!write_beam_csv(path, r, error) ||
+        !write_beam_plot((fs::path(out_dir) / ("beam-" + std::string(to_string(r.which)) + ".png")).string(), r, error)) {
       err << "vdmsim: error: " << error << "\n";
       return 1;
     }
@@ -247,6 +248,11 @@ int paper_beams(const std::vector<BeamCase>& beams, const BeamConfig& cfg, const
     out << "beam-" << to_string(r.which) << ": " << r.fem.u.size() - 1 << " steps, mean |u| difference VDM vs FEM "
         << 100 * r.mean_relative_difference << " %, max |volume change| VDM " << vv << ", FEM " << vf
         << (r.fem.converged ? "" : " (FEM did not converge on every step)") << " -> " << path << "\n";
+  }
+  std::string error;
+  if (!write_beam_volume_plot((fs::path(out_dir) / "beam-volume.png").string(), study.cases, error)) {
+    err << "vdmsim: error: " << error << "\n";
+    return 1;
   }
   out << "beam experiments: " << std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() << " s\n";
   return 0;

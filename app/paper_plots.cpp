@@ -1,5 +1,6 @@
 #include "app/paper_plots.hpp"
 
+#include "render/number_format.hpp"
 #include "render/plot.hpp"
 
 namespace vdmsim {
@@ -75,6 +76,60 @@ bool write_anisotropy_plot(const std::string& path, const std::vector<Anisotropy
     v.series.push_back(s);
   }
   f.panels.push_back(v);
+  return render::write_figure_png(f, path, error);
+}
+
+bool write_beam_plot(const std::string& path, const BeamCaseResult& r, std::string& error) {
+  render::Figure f;
+  f.title = std::string("Beam ") + to_string(r.which) + ": VDM (solid) and FEM (dashed) (paper section 4.3)";
+  f.panel_width = 760;
+  f.panel_height = 460;
+  render::Panel p;
+  p.title = "displacement of A, B, C (mean difference " + render::format_number(100 * r.mean_relative_difference, 3) + " %)";
+  p.x_label = "step";
+  p.y_label = "|u| (mm)";
+  const char* names[3] = {"A", "B", "C"};
+  for (int k = 0; k < 3; ++k)
+    for (int model = 0; model < 2; ++model) {
+      const CaseResult& c = model == 0 ? r.vdm : r.fem;
+      render::Series s;
+      s.label = std::string(names[k]) + (model == 0 ? " VDM" : " FEM");
+      s.color = k;
+      s.dashed = model == 1;
+      for (size_t step = 0; step < c.u.size(); ++step) {
+        if (k >= c.u[step].rows()) continue;
+        s.x.push_back(double(step));
+        s.y.push_back(1000.0 * c.u[step].row(k).norm());
+      }
+      p.series.push_back(s);
+    }
+  f.panels.push_back(p);
+  return render::write_figure_png(f, path, error);
+}
+
+bool write_beam_volume_plot(const std::string& path, const std::vector<BeamCaseResult>& cases, std::string& error) {
+  render::Figure f;
+  f.title = "Beam volume: VDM (solid) and FEM (dashed)";
+  f.panel_width = 760;
+  f.panel_height = 460;
+  render::Panel p;
+  p.title = "volume change";
+  p.x_label = "step";
+  p.y_label = "(V - V0) / V0 (%)";
+  for (size_t k = 0; k < cases.size(); ++k)
+    for (int model = 0; model < 2; ++model) {
+      const CaseResult& c = model == 0 ? cases[k].vdm : cases[k].fem;
+      render::Series s;
+      s.label = std::string(to_string(cases[k].which)) + (model == 0 ? " VDM" : " FEM");
+      s.color = int(k);
+      s.dashed = model == 1;
+      for (size_t step = 0; step < c.volume_rel.size(); ++step) {
+        s.x.push_back(double(step));
+        s.y.push_back(100.0 * c.volume_rel[step]);
+      }
+      p.series.push_back(s);
+    }
+  f.panels.push_back(p);
   return render::write_figure_png(f, path, error);
 }
 

@@ -151,7 +151,11 @@ void draw_panel(ImDrawList* dl, ImGuiLayer& layer, const Panel& p, float x0, flo
       const Series& s = p.series[k];
       const ImU32 c = kPalette[(s.color >= 0 ? size_t(s.color) : k) % 8];
       const float y = ly0 + fs * 0.2f + row * k + row * 0.5f;
-      if (s.line) dl->AddLine(ImVec2(lx0 + fs * 0.4f, y), ImVec2(lx0 + fs * 1.8f, y), c, 2.0f);
+      if (s.line && !s.dashed) dl->AddLine(ImVec2(lx0 + fs * 0.4f, y), ImVec2(lx0 + fs * 1.8f, y), c, 2.0f);
+      if (s.line && s.dashed) {
+        dl->AddLine(ImVec2(lx0 + fs * 0.4f, y), ImVec2(lx0 + fs * 0.9f, y), c, 2.0f);
+        dl->AddLine(ImVec2(lx0 + fs * 1.3f, y), ImVec2(lx0 + fs * 1.8f, y), c, 2.0f);
+      }
       if (s.markers) dl->AddCircleFilled(ImVec2(lx0 + fs * 1.1f, y), 3.5f, c);
       draw_text(dl, small, ImVec2(lx0 + fs * 2.1f, y - small->FontSize * 0.5f), ink, s.label);
     }
