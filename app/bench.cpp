@@ -12,6 +12,7 @@
 #include <functional>
 #include <iomanip>
 #include <sstream>
+#include <stdexcept>
 #include <vector>
 
 #include "app/commands.hpp"
@@ -58,7 +59,13 @@ bool run_isolated(const std::function<Row()>& body, Row& row, std::string& error
   const pid_t pid = fork();
   if (pid == 0) {
     close(fd[0]);
-    Row r = body();
+    Row r;
+    try {
+      r = body();
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "vdmsim: bench: %s\n", e.what());
+      _exit(1);
+    }
     r.peak_mb = peak_mb();
     std::ostringstream s;
     s << std::setprecision(9) << r.name << ',' << r.model << ',' << r.nodes << ',' << r.median_ms << ',' << r.p95_ms << ','
@@ -94,29 +101,27 @@ bool run_isolated(const std::function<Row()>& body, Row& row, std::string& error
 
 // The probe scene on a given mesh: a probe (8 mm, so that it meets nodes on every mesh)
 // presses into the right lobe. Steps in contact are timed after `warmup` of them.
-PreparedScene probe_scene(const std::string& mesh, int frames, bool render, std::string& error) {
+PreparedScene probe_scene(const std::string& mesh, int frames, bool render) {
   PreparedScene ps;
   std::vector<SceneProblem> problems;
   const std::string path = (fs::path(VDMSIM_SOURCE_DIR_STR) / "assets" / "scenes" / "probe_poke.yaml").string();
   SceneLoadResult loaded = load_scene(path);
-  if (!loaded.ok()) {
-    error = path + ": cannot load";
-    return ps;
-  }
+  if (!loaded.ok()) throw std::runtime_error(path + ": cannot load");
   SceneDef s = loaded.scene;
   s.mesh_path = (fs::path(VDMSIM_SOURCE_DIR_STR) / "assets" / "meshes" / mesh).string();
   s.frames = frames;
   for (auto& in : s.instruments) in.radius = 0.008;
   if (!render) s.has_render = false;
   s.render.stress = false;
-  if (!prepare_scene_def(s, ps, problems)) error = problems.empty() ? "cannot prepare" : problems.back().text();
+  if (!prepare_scene_def(s, ps, problems))
+    throw std::runtime_error(problems.empty() ? "cannot prepare the probe scene" : problems.back().text());
   return ps;
 }
 
 Row bench_probe(const std::string& mesh, int repeats) {
   Row r{"liver_probe", "vdm"};
   std::string error;
-  PreparedScene ps = probe_scene(mesh, 60, false, error);
+  PreparedScene ps = probe_scene(mesh, 60, false);
   std::vector<double> times;
   double iterations = 0, vol = 0;
   for (int rep = 0; rep < repeats; ++rep) {
@@ -143,7 +148,8 @@ Row bench_grasp(int repeats) {
   Row r{"grasp_lift", "vdm"};
   PreparedScene ps;
   std::vector<SceneProblem> problems;
-  prepare_scene((fs::path(VDMSIM_SOURCE_DIR_STR) / "assets" / "scenes" / "grasp_lift.yaml").string(), ps, problems);
+  if (!prepare_scene((fs::path(VDMSIM_SOURCE_DIR_STR) / "assets" / "scenes" / "grasp_lift.yaml").string(), ps, problems))
+    throw std::runtime_error("cannot prepare grasp_lift.yaml");
   std::vector<double> times;
   double iterations = 0, vol = 0;
   for (int rep = 0; rep < repeats; ++rep) {
@@ -168,13 +174,13 @@ Row bench_grasp(int repeats) {
 Row bench_render(const fs::path& dir, int frames, int samples) {
   Row r{samples == 4 ? "render_720p" : "render_720p_" + std::to_string(samples) + "x", "pipeline"};
   std::string error;
-  PreparedScene ps = probe_scene("liver_L5.obj", frames + 40, true, error);
+  PreparedScene ps = probe_scene("liver_L5.obj", frames + 40, true);
   SceneSimulation sim(ps);
   for (int f = 0; f < 40; ++f) sim.advance(f);  // the probe in the tissue
   render::RenderSettings settings = ps.scene.render.settings;
   settings.samples = samples;
   auto renderer = render::Renderer::create(settings, ps.model.rest, error);
-  if (!renderer) return r;
+  if (!renderer) throw std::runtime_error(error);
   render::RenderScene scene;
   scene.positions = &sim.state().x;
   scene.hud.scene_name = "bench";
@@ -185,7 +191,8 @@ Row bench_render(const fs::path& dir, int frames, int samples) {
   for (int f = 0; f < frames + 2; ++f) {
     const auto t0 = Clock::now();
     renderer->draw_shaded(scene, true, image);
-    render::write_png((dir / "bench_frame.png").string(), image, ps.scene.render.png_compression, false, error);
+    if (!render::write_png((dir / "bench_frame.png").string(), image, ps.scene.render.png_compression, false, error))
+      throw std::runtime_error(error);
     if (f >= 2) times.push_back(ms_since(t0));
   }
   fs::remove(dir / "bench_frame.png");
@@ -200,12 +207,12 @@ Row bench_render(const fs::path& dir, int frames, int samples) {
 Row bench_pipeline(const fs::path& dir, int frames) {
   Row r{"pipeline_720p", "pipeline"};
   std::string error;
-  PreparedScene ps = probe_scene("liver_L5.obj", frames, true, error);
+  PreparedScene ps = probe_scene("liver_L5.obj", frames, true);
   RunOptions opt;
   opt.out_dir = (dir / "pipeline_run").string();
   std::ostringstream o, e;
   const auto t0 = Clock::now();
-  run_scene(ps, opt, o, e, false);
+  if (run_scene(ps, opt, o, e, false) != 0) throw std::runtime_error("the pipeline run failed: " + e.str());
   const double per_frame = ms_since(t0) / frames;
   r.nodes = ps.model.n;
   r.median_ms = per_frame;

@@ -3,6 +3,7 @@
 #include <cctype>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -74,7 +75,8 @@ bool write_checkpoint(const std::string& path, const Checkpoint& cp, std::string
   {
     std::ofstream f(tmp);
     f << "{\"run_hash\": \"" << cp.run_hash << "\", \"frame\": " << cp.frame << ", \"frames\": " << cp.frames
-      << ", \"state_hash\": \"" << cp.state_hash << "\"}\n";
+      << ", \"state_hash\": \"" << cp.state_hash << "\", \"range\": \"" << std::hexfloat << cp.range_lo << ' '
+      << cp.range_hi << "\"}\n";
     f.flush();
     if (!f) {
       error = path + ": cannot write the checkpoint (disk full?)";
@@ -106,8 +108,20 @@ bool read_checkpoint(const std::string& path, Checkpoint& cp, std::string& error
     error = path + ": not a vdmsim checkpoint";
     return false;
   }
-  cp.frame = std::stoi(frame);
-  cp.frames = std::stoi(frames);
+  try {
+    cp.frame = std::stoi(frame);
+    cp.frames = std::stoi(frames);
+    const std::string range = field(t, "range");
+    if (!range.empty()) {
+      // Written in hexfloat, so that the range is restored bit for bit.
+      const size_t space = range.find(' ');
+      cp.range_lo = std::strtod(range.substr(0, space).c_str(), nullptr);
+      cp.range_hi = std::strtod(range.substr(space + 1).c_str(), nullptr);
+    }
+  } catch (const std::exception&) {
+    error = path + ": not a vdmsim checkpoint (damaged)";
+    return false;
+  }
   return true;
 }
 

@@ -16,6 +16,7 @@ struct Checkpoint {
   int frame = -1;          // last complete frame (metrics row and images written)
   int frames = 0;          // frames requested
   std::string state_hash;  // of the state after `frame`
+  double range_lo = 0, range_hi = 0;  // the stress view's automatic colour range (lo < hi when set)
 };
 
 // A 64-bit FNV-1a-style hash of the displacement, velocity, pressure, step and time (hex).

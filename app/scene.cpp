@@ -590,9 +590,19 @@ void read_render(Reader& r, const YAML::Node& n, SceneDef& s) {
                  r.number(range[1], "render.stress.range[1]", v.hi, -kInf, kInf, "")) {
         d.range_auto = false;
         if (!(v.hi > v.lo)) r.error(range[1], "render.stress.range[1]", "the high end must be above the low end");
+        else if (v.hi - v.lo < 1e-9 * std::max(std::abs(v.lo), std::abs(v.hi)))
+          r.error(range[1], "render.stress.range[1]", "the range is too narrow to colour (less than 1e-9 of its values)");
       }
     }
   }
+  const bool stress_quantity =
+      d.stress_view.quantity == render::Quantity::stress_magnitude || d.stress_view.quantity == render::Quantity::stress_x ||
+      d.stress_view.quantity == render::Quantity::stress_y || d.stress_view.quantity == render::Quantity::stress_z ||
+      d.stress_view.quantity == render::Quantity::volumetric_strain;
+  if (d.stress && stress_quantity && s.model != "vdm")
+    r.error(n["views"], "render.views",
+            std::string("the stress view of '") + render::to_string(d.stress_view.quantity) + "' needs organ.model vdm (" +
+                s.model + " computes no VDM stress): colour by displacement or contact_pressure");
   if (d.stress && !s.has(Effect::stress) &&
       (d.stress_view.quantity == render::Quantity::stress_magnitude || d.stress_view.quantity == render::Quantity::stress_x ||
        d.stress_view.quantity == render::Quantity::stress_y || d.stress_view.quantity == render::Quantity::stress_z ||

@@ -1,6 +1,7 @@
 #include "app/scene_run.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <csignal>
 #include <chrono>
 #include <cmath>
@@ -25,7 +26,9 @@ namespace {
 
 // Ctrl-C (SIGINT) and SIGTERM during a run: the loop stops after the current frame, writes
 // everything so far and says "interrupted" in run.json.
-volatile std::sig_atomic_t g_stop_signal = 0;
+// A lock-free atomic: set in the handler on whichever thread gets the signal, read by the loop.
+std::atomic<int> g_stop_signal{0};
+static_assert(std::atomic<int>::is_always_lock_free, "the stop flag must be usable in a signal handler");
 void on_stop_signal(int sig) {
   g_stop_signal = sig;
   std::signal(sig, SIG_DFL);  // a second Ctrl-C stops at once
@@ -43,7 +46,7 @@ class StopSignals {
     std::signal(SIGINT, old_int_);
     std::signal(SIGTERM, old_term_);
   }
-  int received() const { return g_stop_signal; }
+  int received() const { return g_stop_signal.load(); }
 
  private:
   void (*old_int_)(int) = SIG_DFL;
@@ -288,14 +291,21 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
     }
     start = resume_cp.frame + 1;
     if (start >= frames) {
-      err << "vdmsim: note: " << dir.string() << ": the run was already complete (" << frames << " frames)\n";
+      err << "vdmsim: note: " << dir.string() << ": the run was already complete (" << frames
+          << " frames): nothing to do\n";
+      return 0;
     }
+  } else {
+    // A fresh run: outputs of an earlier run in this folder would be stale.
+    std::error_code ec;
+    for (const char* old : {"checkpoint.json", "video.mp4", "stress.mp4", "contact_sheet.png", "ffmpeg.log"})
+      fs::remove(dir / old, ec);
   }
   const StopSignals signals;
   FrameOutput output;
   if (rendering && !output.open(ps, dir, frames, error, start)) {
     err << "vdmsim: error: " << error << "\n";
-    return opt.resume ? 2 : 1;
+    return 1;
   }
   const auto t_run = Clock::now();
   auto progress = [&](const std::string& what, int done, int total, int& last_pct) {
@@ -315,7 +325,9 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
   // The stress view's colour range, when not given: a first pass over the whole sequence
   // (the simulation is deterministic, so the second pass sees the same values).
   double first_pass_ms = 0;
-  if (rendering && s.render.stress && s.render.range_auto) {
+  if (rendering && s.render.stress && s.render.range_auto && opt.resume && resume_cp.range_lo < resume_cp.range_hi) {
+    output.set_stress_range(resume_cp.range_lo, resume_cp.range_hi);  // the interrupted run's range
+  } else if (rendering && s.render.stress && s.render.range_auto) {
     const auto t0 = Clock::now();
     SceneSimulation pass(ps);
     std::vector<float> field;
@@ -365,16 +377,25 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
   std::ofstream metrics(dir / "metrics.csv");
   if (!metrics) {
     err << "vdmsim: error: " << (dir / "metrics.csv").string() << ": cannot open for writing\n";
-    return 2;
+    return 1;
   }
   metrics << "frame,time_s,step_ms,iterations,residual,volume,volume_rel_error,pressure_pa,contact_nodes,"
              "contact_force_n,max_penetration_m,max_displacement_m,max_stress_pa,fallbacks\n";
   for (const std::string& row : kept_rows) metrics << row << '\n';
   metrics << std::setprecision(9);
   metrics.flush();
+  if (!metrics) {
+    err << "vdmsim: error: " << (dir / "metrics.csv").string() << ": write failed (disk full?)\n";
+    return 1;
+  }
   std::uintmax_t metrics_good_size = static_cast<std::uintmax_t>(metrics.tellp());
+  // File size after each row written by this run (frame start + k), to cut metrics.csv back
+  // to the frames whose images are on disk if an image write fails.
+  std::vector<std::uintmax_t> row_end;
+  const std::uintmax_t rows_base = metrics_good_size;
   auto checkpoint = [&](int frame) {
-    Checkpoint cp{this_run, frame, frames, last_hash};
+    Checkpoint cp{this_run, frame, frames, last_hash, output.stress_view().lo, output.stress_view().hi};
+    if (!(rendering && s.render.stress && s.render.range_auto)) cp.range_lo = cp.range_hi = 0;
     return write_checkpoint(checkpoint_path.string(), cp, error);
   };
 
@@ -445,6 +466,7 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
       break;
     }
     metrics_good_size = static_cast<std::uintmax_t>(metrics.tellp());
+    row_end.push_back(metrics_good_size);
     io_ms += ms_since(t_io);
     if (rendering && !output.write(f, frames, sim)) {
       status = "failed";
@@ -475,10 +497,23 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
     status = "failed";
     reason = "writing images failed: " + error;
   }
+  // After an image write failure, only the frames whose images all reached the disk count:
+  // metrics.csv is cut back to them (the writer reports a failure a frame or more late).
+  if (rendering && !output.error().empty()) {
+    const int views = (s.render.shaded ? 1 : 0) + (s.render.stress ? 1 : 0);
+    const int complete = start + static_cast<int>(output.images_written() / std::max(1, views));
+    if (complete < done) {
+      done = complete;
+      if (metrics.is_open()) metrics.close();
+      std::error_code ec;
+      fs::resize_file(dir / "metrics.csv", done > start ? row_end[static_cast<size_t>(done - start - 1)] : rows_base, ec);
+    }
+  }
   // The final checkpoint: the last frame whose row and images are complete.
   if (done > start && (!rendering || output.error().empty())) {
     std::string cp_error;
-    Checkpoint cp{this_run, done - 1, frames, last_hash};
+    Checkpoint cp{this_run, done - 1, frames, last_hash, output.stress_view().lo, output.stress_view().hi};
+    if (!(rendering && s.render.stress && s.render.range_auto)) cp.range_lo = cp.range_hi = 0;
     if (!write_checkpoint(checkpoint_path.string(), cp, cp_error)) err << "vdmsim: warning: " << cp_error << "\n";
   }
   // Video from the PNG sequences.
@@ -493,8 +528,17 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
       ok = render::encode_video((dir / "stress" / "stress_%05d.png").string(), s.render.fps,
                                 (dir / (s.render.shaded ? "stress.mp4" : "video.mp4")).string(),
                                 (dir / "ffmpeg.log").string(), error);
+    if (signals.received()) {  // Ctrl-C reached ffmpeg too: no half video
+      std::error_code ec;
+      fs::remove(dir / "video.mp4", ec);
+      fs::remove(dir / "stress.mp4", ec);
+      ok = false;
+      status = "interrupted";
+      reason = "interrupted while encoding the video; every frame is complete, the video is not written";
+      error = reason;
+    }
     video_status = ok ? "written" : "failed: " + error;
-    if (!ok) {
+    if (!ok && status != "interrupted") {
       err << "vdmsim: error: " << error << "\n";
       if (status == "completed") {
         status = "failed";

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <stdexcept>
 
 namespace vdmsim {
 namespace {
@@ -31,8 +32,14 @@ SceneSimulation::SceneSimulation(const PreparedScene& ps)
   for (const tools::InstrumentDef& in : s.instruments)
     (in.type == tools::InstrumentDef::Type::probe ? probes_ : graspers_).push_back(&in);
   if (s.has(Effect::grasp)) grasps_.resize(graspers_.size());
+  // A reference model keeps its own state: every simulation (a colour-range pass, the run, a
+  // benchmark repeat) builds its own, so that none starts where another ended.
+  if (ps.organ) {
+    std::string error;
+    if (!make_organ_solver(s, ps.model, organ_, error)) throw std::runtime_error("organ.model: " + error);
+  }
   if (s.has(Effect::contact) && !probes_.empty()) contact_ = std::make_unique<vdm::ContactSolver>(ps.model);
-  if (contact_) contact_->set_solver(ps.organ.get());  // organ.model fem or mass_spring
+  if (contact_) contact_->set_solver(organ_.get());  // organ.model fem or mass_spring
   capsules_.resize(probes_.size());
 }
 
@@ -103,7 +110,7 @@ void SceneSimulation::advance(int f) {
       if (state_.failed) break;  // the caller stops the run
     }
   } else {
-    if (ps_.organ) ps_.organ->step(input_, state_);  // organ.model fem or mass_spring
+    if (organ_) organ_->step(input_, state_);  // organ.model fem or mass_spring
     else vdm::step(m, input_, state_);
     frame_step_ms_ = state_.stats.step_ms;
     frame_iterations_ = state_.stats.iterations;

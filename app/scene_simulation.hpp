@@ -7,6 +7,7 @@
 
 #include "app/scene_run.hpp"
 #include "engine/contact.hpp"
+#include "engine/organ_solver.hpp"
 #include "engine/sim_state.hpp"
 #include "tools_scripted/grasp.hpp"
 
@@ -39,6 +40,7 @@ class SceneSimulation {
   const PreparedScene& ps_;
   std::vector<const tools::InstrumentDef*> probes_, graspers_;
   std::vector<tools::Grasp> grasps_;
+  std::unique_ptr<vdm::OrganSolver> organ_;  // organ.model fem or mass_spring: this run's own
   std::unique_ptr<vdm::ContactSolver> contact_;
   std::vector<vdm::Capsule> capsules_;
   vdm::ContactReport report_;

@@ -11,7 +11,8 @@ namespace render {
 std::vector<int> contact_sheet_frames(int frames, int count) {
   std::vector<int> out;
   if (frames <= 0 || count <= 0) return out;
-  if (frames <= count) {
+  if (frames <= count || count == 1) {
+    if (count == 1) return {0};
     for (int f = 0; f < frames; ++f) out.push_back(f);
     return out;
   }

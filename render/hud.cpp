@@ -21,7 +21,13 @@ std::vector<double> nice_ticks(double lo, double hi, int target) {
       break;
     }
   const double first = std::ceil(lo / step - 1e-9) * step;
-  for (double v = first; v <= hi + step * 1e-9; v += step) out.push_back(std::abs(v) < step * 1e-9 ? 0.0 : v);
+  // A range too narrow for the doubles around it (first + step == first) gives no ticks.
+  if (!(first + step > first)) return out;
+  for (int k = 0; k < 1000; ++k) {
+    const double v = first + k * step;
+    if (v > hi + step * 1e-9) break;
+    out.push_back(std::abs(v) < step * 1e-9 ? 0.0 : v);
+  }
   return out;
 }
 

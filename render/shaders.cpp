@@ -30,7 +30,7 @@ float capsule_light(vec3 p) {
     float d1 = dot(u_key_dir, u_key_dir), d2 = dot(ab, ab), d3 = dot(u_key_dir, ab);
     float e1 = dot(u_key_dir, ap), e2 = dot(ab, ap);
     float den = d1 * d2 - d3 * d3;
-    float s = den > 1e-12 ? clamp((d1 * e2 - d3 * e1) / den, 0.0, 1.0) : 0.0;
+    float s = den > 1e-12 ? clamp((d3 * e1 - d1 * e2) / den, 0.0, 1.0) : 0.0;
     float t = max((dot(u_key_dir, a + s * ab - p)) / d1, 0.0);
     s = clamp(dot(p + t * u_key_dir - a, ab) / max(d2, 1e-12), 0.0, 1.0);
     float dist = length(p + t * u_key_dir - (a + s * ab));

@@ -66,10 +66,11 @@ int run_in_process(const std::string& scene, const fs::path& out, bool resume) {
 }  // namespace
 
 TEST(Resume, AnInterruptedRunResumedEqualsAnUninterruptedOne) {
-  fs::remove_all(kOut);
-  fs::create_directories(kOut);
+  const fs::path dir = kOut / "interrupted";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
   // A probe pressing into the liver (contact, stress view with an automatic colour range).
-  const std::string scene = (kOut / "press.yaml").string();
+  const std::string scene = (dir / "press.yaml").string();
   std::ofstream(scene) << "name: press\norgan:\n  mesh: " << VDMSIM_SOURCE_DIR
                        << "/assets/meshes/liver_L4.obj\n"
                           "  fixed: [{box: {min: [-0.3, -0.2, -0.2], max: [0.3, 0.2, -0.03]}}]\n"
@@ -77,7 +78,7 @@ TEST(Resume, AnInterruptedRunResumedEqualsAnUninterruptedOne) {
                           "instruments:\n  - {type: probe, radius: 0.008, script: [{t: 0, tip: [0.035, 0, 0.07], "
                           "axis: [0, 0, -1]}, {t: 3, tip: [0.035, 0, 0.045]}]}\n"
                           "render: {width: 160, height: 120, views: [shaded, stress], hud_step_time: false}\n";
-  const fs::path whole = kOut / "whole", resumed = kOut / "resumed";
+  const fs::path whole = dir / "whole", resumed = dir / "resumed";
   ASSERT_EQ(run_in_process(scene, whole, false), 0);
 
   // The same run through the binary, interrupted once a few frames exist.
@@ -118,7 +119,7 @@ TEST(Resume, AnInterruptedRunResumedEqualsAnUninterruptedOne) {
 
 TEST(Resume, RefusesACheckpointOfAnotherScene) {
   fs::create_directories(kOut / "other");
-  const std::string a = (kOut / "a.yaml").string(), b = (kOut / "b.yaml").string();
+  const std::string a = (kOut / "other" / "a.yaml").string(), b = (kOut / "other" / "b.yaml").string();
   const std::string body = std::string("organ: {mesh: ") + VDMSIM_SOURCE_DIR +
                            "/assets/meshes/liver_L4.obj}\nsimulation: {frames: 3, effects: []}\n";
   std::ofstream(a) << "name: a\n" << body;
@@ -138,8 +139,8 @@ TEST(Resume, RefusesACheckpointOfAnotherScene) {
 // Determinism: the same scene twice gives the same metrics.csv (every column but the
 // wall-clock step_ms, bit for bit as text) and byte-identical images.
 TEST(Determinism, TheSameSceneTwiceGivesIdenticalMetricsAndFrames) {
-  fs::create_directories(kOut);
-  const std::string scene = (kOut / "twice.yaml").string();
+  fs::create_directories(kOut / "twice");
+  const std::string scene = (kOut / "twice" / "twice.yaml").string();
   std::ofstream(scene) << "name: twice\norgan:\n  mesh: " << VDMSIM_SOURCE_DIR
                        << "/assets/meshes/liver_L4.obj\n"
                           "  fixed: [{box: {min: [-0.3, -0.2, -0.2], max: [0.3, 0.2, -0.03]}}]\n"
@@ -149,12 +150,40 @@ TEST(Determinism, TheSameSceneTwiceGivesIdenticalMetricsAndFrames) {
                           "  - {type: grasper, script: [{t: 0, tip: [-0.08, 0, 0.03], axis: [0, 0, -1], jaw: open},"
                           " {t: 0.1, jaw: closed}, {t: 0.6, tip: [-0.08, 0, 0.045]}]}\n"
                           "render: {width: 160, height: 120, views: [shaded, stress], hud_step_time: false}\n";
-  ASSERT_EQ(run_in_process(scene, kOut / "twice1", false), 0);
-  ASSERT_EQ(run_in_process(scene, kOut / "twice2", false), 0);
-  EXPECT_EQ(metrics_without_timing(kOut / "twice1" / "metrics.csv"), metrics_without_timing(kOut / "twice2" / "metrics.csv"));
+  ASSERT_EQ(run_in_process(scene, kOut / "twice" / "1", false), 0);
+  ASSERT_EQ(run_in_process(scene, kOut / "twice" / "2", false), 0);
+  EXPECT_EQ(metrics_without_timing(kOut / "twice" / "1" / "metrics.csv"),
+            metrics_without_timing(kOut / "twice" / "2" / "metrics.csv"));
   for (int f = 0; f < 12; ++f) {
     char name[64];
     std::snprintf(name, sizeof name, "frames/frame_%05d.png", f);
-    EXPECT_EQ(read_file(kOut / "twice1" / name), read_file(kOut / "twice2" / name)) << name;
+    EXPECT_EQ(read_file(kOut / "twice" / "1" / name), read_file(kOut / "twice" / "2" / name)) << name;
   }
+}
+
+// A reference model (here mass_spring) keeps its own state: the colour-range first pass of a
+// rendered run must not leave the main run starting where it ended.
+TEST(Determinism, ARenderedRunAndAnUnrenderedRunOfAMassSpringOrganAgree) {
+  const fs::path dir = kOut / "mass_spring";
+  fs::create_directories(dir);
+  const std::string scene = (dir / "ms.yaml").string();
+  std::ofstream(scene) << "name: ms\norgan:\n  mesh: " << VDMSIM_SOURCE_DIR
+                       << "/assets/meshes/liver_L4.obj\n  model: mass_spring\n"
+                          "  material: {young_modulus: 3000, poisson_ratio: 0.45}\n"
+                          "  fixed: [{box: {min: [-0.3, -0.2, -0.2], max: [0.3, 0.2, -0.03]}}]\n"
+                          "  prescribed: [{sphere: {center: [0.035, 0, 0.06], radius: 0.015}, translate: [0, 0, -0.01], "
+                          "t: [0, 0.5]}]\n"
+                          "simulation: {frames: 5, dt: 0.1, effects: []}\n"
+                          "render: {width: 96, height: 64, views: [stress], stress: {quantity: displacement}}\n";
+  vdmsim::PreparedScene ps;
+  std::vector<vdmsim::SceneProblem> problems;
+  ASSERT_TRUE(vdmsim::prepare_scene(scene, ps, problems)) << (problems.empty() ? "" : problems[0].text());
+  for (bool render : {true, false}) {
+    vdmsim::RunOptions opt;
+    opt.out_dir = (dir / (render ? "rendered" : "plain")).string();
+    opt.render = render;
+    std::ostringstream o, e;
+    ASSERT_EQ(vdmsim::run_scene(ps, opt, o, e, false), 0) << e.str();
+  }
+  EXPECT_EQ(metrics_without_timing(dir / "rendered" / "metrics.csv"), metrics_without_timing(dir / "plain" / "metrics.csv"));
 }

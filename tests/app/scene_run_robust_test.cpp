@@ -16,8 +16,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
+// One folder per test (tests run in parallel), under the build tree.
 fs::path dir() {
-  const fs::path d = fs::temp_directory_path() / "vdmsim_run_robust_test";
+  const fs::path d = fs::path(VDMSIM_BUILD_DIR) / "test-output" / "run_robust" /
+                     ::testing::UnitTest::GetInstance()->current_test_info()->name();
   fs::create_directories(d);
   return d;
 }

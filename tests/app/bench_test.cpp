@@ -1,0 +1,48 @@
+// `vdmsim bench --quick` runs in CI so that it never rots. Its figures are printed, not
+// asserted (speed is measured by benchmarks, not by tests); what is checked is the contract:
+// bench.csv's columns and cases, plausible values, and scaling.png.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "render/png_io.hpp"
+
+namespace fs = std::filesystem;
+
+TEST(Bench, QuickRunWritesTheContractCsvAndThePlot) {
+  const fs::path out = fs::path(VDMSIM_BUILD_DIR) / "test-output" / "bench";
+  fs::remove_all(out);
+  const std::string cmd = std::string(VDMSIM_BINARY) + " bench --quick --out " + out.string();
+  ASSERT_EQ(std::system(cmd.c_str()), 0);
+  std::ifstream csv(out / "bench.csv");
+  std::string line;
+  ASSERT_TRUE(std::getline(csv, line));
+  EXPECT_EQ(line, "case,model,nodes,median_ms,p95_ms,iterations,volume_rel_error,peak_mb");
+  std::set<std::string> cases;
+  while (std::getline(csv, line)) {
+    std::stringstream s(line);
+    std::string name, model, nodes, median, p95, iterations, volume, peak;
+    std::getline(s, name, ',');
+    std::getline(s, model, ',');
+    std::getline(s, nodes, ',');
+    std::getline(s, median, ',');
+    std::getline(s, p95, ',');
+    std::getline(s, iterations, ',');
+    std::getline(s, volume, ',');
+    std::getline(s, peak, ',');
+    cases.insert(name);
+    EXPECT_GT(std::stol(nodes), 0) << line;
+    EXPECT_GT(std::stod(median), 0) << line;
+    EXPECT_GE(std::stod(p95), std::stod(median) * 0.999) << line;
+    EXPECT_LT(std::abs(std::stod(volume)), 1e-4) << line;
+    EXPECT_GT(std::stod(peak), 1) << line;
+  }
+  for (const char* c : {"liver_probe", "grasp_lift", "render_720p", "pipeline_720p"}) EXPECT_TRUE(cases.count(c)) << c;
+  render::Image plot;
+  std::string error;
+  EXPECT_TRUE(render::read_png((out / "scaling.png").string(), plot, error)) << error;
+}
