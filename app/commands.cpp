@@ -101,7 +101,7 @@ int cmd_check(const std::string& scene_path, std::ostream& out, std::ostream& er
   return 0;
 }
 
-int cmd_run(const std::string& scene_path, const std::string& out_dir, int frames, bool render, bool video, bool resume, std::ostream& out,
+int cmd_run(const std::string& scene_path, const std::string& out_dir, int frames, bool render, bool video, bool resume, int checkpoint_every, std::ostream& out,
             std::ostream& err, bool terminal) {
   PreparedScene ps;
   std::vector<SceneProblem> problems;
@@ -113,6 +113,7 @@ int cmd_run(const std::string& scene_path, const std::string& out_dir, int frame
   opt.render = render;
   opt.video = video;
   opt.resume = resume;
+  opt.checkpoint_every = checkpoint_every;
   return run_scene(ps, opt, out, err, terminal);
 }
 

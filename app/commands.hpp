@@ -29,7 +29,7 @@ int cmd_make_organ(const std::string& organ, int level, const std::string& out_p
 // vdmsim check SCENE: validates the scene and its mesh without simulating.
 int cmd_check(const std::string& scene_path, std::ostream& out, std::ostream& err);
 // vdmsim run SCENE: validates, then simulates every frame.
-int cmd_run(const std::string& scene_path, const std::string& out_dir, int frames, bool render, bool video, bool resume, std::ostream& out,
+int cmd_run(const std::string& scene_path, const std::string& out_dir, int frames, bool render, bool video, bool resume, int checkpoint_every, std::ostream& out,
             std::ostream& err, bool terminal);
 
 // Creates `dir` (and parents) and checks it can be written; false with a message otherwise.

@@ -56,6 +56,9 @@ int main(int argc, char** argv) {
   run->add_flag("--no-render", no_render, "Do not render images (metrics.csv and run.json only)");
   run->add_flag("--video", video, "Also write video.mp4 (H.264, needs the ffmpeg program)");
   run->add_flag("--resume", resume, "Continue an interrupted run in --out DIR from its last checkpoint");
+  int checkpoint_every = 30;
+  run->add_option("--checkpoint-every", checkpoint_every, "Frames between checkpoints (default 30)")
+      ->check(CLI::PositiveNumber);
   std::string bench_out = "out/bench";
   bool bench_quick = false;
   auto* bench = app.add_subcommand("bench", "Performance cases: writes bench.csv and scaling.png");
@@ -77,7 +80,7 @@ int main(int argc, char** argv) {
   try {
     if (mesh_info->parsed()) return vdmsim::cmd_mesh_info(mesh_path, mesh_scale, std::cout, std::cerr);
     if (run->parsed())
-      return vdmsim::cmd_run(scene_path, run_out, run_frames, !no_render, video, resume, std::cout, std::cerr, isatty(2) != 0);
+      return vdmsim::cmd_run(scene_path, run_out, run_frames, !no_render, video, resume, checkpoint_every, std::cout, std::cerr, isatty(2) != 0);
     if (bench->parsed()) return vdmsim::cmd_bench(bench_out, bench_quick, std::cout, std::cerr);
     if (check->parsed()) return vdmsim::cmd_check(scene_path, std::cout, std::cerr);
     if (make_organ->parsed()) return vdmsim::cmd_make_organ(organ, organ_level, organ_out, std::cout, std::cerr);

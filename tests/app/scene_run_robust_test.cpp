@@ -49,7 +49,7 @@ TEST(RunRobust, FallbacksAreCountedInTheLastMetricsColumn) {
   const fs::path out = dir() / "fallback_out";
   fs::remove_all(out);
   std::ostringstream o, e;
-  ASSERT_EQ(cmd_run(scene("{method: structured, max_iterations: 1}"), out.string(), -1, false, false, false, o, e, false), 0)
+  ASSERT_EQ(cmd_run(scene("{method: structured, max_iterations: 1}"), out.string(), -1, false, false, false, 30, o, e, false), 0)
       << e.str();
   std::istringstream csv(read(out / "metrics.csv"));
   std::string header, row;

@@ -165,7 +165,7 @@ TEST(SceneCommands, CheckAndRunExitWith2OnABadScene) {
   EXPECT_EQ(cmd_check(path, out, err), 2);
   EXPECT_NE(err.str().find("unknown effect 'gravty'"), std::string::npos) << err.str();
   std::ostringstream out2, err2;
-  EXPECT_EQ(cmd_run(path, (scene_dir() / "bad_out").string(), -1, false, false, false, out2, err2, false), 2);
+  EXPECT_EQ(cmd_run(path, (scene_dir() / "bad_out").string(), -1, false, false, false, 30, out2, err2, false), 2);
   EXPECT_FALSE(fs::exists(scene_dir() / "bad_out" / "metrics.csv"));
 }
 
@@ -183,7 +183,7 @@ TEST(SceneRun, WritesMetricsAndRunJson) {
   const fs::path out_dir = scene_dir() / "run_out";
   fs::remove_all(out_dir);
   std::ostringstream out, err;
-  ASSERT_EQ(cmd_run(path, out_dir.string(), -1, false, false, false, out, err, false), 0) << err.str();
+  ASSERT_EQ(cmd_run(path, out_dir.string(), -1, false, false, false, 30, out, err, false), 0) << err.str();
   const auto lines = read_lines(out_dir / "metrics.csv");
   ASSERT_EQ(lines.size(), 4u);
   EXPECT_EQ(lines[0],
@@ -270,7 +270,7 @@ TEST(Effects, UnlistedContactLeavesTheOrganUntouchedAndRunsNoQuery) {
                                                 "      - {t: 0.12, tip: [0.035, 0.0, 0.03]}\n"));
   const fs::path out = scene_dir() / "nocontact_out";
   std::ostringstream o, e;
-  ASSERT_EQ(cmd_run(path, out.string(), -1, false, false, false, o, e, false), 0) << e.str();
+  ASSERT_EQ(cmd_run(path, out.string(), -1, false, false, false, 30, o, e, false), 0) << e.str();
   EXPECT_NE(json_of(out).find("\"collision_queries\": 0"), std::string::npos) << json_of(out);
   EXPECT_NE(json_of(out).find("\"collision\": 0,"), std::string::npos) << json_of(out);
   const auto cells = last_row(out);
@@ -289,7 +289,7 @@ TEST(Contact, FastProbeDoesNotPassThrough) {
                                0.008));
   const fs::path out = scene_dir() / "fast_out";
   std::ostringstream o, e;
-  ASSERT_EQ(cmd_run(path, out.string(), -1, false, false, false, o, e, false), 0) << e.str();
+  ASSERT_EQ(cmd_run(path, out.string(), -1, false, false, false, 30, o, e, false), 0) << e.str();
   const auto cells = last_row(out);
   EXPECT_GT(std::stoi(cells[8]), 0) << "contact_nodes";
   EXPECT_GT(std::stod(cells[9]), 0.0) << "contact_force_n";
@@ -345,7 +345,7 @@ TEST(Effects, UnlistedGraspHoldsNothing) {
   const std::string path = write_scene("nograsp.yaml", text);
   const fs::path out = scene_dir() / "nograsp_out";
   std::ostringstream o, e;
-  ASSERT_EQ(cmd_run(path, out.string(), -1, false, false, false, o, e, false), 0) << e.str();
+  ASSERT_EQ(cmd_run(path, out.string(), -1, false, false, false, 30, o, e, false), 0) << e.str();
   EXPECT_NE(json_of(out).find("\"grasp\": 0,"), std::string::npos) << json_of(out);
   const auto lines = read_lines(out / "metrics.csv");
   for (size_t k = 1; k < lines.size(); ++k) {
