@@ -46,11 +46,6 @@ bool FrameOutput::open(const PreparedScene& ps, const std::filesystem::path& dir
     }
     if (resume_from == 0) remove_old_frames(dir / sub, std::string(sub) == "frames" ? "frame" : "stress");
   }
-  renderer_ = render::Renderer::create(rd.settings, ps.model.rest, error);
-  if (!renderer_) {
-    error = "the renderer could not start: " + error;
-    return false;
-  }
   queue_ = std::make_unique<render::PngQueue>(rd.png_compression);
   sheet_frames_ = render::contact_sheet_frames(frames, 12);
   // Thumbnails of the frames an interrupted run already wrote.
@@ -61,9 +56,88 @@ bool FrameOutput::open(const PreparedScene& ps, const std::filesystem::path& dir
     if (!render::read_png((dir / sub / frame_file_name(prefix, f)).string(), im, error)) return false;
     thumbnails_.push_back({f, render::downscale(im, std::max(1, im.width / 320))});
   }
-  scene_.hud.scene_name = ps.scene.name;
-  scene_.hud.show_step_time = rd.hud_step_time;
+  // The render thread owns the GL context: it creates the renderer and says whether it could.
+  bool started = false;
+  {
+    std::unique_lock<std::mutex> lock(mutex_);
+    starting_ = true;
+    thread_ = std::thread([this, &error, &started] { render_loop(&error, &started); });
+    changed_.wait(lock, [&] { return !starting_; });
+  }
+  if (!started) {
+    thread_.join();
+    error = "the renderer could not start: " + error;
+    return false;
+  }
   return true;
+}
+
+FrameOutput::~FrameOutput() { stop(); }
+
+void FrameOutput::stop() {
+  if (!thread_.joinable()) return;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    stopping_ = true;
+  }
+  changed_.notify_all();
+  thread_.join();
+}
+
+void FrameOutput::render_loop(std::string* start_error, bool* started) {
+  {
+    std::string error;
+    auto renderer = render::Renderer::create(ps_->scene.render.settings, ps_->model.rest, error);
+    std::lock_guard<std::mutex> lock(mutex_);
+    renderer_ = std::move(renderer);
+    *started = renderer_ != nullptr;
+    if (!renderer_) *start_error = error;
+    starting_ = false;
+  }
+  changed_.notify_all();
+  if (!renderer_) return;
+  std::unique_lock<std::mutex> lock(mutex_);
+  for (;;) {
+    changed_.wait(lock, [&] { return !jobs_.empty() || stopping_; });
+    if (jobs_.empty()) break;  // stopping, nothing left
+    Job job = std::move(jobs_.front());
+    jobs_.pop_front();
+    busy_ = true;
+    lock.unlock();
+    changed_.notify_all();
+    const auto t0 = Clock::now();
+    draw(job);
+    const double ms = ms_since(t0);
+    lock.lock();
+    render_ms_ += ms;
+    busy_ = false;
+    changed_.notify_all();
+  }
+  lock.unlock();
+  renderer_.reset();  // GL objects go with the context, on this thread
+}
+
+void FrameOutput::draw(Job& job) {
+  const RenderDef& rd = ps_->scene.render;
+  job.scene.positions = &job.x;
+  bool thumb_taken = false;
+  auto queue = [&](const std::string& sub, const std::string& prefix) {
+    if (job.keep_thumbnail && !thumb_taken) {
+      render::Thumbnail t{job.frame, render::downscale(image_, std::max(1, image_.width / 320))};
+      std::lock_guard<std::mutex> lock(mutex_);
+      thumbnails_.push_back(std::move(t));
+      thumb_taken = true;
+    }
+    return queue_->push(image_, (dir_ / sub / frame_file_name(prefix, job.frame)).string());
+  };
+  if (rd.shaded) {
+    renderer_->draw_shaded(job.scene, rd.hud, image_);
+    if (!queue("frames", "frame")) return;
+  }
+  if (rd.stress) {
+    renderer_->draw_stress(job.scene, view_, rd.hud, image_);
+    queue("stress", "stress");
+  }
 }
 
 void FrameOutput::set_stress_range(double lo, double hi) {
@@ -72,11 +146,12 @@ void FrameOutput::set_stress_range(double lo, double hi) {
 }
 
 bool FrameOutput::write(int f, int frames, const SceneSimulation& sim) {
-  const auto t0 = Clock::now();
   const RenderDef& rd = ps_->scene.render;
   const vdm::SimState& st = sim.state();
-  scene_.positions = &st.x;
-  scene_.instruments.clear();
+  Job job;
+  job.frame = f;
+  job.x = st.x;
+  render::RenderScene& scene = job.scene;
   const std::vector<tools::InstrumentPose> poses = sim.poses(sim.time());
   for (size_t k = 0; k < poses.size(); ++k) {
     render::InstrumentView v = render::instrument_view(ps_->scene.instruments[k], poses[k]);
@@ -85,9 +160,11 @@ bool FrameOutput::write(int f, int frames, const SceneSimulation& sim) {
       v.jaw_skins[0] = ps_->skins[k].jaws[0].get();
       v.jaw_skins[1] = ps_->skins[k].jaws[1].get();
     }
-    scene_.instruments.push_back(v);
+    scene.instruments.push_back(v);
   }
-  render::HudInfo& hud = scene_.hud;
+  render::HudInfo& hud = scene.hud;
+  hud.scene_name = ps_->scene.name;
+  hud.show_step_time = rd.hud_step_time;
   hud.frame = f;          // the file's number, as in metrics.csv
   hud.frames = frames;
   hud.time_s = sim.time();
@@ -96,34 +173,30 @@ bool FrameOutput::write(int f, int frames, const SceneSimulation& sim) {
   hud.pressure_pa = st.pressure;
   hud.volume_rel_error = st.volume_rel_error;
   hud.step_ms = sim.frame_step_ms();
-  const bool keep_thumbnail = std::find(sheet_frames_.begin(), sheet_frames_.end(), f) != sheet_frames_.end();
-  bool thumb_taken = false;
-  auto queue = [&](const std::string& sub, const std::string& prefix) {
-    if (keep_thumbnail && !thumb_taken) {
-      const int factor = std::max(1, image_.width / 320);
-      thumbnails_.push_back({f, render::downscale(image_, factor)});
-      thumb_taken = true;
-    }
-    return queue_->push(image_, (dir_ / sub / frame_file_name(prefix, f)).string());
-  };
-  bool ok = true;
-  if (rd.shaded) {
-    renderer_->draw_shaded(scene_, rd.hud, image_);
-    ok = queue("frames", "frame") && ok;
+  if (rd.stress) render::scalar_field(view_.quantity, st, scene.scalar);
+  job.keep_thumbnail = std::find(sheet_frames_.begin(), sheet_frames_.end(), f) != sheet_frames_.end();
+  {
+    std::unique_lock<std::mutex> lock(mutex_);
+    changed_.wait(lock, [&] { return jobs_.size() < 2 || !render_error_.empty(); });
+    if (!render_error_.empty()) return false;
+    jobs_.push_back(std::move(job));
   }
-  if (rd.stress && ok) {
-    render::scalar_field(view_.quantity, st, scene_.scalar);
-    renderer_->draw_stress(scene_, view_, rd.hud, image_);
-    ok = queue("stress", "stress") && ok;
-  }
-  render_ms_ += ms_since(t0);
-  return ok;
+  changed_.notify_all();
+  return queue_->error().empty();
 }
 
-bool FrameOutput::flush() { return !queue_ || queue_->finish(); }
+bool FrameOutput::flush() {
+  if (!queue_) return true;
+  {
+    std::unique_lock<std::mutex> lock(mutex_);
+    changed_.wait(lock, [&] { return (jobs_.empty() && !busy_) || !thread_.joinable(); });
+  }
+  return queue_->finish();
+}
 
 bool FrameOutput::finish(std::string& error) {
   if (!queue_) return true;
+  stop();  // draws what is pending, then ends the render thread
   if (!queue_->finish()) {
     error = queue_->error();
     return false;
@@ -138,6 +211,10 @@ bool FrameOutput::finish(std::string& error) {
 }
 
 std::string FrameOutput::error() const { return queue_ ? queue_->error() : std::string(); }
+double FrameOutput::render_ms() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return render_ms_;
+}
 double FrameOutput::encode_ms() const { return queue_ ? queue_->encode_ms() : 0.0; }
 long FrameOutput::images_written() const { return queue_ ? queue_->written() : 0; }
 

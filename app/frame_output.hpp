@@ -1,8 +1,14 @@
 #pragma once
-// The picture side of a scene run: renders each frame's views (shaded, stress) with the HUD,
-// queues the PNGs to the writer thread, keeps thumbnails for the contact sheet.
+// The picture side of a scene run: renders each frame's views (shaded, stress) with the HUD
+// on a render thread of its own (so that the next frame is simulated meanwhile), queues the
+// PNGs to the writer thread, keeps thumbnails for the contact sheet. write() hands over a
+// copy of what the frame shows; the pictures depend on nothing else.
+#include <condition_variable>
+#include <deque>
 #include <filesystem>
 #include <memory>
+#include <mutex>
+#include <thread>
 #include <string>
 #include <vector>
 
@@ -16,6 +22,10 @@ namespace vdmsim {
 
 class FrameOutput {
  public:
+  FrameOutput() = default;
+  ~FrameOutput();  // stops the render thread (pending frames are drawn and queued first)
+  FrameOutput(const FrameOutput&) = delete;
+  FrameOutput& operator=(const FrameOutput&) = delete;
   // Creates the renderer and the frames/ and stress/ folders (removing frames of an earlier
   // run there). False with `error` when rendering cannot start.
   // With `resume_from` > 0 the frames before it are kept, and their contact-sheet thumbnails
@@ -24,28 +34,47 @@ class FrameOutput {
             int resume_from = 0);
   void set_stress_range(double lo, double hi);
   const render::StressView& stress_view() const { return view_; }
-  // Renders frame f of `sim` and queues its images. False once a write has failed (error()).
+  // Hands frame f of `sim` to the render thread (waits while two frames are pending). False
+  // once drawing or a write has failed (error()).
   bool write(int f, int frames, const SceneSimulation& sim);
-  // Waits until every queued PNG is on disk. False once a write has failed.
+  // Waits until every frame handed over is drawn and its PNGs are on disk. False once a
+  // write has failed.
   bool flush();
   // Waits for every PNG, then writes the contact sheet. False + error on a write failure.
   bool finish(std::string& error);
   std::string error() const;
-  double render_ms() const { return render_ms_; }   // drawing and reading back, on this thread
+  double render_ms() const;                         // drawing and reading back, on the render thread
   double encode_ms() const;                        // PNG encoding and writing, on the writer thread
   long images_written() const;
 
  private:
+  struct Job {
+    int frame = 0;
+    vdm::NodeMat x;  // a copy of the positions
+    render::RenderScene scene;
+    bool keep_thumbnail = false;
+  };
+  void render_loop(std::string* start_error, bool* started);
+  void draw(Job& job);
+  void stop();
+
   const PreparedScene* ps_ = nullptr;
   std::filesystem::path dir_;
-  std::unique_ptr<render::Renderer> renderer_;
   std::unique_ptr<render::PngQueue> queue_;
-  render::RenderScene scene_;
   render::StressView view_;
-  render::Image image_;
   std::vector<int> sheet_frames_;
+  // Shared with the render thread, under mutex_.
+  mutable std::mutex mutex_;
+  std::condition_variable changed_;
+  std::deque<Job> jobs_;
+  bool busy_ = false, stopping_ = false, starting_ = false;
+  std::string render_error_;
   std::vector<render::Thumbnail> thumbnails_;
   double render_ms_ = 0;
+  std::thread thread_;
+  // Owned by the render thread.
+  std::unique_ptr<render::Renderer> renderer_;
+  render::Image image_;
 };
 
 // Name of frame f's image in a sequence: frame_00012.png, stress_00012.png.
