@@ -1,0 +1,165 @@
+// Google Benchmark micro-benchmarks of the hot kernels (issue 6), off by default:
+//   cmake -S . -B build-bench -G Ninja -DCMAKE_BUILD_TYPE=Release -DVDMSIM_BENCHMARKS=ON
+//   cmake --build build-bench --target vdmsim_micro_benchmarks && build-bench/benchmarks/vdmsim_micro_benchmarks
+// Kernels on the project's 10k-node liver (assets/meshes/liver_L5.obj): geometry refresh,
+// assembly, a pressed step with each solver, BVH refit and query (inside a contact step and
+// alone), the stress view's scalar field and colour lookup, PNG encoding of a 720p frame.
+#include <benchmark/benchmark.h>
+
+#include <array>
+#include <cstdio>
+#include <string>
+
+#include "app/mesh_io.hpp"
+#include "engine/contact.hpp"
+#include "engine/geometry.hpp"
+#include "engine/sim_state.hpp"
+#include "engine/stiffness.hpp"
+#include "engine/tissue_model.hpp"
+#include "render/colormap.hpp"
+#include "render/png_io.hpp"
+#include "render/render_scene.hpp"
+
+namespace {
+
+const vdm::SurfaceMesh& liver() {
+  static const vdm::SurfaceMesh mesh = [] {
+    vdmsim::MeshLoadOptions opt;
+    const auto r = vdmsim::load_surface_mesh(std::string(VDMSIM_SOURCE_DIR) + "/assets/meshes/liver_L5.obj", opt);
+    if (!r.ok) std::fprintf(stderr, "%s\n", r.error.c_str());
+    return r.mesh;
+  }();
+  return mesh;
+}
+
+vdm::TissueModel model(vdm::SolverMethod method) {
+  vdm::TissueDef def = vdm::default_tissue(liver());
+  def.solver.method = method;
+  def.solver.tolerance = 1e-8;
+  const int n = def.mesh.node_count();
+  def.fixed = vdm::FlagMat::Zero(n, 3);
+  for (int i = 0; i < n; ++i)
+    if (def.mesh.positions(i, 2) < -0.03) def.fixed.row(i).setOnes();
+  vdm::TissueModel m;
+  std::string error;
+  vdm::build_tissue_model(def, m, error);
+  return m;
+}
+
+// A patch on the right lobe pushed down by `depth` (m).
+void press(const vdm::TissueModel& m, double depth, vdm::StepInput& in) {
+  for (int i = 0; i < m.n; ++i)
+    if ((m.rest.positions.row(i) - Eigen::RowVector3d(0.035, 0, 0.06)).norm() < 0.012) {
+      in.prescribed(i, 2) = 1;
+      in.prescribed_u(i, 2) = -depth;
+    }
+}
+
+void BM_GeometryRefresh(benchmark::State& st) {
+  const vdm::SurfaceMesh& mesh = liver();
+  vdm::NodeMat a(mesh.node_count(), 3);
+  vdm::Vec v(mesh.node_count());
+  for (auto _ : st) {
+    vdm::distributed_area_vectors(mesh.positions, mesh.triangles, a);
+    const double volume = vdm::enclosed_volume(mesh.positions, mesh.triangles, vdm::Vec3::Zero());
+    vdm::distributed_volumes(a, volume, v);
+    benchmark::DoNotOptimize(v.data());
+  }
+}
+BENCHMARK(BM_GeometryRefresh)->Unit(benchmark::kMicrosecond);
+
+void BM_Assembly(benchmark::State& st) {
+  const vdm::TissueModel m = model(vdm::SolverMethod::structured);
+  vdm::NodeMat a(m.n, 3);
+  vdm::Vec v(m.n);
+  vdm::distributed_area_vectors(m.rest.positions, m.rest.triangles, a);
+  vdm::distributed_volumes(a, vdm::enclosed_volume(m.rest.positions, m.rest.triangles, vdm::Vec3::Zero()), v);
+  std::array<vdm::SpMat, 3> K = {m.pattern.matrix, m.pattern.matrix, m.pattern.matrix};
+  const vdm::Vec none;
+  for (auto _ : st) {
+    vdm::assemble_stiffness(m, a, v, none, K);
+    benchmark::DoNotOptimize(K[0].valuePtr());
+  }
+}
+BENCHMARK(BM_Assembly)->Unit(benchmark::kMicrosecond);
+
+// One step pressing 1 mm further each time (refresh every step), per solver.
+void BM_PressedStep(benchmark::State& st) {
+  const auto method = static_cast<vdm::SolverMethod>(st.range(0));
+  const vdm::TissueModel m = model(method);
+  vdm::SimState s = vdm::make_sim_state(m);
+  vdm::StepInput in = vdm::make_step_input(m);
+  double depth = 0;
+  for (auto _ : st) {
+    depth = depth >= 0.015 ? 0.001 : depth + 0.001;
+    in.prescribed.setZero();
+    press(m, depth, in);
+    vdm::step(m, in, s);
+    benchmark::DoNotOptimize(s.u.data());
+  }
+  st.SetLabel(vdm::to_string(method));
+}
+BENCHMARK(BM_PressedStep)
+    ->Arg(static_cast<int>(vdm::SolverMethod::structured))
+    ->Arg(static_cast<int>(vdm::SolverMethod::direct))
+    ->Arg(static_cast<int>(vdm::SolverMethod::reference))
+    ->Unit(benchmark::kMillisecond);
+
+// A contact step (BVH refit, query, active set, solves) with a 4 mm probe 5 mm deep.
+void BM_ContactStep(benchmark::State& st) {
+  const vdm::TissueModel m = model(vdm::SolverMethod::structured);
+  vdm::SimState s = vdm::make_sim_state(m);
+  vdm::StepInput base = vdm::make_step_input(m);
+  vdm::ContactSolver contact(m);
+  vdm::ContactReport report;
+  std::vector<vdm::Capsule> tools(1);
+  tools[0].radius = 0.004;
+  double collision_ms = 0;
+  long steps = 0;
+  for (auto _ : st) {
+    tools[0].p0 = vdm::Vec3(0.035, 0, 0.0603 - 0.005 + 0.004);
+    tools[0].p1 = tools[0].p0 + vdm::Vec3(0, 0, 0.2);
+    contact.step(m, base, tools, s, report);
+    collision_ms += report.collision_ms;
+    ++steps;
+  }
+  st.counters["collision_ms"] = collision_ms / std::max(1L, steps);  // BVH refit + queries
+}
+BENCHMARK(BM_ContactStep)->Unit(benchmark::kMillisecond);
+
+void BM_StressViewScalarAndColour(benchmark::State& st) {
+  const vdm::TissueModel m = model(vdm::SolverMethod::structured);
+  vdm::SimState s = vdm::make_sim_state(m);
+  vdm::StepInput in = vdm::make_step_input(m);
+  press(m, 0.01, in);
+  vdm::step(m, in, s);
+  std::vector<float> field;
+  std::vector<render::Rgb8> colours(static_cast<size_t>(m.n));
+  for (auto _ : st) {
+    render::scalar_field(render::Quantity::stress_magnitude, s, field);
+    for (size_t i = 0; i < field.size(); ++i) colours[i] = render::colormap(render::ColorMapName::viridis, field[i] / 5000.0);
+    benchmark::DoNotOptimize(colours.data());
+  }
+}
+BENCHMARK(BM_StressViewScalarAndColour)->Unit(benchmark::kMicrosecond);
+
+void BM_PngEncode720p(benchmark::State& st) {
+  render::Image im(1280, 720);
+  for (int y = 0; y < 720; ++y)
+    for (int x = 0; x < 1280; ++x) {
+      std::uint8_t* p = im.pixel(x, y);
+      p[0] = std::uint8_t(120 + 60 * (x > 400 && x < 900 && y > 200 && y < 600));
+      p[1] = std::uint8_t(130 + y / 8);
+      p[2] = std::uint8_t(140 + x / 16);
+      p[3] = 255;
+    }
+  const std::string path = std::string(VDMSIM_BUILD_DIR) + "/micro_benchmark_frame.png";
+  std::string error;
+  for (auto _ : st) render::write_png(path, im, static_cast<int>(st.range(0)), false, error);
+  std::remove(path.c_str());
+}
+BENCHMARK(BM_PngEncode720p)->Arg(1)->Arg(6)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();
