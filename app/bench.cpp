@@ -118,45 +118,17 @@ PreparedScene probe_scene(const std::string& mesh, int frames, bool render) {
   return ps;
 }
 
-Row bench_probe(const std::string& mesh, int repeats) {
-  Row r{"liver_probe", "vdm"};
-  std::string error;
-  PreparedScene ps = probe_scene(mesh, 60, false);
+// Runs `ps` for 60 frames, `repeats` times, timing the steps that `timed(rep, f, sim)`
+// accepts, and fills the row's step figures.
+template <typename Timed>
+void time_steps(const PreparedScene& ps, int repeats, Timed timed, Row& r) {
   std::vector<double> times;
   double iterations = 0, vol = 0;
   for (int rep = 0; rep < repeats; ++rep) {
     SceneSimulation sim(ps);
     for (int f = 0; f < 60; ++f) {
       sim.advance(f);
-      if (sim.contact_report().nodes == 0) continue;  // only steps in contact are timed
-      if (rep > 0 || f > 20) {                       // the first contact steps warm up
-        times.push_back(sim.frame_step_ms());
-        iterations += sim.frame_iterations();
-        vol = std::max(vol, std::abs(sim.state().volume_rel_error));
-      }
-    }
-  }
-  r.nodes = ps.model.n;
-  r.median_ms = quantile(times, 0.5);
-  r.p95_ms = quantile(times, 0.95);
-  r.iterations = times.empty() ? 0 : iterations / double(times.size());
-  r.volume_rel_error = vol;
-  return r;
-}
-
-Row bench_grasp(int repeats) {
-  Row r{"grasp_lift", "vdm"};
-  PreparedScene ps;
-  std::vector<SceneProblem> problems;
-  if (!prepare_scene((fs::path(VDMSIM_SOURCE_DIR_STR) / "assets" / "scenes" / "grasp_lift.yaml").string(), ps, problems))
-    throw std::runtime_error("cannot prepare grasp_lift.yaml");
-  std::vector<double> times;
-  double iterations = 0, vol = 0;
-  for (int rep = 0; rep < repeats; ++rep) {
-    SceneSimulation sim(ps);
-    for (int f = 0; f < 60; ++f) {
-      sim.advance(f);
-      if (f < 5 && rep == 0) continue;
+      if (!timed(rep, f, sim)) continue;
       times.push_back(sim.frame_step_ms());
       iterations += sim.frame_iterations();
       vol = std::max(vol, std::abs(sim.state().volume_rel_error));
@@ -167,6 +139,25 @@ Row bench_grasp(int repeats) {
   r.p95_ms = quantile(times, 0.95);
   r.iterations = times.empty() ? 0 : iterations / double(times.size());
   r.volume_rel_error = vol;
+}
+
+Row bench_probe(const std::string& mesh, int repeats) {
+  Row r{"liver_probe", "vdm"};
+  const PreparedScene ps = probe_scene(mesh, 60, false);
+  // Only steps in contact are timed; the first contact steps warm up.
+  time_steps(ps, repeats,
+             [](int rep, int f, const SceneSimulation& sim) { return sim.contact_report().nodes > 0 && (rep > 0 || f > 20); },
+             r);
+  return r;
+}
+
+Row bench_grasp(int repeats) {
+  Row r{"grasp_lift", "vdm"};
+  PreparedScene ps;
+  std::vector<SceneProblem> problems;
+  if (!prepare_scene((fs::path(VDMSIM_SOURCE_DIR_STR) / "assets" / "scenes" / "grasp_lift.yaml").string(), ps, problems))
+    throw std::runtime_error("cannot prepare grasp_lift.yaml");
+  time_steps(ps, repeats, [](int rep, int f, const SceneSimulation&) { return rep > 0 || f >= 5; }, r);
   return r;
 }
 

@@ -177,8 +177,7 @@ bool FrameOutput::write(int f, int frames, const SceneSimulation& sim) {
   job.keep_thumbnail = std::find(sheet_frames_.begin(), sheet_frames_.end(), f) != sheet_frames_.end();
   {
     std::unique_lock<std::mutex> lock(mutex_);
-    changed_.wait(lock, [&] { return jobs_.size() < 2 || !render_error_.empty(); });
-    if (!render_error_.empty()) return false;
+    changed_.wait(lock, [&] { return jobs_.size() < 2; });
     jobs_.push_back(std::move(job));
   }
   changed_.notify_all();

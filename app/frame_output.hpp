@@ -35,7 +35,7 @@ class FrameOutput {
   void set_stress_range(double lo, double hi);
   const render::StressView& stress_view() const { return view_; }
   // Hands frame f of `sim` to the render thread (waits while two frames are pending). False
-  // once drawing or a write has failed (error()).
+  // once a PNG write has failed (error()).
   bool write(int f, int frames, const SceneSimulation& sim);
   // Waits until every frame handed over is drawn and its PNGs are on disk. False once a
   // write has failed.
@@ -68,7 +68,6 @@ class FrameOutput {
   std::condition_variable changed_;
   std::deque<Job> jobs_;
   bool busy_ = false, stopping_ = false, starting_ = false;
-  std::string render_error_;
   std::vector<render::Thumbnail> thumbnails_;
   double render_ms_ = 0;
   std::thread thread_;

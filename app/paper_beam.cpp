@@ -5,22 +5,10 @@
 #include <limits>
 
 #include "engine/fem/tet_mesh.hpp"
+#include "engine/geometry.hpp"
 
 namespace vdmsim {
 namespace {
-
-int nearest(const vdm::NodeMat& x, const vdm::Vec3& p) {
-  int best = 0;
-  double d = std::numeric_limits<double>::infinity();
-  for (int i = 0; i < x.rows(); ++i) {
-    const double di = (x.row(i).transpose() - p).squaredNorm();
-    if (di < d) {
-      d = di;
-      best = i;
-    }
-  }
-  return best;
-}
 
 vdm::fem::TetMesh beam_mesh(const BeamConfig& c) {
   return vdm::fem::make_box_tets(vdm::Vec3(c.width, c.length, c.width), c.cells_across, c.cells_along,
@@ -59,7 +47,7 @@ LoadCase beam_load_case(const BeamConfig& c, BeamCase which) {
     if (s.positions(i, 1) < tol) lc.fixed.row(i).setOnes();
     if (s.positions(i, 1) > c.length - tol) lc.moved.push_back(i);
   }
-  for (double f : {0.25, 0.5, 0.75}) lc.tracked.push_back(nearest(s.positions, vdm::Vec3(0, f * c.length, c.width / 2)));
+  for (double f : {0.25, 0.5, 0.75}) lc.tracked.push_back(vdm::nearest_node(s.positions, vdm::Vec3(0, f * c.length, c.width / 2)));
   const vdm::Vec3 axis_point(0, c.length, 0);
   for (int k = 1; k <= c.steps; ++k) {
     const double a = double(k) / c.steps;

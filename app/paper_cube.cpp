@@ -5,25 +5,13 @@
 #include <limits>
 #include <stdexcept>
 
+#include "engine/geometry.hpp"
 #include "engine/shapes.hpp"
 #include "engine/sim_state.hpp"
 #include "engine/tissue_model.hpp"
 
 namespace vdmsim {
 namespace {
-
-int nearest_node(const vdm::NodeMat& x, const vdm::Vec3& p) {
-  int best = 0;
-  double best_d = std::numeric_limits<double>::infinity();
-  for (int i = 0; i < x.rows(); ++i) {
-    const double d = (x.row(i).transpose() - p).squaredNorm();
-    if (d < best_d) {
-      best_d = d;
-      best = i;
-    }
-  }
-  return best;
-}
 
 CubeResult run_cube(const CubeCompression& cfg, const vdm::NodeMat* bulk_override,
                     const std::vector<std::pair<std::string, vdm::Vec3>>& probes) {
@@ -52,7 +40,7 @@ CubeResult run_cube(const CubeCompression& cfg, const vdm::NodeMat* bulk_overrid
   for (const auto& p : probes) {
     PointSeries s;
     s.name = p.first;
-    s.node = nearest_node(model.rest.positions, p.second);
+    s.node = vdm::nearest_node(model.rest.positions, p.second);
     s.rest = model.rest.positions.row(s.node).transpose();
     r.points.push_back(s);
   }

@@ -1,5 +1,7 @@
 #include "engine/geometry.hpp"
 
+#include <limits>
+
 #include <algorithm>
 #include <cmath>
 
@@ -52,6 +54,19 @@ void distributed_volumes(const NodeMat& area_vectors, double volume, Vec& volume
   }
   const double scale = floored_total > 0.0 ? volume / floored_total : 0.0;
   for (Eigen::Index i = 0; i < n; ++i) volumes[i] *= scale;
+}
+
+int nearest_node(const NodeMat& x, const Vec3& p) {
+  int best = 0;
+  double d = std::numeric_limits<double>::infinity();
+  for (Eigen::Index i = 0; i < x.rows(); ++i) {
+    const double di = (x.row(i).transpose() - p).squaredNorm();
+    if (di < d) {
+      d = di;
+      best = static_cast<int>(i);
+    }
+  }
+  return best;
 }
 
 }  // namespace vdm

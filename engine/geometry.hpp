@@ -21,4 +21,7 @@ void distributed_area_vectors(const NodeMat& x, const TriMat& tris, NodeMat& are
 void distributed_volumes(const NodeMat& area_vectors, double volume, Vec& volumes,
                          double min_fraction = 1e-9);
 
+// Index of the node of x nearest to p (the first one on a tie).
+int nearest_node(const NodeMat& x, const Vec3& p);
+
 }  // namespace vdm

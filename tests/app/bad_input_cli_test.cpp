@@ -13,25 +13,13 @@
 #include <string>
 #include <sys/wait.h>
 
+#include "support/binary.hpp"
+
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Cli {
-  int code;
-  std::string output;
-};
-
-Cli run(const std::string& args) {
-  const std::string cmd = std::string(VDMSIM_BINARY) + " " + args + " 2>&1";
-  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(cmd.c_str(), "r"), pclose);
-  std::string out;
-  std::array<char, 4096> buf{};
-  size_t n;
-  while ((n = fread(buf.data(), 1, buf.size(), pipe.get())) > 0) out.append(buf.data(), n);
-  const int status = pclose(pipe.release());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
-}
+vdmsim::test::CliResult run(const std::string& args) { return vdmsim::test::run_cli(VDMSIM_BINARY, args); }
 
 fs::path dir() {
   const fs::path d = fs::temp_directory_path() / "vdmsim_bad_input_cli";
@@ -80,7 +68,7 @@ TEST(BadInputCli, EveryBrokenMeshExitsWith2NamingFileAndProblem) {
   };
   for (const MeshCase& c : cases) {
     const std::string p = write(c.name, c.text);
-    const Cli r = run("mesh-info " + p);
+    const vdmsim::test::CliResult r = run("mesh-info " + p);
     if (std::getenv("VDMSIM_SHOW")) std::printf("%s -> %d: %s\n", c.name, r.code, r.output.c_str());
     EXPECT_EQ(r.code, 2) << c.name << ":\n" << r.output;
     EXPECT_NE(r.output.find(p), std::string::npos) << c.name << ":\n" << r.output;
@@ -122,7 +110,7 @@ TEST(BadInputCli, EveryBrokenSceneExitsWith2NamingFileAndProblem) {
   };
   for (const SceneCase& c : cases) {
     const std::string p = write(c.name, c.text);
-    const Cli r = run("check " + p);
+    const vdmsim::test::CliResult r = run("check " + p);
     if (std::getenv("VDMSIM_SHOW")) std::printf("%s -> %d: %s\n", c.name, r.code, r.output.c_str());
     EXPECT_EQ(r.code, 2) << c.name << ":\n" << r.output;
     EXPECT_NE(r.output.find(p), std::string::npos) << c.name << ":\n" << r.output;
@@ -132,7 +120,7 @@ TEST(BadInputCli, EveryBrokenSceneExitsWith2NamingFileAndProblem) {
 
 TEST(BadInputCli, UnknownKeyIsWarnedWithTheClosestKnownKey) {
   const std::string p = write("typo.yaml", scene("", "  frames: 2\n  dt: 0.04\n  volume_constrant: true\n"));
-  const Cli r = run("check " + p);
+  const vdmsim::test::CliResult r = run("check " + p);
   EXPECT_EQ(r.code, 0) << r.output;
   EXPECT_NE(r.output.find(p), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("did you mean 'volume_constraint'?"), std::string::npos) << r.output;
@@ -141,7 +129,7 @@ TEST(BadInputCli, UnknownKeyIsWarnedWithTheClosestKnownKey) {
 TEST(BadInputCli, OutputFolderThatCannotBeWrittenExitsWith2) {
   const std::string p = write("good.yaml", scene("", "  frames: 1\n  dt: 0.04\n"));
   const std::string blocker = write("a_file", "not a folder");
-  const Cli r = run("run " + p + " --out " + blocker + "/out --no-render");
+  const vdmsim::test::CliResult r = run("run " + p + " --out " + blocker + "/out --no-render");
   EXPECT_EQ(r.code, 2) << r.output;
   EXPECT_NE(r.output.find(blocker), std::string::npos) << r.output;
 }

@@ -8,28 +8,16 @@
 #include <string>
 #include <sys/wait.h>
 
+#include "support/binary.hpp"
+
 namespace {
 
-struct CliResult {
-  int code;
-  std::string output;  // stdout and stderr
-};
-
-CliResult run_cli(const std::string& args) {
-  const std::string cmd = std::string(VDMSIM_BINARY) + " " + args + " 2>&1";
-  std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(cmd.c_str(), "r"), pclose);
-  std::string out;
-  std::array<char, 4096> buf{};
-  size_t n;
-  while ((n = fread(buf.data(), 1, buf.size(), pipe.get())) > 0) out.append(buf.data(), n);
-  const int status = pclose(pipe.release());
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
-}
+vdmsim::test::CliResult run_cli(const std::string& args) { return vdmsim::test::run_cli(VDMSIM_BINARY, args); }
 
 TEST(Cli, MeshInfoOnTheSharedLiver) {
   const std::filesystem::path p = std::filesystem::path(VDMSIM_SHARED_ASSETS) / "organs/liver-smooth.obj";
   if (!std::filesystem::exists(p)) GTEST_SKIP() << "shared assets absent (" << p << "): skipping";
-  const CliResult r = run_cli("mesh-info " + p.string());
+  const vdmsim::test::CliResult r = run_cli("mesh-info " + p.string());
   EXPECT_EQ(r.code, 0) << r.output;
   EXPECT_NE(r.output.find("nodes:      2194"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("closed:     yes"), std::string::npos) << r.output;
@@ -38,7 +26,7 @@ TEST(Cli, MeshInfoOnTheSharedLiver) {
 }
 
 TEST(Cli, MissingMeshExitsWith2AndNamesTheFile) {
-  const CliResult r = run_cli("mesh-info /nonexistent/organ.obj");
+  const vdmsim::test::CliResult r = run_cli("mesh-info /nonexistent/organ.obj");
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.output.find("/nonexistent/organ.obj: no such file"), std::string::npos) << r.output;
 }
@@ -50,7 +38,7 @@ TEST(Cli, OpenMeshIsReportedNotClosedWithExit2) {
     fputs("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\n", f);
     fclose(f);
   }
-  const CliResult r = run_cli("mesh-info " + p.string());
+  const vdmsim::test::CliResult r = run_cli("mesh-info " + p.string());
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.output.find("closed:     no"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("open surface"), std::string::npos) << r.output;

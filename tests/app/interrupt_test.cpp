@@ -4,13 +4,11 @@
 #include <gtest/gtest.h>
 
 #include <signal.h>
-#include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
-#include <fcntl.h>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -19,8 +17,8 @@
 #include <vector>
 
 #include "render/png_io.hpp"
+#include "support/binary.hpp"
 
-extern char** environ;
 namespace fs = std::filesystem;
 
 TEST(Interrupt, CtrlCStopsAfterTheCurrentFrameAndKeepsEverything) {
@@ -36,22 +34,10 @@ TEST(Interrupt, CtrlCStopsAfterTheCurrentFrameAndKeepsEverything) {
                           "t: [0, 100]}]\n"
                           "simulation: {frames: 100000, dt: 0.01, effects: []}\n"
                           "render: {width: 160, height: 120, views: [shaded]}\n";
-  std::vector<std::string> args = {VDMSIM_BINARY, "run", scene, "--out", out.string()};
-  std::vector<char*> argv;
-  for (auto& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  pid_t pid = 0;
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
-  ASSERT_EQ(posix_spawn(&pid, VDMSIM_BINARY, &actions, nullptr, argv.data(), environ), 0);
-  posix_spawn_file_actions_destroy(&actions);
+  const pid_t pid = vdmsim::test::spawn_quiet({VDMSIM_BINARY, "run", scene, "--out", out.string()});
+  ASSERT_NE(pid, 0);
   // Wait until a few frames exist, then interrupt.
-  const auto t0 = std::chrono::steady_clock::now();
-  while (!fs::exists(out / "frames" / "frame_00003.png") &&
-         std::chrono::steady_clock::now() - t0 < std::chrono::seconds(120))
-    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  vdmsim::test::wait_for_file(out / "frames" / "frame_00003.png", 120);
   if (!fs::exists(out / "frames" / "frame_00003.png")) {
     kill(pid, SIGKILL);
     waitpid(pid, nullptr, 0);

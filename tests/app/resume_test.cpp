@@ -3,9 +3,7 @@
 // byte-identical frame images and contact sheet.
 #include <gtest/gtest.h>
 
-#include <fcntl.h>
 #include <signal.h>
-#include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -19,8 +17,8 @@
 #include "app/mesh_io.hpp"
 #include "app/scene_run.hpp"
 #include "engine/shapes.hpp"
+#include "support/binary.hpp"
 
-extern char** environ;
 namespace fs = std::filesystem;
 
 namespace {
@@ -84,21 +82,9 @@ TEST(Resume, AnInterruptedRunResumedEqualsAnUninterruptedOne) {
   ASSERT_EQ(run_in_process(scene, whole, false), 0);
 
   // The same run through the binary, interrupted once a few frames exist.
-  std::vector<std::string> args = {VDMSIM_BINARY, "run", scene, "--out", resumed.string()};
-  std::vector<char*> argv;
-  for (auto& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
-  pid_t pid = 0;
-  ASSERT_EQ(posix_spawn(&pid, VDMSIM_BINARY, &actions, nullptr, argv.data(), environ), 0);
-  posix_spawn_file_actions_destroy(&actions);
-  const auto t0 = std::chrono::steady_clock::now();
-  while (!fs::exists(resumed / "frames" / "frame_00010.png") &&
-         std::chrono::steady_clock::now() - t0 < std::chrono::seconds(120))
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  const pid_t pid = vdmsim::test::spawn_quiet({VDMSIM_BINARY, "run", scene, "--out", resumed.string()});
+  ASSERT_NE(pid, 0);
+  vdmsim::test::wait_for_file(resumed / "frames" / "frame_00010.png", 120);
   kill(pid, SIGINT);
   int status = 0;
   waitpid(pid, &status, 0);
@@ -210,21 +196,10 @@ TEST(Resume, AfterAHardKillResumesFromTheLastPeriodicCheckpoint) {
                           "render: {width: 160, height: 120, views: [shaded, stress], hud_step_time: false}\n";
   const fs::path whole = dir / "whole", resumed = dir / "resumed";
   ASSERT_EQ(run_in_process(scene, whole, false), 0);
-  std::vector<std::string> args = {VDMSIM_BINARY, "run", scene, "--out", resumed.string(), "--checkpoint-every", "7"};
-  std::vector<char*> argv;
-  for (auto& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
-  pid_t pid = 0;
-  ASSERT_EQ(posix_spawn(&pid, VDMSIM_BINARY, &actions, nullptr, argv.data(), environ), 0);
-  posix_spawn_file_actions_destroy(&actions);
-  const auto t0 = std::chrono::steady_clock::now();
-  while (!fs::exists(resumed / "frames" / "frame_00017.png") &&
-         std::chrono::steady_clock::now() - t0 < std::chrono::seconds(120))
-    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  const pid_t pid =
+      vdmsim::test::spawn_quiet({VDMSIM_BINARY, "run", scene, "--out", resumed.string(), "--checkpoint-every", "7"});
+  ASSERT_NE(pid, 0);
+  vdmsim::test::wait_for_file(resumed / "frames" / "frame_00017.png", 120);
   kill(pid, SIGKILL);
   int status = 0;
   waitpid(pid, &status, 0);

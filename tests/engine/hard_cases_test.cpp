@@ -147,7 +147,7 @@ TEST(HardDeformation, BeamStretchedBy50Percent) {
     if (HasFailure()) return;
   }
   // Longer, so thinner in the middle, and the pressure fell.
-  const int mid = hard::nearest_node(m.rest.positions, Vec3(0.01, 0.05, 0.0));
+  const int mid = nearest_node(m.rest.positions, Vec3(0.01, 0.05, 0.0));
   EXPECT_LT(s.u(mid, 0), 0.0);
   EXPECT_LT(s.pressure, 0.0);
 }
@@ -185,7 +185,7 @@ TEST(HardDeformation, BeamTwisted180Degrees) {
   // position, so it stays within the last cells.)
   double last = -1.0;
   for (int k = 0; k <= 10; ++k) {
-    const int i = hard::nearest_node(m.rest.positions, Vec3(width / 2, length * k / 10, 0));
+    const int i = nearest_node(m.rest.positions, Vec3(width / 2, length * k / 10, 0));
     const double angle = std::atan2(-s.x(i, 2), s.x(i, 0));  // rotation about +y
     const double turned = k == 10 ? std::abs(angle) : angle;
     EXPECT_GE(turned, last - 1e-9) << "station " << k;

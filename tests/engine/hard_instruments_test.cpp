@@ -165,7 +165,7 @@ TEST(HardInstruments, GraspOfASingleNodeLiftedOneCentimetre) {
   const TissueModel m = ball(R, 4);
   SimState s = make_sim_state(m);
   StepInput in = make_step_input(m);
-  const int top = hard::nearest_node(m.rest.positions, Vec3(0, 0, R));
+  const int top = nearest_node(m.rest.positions, Vec3(0, 0, R));
   tools::InstrumentPose pose;
   pose.tip = m.rest.positions.row(top).transpose();
   pose.axis = -Vec3::UnitZ();

@@ -45,7 +45,7 @@ TEST(Long, HundredThousandCyclicStepsDoNotDrift) {
   const TissueModel m = scenario::build(default_tissue(make_icosphere(R, 1)));
   SimState s = make_sim_state(m);
   StepInput in = make_step_input(m);
-  const int top = hard::nearest_node(m.rest.positions, Vec3(0, 0, R));
+  const int top = nearest_node(m.rest.positions, Vec3(0, 0, R));
   const int steps = 100000, period = 100;
   double worst_volume = 0;
   for (int k = 1; k <= steps; ++k) {

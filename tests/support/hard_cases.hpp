@@ -104,19 +104,6 @@ inline void expect_sensible(const TissueModel& m, const SimState& s, double max_
   EXPECT_LE(r.max_u, max_displacement) << what << ": " << r.text();
 }
 
-// Node nearest to p.
-inline int nearest_node(const NodeMat& x, const Vec3& p) {
-  int best = 0;
-  double d = 1e300;
-  for (int i = 0; i < x.rows(); ++i) {
-    const double di = (x.row(i).transpose() - p).squaredNorm();
-    if (di < d) {
-      d = di;
-      best = i;
-    }
-  }
-  return best;
-}
 
 // For each node, the node at its image under the linear map M (the mesh must have that
 // symmetry); -1 where none lies within `tol`.
