@@ -8,6 +8,7 @@
 #include <string>
 #include <unistd.h>
 
+#include "app/accuracy.hpp"
 #include "app/bench.hpp"
 #include "app/commands.hpp"
 
@@ -64,6 +65,12 @@ int main(int argc, char** argv) {
   auto* bench = app.add_subcommand("bench", "Performance cases: writes bench.csv and scaling.png");
   bench->add_option("--out", bench_out, "Output folder (default: out/bench)");
   bench->add_flag("--quick", bench_quick, "Fewer cases and repeats (under 2 minutes)");
+  vdmsim::AccuracyOptions accuracy_opt;
+  auto* accuracy = app.add_subcommand("accuracy",
+                                      "Accuracy against time: knobs swept on the liver probe and grasp scenes; "
+                                      "writes accuracy.csv, accuracy.png, recommendations.md");
+  accuracy->add_option("--out", accuracy_opt.out_dir, "Output folder (default: out/accuracy)");
+  accuracy->add_flag("--quick", accuracy_opt.quick, "Coarser meshes, fewer knob values (under 2 minutes)");
   auto* check = app.add_subcommand("check", "Validate a scene and its mesh without simulating");
   check->add_option("SCENE", scene_path, "Scene file (YAML)")->required();
 
@@ -82,6 +89,7 @@ int main(int argc, char** argv) {
     if (run->parsed())
       return vdmsim::cmd_run(scene_path, run_out, run_frames, !no_render, video, resume, checkpoint_every, std::cout, std::cerr, isatty(2) != 0);
     if (bench->parsed()) return vdmsim::cmd_bench(bench_out, bench_quick, std::cout, std::cerr);
+    if (accuracy->parsed()) return vdmsim::run_accuracy(accuracy_opt, std::cout, std::cerr);
     if (check->parsed()) return vdmsim::cmd_check(scene_path, std::cout, std::cerr);
     if (make_organ->parsed()) return vdmsim::cmd_make_organ(organ, organ_level, organ_out, std::cout, std::cerr);
     if (calibrate->parsed())

@@ -153,7 +153,7 @@ void step(const MassSpringModel& m, const StepInput& in, MassSpringState& s) {
     double free2 = 0, fixed2 = 0;
     for (int i = 0; i < m.n; ++i)
       for (int r = 0; r < 3; ++r) (mask(i, r) ? fixed2 : free2) += grad(i, r) * grad(i, r);
-    const double scale = std::max({std::sqrt(f.squaredNorm()), std::sqrt(fixed2), kmean * m.size * 1e-12});
+    const double scale = std::max({std::sqrt(f.squaredNorm()), std::sqrt(fixed2), kmean * m.size * 1e-6});  // at rest: above rounding
     s.residual = std::sqrt(free2) / scale;
     if (s.residual <= m.tolerance) {
       s.converged = true;
@@ -218,6 +218,12 @@ void step(const MassSpringModel& m, const StepInput& in, MassSpringState& s) {
     }
     if (!ok) break;
     s.u = trial;
+    // A step at round-off: the residual cannot fall further (its floor is the gradient's
+    // own rounding), so this is equilibrium.
+    if (2 * alpha * du.cwiseAbs().maxCoeff() < 1e-13 * m.size) {
+      s.converged = true;
+      break;
+    }
   }
   energy(m, s.u, f, &grad);
   s.reaction.setZero();

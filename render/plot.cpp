@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 #include "render/canvas.hpp"
@@ -14,7 +15,9 @@ namespace {
 // Okabe and Ito's colour-blind-safe palette.
 const ImU32 kPalette[] = {IM_COL32(0, 114, 178, 255),  IM_COL32(213, 94, 0, 255),   IM_COL32(0, 158, 115, 255),
                           IM_COL32(204, 121, 167, 255), IM_COL32(230, 159, 0, 255),  IM_COL32(86, 180, 233, 255),
-                          IM_COL32(0, 0, 0, 255),       IM_COL32(240, 228, 66, 255)};
+                          IM_COL32(0, 0, 0, 255),       IM_COL32(240, 228, 66, 255),
+                          IM_COL32(140, 140, 140, 255)};  // and a neutral grey (index 8)
+constexpr size_t kColours = sizeof(kPalette) / sizeof(kPalette[0]);
 
 struct Range {
   double lo = std::numeric_limits<double>::infinity(), hi = -std::numeric_limits<double>::infinity();
@@ -38,6 +41,13 @@ std::vector<double> ticks_for(double lo, double hi, bool log) {
 
 std::string tick_label(double v, bool log) {
   if (!log) return format_number(v, 4);
+  // Decades from 0.001 to 10000 written out (100, not 1e+02).
+  const long decade = std::lround(v);
+  if (decade >= -3 && decade <= 4) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.*f", decade < 0 ? static_cast<int>(-decade) : 0, std::pow(10.0, decade));
+    return buf;
+  }
   return format_number(std::pow(10.0, v), 2);
 }
 
@@ -102,7 +112,7 @@ void draw_panel(ImDrawList* dl, ImGuiLayer& layer, const Panel& p, float x0, flo
   dl->PushClipRect(ImVec2(left, top), ImVec2(right, bottom), true);
   for (size_t k = 0; k < p.series.size(); ++k) {
     const Series& s = p.series[k];
-    const ImU32 c = kPalette[(s.color >= 0 ? size_t(s.color) : k) % 8];
+    const ImU32 c = kPalette[(s.color >= 0 ? size_t(s.color) : k) % kColours];
     std::vector<ImVec2> pts;
     for (size_t i = 0; i < std::min(s.x.size(), s.y.size()); ++i) {
       const double ax = axis_value(s.x[i], p.log_x), ay = axis_value(s.y[i], p.log_y);
@@ -149,7 +159,7 @@ void draw_panel(ImDrawList* dl, ImGuiLayer& layer, const Panel& p, float x0, flo
     dl->AddRect(ImVec2(lx0, ly0), ImVec2(lx1, ly0 + row * p.series.size() + fs * 0.4f), IM_COL32(180, 180, 180, 255));
     for (size_t k = 0; k < p.series.size(); ++k) {
       const Series& s = p.series[k];
-      const ImU32 c = kPalette[(s.color >= 0 ? size_t(s.color) : k) % 8];
+      const ImU32 c = kPalette[(s.color >= 0 ? size_t(s.color) : k) % kColours];
       const float y = ly0 + fs * 0.2f + row * k + row * 0.5f;
       if (s.line && !s.dashed) dl->AddLine(ImVec2(lx0 + fs * 0.4f, y), ImVec2(lx0 + fs * 1.8f, y), c, 2.0f);
       if (s.line && s.dashed) {

@@ -30,6 +30,9 @@ struct FemSettings {
   // gradients with an incomplete Cholesky preconditioner (on the projected, PSD tangent) to
   // `cg_tolerance`. Simplicial LDL^T of a 3D mesh grows too fast past ~10^4 unknowns.
   int direct_max_dofs = 12000;
+  // With SuiteSparse's supernodal Cholesky (built with CHOLMOD) the direct solve stays the
+  // faster one much further.
+  int direct_max_dofs_supernodal = 300000;
   double cg_tolerance = 1e-6;
   int cg_max_iterations = 5000;
 };

@@ -1,6 +1,9 @@
 #include <Eigen/SVD>
 #include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCholesky>
+#ifdef VDMSIM_HAVE_CHOLMOD
+#include <Eigen/CholmodSupport>
+#endif
 
 #include <chrono>
 #include <cmath>
@@ -24,7 +27,13 @@ struct FemWorkspace {
   Vec q;                    // per tet: lambda x mean theta over its groups (Pa)
   std::vector<Eigen::Triplet<double>> triplets, gtriplets;
   SpMat K, G;
+#ifdef VDMSIM_HAVE_CHOLMOD
+  // Supernodal Cholesky (SuiteSparse): a 3D tet mesh's factor has dense fronts that a
+  // simplicial factorisation handles an order of magnitude slower.
+  Eigen::CholmodSupernodalLLT<SpMat, Eigen::Lower> chol;
+#else
   Eigen::SimplicialLDLT<SpMat> ldlt;
+#endif
   Eigen::ConjugateGradient<SpMat, Eigen::Lower | Eigen::Upper, Eigen::IncompleteCholesky<double>> cg;
   long analyzed_nonzeros = -1;
   Vec rhs, du, dof_mask, du_c;
@@ -187,7 +196,8 @@ bool newton(const FemModel& m, FemState& s, FemWorkspace& w) {
   };
   for (int i = 0; i < n; ++i)
     for (int r = 0; r < 3; ++r) w.dof_mask[3 * i + r] = w.mask(i, r);
-  const double floor = m.mu * m.size * m.size * 1e-12;
+  // Force scale at rest: far above the gradient's rounding (~1e-13 of it), far below any load.
+  const double floor = m.mu * m.size * m.size * 1e-6;
   for (int it = 0; it < m.settings.max_iterations; ++it) {
     const double e0 = evaluate(m, s.u, w);
     if (!std::isfinite(e0)) return false;
@@ -211,7 +221,11 @@ bool newton(const FemModel& m, FemState& s, FemWorkspace& w) {
     ++s.stats.iterations;
     // Exact tangent first (quadratic convergence); projected when it is not positive definite.
     // Large meshes: projected tangent, preconditioned CG.
+#ifdef VDMSIM_HAVE_CHOLMOD
+    const bool direct = dofs <= m.settings.direct_max_dofs_supernodal;
+#else
     const bool direct = dofs <= m.settings.direct_max_dofs;
+#endif
     bool factored = false;
     if (!direct) {
       assemble(m, w, true);
@@ -236,15 +250,28 @@ bool newton(const FemModel& m, FemState& s, FemWorkspace& w) {
           if (w.dof_mask[k] != 0) w.rhs[k] = w.du_c[k];
       }
       apply_mask(w);
+#ifdef VDMSIM_HAVE_CHOLMOD
+      if (w.K.nonZeros() != w.analyzed_nonzeros) {
+        w.chol.analyzePattern(w.K);
+        w.analyzed_nonzeros = w.K.nonZeros();
+      }
+      w.chol.factorize(w.K);  // fails (info) when K is not positive definite
+      factored = w.chol.info() == Eigen::Success;
+#else
       if (w.K.nonZeros() != w.analyzed_nonzeros) {
         w.ldlt.analyzePattern(w.K);
         w.analyzed_nonzeros = w.K.nonZeros();
       }
       w.ldlt.factorize(w.K);
       factored = w.ldlt.info() == Eigen::Success && w.ldlt.vectorD().minCoeff() > 0;
+#endif
     }
     if (!factored) return false;
+#ifdef VDMSIM_HAVE_CHOLMOD
+    if (direct) w.du = w.chol.solve(w.rhs);
+#else
     if (direct) w.du = w.ldlt.solve(w.rhs);
+#endif
     if (!w.du.allFinite()) return false;
     if (jump > 0) {  // the constrained entries move to their targets: take the full step
       for (int i = 0; i < n; ++i)

@@ -1,0 +1,83 @@
+// The accuracy study's pieces: the configuration sweep, the Pareto front and the choice of
+// recommended settings.
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "app/accuracy.hpp"
+#include "app/accuracy_report.hpp"
+
+namespace vdmsim {
+namespace {
+
+AccuracyRow row(const char* scenario, const char* varied, double ms, double rms) {
+  AccuracyRow r;
+  r.config.scenario = scenario;
+  r.config.varied = varied;
+  r.median_ms = ms;
+  r.rms_mm = rms;
+  return r;
+}
+
+TEST(Accuracy, EveryScenarioHasAReferenceFirstAndEveryKnobVaried) {
+  for (bool quick : {true, false}) {
+    const std::vector<AccuracyConfig> configs = accuracy_configs(quick);
+    for (const char* scenario : {"probe_poke", "grasp_lift"}) {
+      std::set<std::string> varied;
+      const AccuracyConfig* ref = nullptr;
+      int finest = 0;
+      for (const AccuracyConfig& c : configs) {
+        if (c.scenario != scenario) continue;
+        if (!ref) ref = &c;
+        varied.insert(c.varied);
+        finest = std::max(finest, c.level);
+      }
+      ASSERT_NE(ref, nullptr);
+      EXPECT_EQ(ref->varied, "reference");
+      // The reference is the converged end of every knob.
+      EXPECT_EQ(ref->level, finest);
+      EXPECT_EQ(ref->refresh_every, 1);
+      EXPECT_GT(ref->nonlinear_iterations, 1);
+      for (const AccuracyConfig& c : configs)
+        if (c.scenario == scenario && c.model == "vdm") {
+          EXPECT_LE(ref->tolerance, c.tolerance);
+        }
+      for (const char* knob : {"baseline", "solver", "tolerance", "refresh", "nonlinear", "mesh", "model"})
+        EXPECT_TRUE(varied.count(knob)) << scenario << " " << knob << (quick ? " quick" : "");
+    }
+  }
+}
+
+TEST(Accuracy, ParetoFrontKeepsOnlyUndominatedRowsPerScenario) {
+  std::vector<AccuracyRow> rows = {
+      row("probe_poke", "reference", 100, 0),    // never on the front
+      row("probe_poke", "baseline", 10, 0.1),    // front
+      row("probe_poke", "tolerance", 2, 0.5),    // front
+      row("probe_poke", "tolerance", 12, 0.2),   // dominated by baseline
+      row("probe_poke", "mesh", 2, 0.6),         // dominated (same time, larger error)
+      row("grasp_lift", "baseline", 50, 1.0),    // another scenario: front of its own
+  };
+  rows.push_back(row("probe_poke", "model", 1, 0.05));
+  rows.back().failed = true;                     // failed rows take no part
+  mark_pareto(rows);
+  const std::vector<bool> expected = {false, true, true, false, false, true, false};
+  for (size_t k = 0; k < rows.size(); ++k) EXPECT_EQ(rows[k].pareto, expected[k]) << k;
+}
+
+TEST(Accuracy, RecommendationIsTheMostAccurateWithinTheBudget) {
+  const std::vector<AccuracyRow> rows = {
+      row("probe_poke", "reference", 0.1, 0),  // excluded even though fastest and exact
+      row("probe_poke", "mesh", 0.5, 0.9),
+      row("probe_poke", "tolerance", 0.9, 0.4),
+      row("probe_poke", "baseline", 8, 0.1),
+  };
+  const AccuracyRow* haptic = best_within(rows, "probe_poke", 1.0);
+  ASSERT_NE(haptic, nullptr);
+  EXPECT_EQ(haptic->config.varied, "tolerance");
+  EXPECT_EQ(best_within(rows, "probe_poke", 33)->config.varied, "baseline");
+  EXPECT_EQ(best_within(rows, "probe_poke", 0.2), nullptr);
+  EXPECT_EQ(best_within(rows, "grasp_lift", 1e9), nullptr);
+}
+
+}  // namespace
+}  // namespace vdmsim
