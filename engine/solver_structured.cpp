@@ -72,7 +72,7 @@ class StructuredSolver final : public LinearSolver {
   }
 
  private:
-  // K x = b.col(d) by PCG with IC(0) until |b - K x| <= tolerance b_all, warm-started from
+  // K x = b.col(d) by PCG with IC(0) until |b - K x| <= tolerance b_all / sqrt(3), warm-started from
   // out.col(d) (the last solution of the same system), extrapolated with prev.col(d) (the one
   // before) once `history` >= 2 solves were made; the result goes back to out.col(d).
   KrylovResult solve_axis(const SpMat& K, int d, const NodeMat& b, NodeMat& out, double b_all, NodeMat& prev,
@@ -86,7 +86,8 @@ class StructuredSolver final : public LinearSolver {
     else x_ = out.col(d);
     prev.col(d) = out.col(d);
     const double bd = b_.norm();
-    const double tol = bd > 0 ? settings_.tolerance * b_all / bd : settings_.tolerance;
+    // sqrt(3): the three axes together then meet the tolerance on the whole system.
+    const double tol = bd > 0 ? settings_.tolerance * b_all / (bd * std::sqrt(3.0)) : settings_.tolerance;
     const KrylovResult kr = pcg(op, pre, b_, x_, tol, settings_.max_iterations, work_);
     out.col(d) = x_;
     return kr;
