@@ -171,6 +171,28 @@ void BM_AxisKernels(benchmark::State& st) {
 }
 BENCHMARK(BM_AxisKernels)->DenseRange(0, 4)->Unit(benchmark::kMicrosecond);
 
+// What the contact broad phase costs without a BVH: the exact node-versus-capsule distance of
+// every node (the narrow phase's own test), for comparison with BM_ContactStep's collision_ms.
+void BM_AllNodesAgainstCapsule(benchmark::State& st) {
+  const vdm::SurfaceMesh& mesh = liver();
+  vdm::Capsule c;
+  c.radius = 0.004;
+  c.p0 = vdm::Vec3(0.035, 0, 0.0593);
+  c.p1 = c.p0 + vdm::Vec3(0, 0, 0.2);
+  std::vector<int> near;
+  near.reserve(static_cast<size_t>(mesh.node_count()));
+  for (auto _ : st) {
+    near.clear();
+    for (int i = 0; i < mesh.node_count(); ++i) {
+      vdm::Vec3 p, nrm;
+      if (vdm::capsule_distance(c, mesh.positions.row(i).transpose(), p, nrm) < 0.001) near.push_back(i);
+    }
+    benchmark::DoNotOptimize(near.data());
+  }
+  st.counters["nodes_found"] = double(near.size());
+}
+BENCHMARK(BM_AllNodesAgainstCapsule)->Unit(benchmark::kMicrosecond);
+
 void BM_StressViewScalarAndColour(benchmark::State& st) {
   const vdm::TissueModel m = model(vdm::SolverMethod::structured);
   vdm::SimState s = vdm::make_sim_state(m);
