@@ -20,7 +20,7 @@ packages=(
   libeigen3-dev libassimp-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libfcl-dev libyaml-cpp-dev libpng-dev libosmesa6-dev libglm-dev libimgui-dev
-  fonts-dejavu-core ffmpeg gmsh libgmsh-dev libsuitesparse-dev libopenblas0-serial
+  fonts-dejavu-core ffmpeg gmsh libgmsh-dev libsuitesparse-dev libopenblas0-serial libbullet-dev
 )
 
 if [ "$install" = 1 ]; then

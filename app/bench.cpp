@@ -15,6 +15,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "app/bench_bullet.hpp"
 #include "app/commands.hpp"
 #include "app/frame_output.hpp"
 #include "app/scene_simulation.hpp"
@@ -99,9 +100,9 @@ bool run_isolated(const std::function<Row()>& body, Row& row, std::string& error
   return true;
 }
 
-// The probe scene on a given mesh: a probe (8 mm, so that it meets nodes on every mesh)
-// presses into the right lobe. Steps in contact are timed after `warmup` of them.
-PreparedScene probe_scene(const std::string& mesh, int frames, bool render) {
+}  // namespace
+
+PreparedScene bench_probe_scene(const std::string& mesh, int frames, bool render) {
   PreparedScene ps;
   std::vector<SceneProblem> problems;
   const std::string path = (fs::path(VDMSIM_SOURCE_DIR_STR) / "assets" / "scenes" / "probe_poke.yaml").string();
@@ -117,6 +118,10 @@ PreparedScene probe_scene(const std::string& mesh, int frames, bool render) {
     throw std::runtime_error(problems.empty() ? "cannot prepare the probe scene" : problems.back().text());
   return ps;
 }
+
+namespace {
+
+PreparedScene probe_scene(const std::string& mesh, int frames, bool render) { return bench_probe_scene(mesh, frames, render); }
 
 // Runs `ps` for 60 frames, `repeats` times, timing the steps that `timed(rep, f, sim)`
 // accepts, and fills the row's step figures.
@@ -148,6 +153,24 @@ Row bench_probe(const std::string& mesh, int repeats) {
   time_steps(ps, repeats,
              [](int rep, int f, const SceneSimulation& sim) { return sim.contact_report().nodes > 0 && (rep > 0 || f > 20); },
              r);
+  return r;
+}
+
+// Bullet's btSoftBody on the same surface, probe motion and frames as bench_probe; timed the
+// same way (frames in contact, the first 20 frames of the first run not timed).
+Row bench_bullet(const std::string& mesh, int repeats) {
+  Row r{"liver_probe", "bullet"};
+  const PreparedScene ps = probe_scene(mesh, 60, false);
+  std::vector<double> times;
+  for (int rep = 0; rep < repeats; ++rep) {
+    const BulletRun run = run_bullet_probe(ps, 60, rep > 0 ? -1 : 20, BulletSettings{});
+    times.insert(times.end(), run.step_ms.begin(), run.step_ms.end());
+    r.iterations = run.iterations;
+    r.volume_rel_error = std::max(r.volume_rel_error, run.volume_rel_error);
+    r.nodes = run.nodes;
+  }
+  r.median_ms = quantile(times, 0.5);
+  r.p95_ms = quantile(times, 0.95);
   return r;
 }
 
@@ -228,6 +251,13 @@ int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::os
       {"liver_probe 10k", [&] { return bench_probe("liver_L5.obj", repeats); }},
   };
   if (!quick) cases.push_back({"liver_probe 40k", [&] { return bench_probe("liver_L6.obj", 1); }});
+  if (bullet_available()) {
+    out << "bench: Bullet " << describe(BulletSettings{}) << "\n";
+    cases.push_back({"liver_probe bullet 2.5k", [&] { return bench_bullet("liver_L4.obj", repeats); }});
+    cases.push_back({"liver_probe bullet 10k", [&] { return bench_bullet("liver_L5.obj", repeats); }});
+  } else {
+    out << "bench: liver_probe bullet: skipped (this build has no Bullet: install libbullet-dev and reconfigure)\n";
+  }
   cases.push_back({"grasp_lift", [&] { return bench_grasp(repeats); }});
   cases.push_back({"render_720p", [&] { return bench_render(dir, quick ? 6 : 20, 4); }});
   cases.push_back({"render_720p_1x", [&] { return bench_render(dir, quick ? 6 : 20, 1); }});
@@ -258,33 +288,36 @@ int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::os
   }
   // Scaling of the probe step with the node count: log-log fit and plot.
   render::Panel p;
-  p.title = "VDM step with a probe in contact";
+  p.title = "Step with a probe in contact";
   p.x_label = "surface nodes";
   p.y_label = "median ms per step";
   p.log_x = p.log_y = true;
-  render::Series s;
-  s.label = "vdm";
-  s.markers = true;
-  for (const Row& r : rows)
-    if (r.name == "liver_probe") {
-      s.x.push_back(double(r.nodes));
-      s.y.push_back(r.median_ms);
+  for (const char* model : {"vdm", "bullet"}) {
+    render::Series s;
+    s.label = model;
+    s.markers = true;
+    for (const Row& r : rows)
+      if (r.name == "liver_probe" && r.model == model) {
+        s.x.push_back(double(r.nodes));
+        s.y.push_back(r.median_ms);
+      }
+    if (s.x.empty()) continue;
+    if (s.x.size() >= 2) {
+      double sx = 0, sy = 0, sxx = 0, sxy = 0;
+      const double n = double(s.x.size());
+      for (size_t i = 0; i < s.x.size(); ++i) {
+        const double lx = std::log(s.x[i]), ly = std::log(s.y[i]);
+        sx += lx;
+        sy += ly;
+        sxx += lx * lx;
+        sxy += lx * ly;
+      }
+      const double slope = (n * sxy - sx * sy) / (n * sxx - sx * sx);
+      out << "scaling: " << model << " ms per step grows as nodes^" << std::setprecision(3) << slope
+          << " (log-log fit over " << s.x.size() << " sizes)\n";
+      s.label += " (nodes^" + render::format_number(slope, 3) + ")";
     }
-  p.series.push_back(s);
-  if (s.x.size() >= 2) {
-    double sx = 0, sy = 0, sxx = 0, sxy = 0;
-    const double n = double(s.x.size());
-    for (size_t i = 0; i < s.x.size(); ++i) {
-      const double lx = std::log(s.x[i]), ly = std::log(s.y[i]);
-      sx += lx;
-      sy += ly;
-      sxx += lx * lx;
-      sxy += lx * ly;
-    }
-    const double slope = (n * sxy - sx * sy) / (n * sxx - sx * sx);
-    out << "scaling: ms per step grows as nodes^" << std::setprecision(3) << slope << " (log-log fit over "
-        << s.x.size() << " sizes)\n";
-    p.title += " (fit: nodes^" + render::format_number(slope, 3) + ")";
+    p.series.push_back(s);
   }
   render::Figure fig;
   fig.panels.push_back(p);

@@ -5,7 +5,13 @@
 #include <ostream>
 #include <string>
 
+#include "app/scene_run.hpp"
+
 namespace vdmsim {
+
+// The bench's probe scene (assets/scenes/probe_poke.yaml) on `mesh` (a file in assets/meshes)
+// with an 8 mm probe, so that it meets nodes on every mesh; `frames` frames.
+PreparedScene bench_probe_scene(const std::string& mesh, int frames, bool render);
 
 int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::ostream& err);
 

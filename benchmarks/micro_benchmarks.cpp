@@ -13,6 +13,8 @@
 #include "app/mesh_io.hpp"
 #include "engine/contact.hpp"
 #include "engine/geometry.hpp"
+#include "engine/incomplete_cholesky.hpp"
+#include "engine/sparse_ldlt.hpp"
 #include "engine/sim_state.hpp"
 #include "engine/stiffness.hpp"
 #include "engine/tissue_model.hpp"
@@ -126,6 +128,70 @@ void BM_ContactStep(benchmark::State& st) {
   st.counters["collision_ms"] = collision_ms / std::max(1L, steps);  // BVH refit + queries
 }
 BENCHMARK(BM_ContactStep)->Unit(benchmark::kMillisecond);
+
+// The per-axis kernels of the structured solver on the 10k liver's K^z at rest: SpMV, IC(0)
+// factorisation and apply, and the cached sparse LDL^T (factorisation, one solve).
+struct AxisMatrix {
+  vdm::TissueModel m = model(vdm::SolverMethod::structured);
+  vdm::SpMat K;
+  AxisMatrix() {
+    vdm::NodeMat a(m.n, 3);
+    vdm::Vec v(m.n);
+    vdm::distributed_area_vectors(m.rest.positions, m.rest.triangles, a);
+    vdm::distributed_volumes(a, vdm::enclosed_volume(m.rest.positions, m.rest.triangles, vdm::Vec3::Zero()), v);
+    std::array<vdm::SpMat, 3> k3 = {m.pattern.matrix, m.pattern.matrix, m.pattern.matrix};
+    vdm::assemble_stiffness(m, a, v, vdm::Vec(), k3);
+    K = k3[2];
+  }
+};
+
+void BM_AxisKernels(benchmark::State& st) {
+  static const AxisMatrix am;
+  const int n = am.m.n;
+  vdm::Vec x = vdm::Vec::Ones(n), y(n);
+  vdm::IncompleteCholesky ic;
+  ic.analyze(am.K);
+  ic.factorize(am.K);
+  vdm::SparseLdlt ldlt;
+  ldlt.analyze(am.K);
+  ldlt.factorize(am.K);
+  const int which = static_cast<int>(st.range(0));
+  for (auto _ : st) {
+    switch (which) {
+      case 0: vdm::symmetric_multiply(am.K, x.data(), y.data()); break;
+      case 1: ic.factorize(am.K); break;
+      case 2: ic.apply(x.data(), y.data()); break;
+      case 3: ldlt.factorize(am.K); break;
+      default: ldlt.solve(x.data(), y.data()); break;
+    }
+    benchmark::DoNotOptimize(y.data());
+  }
+  const char* names[] = {"spmv", "ic0_factorize", "ic0_apply", "ldlt_factorize", "ldlt_solve"};
+  st.SetLabel(std::string(names[which]) + (which >= 3 ? " (L nnz " + std::to_string(ldlt.factor_nonzeros()) + ")" : ""));
+}
+BENCHMARK(BM_AxisKernels)->DenseRange(0, 4)->Unit(benchmark::kMicrosecond);
+
+// What the contact broad phase costs without a BVH: the exact node-versus-capsule distance of
+// every node (the narrow phase's own test), for comparison with BM_ContactStep's collision_ms.
+void BM_AllNodesAgainstCapsule(benchmark::State& st) {
+  const vdm::SurfaceMesh& mesh = liver();
+  vdm::Capsule c;
+  c.radius = 0.004;
+  c.p0 = vdm::Vec3(0.035, 0, 0.0593);
+  c.p1 = c.p0 + vdm::Vec3(0, 0, 0.2);
+  std::vector<int> near;
+  near.reserve(static_cast<size_t>(mesh.node_count()));
+  for (auto _ : st) {
+    near.clear();
+    for (int i = 0; i < mesh.node_count(); ++i) {
+      vdm::Vec3 p, nrm;
+      if (vdm::capsule_distance(c, mesh.positions.row(i).transpose(), p, nrm) < 0.001) near.push_back(i);
+    }
+    benchmark::DoNotOptimize(near.data());
+  }
+  st.counters["nodes_found"] = double(near.size());
+}
+BENCHMARK(BM_AllNodesAgainstCapsule)->Unit(benchmark::kMicrosecond);
 
 void BM_StressViewScalarAndColour(benchmark::State& st) {
   const vdm::TissueModel m = model(vdm::SolverMethod::structured);

@@ -22,6 +22,22 @@ void IncompleteCholesky::analyze(const SpMat& K) {
   }
   val_.assign(col_.size(), 0.0);
   marker_.assign(n_, -1);
+  // Rows of L^T: entry (i, k) of L with k < i is entry (k, i) of L^T.
+  up_start_.assign(n_ + 1, 0);
+  for (int i = 0; i < n_; ++i)
+    for (int p = row_start_[i]; p < row_start_[i + 1] - 1; ++p) ++up_start_[col_[p] + 1];
+  for (int k = 0; k < n_; ++k) up_start_[k + 1] += up_start_[k];
+  up_col_.assign(up_start_[n_], 0);
+  up_source_.assign(up_start_[n_], 0);
+  std::vector<int> fill(up_start_.begin(), up_start_.end() - 1);
+  for (int i = 0; i < n_; ++i)
+    for (int p = row_start_[i]; p < row_start_[i + 1] - 1; ++p) {
+      const int k = col_[p];
+      up_col_[fill[k]] = i;
+      up_source_[fill[k]++] = p;
+    }
+  up_val_.assign(up_start_[n_], 0.0);
+  inv_diag_.assign(n_, 0.0);
 }
 
 int IncompleteCholesky::factorize(const SpMat& K) {
@@ -49,8 +65,10 @@ int IncompleteCholesky::factorize(const SpMat& K) {
       ++repaired;
     }
     val_[end - 1] = std::sqrt(d);
+    inv_diag_[i] = 1.0 / val_[end - 1];
     for (int p = begin; p < end; ++p) marker_[col_[p]] = -1;
   }
+  for (size_t q = 0; q < up_val_.size(); ++q) up_val_[q] = val_[up_source_[q]];
   return repaired;
 }
 
@@ -60,14 +78,13 @@ void IncompleteCholesky::apply(const double* r, double* z) const {
     double s = r[i];
     const int end = row_start_[i + 1] - 1;
     for (int p = row_start_[i]; p < end; ++p) s -= val_[p] * z[col_[p]];
-    z[i] = s / val_[end];
+    z[i] = s * inv_diag_[i];
   }
-  // Backward: L^T z = y, column-oriented over the rows of L.
+  // Backward: L^T z = y, by the rows of L^T (a gather like the forward solve).
   for (int i = n_ - 1; i >= 0; --i) {
-    const int end = row_start_[i + 1] - 1;
-    z[i] /= val_[end];
-    const double zi = z[i];
-    for (int p = row_start_[i]; p < end; ++p) z[col_[p]] -= val_[p] * zi;
+    double s = z[i];
+    for (int p = up_start_[i]; p < up_start_[i + 1]; ++p) s -= up_val_[p] * z[up_col_[p]];
+    z[i] = s * inv_diag_[i];
   }
 }
 

@@ -25,6 +25,9 @@ class IncompleteCholesky {
   std::vector<int> col_;
   std::vector<int> source_;      // index of each L entry in K's value array
   std::vector<double> val_;
+  // L^T by rows (the strictly upper part), so that the backward solve gathers too.
+  std::vector<int> up_start_, up_col_, up_source_;  // up_source_: index into val_
+  std::vector<double> up_val_, inv_diag_;
   std::vector<int> marker_;      // scratch: position of column j in the current row, or -1
 };
 

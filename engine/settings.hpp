@@ -15,7 +15,7 @@ bool parse_solver_method(const std::string& text, SolverMethod& out);
 
 struct SolverSettings {
   SolverMethod method = SolverMethod::structured;
-  double tolerance = 1e-8;       // relative residual of each linear solve
+  double tolerance = 1e-8;       // relative residual of each linear solve (structured: the three axes together)
   int max_iterations = 2000;     // per Krylov solve
   bool warm_start = true;        // start each Krylov solve from the previous step's solution
   int refresh_every = 1;         // recompute geometry and matrix every k steps (>= 1)

@@ -407,7 +407,7 @@ void step(const TissueModel& m, const StepInput& in, SimState& s) {
     res2 += w.scratch.squaredNorm();
     rhs2 += w.rhs.col(d).squaredNorm();
     vol_row += w.a_free.col(d).dot(s.u.col(d));
-    symmetric_multiply(w.K[d], s.u.col(d).data(), w.scratch.data());
+    symmetric_multiply_rows(w.K[d], w.mask.col(d).data(), s.u.col(d).data(), w.scratch.data());  // constrained rows only
     for (int i = 0; i < m.n; ++i)
       s.reaction(i, d) =
           w.mask(i, d) ? w.scratch[i] - s.pressure * s.area_vectors(i, d) - w.force(i, d) : 0.0;

