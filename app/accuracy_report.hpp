@@ -12,17 +12,24 @@ namespace vdmsim {
 bool write_accuracy_csv(const std::string& path, const std::vector<AccuracyRow>& rows, std::string& error);
 bool write_accuracy_plot(const std::string& path, const std::vector<AccuracyRow>& rows, std::string& error);
 
-// The use cases and their time budgets per step (ms).
+// What a use judges accuracy by: the instrument force (a haptic device renders forces) or
+// the surface displacement (what a picture shows).
+enum class AccuracyMetric { force, displacement };
+
+// The use cases, their time budgets per step (ms) and what they judge accuracy by.
 struct UseBudget {
   const char* name;
   double budget_ms;
   const char* why;
+  AccuracyMetric metric;
 };
 const std::vector<UseBudget>& use_budgets();
 
-// The most accurate row (smallest RMS displacement error) of `scenario` within `budget_ms`
-// per step, the reference excluded; null when none fits.
-const AccuracyRow* best_within(const std::vector<AccuracyRow>& rows, const std::string& scenario, double budget_ms);
+// The most accurate row of `scenario` by `metric` (smallest force error, or smallest RMS
+// displacement error; ties to the faster) within `budget_ms` per step, the reference
+// excluded; null when none fits.
+const AccuracyRow* best_within(const std::vector<AccuracyRow>& rows, const std::string& scenario, double budget_ms,
+                               AccuracyMetric metric = AccuracyMetric::displacement);
 
 bool write_recommendations(const std::string& path, const std::vector<AccuracyRow>& rows, bool quick,
                            std::string& error);

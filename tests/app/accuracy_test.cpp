@@ -65,18 +65,26 @@ TEST(Accuracy, ParetoFrontKeepsOnlyUndominatedRowsPerScenario) {
 }
 
 TEST(Accuracy, RecommendationIsTheMostAccurateWithinTheBudget) {
-  const std::vector<AccuracyRow> rows = {
+  std::vector<AccuracyRow> rows = {
       row("probe_poke", "reference", 0.1, 0),  // excluded even though fastest and exact
-      row("probe_poke", "mesh", 0.5, 0.9),
+      row("probe_poke", "mesh", 0.5, 0.3),
       row("probe_poke", "tolerance", 0.9, 0.4),
       row("probe_poke", "baseline", 8, 0.1),
   };
-  const AccuracyRow* haptic = best_within(rows, "probe_poke", 1.0);
-  ASSERT_NE(haptic, nullptr);
-  EXPECT_EQ(haptic->config.varied, "tolerance");
+  rows[1].force_rel = 1.4;   // the coarse mesh: displacements fine, force far off
+  rows[2].force_rel = 0.05;
+  rows[3].force_rel = 0.04;
+  EXPECT_EQ(best_within(rows, "probe_poke", 1.0)->config.varied, "mesh");
+  EXPECT_EQ(best_within(rows, "probe_poke", 1.0, AccuracyMetric::force)->config.varied, "tolerance");
   EXPECT_EQ(best_within(rows, "probe_poke", 33)->config.varied, "baseline");
+  EXPECT_EQ(best_within(rows, "probe_poke", 33, AccuracyMetric::force)->config.varied, "baseline");
   EXPECT_EQ(best_within(rows, "probe_poke", 0.2), nullptr);
   EXPECT_EQ(best_within(rows, "grasp_lift", 1e9), nullptr);
+  // Every use has a budget and says what it judges by.
+  ASSERT_EQ(use_budgets().size(), 3u);
+  EXPECT_EQ(use_budgets()[0].metric, AccuracyMetric::force);
+  EXPECT_LE(use_budgets()[0].budget_ms, 1.0);
+  EXPECT_LE(use_budgets()[1].budget_ms, 1000.0 / 30);
 }
 
 }  // namespace
