@@ -429,11 +429,10 @@ void read_shape(Reader& r, const YAML::Node& n, const std::string& f, Instrument
                 const std::filesystem::path& base) {
   using Kind = tools::ProbeShape::Kind;
   const std::vector<std::string> kinds = {"capsule", "cylinder", "box", "convex"};
-  YAML::Node type_node = n;
-  if (n.IsMap()) {
-    type_node = r.required(n, "type", f, "capsule, cylinder, box or convex");
-    if (!type_node) return;
-  } else if (!n.IsScalar()) {
+  // (A YAML::Node assigned to another changes the node it refers to: one const per node.)
+  const YAML::Node type_node = n.IsMap() ? r.required(n, "type", f, "capsule, cylinder, box or convex") : n;
+  if (!type_node) return;
+  if (!n.IsMap() && !n.IsScalar()) {
     r.error(n, f, std::string("expected capsule, cylinder, box or convex, or a mapping {type: ..., ...}, got ") + Reader::kind(n));
     return;
   }
@@ -459,10 +458,10 @@ void read_shape(Reader& r, const YAML::Node& n, const std::string& f, Instrument
     case Kind::convex: r.check_keys(n, f, {"type", "mesh", "scale", "origin", "rotate_deg"}); break;
   }
   if (in.shape.kind == Kind::box) {
-    const YAML::Node size = n.IsMap() ? r.required(n, "size", f, "the box's sizes [x, y, z] (m), z along the axis")
-                                      : YAML::Node();
     if (!n.IsMap()) r.error(n, f, "a box needs its sizes: shape: {type: box, size: [x, y, z]} (m)");
-    if (size) {
+    if (const YAML::Node size = n.IsMap() ? r.required(n, "size", f, "the box's sizes [x, y, z] (m), z along the axis")
+                                          : YAML::Node(YAML::NodeType::Undefined);
+        size.IsDefined()) {
       if (!size.IsSequence() || size.size() != 3) {
         r.error(size, Reader::sub(f, "size"), "expected three sizes [x, y, z] (m)");
       } else {
@@ -472,7 +471,7 @@ void read_shape(Reader& r, const YAML::Node& n, const std::string& f, Instrument
     }
   }
   if (in.shape.kind == Kind::cylinder || in.shape.kind == Kind::box) {
-    if (const YAML::Node v = n.IsMap() ? n["rounding"] : YAML::Node()) {
+    if (const YAML::Node v = n.IsMap() ? n["rounding"] : YAML::Node(YAML::NodeType::Undefined); v.IsDefined()) {
       const double limit = in.shape.kind == Kind::cylinder ? std::min(in.radius, 0.5 * std::max(in.length, 2 * in.radius))
                                                           : 0.5 * in.shape.size.minCoeff();
       if (r.number(v, Reader::sub(f, "rounding"), in.shape.rounding, 0, kInf, "m") && in.shape.rounding > limit) {
