@@ -128,6 +128,35 @@ void size_fcl_shape(fcl::CollisionGeometryd& g, const ToolShape& t, double pad) 
   g.computeLocalAABB();
 }
 
+// The tool's oriented bounding box (world centre, axes = the pose's columns, half extents).
+void tool_box(const ToolShape& t, double pad, Vec3& centre, Vec3& half) {
+  Vec3 local = Vec3::Zero();
+  half = Vec3::Zero();
+  switch (t.kind) {
+    case ToolShape::Kind::capsule: half = Vec3(t.rounding, t.rounding, t.half_size.z() + t.rounding); break;
+    case ToolShape::Kind::cylinder:
+    case ToolShape::Kind::box: half = t.half_size; break;
+    case ToolShape::Kind::convex:
+      local = 0.5 * (t.hull->lo + t.hull->hi);
+      half = 0.5 * (t.hull->hi - t.hull->lo) + Vec3::Constant(t.rounding);
+      break;
+  }
+  half += Vec3::Constant(pad);
+  centre = t.pose * local;
+}
+
+// Whether an oriented box (centre c, rotation R, half extents h) and an axis-aligned box
+// [lo, hi] may overlap: separating axes of both boxes (conservative: edge-edge axes skipped).
+bool may_overlap(const Vec3& c, const Eigen::Matrix3d& R, const Vec3& h, const Vec3& lo, const Vec3& hi) {
+  const Vec3 ac = 0.5 * (lo + hi), ah = 0.5 * (hi - lo), d = c - ac;
+  const Eigen::Matrix3d absR = R.cwiseAbs();
+  for (int a = 0; a < 3; ++a)  // world axes
+    if (std::abs(d[a]) > ah[a] + absR.row(a).dot(h)) return false;
+  for (int b = 0; b < 3; ++b)  // the tool's axes
+    if (std::abs(R.col(b).dot(d)) > h[b] + absR.col(b).dot(ah)) return false;
+  return true;
+}
+
 }  // namespace
 
 ContactSolver::ContactSolver(const TissueModel& m, ContactSettings settings)
@@ -150,6 +179,7 @@ ContactSolver::ContactSolver(const TissueModel& m, ContactSettings settings)
   target_ = NodeMat::Zero(m.n, 3);
   normal_ = NodeMat::Zero(m.n, 3);
   candidates_.reserve(static_cast<size_t>(m.n));
+  stack_.reserve(256);
   x0_ = NodeMat::Zero(m.n, 3);
   u0_ = NodeMat::Zero(m.n, 3);
   v0_ = NodeMat::Zero(m.n, 3);
@@ -166,6 +196,38 @@ void ContactSolver::refit(const NodeMat& x) {
 }
 
 void ContactSolver::broad_phase(const ToolShape& t, size_t k, double pad, std::vector<int>& found, ContactReport& rep) {
+  auto add_triangle = [&](int tri) {
+    for (int corner = 0; corner < 3; ++corner) {
+      const int i = (*triangles_)(tri, corner);
+      if (!mark_[i]) {
+        mark_[i] = 1;
+        found.push_back(i);
+      }
+    }
+  };
+  ++rep.queries;
+  if (!settings_.fcl_shape_queries) {
+    // Walk the refitted BVH: triangles whose boxes meet the tool's oriented box.
+    Vec3 c, h;
+    tool_box(t, pad, c, h);
+    const Eigen::Matrix3d R = t.pose.linear();
+    const fcl::BVHModel<fcl::AABBd>& bvh = *fcl_->bvh;
+    stack_.clear();
+    stack_.push_back(0);
+    while (!stack_.empty()) {
+      const int id = stack_.back();
+      stack_.pop_back();
+      const fcl::BVNode<fcl::AABBd>& node = bvh.getBV(id);
+      if (!may_overlap(c, R, h, node.bv.min_, node.bv.max_)) continue;
+      if (node.isLeaf()) {
+        add_triangle(node.primitiveId());
+      } else {
+        stack_.push_back(node.leftChild());
+        stack_.push_back(node.rightChild());
+      }
+    }
+    return;
+  }
   if (fcl_->slots.size() <= k) fcl_->slots.resize(k + 1);
   Fcl::Slot& slot = fcl_->slots[k];
   if (!slot.shape || slot.kind != t.kind || slot.hull != t.hull.get()) {
@@ -179,17 +241,7 @@ void ContactSolver::broad_phase(const ToolShape& t, size_t k, double pad, std::v
   slot.object->computeAABB();
   fcl_->result.clear();
   fcl::collide(fcl_->organ.get(), slot.object.get(), fcl_->request, fcl_->result);
-  ++rep.queries;
-  for (size_t c = 0; c < fcl_->result.numContacts(); ++c) {
-    const int tri = static_cast<int>(fcl_->result.getContact(c).b1);
-    for (int corner = 0; corner < 3; ++corner) {
-      const int i = (*triangles_)(tri, corner);
-      if (!mark_[i]) {
-        mark_[i] = 1;
-        found.push_back(i);
-      }
-    }
-  }
+  for (size_t c = 0; c < fcl_->result.numContacts(); ++c) add_triangle(static_cast<int>(fcl_->result.getContact(c).b1));
 }
 
 void ContactSolver::step(const TissueModel& m, const StepInput& base, const std::vector<Capsule>& capsules, SimState& s,

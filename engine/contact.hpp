@@ -45,6 +45,11 @@ struct ContactSettings {
   double activation = 1e-4;   // a node within this fraction of the tool's size of the surface counts as touching
   double tolerance = 0.02;    // after the step, penetration must be below this fraction of the tool's size
   int max_active_set_iterations = 8;
+  // Broad phase: false (default) walks the organ's FCL BVH against each tool's oriented
+  // bounding box (no allocation); true asks FCL for the triangles overlapping the tool's FCL
+  // shape (capsule, cylinder, box, convex: tighter, but FCL's GJK allocates per triangle
+  // pair). The narrow phase is exact either way, so both give the same contacts.
+  bool fcl_shape_queries = false;
 };
 
 struct ContactReport {
@@ -88,6 +93,7 @@ class ContactSolver {
   NodeMat target_;                 // held position of active nodes (m)
   NodeMat normal_;                 // contact normal of active nodes
   std::vector<int> candidates_;
+  std::vector<int> stack_;                // BVH walk
   std::vector<ToolShape> capsule_tools_;  // the Capsule overload's tools
   NodeMat x0_, u0_, v0_;
 };

@@ -134,7 +134,10 @@ bool convex_hull(const std::vector<Vec3>& p, ConvexHull& out, std::string& error
     out.normals.push_back(f.n);
     out.offsets.push_back(f.d);
   }
+  out.lo = out.hi = out.vertices.front();
   for (const Vec3& v : out.vertices) {
+    out.lo = out.lo.cwiseMin(v);
+    out.hi = out.hi.cwiseMax(v);
     out.centroid += v / double(out.vertices.size());
     out.bound = std::max(out.bound, v.norm());
   }

@@ -17,6 +17,7 @@ struct ConvexHull {
   Vec3 centroid = Vec3::Zero();               // mean of the vertices (inside the hull)
   double inradius = 0;                        // distance from the centroid to the nearest face (m)
   double bound = 0;                           // largest distance from the origin to a vertex (m)
+  Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();  // axis-aligned bounds of the vertices (m)
 };
 
 // Builds the hull of `points` (incremental, O(n f)). False with a message when the points
