@@ -162,22 +162,21 @@ void append_lathe(SkinMesh& m, const std::vector<Eigen::Vector2d>& profile, cons
 
 namespace {
 
-// A cylinder along z from z0 (handle, flat) to z1 (tip) whose tip edge is rounded by e.
+// A cylinder along z from z0 (handle) to z1 (tip) whose edges are rounded by e (both ends,
+// as the collision shape).
 SkinMesh rounded_cylinder_mesh(double r, double z0, double z1, double e, int seg) {
   std::vector<Eigen::Vector2d> p, n;
+  const int arc = e > 0 ? 8 : 1;
   p.emplace_back(0, z0), n.emplace_back(0, -1);
-  p.emplace_back(r, z0), n.emplace_back(0, -1);
-  p.emplace_back(r, z0), n.emplace_back(1, 0);
-  p.emplace_back(r, z1 - e), n.emplace_back(1, 0);
-  if (e > 0) {
-    const int arc = 8;
-    for (int k = 1; k < arc; ++k) {
-      const double a = 0.5 * kPi * k / arc;
-      p.emplace_back(r - e + e * std::cos(a), z1 - e + e * std::sin(a)), n.emplace_back(std::cos(a), std::sin(a));
-    }
+  // Round the handle end's edge (from facing -z to facing out), then the tip's (out to +z).
+  for (int k = 0; k <= arc; ++k) {
+    const double a = -0.5 * 3.14159265358979323846 * (1.0 - double(k) / arc);
+    p.emplace_back(r - e + e * std::cos(a), z0 + e + e * std::sin(a)), n.emplace_back(std::cos(a), std::sin(a));
   }
-  p.emplace_back(r - e, z1), n.emplace_back(e > 0 ? 0 : 1, e > 0 ? 1 : 0);
-  if (e <= 0) p.emplace_back(r, z1), n.emplace_back(0, 1);
+  for (int k = 0; k <= arc; ++k) {
+    const double a = 0.5 * 3.14159265358979323846 * double(k) / arc;
+    p.emplace_back(r - e + e * std::cos(a), z1 - e + e * std::sin(a)), n.emplace_back(std::cos(a), std::sin(a));
+  }
   p.emplace_back(0, z1), n.emplace_back(0, 1);
   SkinMesh m;
   append_lathe(m, p, n, seg);
