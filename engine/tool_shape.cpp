@@ -6,6 +6,12 @@
 namespace vdm {
 namespace {
 
+// On the axis any direction across it will do: the one Eigen picks across the world axis
+// from the tip toward the handle (as capsule_distance does), in the shape frame.
+Vec3 across_axis(const ToolShape& t) {
+  return t.pose.linear().transpose() * Vec3(-t.pose.linear().col(2)).unitOrthogonal();
+}
+
 // Signed distance to the core (in the shape frame), closest core surface point, outward normal.
 double core_distance(const ToolShape& t, const Vec3& p, Vec3& cp, Vec3& n) {
   const double e = t.rounding;
@@ -15,13 +21,13 @@ double core_distance(const ToolShape& t, const Vec3& p, Vec3& cp, Vec3& n) {
       cp = Vec3(0, 0, std::clamp(p.z(), -h, h));
       Vec3 r = p - cp;
       const double d = r.norm();
-      n = d > 1e-15 ? Vec3(r / d) : Vec3::UnitX();
+      n = d > 1e-15 ? Vec3(r / d) : across_axis(t);
       return d;
     }
     case ToolShape::Kind::cylinder: {
       const double rc = std::max(t.half_size.x() - e, 0.0), hc = std::max(t.half_size.z() - e, 0.0);
       const double rho = std::hypot(p.x(), p.y());
-      const Vec3 radial = rho > 1e-15 ? Vec3(p.x() / rho, p.y() / rho, 0) : Vec3::UnitX();
+      const Vec3 radial = rho > 1e-15 ? Vec3(p.x() / rho, p.y() / rho, 0) : across_axis(t);
       const double qx = rho - rc, qz = std::abs(p.z()) - hc;
       const double sz = p.z() >= 0 ? 1.0 : -1.0;
       if (qx <= 0 && qz <= 0) {  // inside: the nearer of the side and the end cap
