@@ -4,9 +4,11 @@
 // there as prescribed displacements for the step; nodes whose reaction would pull the
 // instrument (adhesion) are released and the step solved again (active set).
 // Broad phase: an FCL BVHModel (AABB) of the organ, refitted each frame from the current
-// positions, queried against each instrument's FCL shape (capsule, cylinder, box, convex).
-// Narrow phase: exact node-versus-shape signed distance (engine/tool_shape.hpp). Once warmed
-// up (the same number and kinds of tools), a step allocates nothing in the contact code.
+// positions, walked against each tool's oriented bounding box (or, with
+// ContactSettings::fcl_shape_queries, queried by FCL against the tool's FCL shape: capsule,
+// cylinder, box, convex). Narrow phase: exact node-versus-shape signed distance
+// (engine/tool_shape.hpp). Once warmed up (the same number and kinds of tools), a step
+// allocates nothing in the contact code.
 #include <memory>
 #include <vector>
 
