@@ -424,13 +424,94 @@ void read_simulation(Reader& r, const YAML::Node& sim, SceneDef& s) {
   }
 }
 
+// A probe's collision shape: capsule | cylinder | box | convex, or a mapping {type, ...}.
+void read_shape(Reader& r, const YAML::Node& n, const std::string& f, InstrumentDef& in, ConvexDef& convex,
+                const std::filesystem::path& base) {
+  using Kind = tools::ProbeShape::Kind;
+  const std::vector<std::string> kinds = {"capsule", "cylinder", "box", "convex"};
+  // (A YAML::Node assigned to another changes the node it refers to: one const per node.)
+  const YAML::Node type_node = n.IsMap() ? r.required(n, "type", f, "capsule, cylinder, box or convex") : n;
+  if (!type_node) return;
+  if (!n.IsMap() && !n.IsScalar()) {
+    r.error(n, f, std::string("expected capsule, cylinder, box or convex, or a mapping {type: ..., ...}, got ") + Reader::kind(n));
+    return;
+  }
+  std::string type;
+  if (!r.text(type_node, n.IsMap() ? Reader::sub(f, "type") : f, type)) return;
+  const auto it = std::find(kinds.begin(), kinds.end(), type);
+  if (it == kinds.end()) {
+    const std::string near = closest(type, kinds);
+    r.error(type_node, n.IsMap() ? Reader::sub(f, "type") : f,
+            "unknown shape '" + type + "'" + (near.empty() ? "" : " (did you mean '" + near + "'?)") +
+                "; expected capsule, cylinder, box or convex");
+    return;
+  }
+  in.shape.kind = static_cast<Kind>(it - kinds.begin());
+  if (in.type != InstrumentDef::Type::probe) {
+    r.error(n, f, "a shape is for probes only (a grasper's jaws are boxes of its radius and jaw_length)");
+    return;
+  }
+  switch (in.shape.kind) {
+    case Kind::capsule: r.check_keys(n, f, {"type"}); break;
+    case Kind::cylinder: r.check_keys(n, f, {"type", "rounding"}); break;
+    case Kind::box: r.check_keys(n, f, {"type", "size", "rounding"}); break;
+    case Kind::convex: r.check_keys(n, f, {"type", "mesh", "scale", "origin", "rotate_deg"}); break;
+  }
+  if (in.shape.kind == Kind::box) {
+    if (!n.IsMap()) r.error(n, f, "a box needs its sizes: shape: {type: box, size: [x, y, z]} (m)");
+    if (const YAML::Node size = n.IsMap() ? r.required(n, "size", f, "the box's sizes [x, y, z] (m), z along the axis")
+                                          : YAML::Node(YAML::NodeType::Undefined);
+        size.IsDefined()) {
+      if (!size.IsSequence() || size.size() != 3) {
+        r.error(size, Reader::sub(f, "size"), "expected three sizes [x, y, z] (m)");
+      } else {
+        for (int d = 0; d < 3; ++d)
+          r.number(size[d], Reader::item(Reader::sub(f, "size"), d), in.shape.size[d], 0, 10, "m", false, true);
+      }
+    }
+  }
+  if (in.shape.kind == Kind::cylinder || in.shape.kind == Kind::box) {
+    if (const YAML::Node v = n.IsMap() ? n["rounding"] : YAML::Node(YAML::NodeType::Undefined); v.IsDefined()) {
+      const double limit = in.shape.kind == Kind::cylinder ? std::min(in.radius, 0.5 * std::max(in.length, 2 * in.radius))
+                                                          : 0.5 * in.shape.size.minCoeff();
+      if (r.number(v, Reader::sub(f, "rounding"), in.shape.rounding, 0, kInf, "m") && in.shape.rounding > limit) {
+        std::ostringstream m;
+        m << "value " << v.Scalar() << " is out of range: the rounding must be <= "
+          << (in.shape.kind == Kind::cylinder ? "the radius (" : "half the smallest size (") << limit << " m)";
+        r.error(v, Reader::sub(f, "rounding"), m.str());
+      }
+    }
+  }
+  if (in.shape.kind == Kind::convex) {
+    convex.present = true;
+    if (!n.IsMap()) {
+      r.error(n, f, "a convex shape needs its mesh: shape: {type: convex, mesh: FILE} (the mesh's convex hull collides)");
+      return;
+    }
+    if (const YAML::Node m = r.required(n, "mesh", f, "the mesh file whose convex hull is the shape (relative to the scene)")) {
+      std::string rel;
+      if (r.text(m, Reader::sub(f, "mesh"), rel)) {
+        const std::filesystem::path p = std::filesystem::path(rel).is_absolute() ? std::filesystem::path(rel) : base / rel;
+        convex.mesh = p.lexically_normal().string();
+        convex.where = r.where(m);
+        std::error_code ec;
+        if (!std::filesystem::is_regular_file(convex.mesh, ec))
+          r.error(m, Reader::sub(f, "mesh"), "no such mesh file: " + convex.mesh);
+      }
+    }
+    if (const YAML::Node v = n["scale"]) r.number(v, Reader::sub(f, "scale"), convex.scale, 0, kInf, "mesh units -> m", false, true);
+    if (const YAML::Node v = n["origin"]) r.vec3(v, Reader::sub(f, "origin"), convex.origin, "m");
+    if (const YAML::Node v = n["rotate_deg"]) r.vec3(v, Reader::sub(f, "rotate_deg"), convex.rotate_deg, "degrees");
+  }
+}
+
 void read_instruments(Reader& r, const YAML::Node& list, SceneDef& s, const std::filesystem::path& base) {
   if (!r.require_sequence(list, "instruments")) return;
   for (size_t i = 0; i < list.size(); ++i) {
     const std::string fi = Reader::item("instruments", i);
     const YAML::Node n = list[i];
     if (!r.require_map(n, fi)) continue;
-    r.check_keys(n, fi, {"type", "radius", "length", "jaw_length", "grasp_width", "script", "skin", "path"});
+    r.check_keys(n, fi, {"type", "radius", "length", "jaw_length", "grasp_width", "script", "skin", "path", "shape"});
     InstrumentDef in;
     s.instrument_where.push_back(r.where(n));
     if (const YAML::Node t = r.required(n, "type", fi, "probe or grasper")) {
@@ -458,6 +539,8 @@ void read_instruments(Reader& r, const YAML::Node& list, SceneDef& s, const std:
         else r.error(v, Reader::sub(fi, "path"), "unknown path '" + p + "': expected linear or spline");
       }
     }
+    ConvexDef convex;
+    if (const YAML::Node sh = n["shape"]) read_shape(r, sh, Reader::sub(fi, "shape"), in, convex, base);
     SkinDef skin;
     if (const YAML::Node sk = n["skin"]; sk && r.require_map(sk, Reader::sub(fi, "skin"))) {
       const std::string fs = Reader::sub(fi, "skin");
@@ -515,6 +598,7 @@ void read_instruments(Reader& r, const YAML::Node& list, SceneDef& s, const std:
               "the first keyframe must give the tip position [x, y, z] (m)");
     s.instruments.push_back(in);
     s.instrument_skins.push_back(skin);
+    s.instrument_convex.push_back(convex);
   }
 }
 

@@ -61,6 +61,17 @@ struct SkinDef {
   std::string where;                // file:line:col
 };
 
+// A convex probe's mesh: its convex hull is the collision shape (and the picture). Placed in
+// the instrument frame like a skin: scaled, rotated (x, then y, then z), origin at `origin`.
+struct ConvexDef {
+  bool present = false;
+  std::string mesh;                 // resolved path
+  double scale = 1.0;
+  vdm::Vec3 origin = vdm::Vec3::Zero();      // m, in the instrument frame
+  vdm::Vec3 rotate_deg = vdm::Vec3::Zero();
+  std::string where;                // file:line:col of the mesh field
+};
+
 using Keyframe = tools::Keyframe;
 using InstrumentDef = tools::InstrumentDef;
 
@@ -109,6 +120,7 @@ struct SceneDef {
   std::vector<InstrumentDef> instruments;
   std::vector<std::string> instrument_where;  // file:line:col of each instrument
   std::vector<SkinDef> instrument_skins;      // one per instrument
+  std::vector<ConvexDef> instrument_convex;   // one per instrument (present: shape convex)
   bool has_render = false;     // the scene has a render: section
   RenderDef render;
 

@@ -174,6 +174,32 @@ std::shared_ptr<render::SkinMesh> load_skin(const SkinDef& def, const std::strin
   }
   return skin;
 }
+// A convex probe's hull from its mesh, placed in the instrument frame.
+bool load_convex(const ConvexDef& def, std::shared_ptr<const vdm::ConvexHull>& out, std::string& error) {
+  MeshLoadOptions opt;
+  opt.scale = def.scale;
+  opt.validate = false;
+  const MeshLoadResult r = load_surface_mesh(def.mesh, opt);
+  if (!r.ok) {
+    error = r.error;
+    return false;
+  }
+  const double k = 3.14159265358979323846 / 180.0;
+  const Eigen::Matrix3d R = (Eigen::AngleAxisd(def.rotate_deg.z() * k, vdm::Vec3::UnitZ()) *
+                             Eigen::AngleAxisd(def.rotate_deg.y() * k, vdm::Vec3::UnitY()) *
+                             Eigen::AngleAxisd(def.rotate_deg.x() * k, vdm::Vec3::UnitX()))
+                                .toRotationMatrix();
+  std::vector<vdm::Vec3> points;
+  for (Eigen::Index i = 0; i < r.mesh.positions.rows(); ++i)
+    points.push_back(R * r.mesh.positions.row(i).transpose() + def.origin);
+  auto hull = std::make_shared<vdm::ConvexHull>();
+  if (!vdm::convex_hull(points, *hull, error)) {
+    error = def.mesh + ": " + error;
+    return false;
+  }
+  out = hull;
+  return true;
+}
 }  // namespace
 
 bool prepare_scene_def(const SceneDef& scene, PreparedScene& out, std::vector<SceneProblem>& problems) {
@@ -190,6 +216,17 @@ bool prepare_scene_def(const SceneDef& scene, PreparedScene& out, std::vector<Sc
     for (int j = 0; j < 2 && error.empty(); ++j) out.skins[k].jaws[j] = load_skin(d, d.jaws[j], error);
     if (!error.empty()) {
       problems.push_back({d.where, field, error, false});
+      return false;
+    }
+  }
+
+  // Convex probes: the hull of their mesh (loaded now so that `check` finds a broken file).
+  for (size_t k = 0; k < s.instrument_convex.size() && k < s.instruments.size(); ++k) {
+    const ConvexDef& d = s.instrument_convex[k];
+    if (!d.present) continue;
+    std::string error;
+    if (!load_convex(d, out.scene.instruments[k].shape.hull, error)) {
+      problems.push_back({d.where, "instruments[" + std::to_string(k) + "].shape.mesh", error, false});
       return false;
     }
   }

@@ -28,7 +28,8 @@ Eigen::Matrix3d rotation_deg(const vdm::Vec3& deg) {
 SceneSimulation::SceneSimulation(const PreparedScene& ps)
     : ps_(ps), state_(vdm::make_sim_state(ps.model)), input_(vdm::make_step_input(ps.model)) {
   const SceneDef& s = ps.scene;
-  // Contact runs only when listed, against probes; grasping only when listed, by graspers.
+  // Contact runs only when listed, against probes and graspers' jaws; grasping only when
+  // listed, by graspers.
   for (const tools::InstrumentDef& in : s.instruments)
     (in.type == tools::InstrumentDef::Type::probe ? probes_ : graspers_).push_back(&in);
   if (s.has(Effect::grasp)) grasps_.resize(graspers_.size());
@@ -38,9 +39,9 @@ SceneSimulation::SceneSimulation(const PreparedScene& ps)
     std::string error;
     if (!make_organ_solver(s, ps.model, organ_, error)) throw std::runtime_error("organ.model: " + error);
   }
-  if (s.has(Effect::contact) && !probes_.empty()) contact_ = std::make_unique<vdm::ContactSolver>(ps.model);
+  if (s.has(Effect::contact) && !s.instruments.empty()) contact_ = std::make_unique<vdm::ContactSolver>(ps.model);
   if (contact_) contact_->set_solver(organ_.get());  // organ.model fem or mass_spring
-  capsules_.resize(probes_.size());
+  tools_.resize(probes_.size() + 2 * graspers_.size());
 }
 
 std::vector<tools::InstrumentPose> SceneSimulation::poses(double t) const {
@@ -87,21 +88,23 @@ void SceneSimulation::advance(int f) {
   frame_iterations_ = 0;
   frame_fallbacks_ = 0;
   if (contact_) {
-    // Sub-step when a probe moves more than its radius in a frame, so it cannot tunnel.
+    // Sub-step when an instrument moves more than its size in a frame, so it cannot tunnel.
     double substeps = 1;
-    for (const tools::InstrumentDef* p : probes_) {
-      const double move = (tools::pose_at(*p, t).tip - tools::pose_at(*p, t - s.dt).tip).norm();
-      substeps = std::max(substeps, std::ceil(move / p->radius));
+    for (const tools::InstrumentDef& in : s.instruments) {
+      const double move = tools::instrument_motion(in, tools::pose_at(in, t), tools::pose_at(in, t - s.dt));
+      substeps = std::max(substeps, std::ceil(move / tools::instrument_size(in)));
     }
     const int n_sub = static_cast<int>(std::min(substeps, 1000.0));
     for (int j = 1; j <= n_sub; ++j) {
       const double tj = t - s.dt + s.dt * j / n_sub, tprev = t - s.dt + s.dt * (j - 1) / n_sub;
-      for (size_t k = 0; k < probes_.size(); ++k) {
-        capsules_[k] = tools::probe_capsule(*probes_[k], tools::pose_at(*probes_[k], tj));
-        capsules_[k].motion = tools::pose_at(*probes_[k], tj).tip - tools::pose_at(*probes_[k], tprev).tip;
-      }
+      for (size_t k = 0; k < probes_.size(); ++k)
+        tools_[k] = tools::probe_shape(*probes_[k], tools::pose_at(*probes_[k], tj), tools::pose_at(*probes_[k], tprev));
+      for (size_t k = 0; k < graspers_.size(); ++k)
+        for (int side = 0; side < 2; ++side)
+          tools_[probes_.size() + 2 * k + side] = tools::jaw_shape(*graspers_[k], tools::pose_at(*graspers_[k], tj),
+                                                                   tools::pose_at(*graspers_[k], tprev), side ? -1 : +1);
       const auto t_contact = Clock::now();
-      contact_->step(m, input_, capsules_, state_, report_);
+      contact_->step(m, input_, tools_, state_, report_);
       frame_step_ms_ += ms_since(t_contact);
       frame_iterations_ += state_.stats.iterations;
       frame_fallbacks_ += state_.stats.fallbacks;

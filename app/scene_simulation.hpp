@@ -42,7 +42,7 @@ class SceneSimulation {
   std::vector<tools::Grasp> grasps_;
   std::unique_ptr<vdm::OrganSolver> organ_;  // organ.model fem or mass_spring: this run's own
   std::unique_ptr<vdm::ContactSolver> contact_;
-  std::vector<vdm::Capsule> capsules_;
+  std::vector<vdm::ToolShape> tools_;  // probes' shapes, then two jaw boxes per grasper
   vdm::ContactReport report_;
   vdm::SimState state_;
   vdm::StepInput input_;

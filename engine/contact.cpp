@@ -49,13 +49,115 @@ Vec3 push_out(const Capsule& c, const Vec3& x, const Vec3& relative, Vec3& dir) 
   return x + hi * dir;
 }
 
+Vec3 push_out(const ToolShape& t, const Vec3& x, const Vec3& relative, Vec3& dir) {
+  const double m = relative.norm(), size = t.size();
+  dir = m > 1e-9 * size ? Vec3(-relative / m) : Vec3(t.pose.linear().col(2));
+  Vec3 nearest, nearest_normal, p, nrm;
+  if (tool_distance(t, x, nearest, nearest_normal) >= 0.0) return x;
+  // Along a ray from inside, the distance to a convex surface crosses zero once.
+  double lo = 0.0, hi = 2.0 * t.bound() + 2.0 * size;
+  for (int it = 0; it < 60; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (tool_distance(t, x + mid * dir, p, nrm) < 0.0 ? lo : hi) = mid;
+  }
+  // A node that came in from behind (the surface springing back into a retreating tool)
+  // would exit far away along the motion: put it on the nearest surface point instead.
+  if (hi > 2.0 * size + m) {
+    dir = nearest_normal;
+    return nearest;
+  }
+  return x + hi * dir;
+}
+
+ToolShape to_tool(const Capsule& c) { return capsule_shape(c.p0, c.p1, c.radius, c.motion); }
+
 struct ContactSolver::Fcl {
   std::shared_ptr<fcl::BVHModel<fcl::AABBd>> bvh;
   std::unique_ptr<fcl::CollisionObjectd> organ;
   std::vector<fcl::Vector3d> points;
   fcl::CollisionRequestd request;
   fcl::CollisionResultd result;
+  // One FCL shape and object per tool slot, rebuilt only when the slot's kind or hull
+  // changes; sizes and poses are updated in place (no allocation per query).
+  struct Slot {
+    ToolShape::Kind kind = ToolShape::Kind::capsule;
+    const ConvexHull* hull = nullptr;
+    std::shared_ptr<fcl::CollisionGeometryd> shape;
+    std::unique_ptr<fcl::CollisionObjectd> object;
+  };
+  std::vector<Slot> slots;
 };
+
+namespace {
+
+std::shared_ptr<fcl::CollisionGeometryd> make_fcl_shape(const ToolShape& t) {
+  switch (t.kind) {
+    case ToolShape::Kind::capsule: return std::make_shared<fcl::Capsuled>(1.0, 1.0);
+    case ToolShape::Kind::cylinder: return std::make_shared<fcl::Cylinderd>(1.0, 1.0);
+    case ToolShape::Kind::box: return std::make_shared<fcl::Boxd>(1.0, 1.0, 1.0);
+    case ToolShape::Kind::convex: {
+      auto verts = std::make_shared<std::vector<fcl::Vector3d>>(t.hull->vertices.begin(), t.hull->vertices.end());
+      auto faces = std::make_shared<std::vector<int>>();
+      for (const auto& tri : t.hull->triangles) faces->insert(faces->end(), {3, tri[0], tri[1], tri[2]});
+      return std::make_shared<fcl::Convexd>(verts, int(t.hull->triangles.size()), faces);
+    }
+  }
+  return nullptr;
+}
+
+// Sizes the slot's shape to the tool inflated by `pad` (a convex hull is not inflated).
+void size_fcl_shape(fcl::CollisionGeometryd& g, const ToolShape& t, double pad) {
+  switch (t.kind) {
+    case ToolShape::Kind::capsule: {
+      auto& c = static_cast<fcl::Capsuled&>(g);
+      c.radius = t.rounding + pad;
+      c.lz = std::max(2.0 * t.half_size.z(), 1e-9);
+      break;
+    }
+    case ToolShape::Kind::cylinder: {
+      auto& c = static_cast<fcl::Cylinderd&>(g);
+      c.radius = t.half_size.x() + pad;
+      c.lz = 2.0 * (t.half_size.z() + pad);
+      break;
+    }
+    case ToolShape::Kind::box:
+      static_cast<fcl::Boxd&>(g).side = 2.0 * (t.half_size + Vec3::Constant(pad));
+      break;
+    case ToolShape::Kind::convex: break;
+  }
+  g.computeLocalAABB();
+}
+
+// The tool's oriented bounding box (world centre, axes = the pose's columns, half extents).
+void tool_box(const ToolShape& t, double pad, Vec3& centre, Vec3& half) {
+  Vec3 local = Vec3::Zero();
+  half = Vec3::Zero();
+  switch (t.kind) {
+    case ToolShape::Kind::capsule: half = Vec3(t.rounding, t.rounding, t.half_size.z() + t.rounding); break;
+    case ToolShape::Kind::cylinder:
+    case ToolShape::Kind::box: half = t.half_size; break;
+    case ToolShape::Kind::convex:
+      local = 0.5 * (t.hull->lo + t.hull->hi);
+      half = 0.5 * (t.hull->hi - t.hull->lo) + Vec3::Constant(t.rounding);
+      break;
+  }
+  half += Vec3::Constant(pad);
+  centre = t.pose * local;
+}
+
+// Whether an oriented box (centre c, rotation R, half extents h) and an axis-aligned box
+// [lo, hi] may overlap: separating axes of both boxes (conservative: edge-edge axes skipped).
+bool may_overlap(const Vec3& c, const Eigen::Matrix3d& R, const Vec3& h, const Vec3& lo, const Vec3& hi) {
+  const Vec3 ac = 0.5 * (lo + hi), ah = 0.5 * (hi - lo), d = c - ac;
+  const Eigen::Matrix3d absR = R.cwiseAbs();
+  for (int a = 0; a < 3; ++a)  // world axes
+    if (std::abs(d[a]) > ah[a] + absR.row(a).dot(h)) return false;
+  for (int b = 0; b < 3; ++b)  // the tool's axes
+    if (std::abs(R.col(b).dot(d)) > h[b] + absR.col(b).dot(ah)) return false;
+  return true;
+}
+
+}  // namespace
 
 ContactSolver::ContactSolver(const TissueModel& m, ContactSettings settings)
     : fcl_(std::make_unique<Fcl>()), settings_(settings), triangles_(&m.rest.triangles) {
@@ -77,6 +179,7 @@ ContactSolver::ContactSolver(const TissueModel& m, ContactSettings settings)
   target_ = NodeMat::Zero(m.n, 3);
   normal_ = NodeMat::Zero(m.n, 3);
   candidates_.reserve(static_cast<size_t>(m.n));
+  stack_.reserve(256);
   x0_ = NodeMat::Zero(m.n, 3);
   u0_ = NodeMat::Zero(m.n, 3);
   v0_ = NodeMat::Zero(m.n, 3);
@@ -92,20 +195,8 @@ void ContactSolver::refit(const NodeMat& x) {
   fcl_->organ->computeAABB();
 }
 
-void ContactSolver::broad_phase(const Capsule& c, double pad, std::vector<int>& found, ContactReport& rep) {
-  const Vec3 d = c.p1 - c.p0;
-  const double len = d.norm();
-  // FCL's capsule is centred at the origin along z.
-  auto shape = std::make_shared<fcl::Capsuled>(c.radius + pad, std::max(len, 1e-9));
-  fcl::Transform3d tf = fcl::Transform3d::Identity();
-  tf.linear() = Eigen::Quaterniond::FromTwoVectors(Vec3::UnitZ(), len > 0 ? Vec3(d / len) : Vec3::UnitZ()).toRotationMatrix();
-  tf.translation() = 0.5 * (c.p0 + c.p1);
-  fcl::CollisionObjectd tool(shape, tf);
-  fcl_->result.clear();
-  fcl::collide(fcl_->organ.get(), &tool, fcl_->request, fcl_->result);
-  ++rep.queries;
-  for (size_t k = 0; k < fcl_->result.numContacts(); ++k) {
-    const int tri = static_cast<int>(fcl_->result.getContact(k).b1);
+void ContactSolver::broad_phase(const ToolShape& t, size_t k, double pad, std::vector<int>& found, ContactReport& rep) {
+  auto add_triangle = [&](int tri) {
     for (int corner = 0; corner < 3; ++corner) {
       const int i = (*triangles_)(tri, corner);
       if (!mark_[i]) {
@@ -113,10 +204,54 @@ void ContactSolver::broad_phase(const Capsule& c, double pad, std::vector<int>& 
         found.push_back(i);
       }
     }
+  };
+  ++rep.queries;
+  if (!settings_.fcl_shape_queries) {
+    // Walk the refitted BVH: triangles whose boxes meet the tool's oriented box.
+    Vec3 c, h;
+    tool_box(t, pad, c, h);
+    const Eigen::Matrix3d R = t.pose.linear();
+    const fcl::BVHModel<fcl::AABBd>& bvh = *fcl_->bvh;
+    stack_.clear();
+    stack_.push_back(0);
+    while (!stack_.empty()) {
+      const int id = stack_.back();
+      stack_.pop_back();
+      const fcl::BVNode<fcl::AABBd>& node = bvh.getBV(id);
+      if (!may_overlap(c, R, h, node.bv.min_, node.bv.max_)) continue;
+      if (node.isLeaf()) {
+        add_triangle(node.primitiveId());
+      } else {
+        stack_.push_back(node.leftChild());
+        stack_.push_back(node.rightChild());
+      }
+    }
+    return;
   }
+  if (fcl_->slots.size() <= k) fcl_->slots.resize(k + 1);
+  Fcl::Slot& slot = fcl_->slots[k];
+  if (!slot.shape || slot.kind != t.kind || slot.hull != t.hull.get()) {
+    slot.kind = t.kind;
+    slot.hull = t.hull.get();
+    slot.shape = make_fcl_shape(t);
+    slot.object = std::make_unique<fcl::CollisionObjectd>(slot.shape);
+  }
+  size_fcl_shape(*slot.shape, t, pad);
+  slot.object->setTransform(t.pose);
+  slot.object->computeAABB();
+  fcl_->result.clear();
+  fcl::collide(fcl_->organ.get(), slot.object.get(), fcl_->request, fcl_->result);
+  for (size_t c = 0; c < fcl_->result.numContacts(); ++c) add_triangle(static_cast<int>(fcl_->result.getContact(c).b1));
 }
 
-void ContactSolver::step(const TissueModel& m, const StepInput& base, const std::vector<Capsule>& tools, SimState& s,
+void ContactSolver::step(const TissueModel& m, const StepInput& base, const std::vector<Capsule>& capsules, SimState& s,
+                         ContactReport& rep) {
+  capsule_tools_.resize(capsules.size());
+  for (size_t k = 0; k < capsules.size(); ++k) capsule_tools_[k] = to_tool(capsules[k]);
+  step(m, base, capsule_tools_, s, rep);
+}
+
+void ContactSolver::step(const TissueModel& m, const StepInput& base, const std::vector<ToolShape>& tools, SimState& s,
                          ContactReport& rep) {
   rep = ContactReport();
   const auto t0 = Clock::now();
@@ -127,25 +262,25 @@ void ContactSolver::step(const TissueModel& m, const StepInput& base, const std:
   v0_ = s.velocity;
   const long step0 = s.step;
   const double time0 = s.time;
+  const bool has_prescribed = base.prescribed.rows() == m.n;
+  // Nodes the scene itself moves (grasped, scripted) on every axis take no part in contact.
+  auto driven = [&](int i) { return has_prescribed && base.prescribed.row(i).minCoeff() != 0; };
   // Contacts at the start: nodes inside (or touching) an instrument at its new pose.
   std::fill(active_.begin(), active_.end(), 0);
   refit(s.x);
   candidates_.clear();
-  double rmin = 1e30;
-  for (const Capsule& c : tools) {
-    broad_phase(c, settings_.activation * c.radius, candidates_, rep);
-    rmin = std::min(rmin, c.radius);
-  }
+  for (size_t k = 0; k < tools.size(); ++k) broad_phase(tools[k], k, settings_.activation * tools[k].size(), candidates_, rep);
   // `after_solve`: the node may have moved this step (relative motion = its move - the tool's).
   auto classify = [&](int i, bool allow_touch, bool after_solve) {
-    for (const Capsule& c : tools) {
+    const Vec3 x = s.x.row(i).transpose();
+    for (const ToolShape& t : tools) {
       Vec3 p, nrm;
-      const double dist = capsule_distance(c, s.x.row(i).transpose(), p, nrm);
-      const double limit = allow_touch ? settings_.activation * c.radius : -settings_.tolerance * 0.5 * c.radius;
+      const double dist = tool_distance(t, x, p, nrm);
+      const double limit = allow_touch ? settings_.activation * t.size() : -settings_.tolerance * 0.5 * t.size();
       if (dist < limit) {
         Vec3 dir;
         const Vec3 node_move = after_solve ? Vec3((s.x.row(i) - x0_.row(i)).transpose()) : Vec3::Zero();
-        const Vec3 target = dist < 0.0 ? push_out(c, s.x.row(i).transpose(), node_move - c.motion, dir) : p;
+        const Vec3 target = dist < 0.0 ? push_out(t, x, node_move - t.motion_at(x), dir) : p;
         if (dist >= 0.0) dir = nrm;  // touching: held where it is; the tool pushes it along its normal
         active_[i] = 1;
         target_.row(i) = target.transpose();
@@ -157,7 +292,7 @@ void ContactSolver::step(const TissueModel& m, const StepInput& base, const std:
   };
   for (int i : candidates_) {
     mark_[i] = 0;
-    classify(i, true, false);
+    if (!driven(i)) classify(i, true, false);
   }
   rep.collision_ms += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 
@@ -168,8 +303,13 @@ void ContactSolver::step(const TissueModel& m, const StepInput& base, const std:
   for (int it = 0; it <= max_it; ++it) {
     input_.force = base.force;
     input_.pressure = base.pressure;
-    input_.prescribed = base.prescribed.rows() == m.n ? base.prescribed : FlagMat::Zero(m.n, 3);
-    input_.prescribed_u = base.prescribed_u.rows() == m.n ? base.prescribed_u : NodeMat::Zero(m.n, 3);
+    if (has_prescribed) {
+      input_.prescribed = base.prescribed;
+      input_.prescribed_u = base.prescribed_u;
+    } else {
+      input_.prescribed.setZero();
+      input_.prescribed_u.setZero();
+    }
     for (int i = 0; i < m.n; ++i)
       if (active_[i]) {
         input_.prescribed.row(i).setOnes();
@@ -203,14 +343,14 @@ void ContactSolver::step(const TissueModel& m, const StepInput& base, const std:
     // Catch free nodes that the step pushed into an instrument.
     refit(s.x);
     candidates_.clear();
-    for (const Capsule& c : tools) broad_phase(c, 0.0, candidates_, rep);
+    for (size_t k = 0; k < tools.size(); ++k) broad_phase(tools[k], k, 0.0, candidates_, rep);
     rep.max_penetration = 0.0;
     for (int i : candidates_) {
       mark_[i] = 0;
-      if (active_[i]) continue;
-      for (const Capsule& c : tools) {
+      if (active_[i] || driven(i)) continue;
+      for (const ToolShape& t : tools) {
         Vec3 p, nrm;
-        const double dist = capsule_distance(c, s.x.row(i).transpose(), p, nrm);
+        const double dist = tool_distance(t, s.x.row(i).transpose(), p, nrm);
         rep.max_penetration = std::max(rep.max_penetration, -dist);
       }
       if (it < max_it && classify(i, false, true)) changed = true;

@@ -3,13 +3,17 @@
 // kinematic: nodes that penetrate an instrument are projected onto its surface and held
 // there as prescribed displacements for the step; nodes whose reaction would pull the
 // instrument (adhesion) are released and the step solved again (active set).
-// Broad phase: an FCL BVHModel<OBBRSS> of the organ, refitted each frame from the current
-// positions, queried against each instrument's FCL capsule. Narrow phase: exact node-versus-
-// capsule distance.
+// Broad phase: an FCL BVHModel (AABB) of the organ, refitted each frame from the current
+// positions, walked against each tool's oriented bounding box (or, with
+// ContactSettings::fcl_shape_queries, queried by FCL against the tool's FCL shape: capsule,
+// cylinder, box, convex). Narrow phase: exact node-versus-shape signed distance
+// (engine/tool_shape.hpp). Once warmed up (the same number and kinds of tools), a step
+// allocates nothing in the contact code.
 #include <memory>
 #include <vector>
 
 #include "engine/sim_state.hpp"
+#include "engine/tool_shape.hpp"
 
 namespace vdm {
 
@@ -28,15 +32,26 @@ struct Capsule {
 // instead of sliding round its tip; a surface springing back into a retreating probe is
 // caught by the tip. On return `direction` is the push direction.
 Vec3 push_out(const Capsule& c, const Vec3& x, const Vec3& relative, Vec3& direction);
+// The same for any tool shape (`relative`: the node's displacement minus the tool's there;
+// when zero, along the shape's +z: toward its tip).
+Vec3 push_out(const ToolShape& t, const Vec3& x, const Vec3& relative, Vec3& direction);
+
+// A capsule as a tool shape.
+ToolShape to_tool(const Capsule& c);
 
 // Signed distance from x to the capsule's surface (negative inside), the closest surface
 // point and the outward normal there.
 double capsule_distance(const Capsule& c, const Vec3& x, Vec3& surface_point, Vec3& normal);
 
 struct ContactSettings {
-  double activation = 1e-4;   // a node within this fraction of the radius of the surface counts as touching
-  double tolerance = 0.02;    // after the step, penetration must be below this fraction of the radius
+  double activation = 1e-4;   // a node within this fraction of the tool's size of the surface counts as touching
+  double tolerance = 0.02;    // after the step, penetration must be below this fraction of the tool's size
   int max_active_set_iterations = 8;
+  // Broad phase: false (default) walks the organ's FCL BVH against each tool's oriented
+  // bounding box (no allocation); true asks FCL for the triangles overlapping the tool's FCL
+  // shape (capsule, cylinder, box, convex: tighter, but FCL's GJK allocates per triangle
+  // pair). The narrow phase is exact either way, so both give the same contacts.
+  bool fcl_shape_queries = false;
 };
 
 struct ContactReport {
@@ -54,7 +69,10 @@ class ContactSolver {
   ContactSolver(const TissueModel& model, ContactSettings settings = {});
   ~ContactSolver();
   // One step with contact: `base` holds the scene's own loads and prescribed motion (it is
-  // not modified); the instruments' constraints are added on top.
+  // not modified); the instruments' constraints are added on top. Nodes whose motion `base`
+  // prescribes on all three axes (grasped, scripted) take no part in contact.
+  void step(const TissueModel& model, const StepInput& base, const std::vector<ToolShape>& tools, SimState& state,
+            ContactReport& report);
   void step(const TissueModel& model, const StepInput& base, const std::vector<Capsule>& tools, SimState& state,
             ContactReport& report);
   // Steps the organ with `solver` (fem, mass_spring) instead of vdm::step; null: vdm::step.
@@ -63,8 +81,8 @@ class ContactSolver {
   const std::vector<char>& active() const { return active_; }
 
  private:
-  // Appends to `found` the nodes whose triangles overlap the capsule (radius inflated by `pad`).
-  void broad_phase(const Capsule& c, double pad, std::vector<int>& found, ContactReport& report);
+  // Appends to `found` the nodes whose triangles overlap tool k (inflated by `pad`, m).
+  void broad_phase(const ToolShape& t, size_t k, double pad, std::vector<int>& found, ContactReport& report);
   void refit(const NodeMat& x);
 
   struct Fcl;
@@ -77,6 +95,8 @@ class ContactSolver {
   NodeMat target_;                 // held position of active nodes (m)
   NodeMat normal_;                 // contact normal of active nodes
   std::vector<int> candidates_;
+  std::vector<int> stack_;                // BVH walk
+  std::vector<ToolShape> capsule_tools_;  // the Capsule overload's tools
   NodeMat x0_, u0_, v0_;
 };
 

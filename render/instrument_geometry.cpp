@@ -6,7 +6,6 @@
 namespace render {
 namespace {
 constexpr double kPi = 3.14159265358979323846;
-constexpr double kMaxJawAngle = 30.0 * kPi / 180.0;
 
 unsigned add_vertex(SkinMesh& m, const Eigen::Vector3f& p, const Eigen::Vector3f& n) {
   m.positions.push_back(p);
@@ -126,7 +125,12 @@ SkinMesh grasper_shaft_mesh(double radius, double length, double jaw_length) {
 
 SkinMesh grasper_jaw_mesh(double radius, double jaw_length, int side) {
   SkinMesh m;
-  const float w = float(0.8 * radius), t = float(0.45 * radius), L = float(jaw_length);
+  // The jaws' collision boxes (tools::jaw_shape), drawn as they are.
+  tools::InstrumentDef def;
+  def.radius = radius;
+  def.jaw_length = jaw_length;
+  const vdm::Vec3 h = tools::jaw_half_size(def);
+  const float w = float(h.x()), t = float(2 * h.y()), L = float(2 * h.z());
   // Closed, the jaws meet at y = 0: the upper jaw spans y in [0, t], the lower [-t, 0].
   const float y0 = side > 0 ? 0.0f : -t, y1 = side > 0 ? t : 0.0f;
   append_box(m, Eigen::Vector3f(-w, y0, -L), Eigen::Vector3f(w, y1, 0.0f));
@@ -134,13 +138,127 @@ SkinMesh grasper_jaw_mesh(double radius, double jaw_length, int side) {
 }
 
 Eigen::Isometry3f jaw_transform(double jaw_length, double opening, int side) {
-  const double angle = side * kMaxJawAngle * std::clamp(opening, 0.0, 1.0);
-  const Eigen::Vector3f pivot(0, 0, float(-jaw_length));
-  Eigen::Isometry3f t = Eigen::Isometry3f::Identity();
-  t.translate(pivot);
-  t.rotate(Eigen::AngleAxisf(float(-angle), Eigen::Vector3f::UnitX()));
-  t.translate(-pivot);
-  return t;
+  return Eigen::Isometry3f(tools::jaw_transform(jaw_length, opening, side).matrix().cast<float>());
+}
+
+void append_lathe(SkinMesh& m, const std::vector<Eigen::Vector2d>& profile, const std::vector<Eigen::Vector2d>& normals,
+                  int segments) {
+  const unsigned base = static_cast<unsigned>(m.positions.size());
+  const int row = segments + 1;
+  for (size_t k = 0; k < profile.size(); ++k)
+    for (int i = 0; i <= segments; ++i) {
+      const double a = 2 * kPi * i / segments, c = std::cos(a), s = std::sin(a);
+      add_vertex(m, Eigen::Vector3f(float(profile[k].x() * c), float(profile[k].x() * s), float(profile[k].y())),
+                 Eigen::Vector3f(float(normals[k].x() * c), float(normals[k].x() * s), float(normals[k].y())));
+    }
+  for (size_t k = 0; k + 1 < profile.size(); ++k)
+    for (int i = 0; i < segments; ++i) {
+      const unsigned a = base + unsigned(k * row + i), b = a + 1, c = a + row, d = c + 1;
+      // Outward when the profile runs from the handle (low z) toward the tip.
+      add_triangle(m, a, b, c);
+      add_triangle(m, b, d, c);
+    }
+}
+
+namespace {
+
+// A cylinder along z from z0 (handle) to z1 (tip) whose edges are rounded by e (both ends,
+// as the collision shape).
+SkinMesh rounded_cylinder_mesh(double r, double z0, double z1, double e, int seg) {
+  std::vector<Eigen::Vector2d> p, n;
+  const int arc = e > 0 ? 8 : 1;
+  p.emplace_back(0, z0), n.emplace_back(0, -1);
+  // Round the handle end's edge (from facing -z to facing out), then the tip's (out to +z).
+  for (int k = 0; k <= arc; ++k) {
+    const double a = -0.5 * 3.14159265358979323846 * (1.0 - double(k) / arc);
+    p.emplace_back(r - e + e * std::cos(a), z0 + e + e * std::sin(a)), n.emplace_back(std::cos(a), std::sin(a));
+  }
+  for (int k = 0; k <= arc; ++k) {
+    const double a = 0.5 * 3.14159265358979323846 * double(k) / arc;
+    p.emplace_back(r - e + e * std::cos(a), z1 - e + e * std::sin(a)), n.emplace_back(std::cos(a), std::sin(a));
+  }
+  p.emplace_back(0, z1), n.emplace_back(0, 1);
+  SkinMesh m;
+  append_lathe(m, p, n, seg);
+  return m;
+}
+
+// A box of half sizes h centred at c whose edges are rounded by e: a grid on the box's faces
+// mapped onto the rounded surface (core point + e along the way out).
+void append_rounded_box(SkinMesh& m, const vdm::Vec3& h, const vdm::Vec3& c, double e) {
+  if (e <= 0) {
+    append_box(m, (c - h).cast<float>(), (c + h).cast<float>());
+    return;
+  }
+  const vdm::Vec3 core = (h.array() - e).max(0.0).matrix();
+  // Grid coordinates along each axis: the flat part's ends plus arcs over the rounded bands.
+  auto coords = [&](int axis) {
+    std::vector<double> v;
+    const int arc = 6;
+    for (int k = arc; k >= 1; --k) v.push_back(-core[axis] - e * std::sin(0.5 * kPi * k / arc));
+    v.push_back(-core[axis]);
+    v.push_back(core[axis]);
+    for (int k = 1; k <= arc; ++k) v.push_back(core[axis] + e * std::sin(0.5 * kPi * k / arc));
+    return v;
+  };
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side = -1; side <= 1; side += 2) {
+      const int u = (axis + 1) % 3, w = (axis + 2) % 3;
+      const std::vector<double> cu = coords(u), cw = coords(w);
+      const unsigned base = static_cast<unsigned>(m.positions.size());
+      for (double a : cu)
+        for (double b : cw) {
+          vdm::Vec3 q;
+          q[axis] = side * h[axis];
+          q[u] = a;
+          q[w] = b;
+          const vdm::Vec3 k = q.cwiseMax(-core).cwiseMin(core);
+          const vdm::Vec3 n = (q - k).normalized();
+          add_vertex(m, (c + k + e * n).cast<float>(), n.cast<float>());
+        }
+      const unsigned nw = unsigned(cw.size());
+      for (unsigned i = 0; i + 1 < cu.size(); ++i)
+        for (unsigned j = 0; j + 1 < nw; ++j) {
+          const unsigned a = base + i * nw + j, b = a + 1, cc = a + nw, d = cc + 1;
+          // (u, w, axis) is right-handed: counter-clockwise in (u, w) faces +axis.
+          if (side > 0) {
+            add_triangle(m, a, cc, d);
+            add_triangle(m, a, d, b);
+          } else {
+            add_triangle(m, a, d, cc);
+            add_triangle(m, a, b, d);
+          }
+        }
+    }
+}
+
+}  // namespace
+
+SkinMesh probe_mesh(const tools::ProbeShape& shape, double radius, double length) {
+  const int seg = 32;
+  const double len = std::max(length, 2 * radius);
+  switch (shape.kind) {
+    case tools::ProbeShape::Kind::capsule: return probe_mesh(radius, length);
+    case tools::ProbeShape::Kind::cylinder: return rounded_cylinder_mesh(radius, -len, 0.0, shape.rounding, seg);
+    case tools::ProbeShape::Kind::box: {
+      SkinMesh m;
+      append_rounded_box(m, 0.5 * shape.size, vdm::Vec3(0, 0, -0.5 * shape.size.z()), shape.rounding);
+      return m;
+    }
+    case tools::ProbeShape::Kind::convex: {
+      SkinMesh m;
+      if (!shape.hull) return m;
+      for (size_t k = 0; k < shape.hull->triangles.size(); ++k) {  // flat shaded: a normal per facet
+        const Eigen::Vector3f n = shape.hull->normals[k].cast<float>();
+        const unsigned a = add_vertex(m, shape.hull->vertices[shape.hull->triangles[k][0]].cast<float>(), n);
+        const unsigned b = add_vertex(m, shape.hull->vertices[shape.hull->triangles[k][1]].cast<float>(), n);
+        const unsigned c = add_vertex(m, shape.hull->vertices[shape.hull->triangles[k][2]].cast<float>(), n);
+        add_triangle(m, a, b, c);
+      }
+      return m;
+    }
+  }
+  return probe_mesh(radius, length);
 }
 
 }  // namespace render

@@ -16,11 +16,18 @@ void append_disc(SkinMesh& m, double radius, double z, int sign, int segments);
 void append_box(SkinMesh& m, const Eigen::Vector3f& lo, const Eigen::Vector3f& hi);
 
 SkinMesh probe_mesh(double radius, double length);
+// The probe as its collision shape (tools::probe_shape): capsule, cylinder with a rounded
+// tip, box (rounded edges) or convex hull.
+SkinMesh probe_mesh(const tools::ProbeShape& shape, double radius, double length);
+// Appends the solid of revolution about z of a profile (rho, z) with outward normals (nrho,
+// nz) per point, from the first point to the last.
+void append_lathe(SkinMesh& m, const std::vector<Eigen::Vector2d>& profile, const std::vector<Eigen::Vector2d>& normals,
+                  int segments);
 SkinMesh grasper_shaft_mesh(double radius, double length, double jaw_length);
 // One jaw (side = +1 upper, -1 lower) in the closed position: from the pivot at
 // z = -jaw_length to the tip at z = 0.
 SkinMesh grasper_jaw_mesh(double radius, double jaw_length, int side);
-// The rotation of a jaw about the pivot for an opening in [0, 1] (fully open: 30 degrees).
+// The rotation of a jaw about the pivot for an opening in [0, 1] (tools::jaw_transform).
 Eigen::Isometry3f jaw_transform(double jaw_length, double opening, int side);
 
 }  // namespace render

@@ -70,6 +70,7 @@ void scalar_field(Quantity q, const vdm::SimState& s, std::vector<float>& out) {
 InstrumentView instrument_view(const tools::InstrumentDef& def, const tools::InstrumentPose& pose) {
   InstrumentView v;
   v.type = def.type;
+  v.shape = def.shape;
   v.radius = def.radius;
   v.length = def.length;
   v.jaw_length = def.jaw_length;

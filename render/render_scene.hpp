@@ -33,6 +33,7 @@ struct SkinMesh {
 // An instrument in its frame: origin at the tip, +z along the axis (handle toward tip).
 struct InstrumentView {
   tools::InstrumentDef::Type type = tools::InstrumentDef::Type::probe;
+  tools::ProbeShape shape;                   // probe: what collides, drawn as it is
   double radius = 0.004, length = 0.3, jaw_length = 0.02;
   double jaw_opening = 1;                    // grasper: 0 closed, 1 fully open
   Eigen::Isometry3d frame = Eigen::Isometry3d::Identity();

@@ -96,7 +96,8 @@ struct Renderer::Impl {
   std::vector<Eigen::Vector3f> normals;
   std::vector<float> vertex_data;
   // Instruments (parametric, by dimensions) and skins (by address).
-  std::map<std::tuple<int, double, double, double>, InstrumentMeshes> instruments;
+  std::map<std::tuple<int, double, double, double, int, double, double, double, double, const void*>, InstrumentMeshes>
+      instruments;
   std::map<const SkinMesh*, GpuMesh> skins;
   // The floor's shadow mask.
   GLuint mask_fbo = 0, mask_tex = 0;
@@ -269,12 +270,14 @@ void Renderer::Impl::upload_organ(const vdm::NodeMat& x, const std::vector<float
 }
 
 InstrumentMeshes& Renderer::Impl::instrument_meshes(const InstrumentView& v) {
-  const auto key = std::make_tuple(int(v.type), v.radius, v.length, v.jaw_length);
+  const auto key = std::make_tuple(int(v.type), v.radius, v.length, v.jaw_length, int(v.shape.kind), v.shape.size.x(),
+                                   v.shape.size.y(), v.shape.size.z(), v.shape.rounding,
+                                   static_cast<const void*>(v.shape.hull.get()));
   auto it = instruments.find(key);
   if (it != instruments.end()) return it->second;
   InstrumentMeshes m;
   if (v.type == tools::InstrumentDef::Type::probe) {
-    m.body.upload(probe_mesh(v.radius, v.length));
+    m.body.upload(probe_mesh(v.shape, v.radius, v.length));
   } else {
     m.body.upload(grasper_shaft_mesh(v.radius, v.length, v.jaw_length));
     m.jaws[0].upload(grasper_jaw_mesh(v.radius, v.jaw_length, +1));
@@ -338,9 +341,18 @@ void Renderer::Impl::set_capsules(const RenderScene& scene) {
   capsule_b.clear();
   for (const InstrumentView& v : scene.instruments) {
     if (capsule_a.size() == 4) break;
-    const Eigen::Vector3d tip_centre = v.frame * Eigen::Vector3d(0, 0, -v.radius);
-    const Eigen::Vector3d handle = v.frame * Eigen::Vector3d(0, 0, -std::max(v.length, 2 * v.radius));
-    capsule_a.emplace_back(float(tip_centre.x()), float(tip_centre.y()), float(tip_centre.z()), float(v.radius));
+    // Box and convex probes cast the shadow of a capsule about as wide, along their axis.
+    double r = v.radius, len = std::max(v.length, 2 * v.radius);
+    if (v.type == tools::InstrumentDef::Type::probe && v.shape.kind == tools::ProbeShape::Kind::box) {
+      r = 0.25 * (v.shape.size.x() + v.shape.size.y());
+      len = std::max(v.shape.size.z(), 2 * r);
+    } else if (v.type == tools::InstrumentDef::Type::probe && v.shape.kind == tools::ProbeShape::Kind::convex && v.shape.hull) {
+      r = v.shape.hull->inradius;
+      len = std::max(v.shape.hull->bound, 2 * r);
+    }
+    const Eigen::Vector3d tip_centre = v.frame * Eigen::Vector3d(0, 0, -r);
+    const Eigen::Vector3d handle = v.frame * Eigen::Vector3d(0, 0, -len);
+    capsule_a.emplace_back(float(tip_centre.x()), float(tip_centre.y()), float(tip_centre.z()), float(r));
     capsule_b.emplace_back(float(handle.x()), float(handle.y()), float(handle.z()), 0.0f);
   }
 }

@@ -4,12 +4,7 @@
 
 namespace tools {
 
-Eigen::Isometry3d jaw_frame(const InstrumentPose& pose) {
-  Eigen::Isometry3d f = Eigen::Isometry3d::Identity();
-  f.linear() = Eigen::Quaterniond::FromTwoVectors(vdm::Vec3::UnitZ(), pose.axis.normalized()).toRotationMatrix();
-  f.translation() = pose.tip;
-  return f;
-}
+Eigen::Isometry3d jaw_frame(const InstrumentPose& pose) { return instrument_frame(pose); }
 
 bool Grasp::update(const InstrumentDef& def, const InstrumentPose& pose, const vdm::NodeMat& x) {
   if (pose.jaw_closed == closed_) return false;

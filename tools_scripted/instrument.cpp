@@ -1,6 +1,7 @@
 #include "tools_scripted/instrument.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <Eigen/Geometry>
 
 namespace tools {
@@ -73,6 +74,111 @@ vdm::Capsule probe_capsule(const InstrumentDef& def, const InstrumentPose& pose)
   c.p0 = pose.tip - def.radius * pose.axis;                                  // centre of the rounded tip
   c.p1 = pose.tip - std::max(def.length - def.radius, def.radius) * pose.axis;  // toward the handle
   return c;
+}
+
+Eigen::Isometry3d instrument_frame(const InstrumentPose& pose) {
+  Eigen::Isometry3d f = Eigen::Isometry3d::Identity();
+  f.linear() = Eigen::Quaterniond::FromTwoVectors(vdm::Vec3::UnitZ(), pose.axis.normalized()).toRotationMatrix();
+  f.translation() = pose.tip;
+  return f;
+}
+
+namespace {
+
+// The probe's shape frame in the instrument frame, and the shape's sizes.
+void probe_local(const InstrumentDef& def, vdm::ToolShape& t, Eigen::Isometry3d& local) {
+  local = Eigen::Isometry3d::Identity();
+  const double len = std::max(def.length, 2 * def.radius);
+  switch (def.shape.kind) {
+    case ProbeShape::Kind::capsule: {
+      // Segment from the tip's centre (z = -r) to z = -max(L - r, r).
+      const double z0 = -def.radius, z1 = -std::max(def.length - def.radius, def.radius);
+      t.kind = vdm::ToolShape::Kind::capsule;
+      t.half_size = vdm::Vec3(def.radius, def.radius, 0.5 * (z0 - z1));
+      t.rounding = def.radius;
+      local.translation() = vdm::Vec3(0, 0, 0.5 * (z0 + z1));
+      break;
+    }
+    case ProbeShape::Kind::cylinder:
+      t.kind = vdm::ToolShape::Kind::cylinder;
+      t.half_size = vdm::Vec3(def.radius, def.radius, 0.5 * len);
+      t.rounding = def.shape.rounding;
+      local.translation() = vdm::Vec3(0, 0, -0.5 * len);
+      break;
+    case ProbeShape::Kind::box:
+      t.kind = vdm::ToolShape::Kind::box;
+      t.half_size = 0.5 * def.shape.size;
+      t.rounding = def.shape.rounding;
+      local.translation() = vdm::Vec3(0, 0, -0.5 * def.shape.size.z());
+      break;
+    case ProbeShape::Kind::convex:
+      t.kind = vdm::ToolShape::Kind::convex;
+      t.hull = def.shape.hull;
+      t.rounding = 0;
+      break;
+  }
+}
+
+}  // namespace
+
+vdm::ToolShape probe_shape(const InstrumentDef& def, const InstrumentPose& pose, const InstrumentPose& previous) {
+  vdm::ToolShape t;
+  Eigen::Isometry3d local;
+  probe_local(def, t, local);
+  t.pose = instrument_frame(pose) * local;
+  t.previous = instrument_frame(previous) * local;
+  return t;
+}
+
+vdm::Vec3 jaw_half_size(const InstrumentDef& def) {
+  return vdm::Vec3(0.8 * def.radius, 0.5 * 0.45 * def.radius, 0.5 * def.jaw_length);
+}
+
+Eigen::Isometry3d jaw_transform(double jaw_length, double opening, int side) {
+  const double angle = side * kMaxJawAngleDeg * 3.14159265358979323846 / 180.0 * std::clamp(opening, 0.0, 1.0);
+  const vdm::Vec3 pivot(0, 0, -jaw_length);
+  Eigen::Isometry3d t = Eigen::Isometry3d::Identity();
+  t.translate(pivot);
+  t.rotate(Eigen::AngleAxisd(-angle, vdm::Vec3::UnitX()));
+  t.translate(-pivot);
+  return t;
+}
+
+vdm::ToolShape jaw_shape(const InstrumentDef& def, const InstrumentPose& pose, const InstrumentPose& previous, int side) {
+  vdm::ToolShape t;
+  t.kind = vdm::ToolShape::Kind::box;
+  t.half_size = jaw_half_size(def);
+  Eigen::Isometry3d local = Eigen::Isometry3d::Identity();
+  local.translation() = vdm::Vec3(0, side * t.half_size.y(), -t.half_size.z());  // the closed jaw's centre
+  t.pose = instrument_frame(pose) * jaw_transform(def.jaw_length, pose.jaw_opening, side) * local;
+  t.previous = instrument_frame(previous) * jaw_transform(def.jaw_length, previous.jaw_opening, side) * local;
+  return t;
+}
+
+double instrument_motion(const InstrumentDef& def, const InstrumentPose& a, const InstrumentPose& b) {
+  // The tip's motion plus the turn of the axis and the jaws times the reach of the shapes.
+  const double turn = std::acos(std::clamp(a.axis.normalized().dot(b.axis.normalized()), -1.0, 1.0));
+  double reach = 0;
+  if (def.type == InstrumentDef::Type::probe) {
+    vdm::ToolShape t;
+    Eigen::Isometry3d local;
+    probe_local(def, t, local);
+    reach = local.translation().norm() + t.bound();
+  } else {
+    reach = def.jaw_length;
+  }
+  double jaws = 0;
+  if (def.type == InstrumentDef::Type::grasper)
+    jaws = std::abs(a.jaw_opening - b.jaw_opening) * kMaxJawAngleDeg * 3.14159265358979323846 / 180.0 * def.jaw_length;
+  return (a.tip - b.tip).norm() + turn * reach + jaws;
+}
+
+double instrument_size(const InstrumentDef& def) {
+  if (def.type == InstrumentDef::Type::grasper) return jaw_half_size(def).minCoeff();
+  vdm::ToolShape t;
+  Eigen::Isometry3d local;
+  probe_local(def, t, local);
+  return t.size();
 }
 
 }  // namespace tools

@@ -5,8 +5,11 @@
 // the first and last keyframe and wherever a coordinate turns or holds); axes by slerp. A
 // keyframe that omits a field keeps the previous one. Before the first keyframe the instrument waits at it; after
 // the last it stays there.
+#include <memory>
 #include <optional>
 #include <vector>
+
+#include <Eigen/Geometry>
 
 #include "engine/contact.hpp"
 #include "engine/types.hpp"
@@ -20,8 +23,20 @@ struct Keyframe {
   std::optional<bool> jaw_closed;    // grasper only
 };
 
+// A probe's collision shape, in the instrument frame (origin at the tip, +z from the handle
+// toward the tip): a capsule (radius, length; its rounded end at the tip), a cylinder (radius,
+// length; flat tip whose edge is rounded by `rounding`), a box (`size`, its +z face at the tip,
+// edges rounded by `rounding`) or the convex hull of a mesh (`hull`, placed in the frame).
+struct ProbeShape {
+  enum class Kind { capsule, cylinder, box, convex } kind = Kind::capsule;
+  vdm::Vec3 size = vdm::Vec3(0.01, 0.01, 0.05);  // box: full sizes x, y, z (m)
+  double rounding = 0;                           // cylinder, box: edge rounding radius (m)
+  std::shared_ptr<const vdm::ConvexHull> hull;   // convex: filled when the scene is prepared
+};
+
 struct InstrumentDef {
   enum class Type { probe, grasper } type = Type::probe;
+  ProbeShape shape;                  // probe only
   double radius = 0.004;             // m
   double length = 0.3;               // m, tip to handle end
   double jaw_length = 0.02;          // grasper: jaws from the pivot to the tip (m)
@@ -41,5 +56,26 @@ InstrumentPose pose_at(const InstrumentDef& def, double t);
 
 // The probe's collision shape: a capsule whose rounded end is exactly at the tip.
 vdm::Capsule probe_capsule(const InstrumentDef& def, const InstrumentPose& pose);
+
+// The instrument frame: origin at the tip, z along the axis (handle toward tip).
+Eigen::Isometry3d instrument_frame(const InstrumentPose& pose);
+
+// The probe's collision shape at `pose`, having been at `previous` one step earlier.
+vdm::ToolShape probe_shape(const InstrumentDef& def, const InstrumentPose& pose, const InstrumentPose& previous);
+
+// Grasper jaws: boxes hinged on the pivot's x axis at z = -jaw_length, each turning away
+// from the closed position by up to kMaxJawAngleDeg as the jaws open. Closed, the upper jaw
+// (side +1) spans y in [0, t], the lower [-t, 0]; x in [-w, w]; z from the pivot to the tip.
+constexpr double kMaxJawAngleDeg = 30.0;
+vdm::Vec3 jaw_half_size(const InstrumentDef& def);  // (w, t / 2, jaw_length / 2)
+// The jaw's motion in the instrument frame for an opening in [0, 1].
+Eigen::Isometry3d jaw_transform(double jaw_length, double opening, int side);
+// A jaw's collision box at `pose` (previous: one step earlier).
+vdm::ToolShape jaw_shape(const InstrumentDef& def, const InstrumentPose& pose, const InstrumentPose& previous, int side);
+
+// How far any point of the instrument's collision shapes moves between two poses (m), and
+// the smallest size of those shapes (m): more motion than size in a step could tunnel.
+double instrument_motion(const InstrumentDef& def, const InstrumentPose& a, const InstrumentPose& b);
+double instrument_size(const InstrumentDef& def);
 
 }  // namespace tools

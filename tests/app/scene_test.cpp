@@ -2,6 +2,7 @@
 // expected; effects that a scene does not list cost nothing and change nothing.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -138,6 +139,65 @@ TEST(SceneErrors, TimelineNotIncreasing) {
                           "instruments:\n  - type: probe\n    script:\n      - {t: 0, tip: [0, 0, 0.1]}\n"
                           "      - {t: 2, tip: [0, 0, 0.05]}\n      - {t: 1, tip: [0, 0, 0.0]}\n"),
                ":14:13: instruments[0].script[2].t: keyframe times must increase");
+}
+
+std::string shape_scene(const std::string& type, const std::string& shape) {
+  return scene_text("", "", "instruments:\n  - type: " + type + "\n    radius: 0.004\n    shape: " + shape +
+                                "\n    script: [{t: 0, tip: [0, 0, 0.1]}]\n");
+}
+
+TEST(SceneShapes, EveryShapeIsValid) {
+  // A small octahedron for the convex shape, in mm.
+  const fs::path obj = scene_dir() / "octahedron.obj";
+  std::ofstream(obj) << "v 5 0 0\nv -5 0 0\nv 0 5 0\nv 0 -5 0\nv 0 0 5\nv 0 0 -5\n"
+                        "f 1 3 5\nf 3 2 5\nf 2 4 5\nf 4 1 5\nf 3 1 6\nf 2 3 6\nf 4 2 6\nf 1 4 6\n";
+  for (const std::string& shape :
+       {std::string("capsule"), std::string("cylinder"), std::string("{type: cylinder, rounding: 0.001}"),
+        std::string("{type: box, size: [0.01, 0.02, 0.03], rounding: 0.002}"),
+        "{type: convex, mesh: " + obj.string() + ", scale: 0.001, origin: [0, 0, -0.005]}"}) {
+    const std::string path = write_scene("shape_ok.yaml", shape_scene("probe", shape));
+    int errors = 0;
+    const std::string msg = problems_of(path, errors);
+    EXPECT_EQ(errors, 0) << shape << "\n" << msg;
+    EXPECT_TRUE(msg.empty()) << msg;
+    if (shape.find("convex") != std::string::npos) {
+      PreparedScene ps;
+      std::vector<SceneProblem> problems;
+      ASSERT_TRUE(prepare_scene(path, ps, problems));
+      const auto& hull = ps.scene.instruments[0].shape.hull;
+      ASSERT_TRUE(hull);
+      EXPECT_EQ(hull->vertices.size(), 6u);
+      EXPECT_NEAR(hull->inradius, 0.005 / std::sqrt(3.0), 1e-12);  // the octahedron's, in metres
+    }
+  }
+}
+
+TEST(SceneErrors, ShapeZeroOrNegativeSize) {
+  expect_error("shape_size.yaml", shape_scene("probe", "{type: box, size: [0.01, 0, 0.02]}"),
+               ":12:37: instruments[0].shape.size[1]: value 0 is out of range: expected > 0");
+  expect_error("shape_neg.yaml", shape_scene("probe", "{type: box, size: [0.01, 0.01, -0.02]}"),
+               "instruments[0].shape.size[2]: value -0.02 is out of range: expected > 0");
+  expect_error("shape_nosize.yaml", shape_scene("probe", "{type: box}"),
+               "instruments[0].shape.size: missing required field 'size'");
+  expect_error("shape_round.yaml", shape_scene("probe", "{type: cylinder, rounding: 0.005}"),
+               "instruments[0].shape.rounding: value 0.005 is out of range: the rounding must be <= the radius (0.004 m)");
+  expect_error("shape_roundneg.yaml", shape_scene("probe", "{type: cylinder, rounding: -0.001}"),
+               "instruments[0].shape.rounding: value -0.001 is out of range: expected >= 0");
+}
+
+TEST(SceneErrors, ShapeUnknownMissingConvexFileOrOnAGrasper) {
+  expect_error("shape_kind.yaml", shape_scene("probe", "cylindre"),
+               "instruments[0].shape: unknown shape 'cylindre' (did you mean 'cylinder'?)");
+  expect_error("shape_nofile.yaml", shape_scene("probe", "{type: convex, mesh: no_such_tool.stl}"),
+               "instruments[0].shape.mesh: no such mesh file: ");
+  expect_error("shape_nomesh.yaml", shape_scene("probe", "{type: convex}"),
+               "instruments[0].shape.mesh: missing required field 'mesh'");
+  expect_error("shape_grasper.yaml", shape_scene("grasper", "box"), "instruments[0].shape: a shape is for probes only");
+  // A flat mesh has no convex hull: found when the scene is prepared (check loads it).
+  const fs::path flat = scene_dir() / "flat.obj";
+  std::ofstream(flat) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4 3\n";
+  expect_error("shape_flat.yaml", shape_scene("probe", "{type: convex, mesh: " + flat.string() + "}"),
+               "instruments[0].shape.mesh: " + flat.string() + ": the convex shape's points lie on one plane");
 }
 
 TEST(SceneErrors, RegionSelectingNothing) {
@@ -295,6 +355,29 @@ TEST(Contact, FastProbeDoesNotPassThrough) {
   EXPECT_GT(std::stod(cells[9]), 0.0) << "contact_force_n";
   EXPECT_LE(std::stod(cells[10]), 0.02 * 0.004) << "max_penetration_m";
   EXPECT_GT(std::stod(cells[11]), 0.008) << "the surface went down with the probe";
+}
+
+TEST(Contact, FastBoxAndCylinderDoNotPassThrough) {
+  // A 4 mm thick plate (half size 2 mm) and a cylinder with a rounded tip, each moving about
+  // 22 mm per frame (11 half sizes, 5.6 radii) straight down into the right lobe and ending
+  // 1 cm deep.
+  for (const std::string shape : {"{type: box, size: [0.016, 0.016, 0.004]}", "{type: cylinder, rounding: 0.001}"}) {
+    std::string text = probe_scene("[contact]",
+                                   "      - {t: 0, tip: [0.035, 0.0, 0.095], axis: [0, 0, -1]}\n"
+                                   "      - {t: 0.08, tip: [0.035, 0.0, 0.05]}\n",
+                                   0.03);
+    text.replace(text.find("    script:"), 0, "    shape: " + shape + "\n");
+    const std::string path = write_scene("fast_shape.yaml", text);
+    const fs::path out = scene_dir() / "fast_shape_out";
+    std::ostringstream o, e;
+    ASSERT_EQ(cmd_run(path, out.string(), -1, false, false, false, 30, o, e, false), 0) << e.str();
+    const auto cells = last_row(out);
+    const double size = shape.find("box") != std::string::npos ? 0.002 : 0.004;
+    EXPECT_GT(std::stoi(cells[8]), 0) << shape << ": contact_nodes";
+    EXPECT_GT(std::stod(cells[9]), 0.0) << shape << ": contact_force_n";
+    EXPECT_LE(std::stod(cells[10]), 0.02 * size) << shape << ": max_penetration_m";
+    EXPECT_GT(std::stod(cells[11]), 0.008) << shape << ": the surface went down with the tool";
+  }
 }
 
 }  // namespace

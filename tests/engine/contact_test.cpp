@@ -1,7 +1,10 @@
 // Kinematic probe contact against analytic geometry and physics.
 #include <gtest/gtest.h>
 
+#include <cstdio>
+
 #include "engine/contact.hpp"
+#include "engine/convex_hull.hpp"
 #include "support/scenarios.hpp"
 
 namespace vdm {
@@ -82,6 +85,102 @@ TEST(ProbeContact, PressFifteenMillimetres) {
     if (m.rest.positions(i, 2) < 0.02 && m.rest.positions(i, 2) > -0.02)
       bulge = std::max(bulge, s.u.row(i).dot(m.rest.positions.row(i).normalized()));
   EXPECT_GT(bulge, 1e-5);
+}
+
+// A tool pointing down (-z) with its tip at height `tip_z`: the shape frame's +z (toward the
+// tip) is the world's -z; `tip` is how far the tip lies along +z from the shape's origin.
+ToolShape pointing_down(ToolShape t, double tip, double tip_z, double step_down) {
+  t.pose = Eigen::Translation3d(0, 0, tip_z + tip) * Eigen::AngleAxisd(3.14159265358979323846, Vec3::UnitX());
+  t.previous = Eigen::Translation3d(0, 0, step_down) * t.pose;
+  return t;
+}
+
+struct PressCase {
+  const char* name;
+  ToolShape shape;
+  double tip;  // tip's distance from the shape's origin along its +z
+};
+
+std::vector<PressCase> press_cases() {
+  std::vector<PressCase> cases;
+  ToolShape t;
+  t.kind = ToolShape::Kind::capsule;  // radius 6 mm, 40 mm segment
+  t.half_size = Vec3(0.006, 0.006, 0.02);
+  t.rounding = 0.006;
+  cases.push_back({"capsule", t, 0.026});
+  t.kind = ToolShape::Kind::cylinder;  // radius 6 mm, 50 mm long, tip edge rounded by 2 mm
+  t.half_size = Vec3(0.006, 0.006, 0.025);
+  t.rounding = 0.002;
+  cases.push_back({"cylinder", t, 0.025});
+  t.kind = ToolShape::Kind::box;  // 16 x 12 x 30 mm, sharp
+  t.half_size = Vec3(0.008, 0.006, 0.015);
+  t.rounding = 0;
+  cases.push_back({"box", t, 0.015});
+  // The convex hull of a coarse ball stretched along its axis (an egg-like polytope).
+  auto hull = std::make_shared<ConvexHull>();
+  std::vector<Vec3> pts;
+  const SurfaceMesh ico = make_icosphere(0.007, 1);
+  for (int i = 0; i < ico.node_count(); ++i) pts.push_back(ico.positions.row(i).transpose().cwiseProduct(Vec3(1, 1, 2)));
+  std::string error;
+  EXPECT_TRUE(convex_hull(pts, *hull, error)) << error;
+  double top = 0;
+  for (const Vec3& v : hull->vertices) top = std::max(top, v.z());
+  t = ToolShape();
+  t.kind = ToolShape::Kind::convex;
+  t.hull = hull;
+  cases.push_back({"convex", t, top});
+  return cases;
+}
+
+TEST(ShapeContact, EveryShapePressesABall) {
+  // A ball of radius 5 cm fixed at its bottom; each shape presses 10 mm into its top.
+  const double R = 0.05, step_m = 1e-3;
+  TissueDef def = default_tissue(make_icosphere(R, 4));
+  const int n = def.mesh.node_count();
+  def.fixed = FlagMat::Zero(n, 3);
+  for (int i = 0; i < n; ++i)
+    if (def.mesh.positions(i, 2) < -0.04) def.fixed.row(i).setOnes();
+  const TissueModel m = scenario::build(def);
+  const StepInput base = make_step_input(m);
+  for (const PressCase& pc : press_cases()) {
+    SimState s = make_sim_state(m), s_fcl = make_sim_state(m);
+    ContactSolver contact(m);
+    // The same with FCL's shape queries as the broad phase: the same contacts.
+    ContactSettings fcl_settings;
+    fcl_settings.fcl_shape_queries = true;
+    ContactSolver contact_fcl(m, fcl_settings);
+    ContactReport rep, rep_fcl;
+    double last_force = 0.0;
+    const double size = pc.shape.size();
+    for (int k = 0; k <= 10; ++k) {
+      const ToolShape t = pointing_down(pc.shape, pc.tip, R - k * step_m, k ? step_m : 0.0);
+      contact.step(m, base, {t}, s, rep);
+      contact_fcl.step(m, base, {t}, s_fcl, rep_fcl);
+      const std::string at = std::string(pc.name) + ", depth " + std::to_string(k) + " mm";
+      ASSERT_FALSE(s.failed) << at;
+      // (FCL's convex shape is not inflated by the activation band: a node barely touching
+      // the untouched surface may differ there.)
+      if (pc.shape.kind != ToolShape::Kind::convex || k > 0) {
+        EXPECT_EQ(rep.nodes, rep_fcl.nodes) << at;
+      }
+      EXPECT_LE((s.x - s_fcl.x).cwiseAbs().maxCoeff(), 1e-12) << at;
+      EXPECT_LT(std::abs(s.volume_rel_error), 1e-4) << at;
+      EXPECT_LE(rep.max_penetration, 0.02 * size) << at;
+      // No node inside the instrument by more than 2 % of its size.
+      double deepest = 0;
+      for (int i = 0; i < n; ++i) {
+        Vec3 p, nrm;
+        deepest = std::max(deepest, -tool_distance(t, s.x.row(i).transpose(), p, nrm));
+      }
+      EXPECT_LE(deepest, 0.02 * size) << at;
+      if (k > 0) {
+        EXPECT_GT(rep.nodes, 0) << at;
+        EXPECT_GT(rep.force.z(), last_force) << "force must rise with depth: " << at;
+        last_force = rep.force.z();
+      }
+    }
+    std::printf("%-8s force at 10 mm: %.4f N\n", pc.name, last_force);
+  }
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <atomic>
 #include <cstdlib>
 
+#include "engine/contact.hpp"
 #include "support/scenarios.hpp"
 
 extern "C" {
@@ -108,6 +109,57 @@ TEST(NoAllocation, DirectStepAfterWarmUp) {
   // Refactorisation included: every step here refreshes the matrix.
   EXPECT_EQ(allocations_in_steps(SolverMethod::direct, false), 0);
   EXPECT_EQ(allocations_in_steps(SolverMethod::direct, true), 0);
+}
+
+// Contact steps with a tool of each kind pressing the cube's top further each step (the
+// active set changes): nothing allocated once warmed up.
+long allocations_in_contact_steps(ToolShape::Kind kind) {
+  const double L = 0.1;
+  const TissueModel m = scenario::build(scenario::cube_on_table(L, 6));
+  SimState s = make_sim_state(m);
+  const StepInput base = make_step_input(m);
+  ContactSolver contact(m);
+  ContactReport rep;
+  ToolShape t;
+  t.kind = kind;
+  t.half_size = Vec3(0.02, 0.02, 0.02);
+  t.rounding = kind == ToolShape::Kind::capsule ? 0.02 : 0.002;
+  auto hull = std::make_shared<ConvexHull>();
+  if (kind == ToolShape::Kind::convex) {
+    std::vector<Vec3> corners;
+    for (int k = 0; k < 8; ++k) corners.emplace_back(k & 1 ? 0.02 : -0.02, k & 2 ? 0.02 : -0.015, k & 4 ? 0.02 : -0.02);
+    std::string error;
+    EXPECT_TRUE(convex_hull(corners, *hull, error)) << error;
+    t.hull = hull;
+    t.rounding = 0;
+  }
+  std::vector<ToolShape> tools(1);
+  const double reach = kind == ToolShape::Kind::capsule ? 0.04 : 0.02;  // centre to the bottom
+  auto press = [&](int k) {
+    t.previous = Eigen::Isometry3d(Eigen::Translation3d(0, 0, L / 2 + reach - 0.001 * (k - 1)));
+    t.pose = Eigen::Isometry3d(Eigen::Translation3d(0, 0, L / 2 + reach - 0.001 * k));
+    tools[0] = t;
+    contact.step(m, base, tools, s, rep);
+  };
+  for (int k = 1; k <= 3; ++k) press(k);  // warm-up
+  long total = 0;
+  for (int k = 4; k <= 8; ++k) {
+    g_allocations = 0;
+    g_counting = true;
+    press(k);
+    g_counting = false;
+    total += g_allocations;
+    EXPECT_GT(rep.nodes, 0);
+  }
+  EXPECT_LT(std::abs(s.volume_rel_error), 1e-6);
+  return total;
+}
+
+TEST(NoAllocation, ContactStepAfterWarmUp) {
+  EXPECT_EQ(allocations_in_contact_steps(ToolShape::Kind::capsule), 0);
+  EXPECT_EQ(allocations_in_contact_steps(ToolShape::Kind::cylinder), 0);
+  EXPECT_EQ(allocations_in_contact_steps(ToolShape::Kind::box), 0);
+  EXPECT_EQ(allocations_in_contact_steps(ToolShape::Kind::convex), 0);
 }
 
 }  // namespace

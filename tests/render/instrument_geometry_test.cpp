@@ -1,0 +1,77 @@
+// The pictures match what collides: every vertex of a drawn probe or jaw lies on the surface
+// of its collision shape (tools::probe_shape, tools::jaw_shape).
+#include <gtest/gtest.h>
+
+#include "engine/convex_hull.hpp"
+#include "engine/shapes.hpp"
+#include "render/instrument_geometry.hpp"
+
+namespace render {
+namespace {
+
+// Largest |signed distance| of the mesh's vertices (placed by `place`) from the shape's surface,
+// over vertices with z above `z_min` in the instrument frame.
+double off_surface(const SkinMesh& m, const vdm::ToolShape& t, const Eigen::Isometry3d& place, double z_min) {
+  double worst = 0;
+  for (const Eigen::Vector3f& v : m.positions) {
+    if (v.z() < z_min) continue;
+    vdm::Vec3 p, n;
+    worst = std::max(worst, std::abs(vdm::tool_distance(t, place * v.cast<double>(), p, n)));
+  }
+  return worst;
+}
+
+TEST(InstrumentGeometry, DrawnProbesLieOnTheirCollisionShapes) {
+  tools::InstrumentDef def;
+  def.radius = 0.005;
+  def.length = 0.2;
+  tools::InstrumentPose pose;
+  pose.tip = vdm::Vec3::Zero();
+  pose.axis = vdm::Vec3::UnitZ();  // the instrument frame is the world
+  auto hull = std::make_shared<vdm::ConvexHull>();
+  std::vector<vdm::Vec3> pts;
+  const vdm::SurfaceMesh ico = vdm::make_icosphere(0.01, 1);
+  for (int i = 0; i < ico.node_count(); ++i) pts.push_back(ico.positions.row(i).transpose() - vdm::Vec3(0, 0, 0.01));
+  std::string error;
+  ASSERT_TRUE(vdm::convex_hull(pts, *hull, error)) << error;
+  struct Case {
+    tools::ProbeShape::Kind kind;
+    double rounding;
+  };
+  for (const Case c : {Case{tools::ProbeShape::Kind::capsule, 0}, Case{tools::ProbeShape::Kind::cylinder, 0},
+                       Case{tools::ProbeShape::Kind::cylinder, 0.002}, Case{tools::ProbeShape::Kind::box, 0},
+                       Case{tools::ProbeShape::Kind::box, 0.001}, Case{tools::ProbeShape::Kind::convex, 0}}) {
+    def.shape.kind = c.kind;
+    def.shape.rounding = c.rounding;
+    def.shape.size = vdm::Vec3(0.02, 0.008, 0.05);
+    def.shape.hull = hull;
+    const SkinMesh m = probe_mesh(def.shape, def.radius, def.length);
+    ASSERT_FALSE(m.positions.empty());
+    // The working half (the capsule's drawn handle end is flat).
+    const double err = off_surface(m, tools::probe_shape(def, pose, pose), Eigen::Isometry3d::Identity(), -0.5 * def.length);
+    EXPECT_LT(err, 1e-6) << "shape " << int(c.kind) << " rounding " << c.rounding;
+  }
+}
+
+TEST(InstrumentGeometry, DrawnJawsLieOnTheirCollisionBoxes) {
+  tools::InstrumentDef def;
+  def.type = tools::InstrumentDef::Type::grasper;
+  def.radius = 0.005;
+  def.jaw_length = 0.015;
+  tools::InstrumentPose pose;
+  pose.tip = vdm::Vec3(0.01, 0.02, 0.03);
+  pose.axis = vdm::Vec3(0.2, -0.3, -1).normalized();
+  for (double opening : {0.0, 0.35, 1.0}) {
+    pose.jaw_opening = opening;
+    for (int side : {+1, -1}) {
+      const SkinMesh m = grasper_jaw_mesh(def.radius, def.jaw_length, side);
+      const Eigen::Isometry3d place =
+          tools::instrument_frame(pose) * Eigen::Isometry3d(jaw_transform(def.jaw_length, opening, side).matrix().cast<double>());
+      EXPECT_LT(off_surface(m, tools::jaw_shape(def, pose, pose, side), place, -1.0), 1e-6)
+          << "opening " << opening << " side " << side;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace render

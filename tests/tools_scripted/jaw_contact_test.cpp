@@ -1,0 +1,112 @@
+// Grasper jaws are boxes in contact: opening beside an organ they push its surface instead of
+// passing through it; grasped nodes take no part in contact.
+#include <gtest/gtest.h>
+
+#include "engine/contact.hpp"
+#include "support/scenarios.hpp"
+#include "tools_scripted/grasp.hpp"
+
+namespace tools {
+namespace {
+
+// Deepest node of x inside the shape (m, 0 when none is inside).
+double deepest(const vdm::ToolShape& t, const vdm::NodeMat& x) {
+  double d = 0;
+  for (int i = 0; i < x.rows(); ++i) {
+    vdm::Vec3 p, n;
+    d = std::max(d, -vdm::tool_distance(t, x.row(i).transpose(), p, n));
+  }
+  return d;
+}
+
+TEST(JawContact, JawsOpeningBesideABallPushItsSurface) {
+  const double R = 0.05;
+  vdm::TissueDef def = vdm::default_tissue(vdm::make_icosphere(R, 4));
+  const int n = def.mesh.node_count();
+  def.fixed = vdm::FlagMat::Zero(n, 3);
+  for (int i = 0; i < n; ++i)
+    if (def.mesh.positions(i, 2) < -0.04) def.fixed.row(i).setOnes();
+  const vdm::TissueModel m = vdm::scenario::build(def);
+  InstrumentDef g;
+  g.type = InstrumentDef::Type::grasper;
+  g.radius = 0.005;
+  g.jaw_length = 0.015;
+  // Pointing down beside the ball at its equator, the lower jaw's outer face 0.5 mm from the
+  // surface; the lower jaw opens toward the ball.
+  InstrumentPose pose;
+  pose.axis = vdm::Vec3(0, 0, -1);
+  const vdm::Vec3 y = instrument_frame(pose).linear().col(1);
+  pose.tip = (R + 2 * jaw_half_size(g).y() + 0.0005) * y;
+  pose.jaw_opening = 0;
+  // Without contact, the opened lower jaw would cut through the ball at rest: its tip's
+  // outer corner ends this deep inside the ball, and rest nodes lie inside the jaw.
+  InstrumentPose open = pose;
+  open.jaw_opening = 1;
+  const vdm::ToolShape open_jaw = jaw_shape(g, open, open, -1);
+  const vdm::Vec3 corner = open_jaw.pose * vdm::Vec3(0, -open_jaw.half_size.y(), open_jaw.half_size.z());
+  const double through = R - corner.norm();
+  EXPECT_GT(through, 0.003);
+  EXPECT_GT(deepest(open_jaw, m.rest.positions), 0.0);
+
+  vdm::SimState s = vdm::make_sim_state(m);
+  const vdm::StepInput base = vdm::make_step_input(m);
+  vdm::ContactSolver contact(m);
+  vdm::ContactReport rep;
+  InstrumentPose prev = pose;
+  double last_push = 0;
+  for (int k = 1; k <= 10; ++k) {
+    InstrumentPose now = pose;
+    now.jaw_opening = k / 10.0;
+    const std::vector<vdm::ToolShape> jaws = {jaw_shape(g, now, prev, +1), jaw_shape(g, now, prev, -1)};
+    contact.step(m, base, jaws, s, rep);
+    ASSERT_FALSE(s.failed);
+    EXPECT_LT(std::abs(s.volume_rel_error), 1e-4) << "opening " << now.jaw_opening;
+    for (const vdm::ToolShape& j : jaws) EXPECT_LE(deepest(j, s.x), 0.02 * j.size()) << "opening " << now.jaw_opening;
+    // The ball pushes back on the jaw, toward +y; the surface moves away from the jaw (-y).
+    const double push = -(s.u * y).minCoeff();
+    if (k > 5) {
+      EXPECT_GT(rep.nodes, 0);
+      EXPECT_GT(rep.force.dot(y), 0.0);
+      EXPECT_GE(push, last_push - 1e-9);
+    }
+    last_push = push;
+    prev = now;
+  }
+  EXPECT_GT(last_push, 0.6 * through) << "the surface went away from the jaw";
+  std::printf("jaw opening beside a ball: jaw tip %.2f mm inside the ball without contact; surface pushed %.2f mm, force %.3f N\n",
+              through * 1e3, last_push * 1e3, rep.force.dot(y));
+}
+
+TEST(JawContact, GraspedNodesTakeNoPartInContact) {
+  // Nodes prescribed on all axes (as grasped nodes are) stay where the grasp puts them even
+  // inside a jaw; the same nodes free are pushed out.
+  const vdm::TissueModel m = vdm::scenario::build(vdm::default_tissue(vdm::make_icosphere(0.05, 3)));
+  InstrumentDef g;
+  g.type = InstrumentDef::Type::grasper;
+  g.radius = 0.005;
+  g.jaw_length = 0.015;
+  g.grasp_width = 0.006;
+  InstrumentPose pose;
+  pose.tip = vdm::Vec3(0, 0, 0.047);
+  pose.axis = vdm::Vec3(0, 0, -1);
+  pose.jaw_closed = true;
+  pose.jaw_opening = 0;
+  Grasp grasp;
+  grasp.update(g, pose, m.rest.positions);
+  ASSERT_FALSE(grasp.held().empty());
+  vdm::StepInput base = vdm::make_step_input(m);
+  grasp.apply(pose, m.rest.positions, base);
+  const std::vector<vdm::ToolShape> jaws = {jaw_shape(g, pose, pose, +1), jaw_shape(g, pose, pose, -1)};
+  vdm::SimState s = vdm::make_sim_state(m);
+  vdm::ContactSolver contact(m);
+  vdm::ContactReport rep;
+  contact.step(m, base, jaws, s, rep);
+  ASSERT_FALSE(s.failed);
+  for (int i : grasp.held()) {
+    EXPECT_FALSE(contact.active()[i]) << i;
+    EXPECT_LT((s.u.row(i) - base.prescribed_u.row(i)).norm(), 1e-12) << i;
+  }
+}
+
+}  // namespace
+}  // namespace tools
