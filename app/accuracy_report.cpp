@@ -140,6 +140,10 @@ const AccuracyRow* best_within(const std::vector<AccuracyRow>& rows, const std::
   return best;
 }
 
+namespace {
+constexpr double kPoorForce = 0.25;  // relative force error above which a haptic pick is flagged
+}  // namespace
+
 bool write_recommendations(const std::string& path, const std::vector<AccuracyRow>& rows, bool quick,
                            std::string& error) {
   std::ofstream f(path);
@@ -169,7 +173,12 @@ bool write_recommendations(const std::string& path, const std::vector<AccuracyRo
         continue;
       }
       f << knobs(r->config) << ": " << r->median_ms << " ms per step, error RMS " << r->rms_mm << " mm, max "
-        << r->max_mm << " mm, force " << 100 * r->force_rel << " %.\n";
+        << r->max_mm << " mm, force " << 100 * r->force_rel << " %.";
+      // The best that fits may still be poor: say so rather than recommend it silently.
+      if (u.metric == AccuracyMetric::force && r->force_rel > kPoorForce)
+        f << " **Its force is more than " << 100 * kPoorForce << " % off: nothing in this study gives a usable force"
+          << " within this budget on this machine.**";
+      f << "\n";
     }
     f << "\n";
   }
