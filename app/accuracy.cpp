@@ -6,6 +6,7 @@
 #include <fstream>
 #include <iomanip>
 #include <sstream>
+#include <stdexcept>
 
 #include "app/accuracy_report.hpp"
 #include "app/commands.hpp"
@@ -325,8 +326,15 @@ int run_accuracy(const AccuracyOptions& options, std::ostream& out, std::ostream
       err << "vdmsim: error: " << error << "\n";
       return 2;
     }
-    const Trajectory tr = simulate(scene.string(), points);
+    Trajectory tr;
+    try {
+      tr = simulate(scene.string(), points);
+    } catch (const std::exception& e) {  // e.g. a reference model that cannot be built: this row fails
+      tr.failed = true;
+      tr.failure = e.what();
+    }
     if (c.varied == "reference") {
+      base = Trajectory{};  // a new scenario: the previous one's baseline does not apply
       if (tr.failed) {
         err << "vdmsim: error: the reference of " << c.scenario << " failed: " << tr.failure << "\n";
         return 1;

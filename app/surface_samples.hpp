@@ -28,7 +28,5 @@ class SurfaceSamples {
   double max_gap_ = 0;
 };
 
-// Closest point on triangle (a, b, c) to p, as barycentric weights.
-vdm::Vec3 closest_barycentric(const vdm::Vec3& p, const vdm::Vec3& a, const vdm::Vec3& b, const vdm::Vec3& c);
 
 }  // namespace vdmsim

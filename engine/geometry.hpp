@@ -24,4 +24,8 @@ void distributed_volumes(const NodeMat& area_vectors, double volume, Vec& volume
 // Index of the node of x nearest to p (the first one on a tie).
 int nearest_node(const NodeMat& x, const Vec3& p);
 
+// The point of triangle (a, b, c) closest to p, as barycentric weights (w_a, w_b, w_c):
+// the region of the triangle's plane p projects into (vertex, edge or face) decides.
+Vec3 closest_barycentric(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
+
 }  // namespace vdm

@@ -26,7 +26,9 @@ class LinearSolver {
   // Solves  K^d u^d - dP a^d = rhs^d (d = x, y, z),  a . u = c, where `a` is zero on
   // constrained entries (whose rows are identities carrying their prescribed values in rhs).
   // Without the volume constraint dP = 0 and the last row is dropped. `u` holds the
-  // previous solution on entry (warm start).
+  // previous solution on entry (warm start). `K` must be the matrices last given to
+  // matrices_changed(): a solver may work on its own copy of them (the structured one keeps
+  // them permuted to reverse Cuthill-McKee order) and not read `K` again.
   virtual SolveReport solve(const std::array<SpMat, 3>& K, const NodeMat& rhs, const NodeMat& a,
                             double c, bool volume_constraint, NodeMat& u, double& dP) = 0;
   // s with K^d s^d = a^d on every axis (zero on constrained entries): the displacement per

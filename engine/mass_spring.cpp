@@ -220,7 +220,8 @@ void step(const MassSpringModel& m, const StepInput& in, MassSpringState& s) {
     s.u = trial;
     // A step at round-off: the residual cannot fall further (its floor is the gradient's
     // own rounding), so this is equilibrium.
-    if (2 * alpha * du.cwiseAbs().maxCoeff() < 1e-13 * m.size) {
+    // Only a full Newton step counts: a tiny accepted step after many halvings is a stall.
+    if (2 * alpha == 1.0 && du.cwiseAbs().maxCoeff() < 1e-13 * m.size) {
       s.converged = true;
       break;
     }

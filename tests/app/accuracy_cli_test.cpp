@@ -61,8 +61,10 @@ TEST(AccuracyCli, QuickStudyWritesTheTableThePlotAndRecommendations) {
     const auto* fem = find(scenario, "model", "fem");
     ASSERT_TRUE(ref && base && coarse && fem) << scenario;
     EXPECT_EQ(std::stod(ref->at("rms_error_mm")), 0.0);
-    // Refining the mesh approaches the reference: the coarser mesh is further off.
-    EXPECT_GT(std::stod(coarse->at("rms_error_mm")), std::stod(base->at("rms_error_mm"))) << scenario;
+    // Refining the mesh approaches the reference in the instrument's force (kinematic contact
+    // and grasping hold whole nodes, so the force follows how many lie under the tool). The
+    // RMS displacement need not fall monotonically: it averages over points that barely move.
+    EXPECT_GT(std::stod(coarse->at("force_rel_error")), std::stod(base->at("force_rel_error"))) << scenario;
     EXPECT_GT(std::stod(base->at("rms_error_mm")), 0.0) << scenario;
     // The instrument moved the surface by millimetres: errors are fractions of that.
     EXPECT_LT(std::stod(base->at("rms_error_mm")), 1.0) << scenario;

@@ -60,5 +60,24 @@ TEST(Geometry, AreaVectorsAreTheVolumeGradient) {
   EXPECT_NEAR(fd, analytic, 1e-8 * std::abs(analytic) + 1e-14);
 }
 
+TEST(Geometry, ClosestPointOnATriangleInEveryRegion) {
+  const Vec3 a(0, 0, 0), b(1, 0, 0), c(0, 1, 0);
+  // Above the face: the projection.
+  Vec3 w = closest_barycentric(Vec3(0.25, 0.25, 3), a, b, c);
+  EXPECT_NEAR(w[0], 0.5, 1e-12);
+  EXPECT_NEAR(w[1], 0.25, 1e-12);
+  EXPECT_NEAR(w[2], 0.25, 1e-12);
+  // Beyond a vertex, beyond an edge.
+  w = closest_barycentric(Vec3(2, -1, 0.5), a, b, c);
+  EXPECT_NEAR(w[1], 1.0, 1e-12);
+  w = closest_barycentric(Vec3(0.5, -2, 0), a, b, c);
+  EXPECT_NEAR(w[0], 0.5, 1e-12);
+  EXPECT_NEAR(w[1], 0.5, 1e-12);
+  EXPECT_NEAR(w[2], 0.0, 1e-12);
+  w = closest_barycentric(Vec3(1, 1, 0), a, b, c);  // beyond the hypotenuse
+  EXPECT_NEAR(w[1], 0.5, 1e-12);
+  EXPECT_NEAR(w[2], 0.5, 1e-12);
+}
+
 }  // namespace
 }  // namespace vdm
