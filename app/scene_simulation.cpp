@@ -106,7 +106,7 @@ void SceneSimulation::advance(int f) {
       const auto t_contact = Clock::now();
       contact_->step(m, input_, tools_, state_, report_);
       frame_step_ms_ += ms_since(t_contact);
-      frame_iterations_ += state_.stats.iterations;
+      frame_iterations_ += report_.iterations;  // every active-set solve, not only the last
       frame_fallbacks_ += state_.stats.fallbacks;
       times_.collision += report_.collision_ms;
       times_.collision_queries += report_.queries;

@@ -329,6 +329,7 @@ void ContactSolver::step(const TissueModel& m, const StepInput& base, const std:
     if (solver_) solver_->step(input_, s);
     else vdm::step(m, input_, s);
     ++rep.solves;
+    rep.iterations += s.stats.iterations;
     if (s.failed) return;  // the caller stops; the state is the step's start
 
     const auto tc = Clock::now();

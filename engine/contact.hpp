@@ -59,6 +59,7 @@ struct ContactReport {
   Vec3 force = Vec3::Zero();       // total force of the organ on the instruments (N)
   double max_penetration = 0.0;    // deepest free node inside an instrument after the step (m)
   int solves = 0;                  // engine solves this step (active-set iterations)
+  int iterations = 0;              // linear-solver iterations summed over those solves
   bool converged = true;           // the active set stopped changing within the cap
   long queries = 0;                // FCL collision queries this step
   double collision_ms = 0.0;       // broad + narrow phase time
