@@ -135,6 +135,25 @@ bool convex_hull(const std::vector<Vec3>& p, ConvexHull& out, std::string& error
     error = "the convex shape is degenerate (no interior)";
     return false;
   }
+  // Guard against round-off on nearly coplanar input (CAD meshes): the result must be closed
+  // (every directed edge met once, its reverse once) and convex (every point on or inside
+  // every face plane, to a tolerance relative to the extent).
+  std::map<std::pair<int, int>, int> directed;
+  for (const auto& t : out.triangles)
+    for (int e = 0; e < 3; ++e) ++directed[{t[e], t[(e + 1) % 3]}];
+  for (const auto& [edge, count] : directed) {
+    const auto reverse = directed.find({edge.second, edge.first});
+    if (count != 1 || reverse == directed.end() || reverse->second != 1) {
+      error = "the convex hull came out open (nearly coplanar points): simplify the mesh";
+      return false;
+    }
+  }
+  for (size_t k = 0; k < out.normals.size(); ++k)
+    for (const Vec3& q : p)
+      if (out.normals[k].dot(q) - out.offsets[k] > 1e3 * eps) {
+        error = "the convex hull came out non-convex (nearly coplanar points): simplify the mesh";
+        return false;
+      }
   return true;
 }
 

@@ -2,6 +2,9 @@
 // with rounded tips, boxes and convex polytopes, against analytic values and each other.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <map>
+
 #include <random>
 
 #include "engine/contact.hpp"
@@ -35,6 +38,33 @@ TEST(ConvexHull, BoxCornersAndInteriorPoints) {
     volume += hull.vertices[t[0]].dot(hull.vertices[t[1]].cross(hull.vertices[t[2]])) / 6.0;
   EXPECT_NEAR(volume, 8 * h.prod(), 1e-15);
   EXPECT_NEAR(hull.inradius, h.minCoeff(), 1e-12);
+}
+
+TEST(ConvexHull, FinelyTessellatedCylinderGivesAClosedConvexHull) {
+  // Many nearly coplanar points (a CAD-like cylinder: 720 around, 3 rings) plus the axis ends.
+  std::vector<Vec3> pts;
+  for (int ring = 0; ring < 3; ++ring)
+    for (int k = 0; k < 720; ++k) {
+      const double a = 2 * 3.14159265358979323846 * k / 720;
+      pts.emplace_back(0.003 * std::cos(a), 0.003 * std::sin(a), 0.01 * ring);
+    }
+  pts.emplace_back(0, 0, 0);
+  pts.emplace_back(0, 0, 0.02);
+  ConvexHull h;
+  std::string error;
+  ASSERT_TRUE(convex_hull(pts, h, error)) << error;
+  // Closed: Euler's formula for a sphere-like polyhedron, and every edge shared by two faces.
+  std::map<std::pair<int, int>, int> edges;
+  for (const auto& t : h.triangles)
+    for (int e = 0; e < 3; ++e) ++edges[{std::min(t[e], t[(e + 1) % 3]), std::max(t[e], t[(e + 1) % 3])}];
+  for (const auto& [edge, count] : edges) EXPECT_EQ(count, 2);
+  EXPECT_EQ(int(h.vertices.size()) - int(edges.size()) + int(h.triangles.size()), 2);
+  // Convex: every input point on or inside every face.
+  for (size_t k = 0; k < h.normals.size(); ++k)
+    for (const Vec3& q : pts) EXPECT_LE(h.normals[k].dot(q) - h.offsets[k], 1e-12);
+  // Every point of the cylinder's rim lies on the hull's surface.
+  Vec3 sp, nrm;
+  for (size_t k = 0; k < pts.size(); k += 97) EXPECT_NEAR(convex_hull_distance(h, pts[k], sp, nrm), 0.0, 1e-12);
 }
 
 TEST(ConvexHull, FlatPointsAreRejected) {
