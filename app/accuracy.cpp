@@ -12,6 +12,7 @@
 #include "app/commands.hpp"
 #include "app/mesh_io.hpp"
 #include "app/organ_generator.hpp"
+#include "app/quantile.hpp"
 #include "app/scene_run.hpp"
 #include "app/scene_simulation.hpp"
 #include "app/surface_samples.hpp"
@@ -151,14 +152,6 @@ Trajectory simulate(const std::string& path, const vdm::NodeMat& points) {
     tr.volume_rel.push_back(s.volume_rel_error);
   }
   return tr;
-}
-
-double quantile(std::vector<double> v, double q) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  const double pos = q * static_cast<double>(v.size() - 1);
-  const size_t lo = static_cast<size_t>(std::floor(pos)), hi = std::min(lo + 1, v.size() - 1);
-  return v[lo] + (pos - static_cast<double>(lo)) * (v[hi] - v[lo]);
 }
 
 // Compares a trajectory with the reference over the loaded frames.
@@ -314,7 +307,8 @@ int run_accuracy(const AccuracyOptions& options, std::ostream& out, std::ostream
       << points.rows() << " surface points" << (options.quick ? " (quick)" : "") << "\n";
 
   std::vector<AccuracyRow> rows;
-  Trajectory ref, base;
+  Trajectory ref, base;  // this scenario's reference and baseline
+  int base_level = 0;
   std::vector<int> loaded;
   for (size_t k = 0; k < configs.size(); ++k) {
     const AccuracyConfig& c = configs[k];
@@ -357,12 +351,13 @@ int run_accuracy(const AccuracyOptions& options, std::ostream& out, std::ostream
         row.young_modulus = scale * kRefYoung;
       }
       compare(ref, loaded, tr, scale, row);
-      if (c.varied == "baseline") base = tr;
+      if (c.varied == "baseline") {
+        base = tr;
+        base_level = c.level;
+      }
       // The solver's own error: against the baseline on the same mesh (mesh error left out).
-      const AccuracyConfig* b = nullptr;
-      for (const AccuracyConfig& x : configs)
-        if (x.scenario == c.scenario && x.varied == "baseline") b = &x;
-      if (b && c.model == "vdm" && c.level == b->level && !base.u.empty()) row.rms_vs_baseline_mm = rms_difference_mm(tr, base, loaded);
+      if (c.model == "vdm" && !base.u.empty() && c.level == base_level)
+        row.rms_vs_baseline_mm = rms_difference_mm(tr, base, loaded);
       if (tr.unconverged > 0) row.note = std::to_string(tr.unconverged) + " steps did not converge";
     }
     out << "[" << (k + 1) << "/" << configs.size() << "] " << config_name(c) << ": ";

@@ -18,6 +18,7 @@
 #include "app/bench_bullet.hpp"
 #include "app/commands.hpp"
 #include "app/frame_output.hpp"
+#include "app/quantile.hpp"
 #include "app/scene_simulation.hpp"
 #include "render/number_format.hpp"
 #include "render/plot.hpp"
@@ -35,12 +36,6 @@ struct Row {
   long nodes = 0;
   double median_ms = 0, p95_ms = 0, iterations = 0, volume_rel_error = 0, peak_mb = 0;
 };
-
-double quantile(std::vector<double> v, double q) {
-  if (v.empty()) return 0;
-  std::sort(v.begin(), v.end());
-  return v[std::min(v.size() - 1, static_cast<size_t>(q * (v.size() - 1) + 0.5))];
-}
 
 double peak_mb() {
   std::ifstream f("/proc/self/status");

@@ -699,6 +699,13 @@ void read_render(Reader& r, const YAML::Node& n, SceneDef& s) {
 
 }  // namespace
 
+Eigen::Matrix3d rotation_from_degrees(const vdm::Vec3& deg) {
+  const double k = 3.14159265358979323846 / 180.0;
+  return (Eigen::AngleAxisd(deg.z() * k, vdm::Vec3::UnitZ()) * Eigen::AngleAxisd(deg.y() * k, vdm::Vec3::UnitY()) *
+          Eigen::AngleAxisd(deg.x() * k, vdm::Vec3::UnitX()))
+      .toRotationMatrix();
+}
+
 const char* to_string(Effect e) {
   switch (e) {
     case Effect::contact: return "contact";

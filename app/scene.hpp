@@ -87,6 +87,9 @@ struct RenderDef {
   double fps = 30;                     // video frame rate
 };
 
+// The rotation of a `rotate_deg` field: about x, then y, then z (degrees).
+Eigen::Matrix3d rotation_from_degrees(const vdm::Vec3& deg);
+
 enum class Effect { contact, grasp, gravity, inertia, stress };
 const char* to_string(Effect e);
 

@@ -154,11 +154,7 @@ std::shared_ptr<render::SkinMesh> load_skin(const SkinDef& def, const std::strin
     error = r.error;
     return nullptr;
   }
-  const double k = 3.14159265358979323846 / 180.0;
-  const Eigen::Matrix3d R = (Eigen::AngleAxisd(def.rotate_deg.z() * k, vdm::Vec3::UnitZ()) *
-                             Eigen::AngleAxisd(def.rotate_deg.y() * k, vdm::Vec3::UnitY()) *
-                             Eigen::AngleAxisd(def.rotate_deg.x() * k, vdm::Vec3::UnitX()))
-                                .toRotationMatrix();
+  const Eigen::Matrix3d R = rotation_from_degrees(def.rotate_deg);
   auto skin = std::make_shared<render::SkinMesh>();
   const vdm::TriMat& t = r.mesh.triangles;
   for (Eigen::Index f = 0; f < t.rows(); ++f) {
@@ -184,11 +180,7 @@ bool load_convex(const ConvexDef& def, std::shared_ptr<const vdm::ConvexHull>& o
     error = r.error;
     return false;
   }
-  const double k = 3.14159265358979323846 / 180.0;
-  const Eigen::Matrix3d R = (Eigen::AngleAxisd(def.rotate_deg.z() * k, vdm::Vec3::UnitZ()) *
-                             Eigen::AngleAxisd(def.rotate_deg.y() * k, vdm::Vec3::UnitY()) *
-                             Eigen::AngleAxisd(def.rotate_deg.x() * k, vdm::Vec3::UnitX()))
-                                .toRotationMatrix();
+  const Eigen::Matrix3d R = rotation_from_degrees(def.rotate_deg);
   std::vector<vdm::Vec3> points;
   for (Eigen::Index i = 0; i < r.mesh.positions.rows(); ++i)
     points.push_back(R * r.mesh.positions.row(i).transpose() + def.origin);

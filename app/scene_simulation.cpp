@@ -16,13 +16,6 @@ double ramp(double t, double t0, double t1) {
   return std::clamp((t - t0) / (t1 - t0), 0.0, 1.0);
 }
 
-Eigen::Matrix3d rotation_deg(const vdm::Vec3& deg) {
-  const double k = 3.14159265358979323846 / 180.0;
-  return (Eigen::AngleAxisd(deg.z() * k, vdm::Vec3::UnitZ()) * Eigen::AngleAxisd(deg.y() * k, vdm::Vec3::UnitY()) *
-          Eigen::AngleAxisd(deg.x() * k, vdm::Vec3::UnitX()))
-      .toRotationMatrix();
-}
-
 }  // namespace
 
 SceneSimulation::SceneSimulation(const PreparedScene& ps)
@@ -67,7 +60,7 @@ void SceneSimulation::advance(int f) {
   for (size_t k = 0; k < s.prescribed.size(); ++k) {
     const PrescribedDef& p = s.prescribed[k];
     const double a = ramp(t, p.t0, p.t1);
-    const Eigen::Matrix3d R = rotation_deg(a * p.rotate_deg);
+    const Eigen::Matrix3d R = rotation_from_degrees(a * p.rotate_deg);
     const vdm::Vec3 c = ps_.prescribed_about[k];
     for (int i : ps_.prescribed_nodes[k]) {
       const vdm::Vec3 X = m.rest.positions.row(i);

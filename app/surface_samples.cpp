@@ -16,10 +16,11 @@ SurfaceSamples::SurfaceSamples(const vdm::SurfaceMesh& rest, const vdm::NodeMat&
   for (int k = 0; k < t.rows(); ++k)
     for (int q = 0; q < 3; ++q) around[static_cast<size_t>(t(k, q))].push_back(k);
   constexpr int kNearest = 4;  // the closest point may lie on a triangle of a near, not the nearest, node
+  std::vector<std::pair<double, int>> near;
+  near.reserve(static_cast<size_t>(n));
   for (int s = 0; s < points.rows(); ++s) {
     const vdm::Vec3 p = points.row(s);
-    std::vector<std::pair<double, int>> near;
-    near.reserve(static_cast<size_t>(n));
+    near.clear();
     for (int i = 0; i < n; ++i) near.emplace_back((x.row(i).transpose() - p).squaredNorm(), i);
     const int keep = std::min(kNearest, n);
     std::partial_sort(near.begin(), near.begin() + keep, near.end());

@@ -29,26 +29,6 @@ double capsule_distance(const Capsule& c, const Vec3& x, Vec3& surface_point, Ve
   return dist - c.radius;
 }
 
-Vec3 push_out(const Capsule& c, const Vec3& x, const Vec3& relative, Vec3& dir) {
-  const double m = relative.norm();
-  dir = m > 1e-9 * c.radius ? Vec3(-relative / m) : Vec3((c.p0 - c.p1).normalized());
-  Vec3 nearest, nearest_normal, p, nrm;
-  if (capsule_distance(c, x, nearest, nearest_normal) >= 0.0) return x;
-  // Along a ray from inside, the distance to a convex surface crosses zero once.
-  double lo = 0.0, hi = (c.p1 - c.p0).norm() + 2.0 * c.radius;
-  for (int it = 0; it < 60; ++it) {
-    const double mid = 0.5 * (lo + hi);
-    (capsule_distance(c, x + mid * dir, p, nrm) < 0.0 ? lo : hi) = mid;
-  }
-  // A node that came in from behind (the surface springing back into a retreating tool)
-  // would exit far away along the motion: put it on the nearest surface point instead.
-  if (hi > 2.0 * c.radius + m) {
-    dir = nearest_normal;  // pushed away from the tool's axis
-    return nearest;
-  }
-  return x + hi * dir;
-}
-
 Vec3 push_out(const ToolShape& t, const Vec3& x, const Vec3& relative, Vec3& dir) {
   const double m = relative.norm(), size = t.size();
   dir = m > 1e-9 * size ? Vec3(-relative / m) : Vec3(t.pose.linear().col(2));
@@ -70,6 +50,10 @@ Vec3 push_out(const ToolShape& t, const Vec3& x, const Vec3& relative, Vec3& dir
 }
 
 ToolShape to_tool(const Capsule& c) { return capsule_shape(c.p0, c.p1, c.radius, c.motion); }
+
+Vec3 push_out(const Capsule& c, const Vec3& x, const Vec3& relative, Vec3& dir) {
+  return push_out(to_tool(c), x, relative, dir);
+}
 
 struct ContactSolver::Fcl {
   std::shared_ptr<fcl::BVHModel<fcl::AABBd>> bvh;
