@@ -1,7 +1,9 @@
 #include "app/mesh_io.hpp"
 
 #include "app/obj_reader.hpp"
+#include "app/ply_reader.hpp"
 
+#include <assimp/BaseImporter.h>
 #include <assimp/Importer.hpp>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
@@ -49,51 +51,21 @@ void collect(const aiScene* scene, const aiNode* node, const aiMatrix4x4& parent
     collect(scene, node->mChildren[c], world, points, tris, non_triangles);
 }
 
-// PLY headers declare element counts up front; assimp trusts them and would try to read
-// billions of vertices from a small file. Refuse a header whose counts cannot fit the file
-// (each property takes at least 2 bytes in ASCII, 1 in binary). Returns "" when fine.
-std::string check_ply_header(const std::string& path, std::uintmax_t file_bytes) {
+// Whether the file is read by our PLY reader: a .ply name, or "ply" (any case) as its first
+// line whatever the name (assimp would otherwise pick its own PLY importer by the content).
+bool is_ply(const std::string& path, const std::string& ext) {
+  if (ext == ".ply") return true;
   std::ifstream f(path, std::ios::binary);
-  std::string line;
-  if (!std::getline(f, line) || line.size() < 3) return "";
-  // Case-insensitive, as assimp reads it: "plY" with no end_header hung assimp (fuzzing).
-  std::string magic = line.substr(0, 3);
-  for (char& c : magic) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (magic != "ply") return "";
-  bool ascii = false;
-  long double needed = 0;
-  std::string element;
-  long double count = 0;
-  int props = 0;
-  auto flush = [&] { needed += count * props * (ascii ? 2 : 1); };
-  for (int lines = 0; std::getline(f, line) && lines < 10000; ++lines) {
-    std::istringstream ls(line);
-    std::string word;
-    ls >> word;
-    if (word == "format") {
-      std::string fmt;
-      ls >> fmt;
-      ascii = fmt == "ascii";
-    } else if (word == "element") {
-      flush();
-      ls >> element >> count;
-      props = 0;
-      if (!ls || count < 0) return "malformed PLY element line '" + line + "'";
-    } else if (word == "property") {
-      ++props;
-    } else if (word == "end_header") {
-      flush();
-      const auto header_end = static_cast<long double>(f.tellg());
-      if (needed > static_cast<long double>(file_bytes) - header_end) {
-        std::ostringstream m;
-        m << "the PLY header declares more data (at least " << static_cast<unsigned long long>(needed)
-          << " bytes) than the file holds (" << file_bytes << " bytes): truncated or corrupt";
-        return m.str();
-      }
-      return "";
-    }
+  char head[5] = {};
+  f.read(head, sizeof head);
+  return looks_like_ply(std::string_view(head, static_cast<size_t>(f.gcount())));
+}
+
+// assimp never reads PLY here (our reader does): its PLY importer is taken out of the importer.
+void drop_assimp_ply(Assimp::Importer& importer) {
+  if (Assimp::BaseImporter* ply = importer.GetImporter("ply")) {
+    if (importer.UnregisterLoader(ply) == aiReturn_SUCCESS) delete ply;  // unregistering hands it back
   }
-  return "PLY header has no end_header line";
 }
 
 }  // namespace
@@ -117,24 +89,31 @@ MeshLoadResult load_surface_mesh(const std::string& path, const MeshLoadOptions&
     return fail(s.str());
   }
 
-  const std::string ply_problem = check_ply_header(path, bytes);
-  if (!ply_problem.empty()) return fail(ply_problem);
-
   std::vector<vdm::Vec3> points;
   std::vector<std::array<int, 3>> tris;
   std::string ext = std::filesystem::path(path).extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  if (ext == ".obj") {
-    // OBJ directly: file order and double precision kept (node indices in scenes refer to it).
-    vdm::SurfaceMesh raw;
-    std::string why;
-    if (!read_obj(path, raw, why)) return fail(why);
+  auto take = [&](const vdm::SurfaceMesh& raw) {
     points.resize(static_cast<size_t>(raw.node_count()));
     for (int i = 0; i < raw.node_count(); ++i) points[i] = raw.positions.row(i).transpose();
     tris.resize(static_cast<size_t>(raw.triangle_count()));
     for (int k = 0; k < raw.triangle_count(); ++k) tris[k] = {raw.triangles(k, 0), raw.triangles(k, 1), raw.triangles(k, 2)};
+  };
+  if (is_ply(path, ext)) {
+    // PLY directly (app/ply_reader): strict, file order and double precision kept.
+    vdm::SurfaceMesh raw;
+    std::string why;
+    if (!read_ply(path, raw, why)) return fail(why);
+    take(raw);
+  } else if (ext == ".obj") {
+    // OBJ directly: file order and double precision kept (node indices in scenes refer to it).
+    vdm::SurfaceMesh raw;
+    std::string why;
+    if (!read_obj(path, raw, why)) return fail(why);
+    take(raw);
   } else {
     Assimp::Importer importer;
+    drop_assimp_ply(importer);
     // Keep only positions and faces; weld identical vertices; do not let assimp "repair"
     // degenerate triangles: the checks below name them instead.
     importer.SetPropertyInteger(AI_CONFIG_PP_RVC_FLAGS,

@@ -1,6 +1,7 @@
 #pragma once
-// Loading organ surfaces from files (OBJ, STL, PLY, glTF/GLB, anything assimp reads) into the
-// engine's plain arrays, welded, cleaned and validated.
+// Loading organ surfaces from files into the engine's plain arrays, welded, cleaned and
+// validated: OBJ and PLY by our own readers (app/obj_reader, app/ply_reader), STL, glTF/GLB and
+// anything else assimp reads (except PLY) through assimp.
 #include <string>
 
 #include "engine/mesh_topology.hpp"

@@ -43,6 +43,31 @@ struct MeshCase {
   const char* problem;  // what the message must say
 };
 
+// A binary tetrahedron (each vertex with a 2-float list after x y z) cut inside face 2: the
+// header's counts fit the bytes left (the lists could be empty), so the data reader finds it.
+std::string truncated_binary_ply() {
+  std::string s =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+      "property float z\nproperty list uchar float extra\nelement face 4\n"
+      "property list uchar int vertex_indices\nend_header\n";
+  const size_t header = s.size();  // 201 bytes
+  auto put = [&](auto v) { s.append(reinterpret_cast<const char*>(&v), sizeof v); };  // x86: little endian
+  const float p[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  for (const auto& v : p) {
+    for (float c : v) put(c);
+    put(static_cast<unsigned char>(2));
+    put(0.5f);
+    put(0.25f);
+  }
+  const int f[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  for (const auto& t : f) {
+    put(static_cast<unsigned char>(3));
+    for (int i : t) put(i);
+  }
+  s.resize(header + 120);  // vertices 84 bytes, faces from 285, 13 bytes each: ends inside face 2
+  return s;
+}
+
 TEST(BadInputCli, EveryBrokenMeshExitsWith2NamingFileAndProblem) {
   std::mt19937 rng(3);
   std::string junk(4096, '\0');
@@ -65,6 +90,18 @@ TEST(BadInputCli, EveryBrokenMeshExitsWith2NamingFileAndProblem) {
        "ply\nformat binary_little_endian 1.0\nelement vertex 400000000\nproperty float x\nproperty float y\n"
        "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n",
        "declares"},
+      // Our PLY reader (app/ply_reader): the line, or the item and byte offset, is named.
+      {"truncated.ply", truncated_binary_ply(), "face 2 (byte offset 311): a list of 3 values runs past the end of the file"},
+      {"nan.ply",
+       "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+       "element face 4\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 nan\n0 1 0\n0 0 1\n"
+       "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n",
+       "line 11 (vertex 1): non-finite coordinate"},
+      {"index.ply",
+       "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+       "element face 4\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n"
+       "3 0 2 1\n3 0 1 3\n3 0 3 4\n3 1 2 3\n",
+       "line 16 (face 2): vertex index 4 is out of range"},
   };
   for (const MeshCase& c : cases) {
     const std::string p = write(c.name, c.text);
