@@ -74,8 +74,14 @@ SimState make_sim_state(const TissueModel& model);
 
 // One quasi-static (or, with inertia, implicit Euler) step (vdm-model.md section 4).
 // When an iterative solve does not converge (or gives a non-finite result) the solve is
-// redone with the direct solver (stats.fallbacks, stats.fallback); when that fails too, or
-// the input is malformed, the step fails (state.failed, state.failure) and changes nothing.
+// redone with the direct solver (stats.fallbacks, stats.fallback). A step that still cannot
+// be done (no solver can solve it, the surface turns inside out, the result is not finite or
+// the volume drifts past 1e-4) is redone as two halves of its load increment (forces and
+// pressures interpolated from the last step's input, prescribed displacements from where
+// the nodes are), each half split again if need be, down to 1/8; it counts as one step
+// (stats.fallbacks, stats.fallback and a warning say so). Quasi-static models only. When
+// that fails too, or the input is malformed, the step fails (state.failed, state.failure)
+// and changes nothing.
 void step(const TissueModel& model, const StepInput& input, SimState& state);
 
 // Puts the state back as it was before the last step() call: displacement, velocity,

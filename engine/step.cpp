@@ -17,7 +17,10 @@ double ms_since(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 
+// Each distinct trouble is listed once (a repeat allocates nothing).
 void add_warning(SimState& s, const char* what) {
+  for (const std::string& w : s.warnings)
+    if (w == what) return;
   if (s.warnings.size() < 64) s.warnings.emplace_back(what);
 }
 
@@ -185,6 +188,15 @@ SimState make_sim_state(const TissueModel& m) {
   w->velocity_start = NodeMat::Zero(n, 3);
   if (m.use_inertia) w->extra_diagonal = Vec::Zero(n);
   w->scratch = Vec::Zero(n);
+  w->force_last = NodeMat::Zero(n, 3);
+  w->force_prev = NodeMat::Zero(n, 3);
+  w->pressure_last = Vec::Zero(n);
+  w->pressure_prev = Vec::Zero(n);
+  w->sub_input = make_step_input(m);
+  w->sub_input.pressure = Vec::Zero(n);
+  w->whole_u_start = NodeMat::Zero(n, 3);
+  w->whole_velocity_start = NodeMat::Zero(n, 3);
+  w->whole_x_refresh_start = m.rest.positions;
   w->solver = make_linear_solver(m.solver);
   w->solver->analyze(m.pattern.matrix);
   s.work = std::move(w);
@@ -196,6 +208,7 @@ namespace {
 // Gives up on this step: the state goes back to the step's start and says why.
 void fail_step(const TissueModel& m, SimState& s, const char* why) {
   rewind_step(m, s);
+  s.work->failure_reason = why;
   s.failed = true;
   s.failure = why;
   add_warning(s, why);
@@ -239,9 +252,25 @@ void rewind_step(const TissueModel& m, SimState& s) {
     w.refreshed_in_step = false;
   }
   w.steps_since_refresh = w.since_refresh_start;
+  if (w.input_remembered) {  // the step's loads are no longer the last ones
+    w.force_last.swap(w.force_prev);
+    w.pressure_last.swap(w.pressure_prev);
+    w.input_remembered = false;
+  }
 }
 
-void step(const TissueModel& m, const StepInput& in, SimState& s) {
+namespace {
+
+// How one attempt at a step ended (step() retries the last two in smaller increments).
+enum class Attempt {
+  done,       // solved (the result is judged by step())
+  bad_input,  // malformed input: failed, no retry
+  failed,     // no solver could do it, or no valid geometry: failed (state rewound)
+  inverted,   // done, but a refresh inside the step found the surface turned inside out
+};
+
+// The VDM step proper (section 4) for one input.
+Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
   const auto t_step = Clock::now();
   StepWorkspace& w = *s.work;
   StepStats& st = s.stats;
@@ -269,8 +298,9 @@ void step(const TissueModel& m, const StepInput& in, SimState& s) {
   if (m.solver.refresh_every > 1 && m.solver.nonlinear_iterations > 1) w.x_refresh_start = w.x_refresh;
   if (const char* bad = check_input(m, in)) {
     fail_step(m, s, bad);
-    return;
+    return Attempt::bad_input;
   }
+  bool inverted = false;
   double current_volume = 0.0;
   double last_c = 0.0;
   double last_du = 0.0;
@@ -289,8 +319,9 @@ void step(const TissueModel& m, const StepInput& in, SimState& s) {
         ++st.total_refreshes;
       } else if (!w.have_geometry) {
         fail_step(m, s, "the geometry encloses no positive volume");
-        return;
+        return Attempt::failed;
       } else {
+        inverted = true;
         add_warning(s, "the deformed surface encloses no positive volume: kept the last valid geometry");
         ++st.fallbacks;
         st.fallback = "inverted geometry: kept the last valid one";
@@ -350,7 +381,7 @@ void step(const TissueModel& m, const StepInput& in, SimState& s) {
     ++st.nonlinear_iterations;
     if (!ok) {
       fail_step(m, s, "no solver could solve the step (singular or non-finite system)");
-      return;
+      return Attempt::failed;
     }
     // Constrained entries take their prescribed values exactly (an iterative solve meets
     // its identity rows only to tolerance).
@@ -430,6 +461,172 @@ void step(const TissueModel& m, const StepInput& in, SimState& s) {
   ++s.step;
   s.time += m.dt;
   st.step_ms = ms_since(t_step);
+  return inverted ? Attempt::inverted : Attempt::done;
+}
+
+
+// --- Halved load increments: a step that cannot be done whole is done in parts ---
+
+// A step is split at most this many times: down to 1/8 of its load increment.
+constexpr int kMaxHalvings = 3;
+constexpr int kParts = 1 << kMaxHalvings;
+// With the volume constraint and its corrections a done step keeps the volume to ~1e-11;
+// a drift past this means the surface turned inside out locally (the corrections' slope
+// A(x).s went negative) and the increment was too large for the step's linearisation.
+constexpr double kVolumeDrift = 1e-4;
+
+const char* const kHalvedText[kMaxHalvings + 1] = {
+    nullptr,
+    "step too large (solve failed or surface inverted): done in halves of the load increment",
+    "step too large (solve failed or surface inverted): done in parts down to 1/4 of the load increment",
+    "step too large (solve failed or surface inverted): done in parts down to 1/8 of the load increment",
+};
+
+// Why a step's result cannot be kept (static text), or null when it can.
+const char* trouble_with(const TissueModel& m, const SimState& s, Attempt a) {
+  if (a == Attempt::failed || a == Attempt::bad_input) return s.work->failure_reason;
+  if (a == Attempt::inverted) return "the deformed surface turned inside out (no positive enclosed volume)";
+  if (!s.u.allFinite() || !std::isfinite(s.pressure)) return "the step's result is not finite";
+  if (m.volume_constraint && m.solver.volume_corrections > 0 && !(std::abs(s.volume_rel_error) <= kVolumeDrift))
+    return "the volume drifted by more than 1e-4 (the surface turned inside out locally)";
+  return nullptr;
+}
+
+// The loads of the last completed step (and of the one before, for rewind_step): a halved
+// step interpolates forces and pressures from them to the new input.
+void remember_input(const TissueModel& m, const StepInput& in, StepWorkspace& w) {
+  w.force_prev.swap(w.force_last);  // pointer swaps, no allocation
+  w.pressure_prev.swap(w.pressure_last);
+  if (in.force.rows() == m.n) w.force_last = in.force;
+  else w.force_last.setZero();
+  if (in.pressure.size() == m.n) w.pressure_last = in.pressure;
+  else w.pressure_last.setZero();
+  w.input_remembered = true;
+}
+
+// The input at fraction t of the way from the last step's input to `in`: forces and
+// pressures interpolated, prescribed entries from where they are at the step's start.
+void interpolate_input(const TissueModel& m, const StepInput& in, double t, StepWorkspace& w) {
+  StepInput& sub = w.sub_input;
+  sub.force = (1.0 - t) * w.force_last;
+  if (in.force.rows() == m.n) sub.force.noalias() += t * in.force;
+  sub.pressure = (1.0 - t) * w.pressure_last;
+  if (in.pressure.size() == m.n) sub.pressure.noalias() += t * in.pressure;
+  if (in.prescribed.rows() == m.n) {
+    sub.prescribed = in.prescribed;
+    for (int d = 0; d < 3; ++d)
+      for (int i = 0; i < m.n; ++i)
+        sub.prescribed_u(i, d) = in.prescribed(i, d) ? w.whole_u_start(i, d) + t * (in.prescribed_u(i, d) -
+                                                                                     w.whole_u_start(i, d))
+                                                     : 0.0;
+  } else {
+    sub.prescribed.setZero();
+  }
+}
+
+// Makes the rewind point (rewind_step) that of the whole step again.
+void restore_whole_start(StepWorkspace& w, bool refreshed) {
+  w.u_start = w.whole_u_start;
+  w.velocity_start = w.whole_velocity_start;
+  w.x_refresh_start = w.whole_x_refresh_start;
+  w.pressure_start = w.whole_pressure_start;
+  w.step_start = w.whole_step_start;
+  w.time_start = w.whole_time_start;
+  w.since_refresh_start = w.whole_since_refresh_start;
+  w.have_geometry_start = w.whole_have_geometry_start;
+  w.refreshed_in_step = refreshed;
+}
+
+}  // namespace
+
+void step(const TissueModel& m, const StepInput& in, SimState& s) {
+  const auto t_step = Clock::now();
+  StepWorkspace& w = *s.work;
+  StepStats& st = s.stats;
+  w.input_remembered = false;
+  const long total_factorizations = st.total_factorizations, total_fallbacks = st.total_fallbacks;
+  const Attempt first = step_once(m, in, s);
+  const char* why = trouble_with(m, s, first);
+  // Done, or not for smaller increments to mend (malformed input; with inertia the sub-steps
+  // would need their own time step: as before, a done step is kept).
+  if (!why || first == Attempt::bad_input || (m.use_inertia && first != Attempt::failed)) {
+    if (!s.failed) remember_input(m, in, w);
+    return;
+  }
+  if (m.use_inertia) return;  // failed, state as it was
+
+  // The whole step's start (the first attempt has been rewound to it).
+  if (first != Attempt::failed) rewind_step(m, s);
+  w.whole_u_start = w.u_start;
+  w.whole_velocity_start = w.velocity_start;
+  w.whole_x_refresh_start = w.x_refresh;
+  w.whole_pressure_start = w.pressure_start;
+  w.whole_step_start = w.step_start;
+  w.whole_time_start = w.time_start;
+  w.whole_since_refresh_start = w.since_refresh_start;
+  w.whole_have_geometry_start = w.have_geometry_start;
+
+  // What every attempt cost, reported for the whole step.
+  StepStats sum = st;
+  auto add = [&sum](const StepStats& a) {
+    sum.iterations += a.iterations;
+    sum.nonlinear_iterations += a.nonlinear_iterations;
+    sum.fallbacks += a.fallbacks;
+    sum.factorizations += a.factorizations;
+    sum.refreshed = sum.refreshed || a.refreshed;
+    sum.assemble_ms += a.assemble_ms;
+    sum.solve_ms += a.solve_ms;
+    sum.stress_ms += a.stress_ms;
+  };
+  bool refreshed = false;  // the geometry was rebuilt by a kept sub-step
+  bool converged = true;   // every kept sub-step's solves converged
+  int pos = 0, size = kParts / 2, halvings = 1;
+  while (pos < kParts) {
+    const bool last = pos + size == kParts;  // the last part takes the input itself
+    if (!last) interpolate_input(m, in, static_cast<double>(pos + size) / kParts, w);
+    const Attempt a = step_once(m, last ? in : w.sub_input, s);
+    add(st);
+    why = trouble_with(m, s, a);
+    if (!why) {
+      refreshed = refreshed || w.refreshed_in_step;
+      converged = converged && st.converged;
+      pos += size;
+      continue;
+    }
+    if (a != Attempt::failed) rewind_step(m, s);
+    if (size == 1) break;  // already at 1/8: give up
+    size /= 2;
+    ++halvings;
+  }
+  const bool done = pos == kParts;
+  if (!done) {
+    // The step cannot be done: everything back to its start, and why.
+    restore_whole_start(w, refreshed);
+    rewind_step(m, s);
+    s.failed = true;
+    s.failure = std::string(why) + " (also in parts of 1/8 of the load increment)";
+    add_warning(s, s.failure.c_str());
+  } else {
+    // One step for the caller: counters, velocity and the rewind point are the whole step's.
+    s.step = w.whole_step_start + 1;
+    s.time = w.whole_time_start + m.dt;
+    s.velocity = (s.u - w.whole_u_start) / m.dt;
+    restore_whole_start(w, refreshed);
+    remember_input(m, in, w);
+    add_warning(s, kHalvedText[halvings]);
+  }
+  // The last sub-step's residual, change and relaxation; summed counts and times.
+  sum.residual = st.residual;
+  sum.converged = done && converged;
+  sum.nonlinear_change = st.nonlinear_change;
+  sum.relaxation = st.relaxation;
+  sum.fallbacks += halvings;
+  sum.fallback = done ? kHalvedText[halvings] : nullptr;
+  sum.total_refreshes = st.total_refreshes;
+  sum.total_factorizations = total_factorizations + sum.factorizations;
+  sum.total_fallbacks = total_fallbacks + sum.fallbacks;
+  sum.step_ms = ms_since(t_step);
+  st = sum;
 }
 
 }  // namespace vdm

@@ -28,6 +28,18 @@ struct StepWorkspace {
   long step_start = 0;
   int since_refresh_start = 0;
   bool have_geometry_start = false, refreshed_in_step = false;
+  // Halved load increments (step() in step.cpp): the loads of the last two completed steps,
+  // the input of a part of a step, and the whole step's start while it is done in parts.
+  NodeMat force_last, force_prev;
+  Vec pressure_last, pressure_prev;
+  bool input_remembered = false;  // force_last/pressure_last are the current step's (rewind swaps back)
+  StepInput sub_input;
+  NodeMat whole_u_start, whole_velocity_start, whole_x_refresh_start;
+  double whole_pressure_start = 0, whole_time_start = 0;
+  long whole_step_start = 0;
+  int whole_since_refresh_start = 0;
+  bool whole_have_geometry_start = false;
+  const char* failure_reason = nullptr;  // why the last attempt failed (static text)
   Vec extra_diagonal;             // inertia M/h^2 + D/h (empty without inertia)
   Vec scratch;                    // N
   std::unique_ptr<LinearSolver> solver;

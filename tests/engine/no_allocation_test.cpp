@@ -111,6 +111,34 @@ TEST(NoAllocation, DirectStepAfterWarmUp) {
   EXPECT_EQ(allocations_in_steps(SolverMethod::direct, true), 0);
 }
 
+// Steps done in halved load increments (a beam pulled to three times its length in one step,
+// then let go, over and over): the fallback allocates nothing either once it has been met.
+TEST(NoAllocation, HalvedStepAfterWarmUp) {
+  const double length = 0.1;
+  const TissueModel m = scenario::build(scenario::clamped_beam(length, 0.02, 10, 2));
+  SimState s = make_sim_state(m);
+  StepInput in = make_step_input(m);
+  auto load = [&](int k) { scenario::move_end(m, length, Vec3(0, k % 2 ? 2.0 * length : 0.0, 0), in); };
+  for (int k = 1; k <= 4; ++k) {  // warm-up, two halved steps among them
+    load(k);
+    step(m, in, s);
+  }
+  long total = 0;
+  int halved = 0;
+  for (int k = 5; k <= 10; ++k) {
+    load(k);
+    g_allocations = 0;
+    g_counting = true;
+    step(m, in, s);
+    g_counting = false;
+    total += g_allocations;
+    ASSERT_FALSE(s.failed) << s.failure;
+    halved += s.stats.fallback != nullptr;
+  }
+  EXPECT_EQ(halved, 3);
+  EXPECT_EQ(total, 0);
+}
+
 // Contact steps with a tool of each kind pressing the cube's top further each step (the
 // active set changes): nothing allocated once warmed up.
 long allocations_in_contact_steps(ToolShape::Kind kind) {
