@@ -464,7 +464,6 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
   return inverted ? Attempt::inverted : Attempt::done;
 }
 
-
 // --- Halved load increments: a step that cannot be done whole is done in parts ---
 
 // A step is split at most this many times: down to 1/8 of its load increment.
