@@ -1,8 +1,10 @@
 #pragma once
 // The three interchangeable solvers of the VDM system (vdm-model.md section 6). Each sees the
 // per-axis matrices after constrained entries were eliminated (identity rows/columns).
+#include <algorithm>
 #include <array>
 #include <memory>
+#include <vector>
 
 #include "engine/settings.hpp"
 #include "engine/sparse.hpp"
@@ -34,9 +36,23 @@ class LinearSolver {
   // s with K^d s^d = a^d on every axis (zero on constrained entries): the displacement per
   // unit of fluid pressure. Valid until the matrices change.
   virtual const NodeMat& pressure_response(const std::array<SpMat, 3>& K, const NodeMat& a) = 0;
+  // What a solve carries over to the next (warm starts, the cached pressure response), for
+  // state snapshots (engine/state_snapshot): appended to `out`, and read back (after
+  // matrices_changed() with the same matrices) from `in`; false when `in` does not fit.
+  virtual void save_warm_state(std::vector<double>& out) const = 0;
+  virtual bool load_warm_state(const std::vector<double>& in) = 0;
 };
 
 std::unique_ptr<LinearSolver> make_linear_solver(const SolverSettings& settings);
+
+// Warm-state helpers: matrices and a flag and a count as doubles, in a fixed order.
+inline void put_warm(std::vector<double>& out, const NodeMat& x) { out.insert(out.end(), x.data(), x.data() + x.size()); }
+inline bool take_warm(const std::vector<double>& in, size_t& pos, NodeMat& x) {
+  if (in.size() - pos < static_cast<size_t>(x.size())) return false;
+  std::copy(in.begin() + static_cast<std::ptrdiff_t>(pos), in.begin() + static_cast<std::ptrdiff_t>(pos + x.size()), x.data());
+  pos += static_cast<size_t>(x.size());
+  return true;
+}
 
 // dP = (c - a.r) / (a.s): the pressure that makes u = r + dP s satisfy the volume row
 // (0 when a.s is not positive: no node is free to move).

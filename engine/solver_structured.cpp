@@ -74,6 +74,22 @@ class StructuredSolver final : public LinearSolver {
     pending_factorizations_ = 3;
   }
 
+  void save_warm_state(std::vector<double>& out) const override {
+    for (const NodeMat* x : {&r_, &s_, &rp_, &sp_}) put_warm(out, *x);
+    out.push_back(s_valid_ ? 1.0 : 0.0);
+    out.push_back(pending_factorizations_);
+  }
+
+  bool load_warm_state(const std::vector<double>& in) override {
+    size_t pos = 0;
+    for (NodeMat* x : {&r_, &s_, &rp_, &sp_})
+      if (!take_warm(in, pos, *x)) return false;
+    if (in.size() != pos + 2) return false;
+    s_valid_ = in[pos] != 0.0;
+    pending_factorizations_ = static_cast<int>(in[pos + 1]);
+    return true;
+  }
+
   // `K` is the one last given to matrices_changed(), of which Kp_ holds the permuted values.
   SolveReport solve(const std::array<SpMat, 3>&, const NodeMat& rhs, const NodeMat& a, double c,
                     bool volume_constraint, NodeMat& u, double& dP) override {

@@ -232,6 +232,24 @@ LinearSolver& fallback_solver(const TissueModel& m, StepWorkspace& w) {
 
 }  // namespace
 
+void rebuild_matrices(const TissueModel& m, SimState& s) {
+  StepWorkspace& w = *s.work;
+  if (!w.have_geometry) return;
+  const int since = w.steps_since_refresh;
+  const bool dirty = w.matrix_dirty;
+  refresh_geometry(m, w.x_refresh, s, w);
+  w.steps_since_refresh = since;
+  w.matrix_dirty = dirty;
+  if (dirty || w.last_mask(0, 0) > 1) return;  // the next step builds K_masked
+  for (int d = 0; d < 3; ++d) mask_constrained(w.K[d], w.last_mask.col(d).data(), w.K_masked[d]);
+  w.a_free = s.area_vectors;
+  for (int d = 0; d < 3; ++d)
+    for (int i = 0; i < m.n; ++i)
+      if (w.last_mask(i, d)) w.a_free(i, d) = 0.0;
+  w.solver->matrices_changed(w.K_masked);
+  w.fallback_stale = true;
+}
+
 void rewind_step(const TissueModel& m, SimState& s) {
   StepWorkspace& w = *s.work;
   s.u = w.u_start;

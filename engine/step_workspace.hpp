@@ -50,4 +50,9 @@ struct StepWorkspace {
   int steps_since_refresh = 0;
 };
 
+// Rebuilds what a step leaves behind from the workspace's saved parts (engine/state_snapshot):
+// K^d, A_i, V_i at x_refresh, and K_masked for last_mask given to the solver, as the last
+// step built them (the refresh counter is kept).
+void rebuild_matrices(const TissueModel& model, SimState& state);
+
 }  // namespace vdm

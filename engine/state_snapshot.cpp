@@ -1,0 +1,158 @@
+#include "engine/state_snapshot.hpp"
+
+#include <cstdint>
+#include <cstring>
+#include <vector>
+
+#include "engine/step_workspace.hpp"
+
+namespace vdm {
+namespace {
+
+constexpr char kMagic[8] = {'V', 'D', 'M', 'S', 'T', 'A', 'T', '1'};
+
+// Raw bytes in this machine's order (a snapshot is read back by the same build).
+class Writer {
+ public:
+  explicit Writer(std::string& out) : out_(out) {}
+  void bytes(const void* p, size_t n) { out_.append(static_cast<const char*>(p), n); }
+  void i64(std::int64_t v) { bytes(&v, sizeof v); }
+  void f64(double v) { bytes(&v, sizeof v); }
+  template <class M>
+  void matrix(const M& x) {
+    i64(x.rows());
+    i64(x.cols());
+    bytes(x.data(), sizeof(typename M::Scalar) * static_cast<size_t>(x.size()));
+  }
+  void text(const std::string& s) {
+    i64(static_cast<std::int64_t>(s.size()));
+    bytes(s.data(), s.size());
+  }
+
+ private:
+  std::string& out_;
+};
+
+class Reader {
+ public:
+  Reader(std::string_view in, size_t& pos) : in_(in), pos_(pos) {}
+  bool bytes(void* p, size_t n) {
+    if (in_.size() - pos_ < n) return false;
+    std::memcpy(p, in_.data() + pos_, n);
+    pos_ += n;
+    return true;
+  }
+  bool i64(std::int64_t& v) { return bytes(&v, sizeof v); }
+  bool f64(double& v) { return bytes(&v, sizeof v); }
+  template <class T>
+  bool integer(T& v) {
+    std::int64_t x = 0;
+    if (!i64(x)) return false;
+    v = static_cast<T>(x);
+    return true;
+  }
+  // The matrix must already have the snapshot's shape (sized by make_sim_state).
+  template <class M>
+  bool matrix(M& x) {
+    std::int64_t r = 0, c = 0;
+    if (!i64(r) || !i64(c) || r != x.rows() || c != x.cols()) return false;
+    return bytes(x.data(), sizeof(typename M::Scalar) * static_cast<size_t>(x.size()));
+  }
+  bool text(std::string& s) {
+    std::int64_t n = 0;
+    if (!i64(n) || n < 0 || static_cast<std::uint64_t>(n) > in_.size() - pos_) return false;
+    s.assign(in_.data() + pos_, static_cast<size_t>(n));
+    pos_ += static_cast<size_t>(n);
+    return true;
+  }
+
+ private:
+  std::string_view in_;
+  size_t& pos_;
+};
+
+}  // namespace
+
+void save_state(const TissueModel& m, const SimState& s, std::string& out) {
+  const StepWorkspace& w = *s.work;
+  Writer o(out);
+  o.bytes(kMagic, sizeof kMagic);
+  o.i64(m.n);
+  o.i64(static_cast<std::int64_t>(m.solver.method));
+  o.i64(s.step);
+  o.f64(s.time);
+  for (const NodeMat* x : {&s.u, &s.x, &s.velocity, &s.area_vectors, &s.reaction, &s.strain, &s.stress}) o.matrix(*x);
+  o.matrix(s.node_volumes);
+  o.matrix(s.reaction_pressure);
+  o.f64(s.volume);
+  o.f64(s.volume_rel_error);
+  o.f64(s.pressure);
+  o.i64(s.stats.total_refreshes);
+  o.i64(s.stats.total_factorizations);
+  o.i64(s.stats.total_fallbacks);
+  o.i64(static_cast<std::int64_t>(s.warnings.size()));
+  for (const std::string& t : s.warnings) o.text(t);
+  // The engine's carry-over.
+  o.matrix(w.x_refresh);
+  o.i64(w.have_geometry);
+  o.i64(w.matrix_dirty);
+  o.i64(w.steps_since_refresh);
+  o.matrix(w.last_mask);
+  o.matrix(w.force_last);
+  o.matrix(w.force_prev);
+  o.matrix(w.pressure_last);
+  o.matrix(w.pressure_prev);
+  std::vector<double> warm;
+  w.solver->save_warm_state(warm);
+  o.i64(static_cast<std::int64_t>(warm.size()));
+  o.bytes(warm.data(), warm.size() * sizeof(double));
+}
+
+bool load_state(const TissueModel& m, std::string_view in, size_t& pos, SimState& s, std::string& error) {
+  StepWorkspace& w = *s.work;
+  Reader r(in, pos);
+  auto fail = [&](const char* what) {
+    error = std::string("state snapshot: ") + what;
+    return false;
+  };
+  char magic[sizeof kMagic];
+  if (!r.bytes(magic, sizeof magic) || std::memcmp(magic, kMagic, sizeof magic) != 0)
+    return fail("not a snapshot (or of another version)");
+  std::int64_t n = 0;
+  if (!r.i64(n) || n != m.n) return fail("of a model with another number of nodes");
+  std::int64_t method = 0;
+  if (!r.i64(method) || method != static_cast<std::int64_t>(m.solver.method)) return fail("of another solver");
+  if (!r.integer(s.step) || !r.f64(s.time)) return fail("truncated");
+  for (NodeMat* x : {&s.u, &s.x, &s.velocity, &s.area_vectors, &s.reaction, &s.strain, &s.stress})
+    if (!r.matrix(*x)) return fail("truncated or of another model");
+  if (!r.matrix(s.node_volumes) || !r.matrix(s.reaction_pressure)) return fail("truncated or of another model");
+  if (!r.f64(s.volume) || !r.f64(s.volume_rel_error) || !r.f64(s.pressure)) return fail("truncated");
+  if (!r.integer(s.stats.total_refreshes) || !r.integer(s.stats.total_factorizations) ||
+      !r.integer(s.stats.total_fallbacks))
+    return fail("truncated");
+  std::int64_t warnings = 0;
+  if (!r.i64(warnings) || warnings < 0 || warnings > 64) return fail("bad warning count");
+  s.warnings.clear();
+  for (std::int64_t k = 0; k < warnings; ++k) {
+    std::string t;
+    if (!r.text(t)) return fail("truncated");
+    s.warnings.push_back(std::move(t));
+  }
+  if (!r.matrix(w.x_refresh) || !r.integer(w.have_geometry) || !r.integer(w.matrix_dirty) ||
+      !r.integer(w.steps_since_refresh) || !r.matrix(w.last_mask) || !r.matrix(w.force_last) ||
+      !r.matrix(w.force_prev) || !r.matrix(w.pressure_last) || !r.matrix(w.pressure_prev))
+    return fail("truncated or of another model");
+  std::int64_t count = 0;
+  if (!r.i64(count) || count < 0 || static_cast<std::uint64_t>(count) > (in.size() - pos) / sizeof(double))
+    return fail("truncated");
+  std::vector<double> warm(static_cast<size_t>(count));
+  r.bytes(warm.data(), warm.size() * sizeof(double));
+  w.input_remembered = false;
+  s.failed = false;
+  s.failure.clear();
+  rebuild_matrices(m, s);
+  if (!w.solver->load_warm_state(warm)) return fail("of another solver");
+  return true;
+}
+
+}  // namespace vdm
