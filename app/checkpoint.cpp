@@ -7,6 +7,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 
 namespace vdmsim {
@@ -122,6 +123,67 @@ bool read_checkpoint(const std::string& path, Checkpoint& cp, std::string& error
     error = path + ": not a vdmsim checkpoint (damaged)";
     return false;
   }
+  return true;
+}
+
+namespace {
+constexpr char kStateMagic[8] = {'V', 'D', 'M', 'R', 'U', 'N', 'S', '1'};
+}  // namespace
+
+bool write_state_file(const std::string& path, const StateFile& sf, std::string& error) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream f(tmp, std::ios::binary);
+    const std::int64_t frame = sf.frame, hash_size = static_cast<std::int64_t>(sf.run_hash.size());
+    f.write(kStateMagic, sizeof kStateMagic);
+    f.write(reinterpret_cast<const char*>(&hash_size), sizeof hash_size);
+    f.write(sf.run_hash.data(), static_cast<std::streamsize>(sf.run_hash.size()));
+    f.write(reinterpret_cast<const char*>(&frame), sizeof frame);
+    f.write(reinterpret_cast<const char*>(&sf.max_volume_error), sizeof sf.max_volume_error);
+    f.write(sf.snapshot.data(), static_cast<std::streamsize>(sf.snapshot.size()));
+    f.flush();
+    if (!f) {
+      error = path + ": cannot write the state snapshot (disk full?)";
+      std::remove(tmp.c_str());
+      return false;
+    }
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    error = path + ": cannot move the state snapshot into place";
+    return false;
+  }
+  return true;
+}
+
+bool read_state_file(const std::string& path, StateFile& sf, std::string& error) {
+  std::ifstream f(path, std::ios::binary);
+  if (!f) {
+    error = path + ": no state snapshot";
+    return false;
+  }
+  const std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  size_t pos = 0;
+  auto take = [&](void* p, size_t n) {
+    if (bytes.size() - pos < n) return false;
+    std::memcpy(p, bytes.data() + pos, n);
+    pos += n;
+    return true;
+  };
+  char magic[sizeof kStateMagic];
+  std::int64_t hash_size = 0, frame = 0;
+  if (!take(magic, sizeof magic) || std::memcmp(magic, kStateMagic, sizeof magic) != 0 || !take(&hash_size, sizeof hash_size) ||
+      hash_size < 0 || hash_size > 64 || bytes.size() - pos < static_cast<size_t>(hash_size)) {
+    error = path + ": not a state snapshot";
+    return false;
+  }
+  sf.run_hash.assign(bytes.data() + pos, static_cast<size_t>(hash_size));
+  pos += static_cast<size_t>(hash_size);
+  if (!take(&frame, sizeof frame) || !take(&sf.max_volume_error, sizeof sf.max_volume_error)) {
+    error = path + ": truncated state snapshot";
+    return false;
+  }
+  sf.frame = static_cast<int>(frame);
+  sf.snapshot = bytes.substr(pos);
   return true;
 }
 

@@ -2,9 +2,10 @@
 // Resuming an interrupted run. The checkpoint (DIR/checkpoint.json, rewritten every K frames
 // once their images are on disk, and when the run stops) records the last complete frame, a
 // hash of the scene and options, and a hash of the simulation state after that frame. On
-// --resume the state is rebuilt by re-simulating up to that frame without rendering (the
-// simulation is deterministic; far cheaper than the pictures) and checked against the hash
-// before the run goes on, so the result is identical to an uninterrupted run.
+// --resume the state is loaded from the state snapshot taken with the checkpoint (state.bin),
+// or, without one (a reference model, an older run), rebuilt by re-simulating up to that frame
+// without rendering (the simulation is deterministic); either way it is checked against the
+// hash before the run goes on, so the result is identical to an uninterrupted run.
 #include <string>
 
 #include "engine/sim_state.hpp"
@@ -26,5 +27,18 @@ std::string run_hash(const std::string& scene_file, const std::string& extra);
 
 bool write_checkpoint(const std::string& path, const Checkpoint& cp, std::string& error);
 bool read_checkpoint(const std::string& path, Checkpoint& cp, std::string& error);
+
+// The state snapshot next to the checkpoint (DIR/state.bin): the run hash, the frame after
+// which it was taken, the run's largest volume error so far, and the simulation's snapshot
+// (SceneSimulation::save). A resume that finds one of the checkpoint's frame and run loads it
+// instead of re-simulating; written to a temporary file and renamed into place.
+struct StateFile {
+  std::string run_hash;
+  int frame = -1;
+  double max_volume_error = 0;
+  std::string snapshot;
+};
+bool write_state_file(const std::string& path, const StateFile& sf, std::string& error);
+bool read_state_file(const std::string& path, StateFile& sf, std::string& error);
 
 }  // namespace vdmsim

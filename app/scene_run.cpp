@@ -327,7 +327,7 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
   } else {
     // A fresh run: outputs of an earlier run in this folder would be stale.
     std::error_code ec;
-    for (const char* old : {"checkpoint.json", "video.mp4", "stress.mp4", "contact_sheet.png", "ffmpeg.log"})
+    for (const char* old : {"checkpoint.json", "state.bin", "video.mp4", "stress.mp4", "contact_sheet.png", "ffmpeg.log"})
       fs::remove(dir / old, ec);
   }
   const StopSignals signals;
@@ -422,19 +422,48 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
   // to the frames whose images are on disk if an image write fails.
   std::vector<std::uintmax_t> row_end;
   const std::uintmax_t rows_base = metrics_good_size;
+  SceneSimulation sim(ps);
+  double io_ms = 0, sum_step = 0, max_step = 0, max_vol = 0;
+  // The state snapshot (state.bin) goes with each checkpoint, written first: a resume loads
+  // it when it is of the checkpoint's frame, and re-simulates otherwise. It only saves time:
+  // when it cannot be written (disk full) the run goes on without it.
+  const fs::path state_path = dir / "state.bin";
+  bool snapshots = true;
+  auto save_snapshot = [&](int frame) {
+    StateFile sf{this_run, frame, max_vol, {}};
+    std::string why;
+    if (!snapshots || !sim.save(sf.snapshot)) return;  // a reference model: resumed by re-simulating
+    if (!write_state_file(state_path.string(), sf, why)) {
+      err << "vdmsim: warning: " << why << ": a resume will re-simulate instead\n";
+      std::error_code ec;
+      fs::remove(state_path, ec);
+      snapshots = false;
+    }
+  };
   auto checkpoint = [&](int frame) {
     Checkpoint cp{this_run, frame, frames, last_hash, output.stress_view().lo, output.stress_view().hi};
     if (!(rendering && s.render.stress && s.render.range_auto)) cp.range_lo = cp.range_hi = 0;
+    save_snapshot(frame);
     return write_checkpoint(checkpoint_path.string(), cp, error);
   };
-
-  SceneSimulation sim(ps);
-  double io_ms = 0, sum_step = 0, max_step = 0, max_vol = 0;
+  int first = 0;  // the first frame simulated: `start` when the snapshot was loaded
+  if (opt.resume) {
+    // Checked on a scratch simulation first: a snapshot that does not load leaves `sim` as new.
+    StateFile sf;
+    std::string why;
+    SceneSimulation scratch(ps);
+    if (read_state_file(state_path.string(), sf, why) && sf.run_hash == this_run && sf.frame == resume_cp.frame &&
+        scratch.load(sf.snapshot, why) && state_hash(scratch.state()) == resume_cp.state_hash && sim.load(sf.snapshot, why)) {
+      first = start;
+      max_vol = sf.max_volume_error;
+    }
+  }
   std::vector<double> step_times;
   step_times.reserve(static_cast<size_t>(frames));
   std::string status = "completed", reason;
-  int done = 0, last_pct = -1;
-  for (int f = 0; f < frames; ++f) {
+  int done = first, last_pct = -1;
+  int state_frame = first - 1;  // the last complete frame, whose state `sim` holds
+  for (int f = first; f < frames; ++f) {
     if (signals.received()) {
       status = "interrupted";
       reason = std::string(signals.received() == SIGINT ? "SIGINT (Ctrl-C)" : "SIGTERM") + " before frame " +
@@ -503,6 +532,7 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
       break;
     }
     done = f + 1;
+    state_frame = f;
     last_hash = state_hash(state);
     progress(rendering ? "render" : "simulate", done, frames, last_pct);
     // A checkpoint every K frames, once this frame's images are on disk.
@@ -543,6 +573,12 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
     std::string cp_error;
     Checkpoint cp{this_run, done - 1, frames, last_hash, output.stress_view().lo, output.stress_view().hi};
     if (!(rendering && s.render.stress && s.render.range_auto)) cp.range_lo = cp.range_hi = 0;
+    // A snapshot only of a state that is that frame's (not after a failed or cut-back frame,
+    // whose grasps or state moved on); without one a resume re-simulates.
+    const bool snapshot = done < frames && done - 1 == state_frame && (status == "completed" || status == "interrupted");
+    std::error_code ec;
+    if (snapshot) save_snapshot(done - 1);
+    else fs::remove(state_path, ec);
     if (!write_checkpoint(checkpoint_path.string(), cp, cp_error)) err << "vdmsim: warning: " << cp_error << "\n";
   }
   // Video from the PNG sequences.
@@ -587,12 +623,14 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
   js << "{\n  \"scene\": \"" << json_escape(s.name) << "\",\n  \"scene_file\": \"" << json_escape(s.file)
      << "\",\n  \"status\": \"" << status << "\",\n";
   if (!reason.empty()) js << "  \"reason\": \"" << json_escape(reason) << "\",\n";
-  if (opt.resume) js << "  \"resumed_from_frame\": " << start << ",\n";
+  if (opt.resume)
+    js << "  \"resumed_from_frame\": " << start << ",\n  \"resumed_by\": \""
+       << (first > 0 ? "state snapshot" : "re-simulation") << "\",\n";
   js << "  \"frames\": " << done << ",\n  \"frames_requested\": " << frames << ",\n  \"nodes\": " << m.n
      << ",\n  \"model\": \"" << s.model << "\",\n  \"solver\": \"" << vdm::to_string(m.solver.method)
      << "\",\n  \"effects\": [";
   for (size_t i = 0; i < s.effects.size(); ++i) js << (i ? ", " : "") << '"' << to_string(s.effects[i]) << '"';
-  js << "],\n  \"wall_time_s\": " << wall << ",\n  \"mean_step_ms\": " << (done ? sum_step / done : 0.0)
+  js << "],\n  \"wall_time_s\": " << wall << ",\n  \"mean_step_ms\": " << (step_times.empty() ? 0.0 : sum_step / double(step_times.size()))
      << ",\n  \"median_step_ms\": " << median << ",\n  \"max_step_ms\": " << max_step
      << ",\n  \"max_volume_rel_error\": " << max_vol << ",\n  \"stage_ms\": {\"loads\": " << times.loads
      << ", \"assemble\": " << times.assemble << ", \"solve\": " << times.solve << ", \"stress\": " << times.stress

@@ -1,8 +1,12 @@
 #include "app/scene_simulation.hpp"
 
+#include "engine/state_snapshot.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <stdexcept>
 
 namespace vdmsim {
@@ -41,6 +45,41 @@ std::vector<tools::InstrumentPose> SceneSimulation::poses(double t) const {
   std::vector<tools::InstrumentPose> out;
   for (const tools::InstrumentDef& in : ps_.scene.instruments) out.push_back(tools::pose_at(in, t));
   return out;
+}
+
+bool SceneSimulation::save(std::string& out) const {
+  if (organ_) return false;
+  vdm::save_state(ps_.model, state_, out);
+  const std::int64_t grasps = static_cast<std::int64_t>(grasps_.size());
+  out.append(reinterpret_cast<const char*>(&grasps), sizeof grasps);
+  for (const tools::Grasp& g : grasps_) g.save(out);
+  return true;
+}
+
+bool SceneSimulation::load(std::string_view in, std::string& error) {
+  if (organ_) {
+    error = "state snapshot: a reference model's state is not saved";
+    return false;
+  }
+  size_t pos = 0;
+  if (!vdm::load_state(ps_.model, in, pos, state_, error)) return false;
+  std::int64_t grasps = -1;
+  if (in.size() - pos >= sizeof grasps) std::memcpy(&grasps, in.data() + pos, sizeof grasps);
+  pos += sizeof grasps;
+  if (grasps != static_cast<std::int64_t>(grasps_.size())) {
+    error = "state snapshot: of a scene with other graspers";
+    return false;
+  }
+  for (tools::Grasp& g : grasps_)
+    if (!g.load(in, pos, ps_.model.n)) {
+      error = "state snapshot: a grasp is truncated";
+      return false;
+    }
+  if (pos != in.size()) {
+    error = "state snapshot: bytes after the end";
+    return false;
+  }
+  return true;
 }
 
 void SceneSimulation::advance(int f) {

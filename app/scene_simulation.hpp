@@ -3,6 +3,8 @@
 // grasping, contact (with sub-steps against tunnelling) and the VDM step. Only the effects
 // the scene lists run. Deterministic: the same scene gives the same numbers every time.
 #include <memory>
+#include <string>
+#include <string_view>
 #include <vector>
 
 #include "app/scene_run.hpp"
@@ -33,6 +35,12 @@ class SceneSimulation {
   bool contact_simulated() const { return contact_ != nullptr; }
   const vdm::ContactReport& contact_report() const { return report_; }
   const StageTimes& stage_times() const { return times_; }
+  // A snapshot of the simulation between frames (the engine's state with its warm starts and
+  // the grasps), appended to `out`, for resuming a run bit for bit. False when this run's
+  // state cannot be saved (organ.model fem or mass_spring: a resume re-simulates instead).
+  bool save(std::string& out) const;
+  // Reads a snapshot written by save() for the same prepared scene.
+  bool load(std::string_view in, std::string& error);
   // Every instrument's pose at time t (in the scene's order).
   std::vector<tools::InstrumentPose> poses(double t) const;
 

@@ -2,6 +2,9 @@
 
 #include <Eigen/Geometry>
 
+#include <cstdint>
+#include <cstring>
+
 namespace tools {
 
 Eigen::Isometry3d jaw_frame(const InstrumentPose& pose) { return instrument_frame(pose); }
@@ -34,6 +37,38 @@ void Grasp::apply(const InstrumentPose& pose, const vdm::NodeMat& rest, vdm::Ste
     input.prescribed.row(i).setOnes();
     input.prescribed_u.row(i) = (f * local_[k] - rest.row(i).transpose()).transpose();
   }
+}
+
+void Grasp::save(std::string& out) const {
+  auto put = [&out](const void* p, size_t n) { out.append(static_cast<const char*>(p), n); };
+  const std::int64_t count = static_cast<std::int64_t>(held_.size()), closed = closed_;
+  put(&closed, sizeof closed);
+  put(&count, sizeof count);
+  for (size_t k = 0; k < held_.size(); ++k) {
+    const std::int64_t i = held_[k];
+    put(&i, sizeof i);
+    put(local_[k].data(), 3 * sizeof(double));
+  }
+}
+
+bool Grasp::load(std::string_view in, size_t& pos, int nodes) {
+  auto take = [&](void* p, size_t n) {
+    if (in.size() - pos < n) return false;
+    std::memcpy(p, in.data() + pos, n);
+    pos += n;
+    return true;
+  };
+  std::int64_t closed = 0, count = 0;
+  if (!take(&closed, sizeof closed) || !take(&count, sizeof count) || count < 0 || count > nodes) return false;
+  held_.assign(static_cast<size_t>(count), 0);
+  local_.assign(static_cast<size_t>(count), vdm::Vec3::Zero());
+  for (size_t k = 0; k < held_.size(); ++k) {
+    std::int64_t i = 0;
+    if (!take(&i, sizeof i) || i < 0 || i >= nodes || !take(local_[k].data(), 3 * sizeof(double))) return false;
+    held_[k] = static_cast<int>(i);
+  }
+  closed_ = closed != 0;
+  return true;
 }
 
 }  // namespace tools

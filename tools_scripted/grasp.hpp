@@ -2,6 +2,8 @@
 // Grasping: when a grasper's jaws close, the surface nodes between them (within
 // `grasp_width` of the closed jaw segment, from the pivot to the tip) attach to the jaw frame
 // and follow it as prescribed motion; opening the jaws releases them.
+#include <string>
+#include <string_view>
 #include <vector>
 
 #include "engine/sim_state.hpp"
@@ -17,6 +19,10 @@ class Grasp {
   // Adds the held nodes' positions (following the jaw frame) to `input` as prescribed motion.
   void apply(const InstrumentPose& pose, const vdm::NodeMat& rest, vdm::StepInput& input) const;
   const std::vector<int>& held() const { return held_; }
+  // The grasp's state (held nodes, their jaw-frame positions, closed) for state snapshots:
+  // appended to `out` / read from `in` at `pos` (false when it does not fit `nodes`).
+  void save(std::string& out) const;
+  bool load(std::string_view in, size_t& pos, int nodes);
 
  private:
   std::vector<int> held_;

@@ -95,6 +95,7 @@ TEST(Resume, AnInterruptedRunResumedEqualsAnUninterruptedOne) {
 
   ASSERT_EQ(run_in_process(scene, resumed, true), 0);
   EXPECT_NE(read_file(resumed / "run.json").find("\"resumed_from_frame\""), std::string::npos);
+  EXPECT_NE(read_file(resumed / "run.json").find("\"resumed_by\": \"state snapshot\""), std::string::npos);
   EXPECT_EQ(metrics_without_timing(whole / "metrics.csv"), metrics_without_timing(resumed / "metrics.csv"));
   for (int f = 0; f < 60; ++f)
     for (const char* view : {"frames/frame_", "stress/stress_"}) {
@@ -205,13 +206,22 @@ TEST(Resume, AfterAHardKillResumesFromTheLastPeriodicCheckpoint) {
   waitpid(pid, &status, 0);
   if (WIFEXITED(status)) GTEST_SKIP() << "the run finished before it could be killed";
   ASSERT_TRUE(fs::exists(resumed / "checkpoint.json")) << "no periodic checkpoint was written";
+  // A copy without the state snapshot resumes by re-simulating up to the checkpoint.
+  const fs::path replayed = dir / "replayed";
+  fs::copy(resumed, replayed, fs::copy_options::recursive);
+  ASSERT_TRUE(fs::remove(replayed / "state.bin"));
 
   ASSERT_EQ(run_in_process(scene, resumed, true), 0);
-  EXPECT_EQ(metrics_without_timing(whole / "metrics.csv"), metrics_without_timing(resumed / "metrics.csv"));
-  for (int f = 0; f < 50; ++f)
-    for (const char* view : {"frames/frame_", "stress/stress_"}) {
-      char name[64];
-      std::snprintf(name, sizeof name, "%s%05d.png", view, f);
-      EXPECT_EQ(read_file(whole / name), read_file(resumed / name)) << name;
-    }
+  ASSERT_EQ(run_in_process(scene, replayed, true), 0);
+  EXPECT_NE(read_file(resumed / "run.json").find("\"resumed_by\": \"state snapshot\""), std::string::npos);
+  EXPECT_NE(read_file(replayed / "run.json").find("\"resumed_by\": \"re-simulation\""), std::string::npos);
+  for (const fs::path& r : {resumed, replayed}) {
+    EXPECT_EQ(metrics_without_timing(whole / "metrics.csv"), metrics_without_timing(r / "metrics.csv")) << r;
+    for (int f = 0; f < 50; ++f)
+      for (const char* view : {"frames/frame_", "stress/stress_"}) {
+        char name[64];
+        std::snprintf(name, sizeof name, "%s%05d.png", view, f);
+        EXPECT_EQ(read_file(whole / name), read_file(r / name)) << r << ' ' << name;
+      }
+  }
 }
