@@ -592,7 +592,14 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
      << ",\n  \"model\": \"" << s.model << "\",\n  \"solver\": \"" << vdm::to_string(m.solver.method)
      << "\",\n  \"effects\": [";
   for (size_t i = 0; i < s.effects.size(); ++i) js << (i ? ", " : "") << '"' << to_string(s.effects[i]) << '"';
-  js << "],\n  \"wall_time_s\": " << wall << ",\n  \"mean_step_ms\": " << (done ? sum_step / done : 0.0)
+  js << "],\n";
+  if (s.has(Effect::contact)) {
+    const bool penalty = s.contact.method == vdm::ContactSettings::Method::penalty;
+    js << "  \"contact\": {\"method\": \"" << (penalty ? "penalty" : "kinematic") << '"';
+    if (penalty) js << ", \"stiffness_pa_per_m\": " << s.contact.penalty_stiffness;
+    js << "},\n";
+  }
+  js << "  \"wall_time_s\": " << wall << ",\n  \"mean_step_ms\": " << (done ? sum_step / done : 0.0)
      << ",\n  \"median_step_ms\": " << median << ",\n  \"max_step_ms\": " << max_step
      << ",\n  \"max_volume_rel_error\": " << max_vol << ",\n  \"stage_ms\": {\"loads\": " << times.loads
      << ", \"assemble\": " << times.assemble << ", \"solve\": " << times.solve << ", \"stress\": " << times.stress

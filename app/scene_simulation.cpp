@@ -32,7 +32,7 @@ SceneSimulation::SceneSimulation(const PreparedScene& ps)
     std::string error;
     if (!make_organ_solver(s, ps.model, organ_, error)) throw std::runtime_error("organ.model: " + error);
   }
-  if (s.has(Effect::contact) && !s.instruments.empty()) contact_ = std::make_unique<vdm::ContactSolver>(ps.model);
+  if (s.has(Effect::contact) && !s.instruments.empty()) contact_ = std::make_unique<vdm::ContactSolver>(ps.model, s.contact);
   if (contact_) contact_->set_solver(organ_.get());  // organ.model fem or mass_spring
   tools_.resize(probes_.size() + 2 * graspers_.size());
 }
