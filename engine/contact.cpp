@@ -343,7 +343,8 @@ void ContactSolver::step_penalty(const TissueModel& m, const StepInput& base, co
   const int max_it = std::max(1, settings_.max_penalty_iterations);
   rep.converged = false;
   int history = 0, next_slot = 0;  // Anderson differences stored, ring position
-  double best_residual = std::numeric_limits<double>::infinity();
+  double last_norm = std::numeric_limits<double>::infinity();  // residual of the last accepted iterate
+  bool mixed = false;                                          // the current iterate is a mixed one
   for (int it = 0; it < max_it; ++it) {
     if (it > 0) rewind_step(m, s);
     if (base.force.rows() == m.n) input_.force = base.force + penalty_force_;
@@ -362,30 +363,42 @@ void ContactSolver::step_penalty(const TissueModel& m, const StepInput& base, co
     }
     if (it + 1 == max_it) break;
     // Anderson (type II): u_{k+1} = G(u_k) - sum_j gamma_j dG_j, gamma minimising
-    // |f_k - sum_j gamma_j dF_j| over the stored differences.
+    // |f_k - sum_j gamma_j dF_j| over the stored differences. Safeguarded: a mixed iterate
+    // whose residual grew is dropped for the plain step from the point before it, G(u_{k-1}),
+    // and the history starts again.
     const double norm = residual_.norm();
-    if (norm > 2.0 * best_residual) history = 0;  // the mixing went astray: restart from here
-    else if (it > 0) {
-      anderson_dg_[next_slot] = s.u - last_g_;
-      anderson_df_[next_slot] = residual_ - last_f_;
-      next_slot = (next_slot + 1) % kAnderson;
-      history = std::min(history + 1, static_cast<int>(kAnderson));
-    }
-    best_residual = std::min(best_residual, norm);
-    last_g_ = s.u;
-    last_f_ = residual_;
-    iterate_ = s.u;
-    if (settings_.anderson && history > 0) {
-      Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kAnderson, kAnderson> gram(history, history);
-      Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kAnderson, 1> rhs(history), gamma(history);
-      for (int a = 0; a < history; ++a) {
-        rhs[a] = (anderson_df_[a].array() * residual_.array()).sum();
-        for (int b = 0; b <= a; ++b) gram(a, b) = gram(b, a) = (anderson_df_[a].array() * anderson_df_[b].array()).sum();
+    if (mixed && norm > last_norm) {
+      iterate_ = last_g_;
+      history = 0;
+      next_slot = 0;
+      mixed = false;
+    } else {
+      if (it > 0) {
+        anderson_dg_[next_slot] = s.u - last_g_;
+        anderson_df_[next_slot] = residual_ - last_f_;
+        next_slot = (next_slot + 1) % kAnderson;
+        history = std::min(history + 1, static_cast<int>(kAnderson));
       }
-      gram.diagonal() *= 1.0 + 1e-10;  // nearly parallel differences
-      gamma = gram.ldlt().solve(rhs);
-      if (gamma.allFinite())
-        for (int a = 0; a < history; ++a) iterate_ -= gamma[a] * anderson_dg_[a];
+      last_g_ = s.u;
+      last_f_ = residual_;
+      last_norm = norm;
+      iterate_ = s.u;
+      mixed = false;
+      if (settings_.anderson && history > 0) {
+        Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, kAnderson, kAnderson> gram(history, history);
+        Eigen::Matrix<double, Eigen::Dynamic, 1, 0, kAnderson, 1> rhs(history), gamma(history);
+        for (int a = 0; a < history; ++a) {
+          rhs[a] = (anderson_df_[a].array() * residual_.array()).sum();
+          for (int b = 0; b <= a; ++b)
+            gram(a, b) = gram(b, a) = (anderson_df_[a].array() * anderson_df_[b].array()).sum();
+        }
+        gram.diagonal() *= 1.0 + 1e-10;  // nearly parallel differences
+        gamma = gram.ldlt().solve(rhs);
+        if (gamma.allFinite()) {
+          for (int a = 0; a < history; ++a) iterate_ -= gamma[a] * anderson_dg_[a];
+          mixed = true;
+        }
+      }
     }
     t0 = Clock::now();
     x_iterate_ = m.rest.positions + iterate_;
@@ -398,8 +411,11 @@ void ContactSolver::step_penalty(const TissueModel& m, const StepInput& base, co
   // The contact force at the final positions; the organ pushes the tools with -F.
   rep.max_penetration = deepest;
   // Deeper than half the tool, a penalty this soft lets the surface slip round it.
-  if (deepest > 0.5 * smallest && s.warnings.size() < 64)
-    s.warnings.emplace_back("penalty contact too soft: an instrument sank more than half its size into the surface");
+  static const char* const kTooSoft =
+      "penalty contact too soft: an instrument sank more than half its size into the surface";
+  if (deepest > 0.5 * smallest && s.warnings.size() < 64 &&
+      std::find(s.warnings.begin(), s.warnings.end(), kTooSoft) == s.warnings.end())
+    s.warnings.emplace_back(kTooSoft);
   for (int i = 0; i < m.n; ++i) {
     if (penalty_force_.row(i).squaredNorm() == 0.0) continue;
     if (has_prescribed && base.prescribed.row(i).minCoeff() != 0) continue;  // driven: the scene holds it
