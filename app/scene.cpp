@@ -378,7 +378,7 @@ void read_organ(Reader& r, const YAML::Node& organ, SceneDef& s, const std::file
 void read_simulation(Reader& r, const YAML::Node& sim, SceneDef& s) {
   const std::string f = "simulation";
   if (!r.require_map(sim, f)) return;
-  r.check_keys(sim, f, {"frames", "dt", "effects", "solver", "gravity", "volume_constraint"});
+  r.check_keys(sim, f, {"frames", "dt", "effects", "solver", "gravity", "volume_constraint", "contact"});
   if (const YAML::Node n = sim["frames"]) r.integer(n, "simulation.frames", s.frames, 1, 10000000);
   if (const YAML::Node n = sim["dt"]) r.number(n, "simulation.dt", s.dt, 0, 10, "s", false, true);
   if (const YAML::Node n = sim["gravity"]) r.vec3(n, "simulation.gravity", s.gravity, "m/s^2");
@@ -420,6 +420,42 @@ void read_simulation(Reader& r, const YAML::Node& sim, SceneDef& s) {
       if (const YAML::Node n = sol["volume_corrections"])
         r.integer(n, "simulation.solver.volume_corrections", s.solver.volume_corrections, 0, 100);
       if (const YAML::Node n = sol["warm_start"]) r.boolean(n, "simulation.solver.warm_start", s.solver.warm_start);
+    }
+  }
+  if (const YAML::Node con = sim["contact"]) {
+    const std::string fc = "simulation.contact";
+    if (r.require_map(con, fc)) {
+      r.check_keys(con, fc, {"method", "stiffness", "max_iterations"});
+      vdm::ContactSettings& cs = s.contact;
+      if (const YAML::Node n = con["method"]) {
+        std::string m;
+        const std::vector<std::string> methods = {"kinematic", "penalty"};
+        if (r.text(n, fc + ".method", m)) {
+          if (m == "kinematic") {
+            cs.method = vdm::ContactSettings::Method::kinematic;
+          } else if (m == "penalty") {
+            cs.method = vdm::ContactSettings::Method::penalty;
+            if (s.model != "vdm")
+              r.error(n, fc + ".method",
+                      "penalty contact needs organ.model vdm (" + s.model + " takes kinematic contact)");
+          } else {
+            const std::string near = closest(m, methods);
+            r.error(n, fc + ".method", "unknown contact method '" + m + "'" +
+                                           (near.empty() ? "" : " (did you mean '" + near + "'?)") +
+                                           "; expected kinematic or penalty");
+          }
+        }
+      }
+      if (const YAML::Node n = con["stiffness"]) {
+        r.number(n, fc + ".stiffness", cs.penalty_stiffness, 0, 1e15, "Pa/m (contact pressure per metre of penetration)",
+                 false, true);
+        if (cs.method != vdm::ContactSettings::Method::penalty)
+          r.warn(n, fc + ".stiffness", "used by the penalty method only (method: penalty)");
+      }
+      if (const YAML::Node n = con["max_iterations"])
+        r.integer(n, fc + ".max_iterations", cs.max_penalty_iterations, 1, 1000);
+      if (!s.has(Effect::contact))
+        r.warn(con, fc, "has no effect: contact is not in simulation.effects");
     }
   }
 }

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/contact.hpp"
 #include "engine/settings.hpp"
 #include "engine/types.hpp"
 #include "render/renderer.hpp"
@@ -119,6 +120,7 @@ struct SceneDef {
   vdm::Vec3 gravity = vdm::Vec3(0, 0, -9.81);
   bool volume_constraint = true;
   vdm::SolverSettings solver;
+  vdm::ContactSettings contact;  // simulation.contact: method (kinematic | penalty), stiffness, max_iterations
   // instruments and rendering
   std::vector<InstrumentDef> instruments;
   std::vector<std::string> instrument_where;  // file:line:col of each instrument

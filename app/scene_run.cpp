@@ -369,6 +369,18 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
       // instrument would otherwise set the range and leave the rest of the organ one colour);
       // values beyond the range saturate.
       render::scalar_field(output.stress_view().quantity, pass.state(), field);
+      if (output.stress_view().quantity == render::Quantity::contact_pressure) {
+        // Contact pressure: the instruments' contact patches only. The fixed nodes' reactions
+        // (the organ resting on its support) are many and small and would set the range.
+        size_t kept = 0;
+        for (size_t i = 0; i < field.size(); ++i)
+          if (field[i] > 0.0f && ps.model.held.row(static_cast<Eigen::Index>(i)).minCoeff() == 0) field[kept++] = field[i];
+        field.resize(kept);
+        if (field.empty()) {
+          progress("colour range", f + 1, frames, last_pct);
+          continue;
+        }
+      }
       const size_t k_lo = field.size() / 200, k_hi = field.size() - 1 - field.size() / 200;
       std::nth_element(field.begin(), field.begin() + k_hi, field.end());
       hi = std::max(hi, double(field[k_hi]));
@@ -630,7 +642,15 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
      << ",\n  \"model\": \"" << s.model << "\",\n  \"solver\": \"" << vdm::to_string(m.solver.method)
      << "\",\n  \"effects\": [";
   for (size_t i = 0; i < s.effects.size(); ++i) js << (i ? ", " : "") << '"' << to_string(s.effects[i]) << '"';
-  js << "],\n  \"wall_time_s\": " << wall << ",\n  \"mean_step_ms\": " << (step_times.empty() ? 0.0 : sum_step / double(step_times.size()))
+  js << "],\n";
+  if (s.has(Effect::contact)) {
+    const bool penalty = s.contact.method == vdm::ContactSettings::Method::penalty;
+    js << "  \"contact\": {\"method\": \"" << (penalty ? "penalty" : "kinematic") << '"';
+    if (penalty) js << ", \"stiffness_pa_per_m\": " << s.contact.penalty_stiffness;
+    js << "},\n";
+  }
+  js << "  \"wall_time_s\": " << wall << ",\n  \"mean_step_ms\": "
+     << (step_times.empty() ? 0.0 : sum_step / double(step_times.size()))
      << ",\n  \"median_step_ms\": " << median << ",\n  \"max_step_ms\": " << max_step
      << ",\n  \"max_volume_rel_error\": " << max_vol << ",\n  \"stage_ms\": {\"loads\": " << times.loads
      << ", \"assemble\": " << times.assemble << ", \"solve\": " << times.solve << ", \"stress\": " << times.stress

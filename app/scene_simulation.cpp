@@ -36,9 +36,9 @@ SceneSimulation::SceneSimulation(const PreparedScene& ps)
     std::string error;
     if (!make_organ_solver(s, ps.model, organ_, error)) throw std::runtime_error("organ.model: " + error);
   }
-  if (s.has(Effect::contact) && !s.instruments.empty()) contact_ = std::make_unique<vdm::ContactSolver>(ps.model);
+  if (s.has(Effect::contact) && !s.instruments.empty()) contact_ = std::make_unique<vdm::ContactSolver>(ps.model, s.contact);
   if (contact_) contact_->set_solver(organ_.get());  // organ.model fem or mass_spring
-  tools_.resize(probes_.size() + 2 * graspers_.size());
+  tools_.resize(probes_.size() + 3 * graspers_.size());  // probes, then each grasper's two jaws and shaft
 }
 
 std::vector<tools::InstrumentPose> SceneSimulation::poses(double t) const {
@@ -131,10 +131,12 @@ void SceneSimulation::advance(int f) {
       const double tj = t - s.dt + s.dt * j / n_sub, tprev = t - s.dt + s.dt * (j - 1) / n_sub;
       for (size_t k = 0; k < probes_.size(); ++k)
         tools_[k] = tools::probe_shape(*probes_[k], tools::pose_at(*probes_[k], tj), tools::pose_at(*probes_[k], tprev));
-      for (size_t k = 0; k < graspers_.size(); ++k)
+      for (size_t k = 0; k < graspers_.size(); ++k) {
+        const tools::InstrumentPose now = tools::pose_at(*graspers_[k], tj), before = tools::pose_at(*graspers_[k], tprev);
         for (int side = 0; side < 2; ++side)
-          tools_[probes_.size() + 2 * k + side] = tools::jaw_shape(*graspers_[k], tools::pose_at(*graspers_[k], tj),
-                                                                   tools::pose_at(*graspers_[k], tprev), side ? -1 : +1);
+          tools_[probes_.size() + 3 * k + side] = tools::jaw_shape(*graspers_[k], now, before, side ? -1 : +1);
+        tools_[probes_.size() + 3 * k + 2] = tools::shaft_shape(*graspers_[k], now, before);
+      }
       const auto t_contact = Clock::now();
       contact_->step(m, input_, tools_, state_, report_);
       frame_step_ms_ += ms_since(t_contact);

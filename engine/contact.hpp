@@ -3,6 +3,12 @@
 // kinematic: nodes that penetrate an instrument are projected onto its surface and held
 // there as prescribed displacements for the step; nodes whose reaction would pull the
 // instrument (adhesion) are released and the step solved again (active set).
+// Option penalty (frictionless): the surface triangles are sampled, and every sample inside
+// an instrument is pushed out along the instrument's normal by the pressure k_c * depth,
+// spread on the triangle's nodes by barycentric weights (so a thin probe between nodes still
+// meets the surface). The forces are solved implicitly by a majorised Newton iteration: each
+// solve adds, per node and axis, a spring that bounds the penalty's stiffness from above
+// (StepInput::spring_k), which makes the iteration converge for any k_c.
 // Broad phase: an FCL BVHModel (AABB) of the organ, refitted each frame from the current
 // positions, walked against each tool's oriented bounding box (or, with
 // ContactSettings::fcl_shape_queries, queried by FCL against the tool's FCL shape: capsule,
@@ -52,6 +58,13 @@ struct ContactSettings {
   // shape (capsule, cylinder, box, convex: tighter, but FCL's GJK allocates per triangle
   // pair). The narrow phase is exact either way, so both give the same contacts.
   bool fcl_shape_queries = false;
+  enum class Method { kinematic, penalty } method = Method::kinematic;
+  double penalty_stiffness = 1e8;  // k_c: contact pressure per metre of penetration (Pa/m)
+  int max_penalty_iterations = 40;
+  // The penalty iteration ends when no node moved more than this fraction of the smallest
+  // tool's size in the last solve.
+  double penalty_tolerance = 1e-3;
+  bool anderson = true;  // accelerate the penalty iteration (Anderson mixing of the last 5 solves)
 };
 
 struct ContactReport {
@@ -82,8 +95,17 @@ class ContactSolver {
   const std::vector<char>& active() const { return active_; }
 
  private:
-  // Appends to `found` the nodes whose triangles overlap tool k (inflated by `pad`, m).
-  void broad_phase(const ToolShape& t, size_t k, double pad, std::vector<int>& found, ContactReport& report);
+  // Appends to `found` the nodes (with `triangles`: the triangles) whose triangles overlap
+  // tool k (inflated by `pad`, m).
+  void broad_phase(const ToolShape& t, size_t k, double pad, std::vector<int>& found, ContactReport& report,
+                   bool triangles = false);
+  void step_kinematic(const TissueModel& model, const StepInput& base, const std::vector<ToolShape>& tools,
+                      SimState& state, ContactReport& report);
+  void step_penalty(const TissueModel& model, const StepInput& base, const std::vector<ToolShape>& tools,
+                    SimState& state, ContactReport& report);
+  // Penalty forces on the nodes at positions x (penalty_force_) and the per-axis spring
+  // stiffness that bounds their Jacobian (penalty_spring_). Returns the deepest sample (m).
+  double penalty_forces(const std::vector<ToolShape>& tools, const NodeMat& x, ContactReport& report);
   void refit(const NodeMat& x);
 
   struct Fcl;
@@ -97,6 +119,13 @@ class ContactSolver {
   NodeMat normal_;                 // contact normal of active nodes
   std::vector<int> candidates_;
   std::vector<int> stack_;                // BVH walk
+  std::vector<char> triangle_mark_;       // penalty: triangles already found
+  NodeMat penalty_force_, penalty_spring_, iterate_;  // penalty (N x 3)
+  // Anderson acceleration of the penalty iteration: the last differences of the solves'
+  // results (G) and residuals (F = G - u), a ring of kAnderson.
+  static constexpr int kAnderson = 5;
+  NodeMat anderson_dg_[kAnderson], anderson_df_[kAnderson];
+  NodeMat last_g_, last_f_, residual_, x_iterate_;
   std::vector<ToolShape> capsule_tools_;  // the Capsule overload's tools
   NodeMat x0_, u0_, v0_;
 };

@@ -16,6 +16,11 @@ struct StepInput {
                          // size 0 = none. Adds -pressure_i A_i to the force.
   FlagMat prescribed;    // N x 3: 1 = u_i^d prescribed this step (contact, grasp, motion)
   NodeMat prescribed_u;  // N x 3 total displacement from rest for prescribed entries (m)
+  // Springs per node and axis (penalty contact): the force spring_k (spring_u - u) on every
+  // free entry, solved implicitly (spring_k joins the diagonal of K^d). N x 3, N/m, >= 0;
+  // 0 rows = none. spring_u: the springs' rest displacements from the rest shape (m).
+  NodeMat spring_k;
+  NodeMat spring_u;
   void clear();          // zero everything, keep sizes
 };
 

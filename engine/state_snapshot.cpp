@@ -98,6 +98,7 @@ void save_state(const TissueModel& m, const SimState& s, std::string& out) {
   o.i64(w.matrix_dirty);
   o.i64(w.steps_since_refresh);
   o.matrix(w.last_mask);
+  o.matrix(w.last_springs);
   o.matrix(w.force_last);
   o.matrix(w.force_prev);
   o.matrix(w.pressure_last);
@@ -139,7 +140,7 @@ bool load_state(const TissueModel& m, std::string_view in, size_t& pos, SimState
     s.warnings.push_back(std::move(t));
   }
   if (!r.matrix(w.x_refresh) || !r.integer(w.have_geometry) || !r.integer(w.matrix_dirty) ||
-      !r.integer(w.steps_since_refresh) || !r.matrix(w.last_mask) || !r.matrix(w.force_last) ||
+      !r.integer(w.steps_since_refresh) || !r.matrix(w.last_mask) || !r.matrix(w.last_springs) || !r.matrix(w.force_last) ||
       !r.matrix(w.force_prev) || !r.matrix(w.pressure_last) || !r.matrix(w.pressure_prev))
     return fail("truncated or of another model");
   std::int64_t count = 0;

@@ -1,8 +1,9 @@
 #pragma once
 // Binary snapshots of a SimState, for resuming a run bit for bit (app/checkpoint): the state's
 // arrays and counters, and what the engine carries from one step to the next: the geometry of
-// the last refresh and its refresh counter, the constrained set of the solver's matrices, the
-// linear solver's warm starts and cached pressure response, and the last loads (halved steps).
+// the last refresh and its refresh counter, the constrained set and springs of the solver's
+// matrices, the linear solver's warm starts and cached pressure response, and the last loads
+// (halved steps).
 // Matrices and factorisations are rebuilt from those, as the run built them, so the steps
 // after a load give the same bits as the steps of the run that saved it.
 #include <string>

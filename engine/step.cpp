@@ -70,6 +70,15 @@ const char* check_input(const TissueModel& m, const StepInput& in) {
       for (int i = 0; i < m.n; ++i)
         if (in.prescribed(i, d) && !std::isfinite(in.prescribed_u(i, d)))
           return "StepInput.prescribed_u is not finite at a prescribed entry";
+  if (in.spring_k.rows() != 0) {
+    if (in.spring_k.rows() != m.n || in.spring_u.rows() != m.n)
+      return "StepInput.spring_k and spring_u must both have one row per node";
+    if (!in.spring_u.allFinite()) return "StepInput.spring_u is not finite";
+    for (int d = 0; d < 3; ++d)
+      for (int i = 0; i < m.n; ++i)
+        if (!(in.spring_k(i, d) >= 0.0) || !std::isfinite(in.spring_k(i, d)))
+          return "StepInput.spring_k must be finite and >= 0";
+  }
   return nullptr;
 }
 
@@ -93,6 +102,8 @@ void build_loads(const TissueModel& m, const StepInput& in, SimState& s, StepWor
   else w.force.setZero();
   if (in.pressure.size() == m.n)
     for (int i = 0; i < m.n; ++i) w.force.row(i) -= in.pressure[i] * A.row(i);
+  // Springs: k (u_s - u) with k on the matrix's diagonal (see the K_masked build), k u_s here.
+  if (in.spring_k.rows() == m.n) w.force.array() += in.spring_k.array() * in.spring_u.array();
   // Area vectors and depths of the same geometry (the last refresh), so that between
   // refreshes the load is that of one surface: summed, exactly the weight.
   if (m.use_gravity) add_hydrostatic_loads(m, w.x_refresh, A, w.scratch, w.force);
@@ -140,6 +151,8 @@ void StepInput::clear() {
   pressure.setZero();
   prescribed.setZero();
   prescribed_u.setZero();
+  spring_k.setZero();
+  spring_u.setZero();
 }
 
 StepInput make_step_input(const TissueModel& m) {
@@ -174,6 +187,7 @@ SimState make_sim_state(const TissueModel& m) {
   for (auto& k : w->K) k = m.pattern.matrix;
   for (auto& k : w->K_masked) k = m.pattern.matrix;
   w->mask = FlagMat::Zero(n, 3);
+  w->last_springs = NodeMat::Zero(n, 3);
   w->last_mask = FlagMat::Constant(n, 3, 2);  // never equal: the first step builds K_masked
   w->u_fixed = NodeMat::Zero(n, 3);
   w->a_free = NodeMat::Zero(n, 3);
@@ -194,6 +208,8 @@ SimState make_sim_state(const TissueModel& m) {
   w->pressure_prev = Vec::Zero(n);
   w->sub_input = make_step_input(m);
   w->sub_input.pressure = Vec::Zero(n);
+  w->sub_input.spring_k = NodeMat::Zero(n, 3);
+  w->sub_input.spring_u = NodeMat::Zero(n, 3);
   w->whole_u_start = NodeMat::Zero(n, 3);
   w->whole_velocity_start = NodeMat::Zero(n, 3);
   w->whole_x_refresh_start = m.rest.positions;
@@ -241,7 +257,13 @@ void rebuild_matrices(const TissueModel& m, SimState& s) {
   w.steps_since_refresh = since;
   w.matrix_dirty = dirty;
   if (dirty || w.last_mask(0, 0) > 1) return;  // the next step builds K_masked
-  for (int d = 0; d < 3; ++d) mask_constrained(w.K[d], w.last_mask.col(d).data(), w.K_masked[d]);
+  for (int d = 0; d < 3; ++d) {
+    mask_constrained(w.K[d], w.last_mask.col(d).data(), w.K_masked[d]);
+    double* diag = w.K_masked[d].valuePtr();  // the springs of the last step, as it added them
+    if (!w.last_springs.isZero(0.0))
+      for (int i = 0; i < m.n; ++i)
+        if (!w.last_mask(i, d)) diag[m.pattern.diagonal[i]] += w.last_springs(i, d);
+  }
   w.a_free = s.area_vectors;
   for (int d = 0; d < 3; ++d)
     for (int i = 0; i < m.n; ++i)
@@ -348,8 +370,20 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
     if (current_volume <= 0.0) current_volume = enclosed_volume(s.x, m.rest.triangles, m.origin);
 
     build_constraints(m, in, w);
-    if (w.matrix_dirty || w.mask != w.last_mask) {
+    const bool springs = in.spring_k.rows() == m.n;
+    const bool springs_changed = springs ? in.spring_k != w.last_springs : !w.last_springs.isZero(0.0);
+    if (w.matrix_dirty || w.mask != w.last_mask || springs_changed) {
       for (int d = 0; d < 3; ++d) mask_constrained(w.K[d], w.mask.col(d).data(), w.K_masked[d]);
+      if (springs) {
+        w.last_springs = in.spring_k;
+        for (int d = 0; d < 3; ++d) {
+          double* diag = w.K_masked[d].valuePtr();
+          for (int i = 0; i < m.n; ++i)
+            if (!w.mask(i, d)) diag[m.pattern.diagonal[i]] += in.spring_k(i, d);
+        }
+      } else {
+        w.last_springs.setZero();
+      }
       w.a_free = s.area_vectors;
       for (int d = 0; d < 3; ++d)
         for (int i = 0; i < m.n; ++i)
@@ -538,6 +572,15 @@ void interpolate_input(const TissueModel& m, const StepInput& in, double t, Step
                                                      : 0.0;
   } else {
     sub.prescribed.setZero();
+  }
+  // Springs (penalty contact) as given: they are the contact's own linearisation, not a load.
+  // Zero springs where there are none: the same matrices and loads, bit for bit.
+  if (in.spring_k.rows() == m.n) {
+    sub.spring_k = in.spring_k;
+    sub.spring_u = in.spring_u;
+  } else {
+    sub.spring_k.setZero();
+    sub.spring_u.setZero();
   }
 }
 

@@ -13,6 +13,7 @@ struct StepWorkspace {
   std::array<SpMat, 3> K;         // per-axis K^d at the last refresh (unmasked)
   std::array<SpMat, 3> K_masked;  // with constrained rows/columns eliminated
   FlagMat mask, last_mask;        // constrained entries this step / when K_masked was built
+  NodeMat last_springs;           // StepInput::spring_k when K_masked was built (N x 3)
   NodeMat u_fixed;                // values of constrained entries (m)
   NodeMat a_free;                 // area vectors, zero on constrained entries
   NodeMat force;                  // total load f this step (N)

@@ -112,6 +112,8 @@ struct Renderer::Impl {
   Eigen::Vector3d fill_dir = Eigen::Vector3d(0.9, -0.3, 0.25).normalized();
   Eigen::Matrix4f view_proj = Eigen::Matrix4f::Identity(), floor_proj = Eigen::Matrix4f::Identity();
   std::vector<Eigen::Vector4f> capsule_a, capsule_b;
+  std::vector<Eigen::Vector4f> box_centre, box_half;  // box and convex probes' shadows
+  std::vector<Eigen::Matrix3f> box_axes;
 
   ~Impl() {
     if (!gl) return;
@@ -339,17 +341,41 @@ void Renderer::Impl::draw_instruments(const RenderScene& scene, GlProgram& prog,
 void Renderer::Impl::set_capsules(const RenderScene& scene) {
   capsule_a.clear();
   capsule_b.clear();
+  box_centre.clear();
+  box_half.clear();
+  box_axes.clear();
   for (const InstrumentView& v : scene.instruments) {
-    if (capsule_a.size() == 4) break;
-    // Box and convex probes cast the shadow of a capsule about as wide, along their axis.
-    double r = v.radius, len = std::max(v.length, 2 * v.radius);
-    if (v.type == tools::InstrumentDef::Type::probe && v.shape.kind == tools::ProbeShape::Kind::box) {
-      r = 0.25 * (v.shape.size.x() + v.shape.size.y());
-      len = std::max(v.shape.size.z(), 2 * r);
-    } else if (v.type == tools::InstrumentDef::Type::probe && v.shape.kind == tools::ProbeShape::Kind::convex && v.shape.hull) {
-      r = v.shape.hull->inradius;
-      len = std::max(v.shape.hull->bound, 2 * r);
+    const bool boxy = v.type == tools::InstrumentDef::Type::probe &&
+                      (v.shape.kind == tools::ProbeShape::Kind::box ||
+                       (v.shape.kind == tools::ProbeShape::Kind::convex && v.shape.hull));
+    if (boxy) {
+      // A box probe casts its own shadow; a convex one that of its bounding box in the
+      // hull's frame (rounded by the hull's rounding, if any).
+      if (box_centre.size() == 4) continue;
+      tools::InstrumentDef def;
+      def.shape = v.shape;
+      def.radius = v.radius;
+      def.length = v.length;
+      tools::InstrumentPose pose;
+      pose.tip = v.frame.translation();
+      pose.axis = v.frame.linear().col(2);
+      vdm::ToolShape t = tools::probe_shape(def, pose, pose);
+      t.pose = v.frame * (tools::instrument_frame(pose).inverse() * t.pose);  // the drawn frame exactly
+      Eigen::Vector3d centre_local = Eigen::Vector3d::Zero(), half = t.half_size;
+      if (t.kind == vdm::ToolShape::Kind::convex) {
+        centre_local = 0.5 * (t.hull->lo + t.hull->hi);
+        half = 0.5 * (t.hull->hi - t.hull->lo);
+      }
+      const Eigen::Vector3d c = t.pose * centre_local;
+      box_centre.emplace_back(float(c.x()), float(c.y()), float(c.z()), float(t.rounding));
+      box_half.emplace_back(float(half.x() - (t.kind == vdm::ToolShape::Kind::box ? t.rounding : 0.0)),
+                            float(half.y() - (t.kind == vdm::ToolShape::Kind::box ? t.rounding : 0.0)),
+                            float(half.z() - (t.kind == vdm::ToolShape::Kind::box ? t.rounding : 0.0)), 0.0f);
+      box_axes.push_back(t.pose.linear().cast<float>());
+      continue;
     }
+    if (capsule_a.size() == 4) continue;
+    const double r = v.radius, len = std::max(v.length, 2 * v.radius);
     const Eigen::Vector3d tip_centre = v.frame * Eigen::Vector3d(0, 0, -r);
     const Eigen::Vector3d handle = v.frame * Eigen::Vector3d(0, 0, -len);
     capsule_a.emplace_back(float(tip_centre.x()), float(tip_centre.y()), float(tip_centre.z()), float(r));
@@ -387,6 +413,12 @@ GlProgram& Renderer::Impl::use(Material m) {
   if (!capsule_a.empty()) {
     glUniform4fv(p.uniform("u_capsule_a"), GLsizei(capsule_a.size()), capsule_a[0].data());
     glUniform4fv(p.uniform("u_capsule_b"), GLsizei(capsule_b.size()), capsule_b[0].data());
+  }
+  glUniform1i(p.uniform("u_boxes"), settings.shadows ? int(box_centre.size()) : 0);
+  if (!box_centre.empty()) {
+    glUniform4fv(p.uniform("u_box_centre"), GLsizei(box_centre.size()), box_centre[0].data());
+    glUniform4fv(p.uniform("u_box_half"), GLsizei(box_half.size()), box_half[0].data());
+    glUniformMatrix3fv(p.uniform("u_box_axes"), GLsizei(box_axes.size()), GL_FALSE, box_axes[0].data());
   }
   return p;
 }

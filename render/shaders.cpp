@@ -13,6 +13,10 @@ uniform vec3 u_key_dir;          // toward the key light
 uniform int u_capsules;          // instruments casting soft analytic shadows
 uniform vec4 u_capsule_a[4];     // xyz: one end, w: radius
 uniform vec4 u_capsule_b[4];     // xyz: the other end
+uniform int u_boxes;             // box and convex probes: oriented boxes with rounded edges
+uniform vec4 u_box_centre[4];    // xyz: centre, w: edge rounding
+uniform vec4 u_box_half[4];      // xyz: half sizes of the core box
+uniform mat3 u_box_axes[4];      // columns: the box's axes in the world
 out vec3 v_position;
 out vec3 v_normal;
 out float v_scalar;
@@ -40,13 +44,48 @@ float capsule_light(vec3 p) {
   return light;
 }
 
+// Distance from q to a box of half sizes h centred at the origin (negative inside).
+float box_distance(vec3 q, vec3 h) {
+  vec3 d = abs(q) - h;
+  return length(max(d, 0.0)) + min(max(d.x, max(d.y, d.z)), 0.0);
+}
+
+// Light reaching p past the boxes: the smallest distance from the light ray to each box's
+// core (convex along the ray, found by golden-section search), less its rounding, gives the
+// same soft edge as a capsule's.
+float box_light(vec3 p) {
+  float light = 1.0;
+  vec3 dir = normalize(u_key_dir);
+  for (int i = 0; i < u_boxes; ++i) {
+    vec3 c = u_box_centre[i].xyz, h = u_box_half[i].xyz;
+    float r = u_box_centre[i].w;
+    mat3 R = u_box_axes[i];
+    vec3 o = transpose(R) * (p - c), l = transpose(R) * dir;
+    float reach = length(h) + r;
+    float hi = dot(c - p, dir) + reach;
+    if (hi <= 0.0) continue;  // the box is behind p, away from the light
+    float lo = max(0.0, hi - 2.0 * reach);
+    float a = hi - 0.618034 * (hi - lo), b = lo + 0.618034 * (hi - lo);
+    float fa = box_distance(o + a * l, h), fb = box_distance(o + b * l, h);
+    for (int k = 0; k < 24; ++k) {
+      if (fa < fb) { hi = b; b = a; fb = fa; a = hi - 0.618034 * (hi - lo); fa = box_distance(o + a * l, h); }
+      else { lo = a; a = b; fa = fb; b = lo + 0.618034 * (hi - lo); fb = box_distance(o + b * l, h); }
+    }
+    float t = 0.5 * (lo + hi);
+    float dist = min(fa, fb) - r;
+    float soft = 0.3 * (min(h.x, h.y) + r) + 0.03 * t;
+    light *= mix(0.35, 1.0, smoothstep(-soft, soft, dist));
+  }
+  return light;
+}
+
 void main() {
   vec4 world = u_model * vec4(a_position, 1.0);
   v_position = world.xyz;
   v_normal = u_normal_matrix * a_normal;
   v_scalar = a_scalar;
   // Per vertex: the organ's mesh is much finer than a shadow's soft edge.
-  v_shadow = capsule_light(world.xyz);
+  v_shadow = capsule_light(world.xyz) * box_light(world.xyz);
   gl_Position = u_view_proj * world;
 }
 )";

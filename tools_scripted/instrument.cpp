@@ -155,6 +155,22 @@ vdm::ToolShape jaw_shape(const InstrumentDef& def, const InstrumentPose& pose, c
   return t;
 }
 
+vdm::ToolShape shaft_shape(const InstrumentDef& def, const InstrumentPose& pose, const InstrumentPose& previous) {
+  // The drawn shaft (render/instrument_geometry: grasper_shaft_mesh) is a cylinder from
+  // z = -jaw_length - 0.6 r back to the handle end with a hemisphere at the front.
+  const double z0 = -def.jaw_length - 0.6 * def.radius;
+  const double z1 = -std::max(def.length, def.jaw_length + 2 * def.radius);
+  vdm::ToolShape t;
+  t.kind = vdm::ToolShape::Kind::capsule;
+  t.half_size = vdm::Vec3(def.radius, def.radius, 0.5 * (z0 - z1));
+  t.rounding = def.radius;
+  Eigen::Isometry3d local = Eigen::Isometry3d::Identity();
+  local.translation() = vdm::Vec3(0, 0, 0.5 * (z0 + z1));
+  t.pose = instrument_frame(pose) * local;
+  t.previous = instrument_frame(previous) * local;
+  return t;
+}
+
 double instrument_motion(const InstrumentDef& def, const InstrumentPose& a, const InstrumentPose& b) {
   // The tip's motion plus the turn of the axis and the jaws times the reach of the shapes.
   const double turn = std::acos(std::clamp(a.axis.normalized().dot(b.axis.normalized()), -1.0, 1.0));
@@ -165,7 +181,7 @@ double instrument_motion(const InstrumentDef& def, const InstrumentPose& a, cons
     probe_local(def, t, local);
     reach = local.translation().norm() + t.bound();
   } else {
-    reach = def.jaw_length;
+    reach = std::max(def.length, def.jaw_length + 3 * def.radius);  // the shaft's far end
   }
   double jaws = 0;
   if (def.type == InstrumentDef::Type::grasper)

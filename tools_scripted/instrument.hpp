@@ -73,6 +73,10 @@ Eigen::Isometry3d jaw_transform(double jaw_length, double opening, int side);
 // A jaw's collision box at `pose` (previous: one step earlier).
 vdm::ToolShape jaw_shape(const InstrumentDef& def, const InstrumentPose& pose, const InstrumentPose& previous, int side);
 
+// Grasper shaft: a capsule of the grasper's radius along the axis, from just behind the pivot
+// (its rounded front where the drawn shaft's clevis is) back to the handle end.
+vdm::ToolShape shaft_shape(const InstrumentDef& def, const InstrumentPose& pose, const InstrumentPose& previous);
+
 // How far any point of the instrument's collision shapes moves between two poses (m), and
 // the smallest size of those shapes (m): more motion than size in a step could tunnel.
 double instrument_motion(const InstrumentDef& def, const InstrumentPose& a, const InstrumentPose& b);

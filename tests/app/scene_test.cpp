@@ -200,6 +200,28 @@ TEST(SceneErrors, ShapeUnknownMissingConvexFileOrOnAGrasper) {
                "instruments[0].shape.mesh: " + flat.string() + ": the convex shape's points lie on one plane");
 }
 
+TEST(SceneErrors, ContactMethodAndStiffness) {
+  expect_error("contact_method.yaml", scene_text("", "  effects: [contact]\n  contact: {method: penalti}\n"),
+               "simulation.contact.method: unknown contact method 'penalti' (did you mean 'penalty'?)");
+  expect_error("contact_fem.yaml",
+               scene_text("  model: fem\n  young_modulus: 3000\n  poisson_ratio: 0.45\n",
+                          "  effects: [contact]\n  contact: {method: penalty}\n"),
+               "simulation.contact.method: penalty contact needs organ.model vdm (fem takes kinematic contact)");
+  expect_error("contact_stiffness.yaml",
+               scene_text("", "  effects: [contact]\n  contact: {method: penalty, stiffness: 0}\n"),
+               "simulation.contact.stiffness:");
+  expect_error("contact_iterations.yaml",
+               scene_text("", "  effects: [contact]\n  contact: {method: penalty, max_iterations: 0}\n"),
+               "simulation.contact.max_iterations:");
+  // Settings that do nothing are warned about.
+  int errors = 0;
+  const std::string msg = problems_of(
+      write_scene("contact_unused.yaml", scene_text("", "  effects: [stress]\n  contact: {stiffness: 1.0e8}\n")), errors);
+  EXPECT_EQ(errors, 0) << msg;
+  EXPECT_NE(msg.find("simulation.contact.stiffness: used by the penalty method only"), std::string::npos) << msg;
+  EXPECT_NE(msg.find("simulation.contact: has no effect: contact is not in simulation.effects"), std::string::npos) << msg;
+}
+
 TEST(SceneErrors, RegionSelectingNothing) {
   expect_error("region.yaml", scene_text("  prescribed: [{box: {min: [5, 5, 5], max: [6, 6, 6]}, translate: [0, 0, -0.01]}]\n"),
                "organ.prescribed[0]: the region selects no node of the organ");
@@ -255,6 +277,34 @@ TEST(SceneRun, WritesMetricsAndRunJson) {
   EXPECT_NE(all.find("\"status\": \"completed\""), std::string::npos) << all;
   EXPECT_NE(all.find("\"frames\": 3"), std::string::npos) << all;
   EXPECT_NE(all.find("\"stage_ms\""), std::string::npos) << all;
+}
+
+TEST(SceneRun, PenaltyContactPushesTheLiver) {
+  // The probe of probe_poke presses 4 mm into the small liver with penalty contact.
+  const std::string probe =
+      "instruments:\n"
+      "  - {type: probe, radius: 0.004, length: 0.25, script: [{t: 0, tip: [0.035, 0.0, 0.0603], axis: [0, 0, -1]},"
+      " {t: 0.12, tip: [0.035, 0.0, 0.0563]}]}\n";
+  const std::string path = write_scene(
+      "penalty_run.yaml", scene_text("", "  effects: [contact]\n  contact: {method: penalty, stiffness: 1.0e8}\n", probe));
+  const fs::path out_dir = scene_dir() / "penalty_out";
+  fs::remove_all(out_dir);
+  std::ostringstream out, err;
+  ASSERT_EQ(cmd_run(path, out_dir.string(), -1, false, false, false, 30, out, err, false), 0) << err.str();
+  const auto lines = read_lines(out_dir / "metrics.csv");
+  ASSERT_EQ(lines.size(), 4u);
+  // contact_nodes, contact_force_n and max_penetration_m of the last frame.
+  std::vector<std::string> cols;
+  std::stringstream row(lines.back());
+  for (std::string c; std::getline(row, c, ',');) cols.push_back(c);
+  ASSERT_GE(cols.size(), 11u);
+  EXPECT_GT(std::stoi(cols[8]), 0) << lines.back();
+  EXPECT_GT(std::stod(cols[9]), 0.0) << lines.back();
+  EXPECT_GT(std::stod(cols[10]), 0.0) << lines.back();  // penalty: compliant
+  EXPECT_LT(std::stod(cols[10]), 0.2 * 0.004) << lines.back();
+  std::string all;
+  for (const auto& l : read_lines(out_dir / "run.json")) all += l + "\n";
+  EXPECT_NE(all.find("\"contact\": {\"method\": \"penalty\", \"stiffness_pa_per_m\": 100000000}"), std::string::npos) << all;
 }
 
 // Runs a scene in-process and returns the final state.

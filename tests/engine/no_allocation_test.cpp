@@ -141,12 +141,12 @@ TEST(NoAllocation, HalvedStepAfterWarmUp) {
 
 // Contact steps with a tool of each kind pressing the cube's top further each step (the
 // active set changes): nothing allocated once warmed up.
-long allocations_in_contact_steps(ToolShape::Kind kind) {
+long allocations_in_contact_steps(ToolShape::Kind kind, ContactSettings settings = {}) {
   const double L = 0.1;
   const TissueModel m = scenario::build(scenario::cube_on_table(L, 6));
   SimState s = make_sim_state(m);
   const StepInput base = make_step_input(m);
-  ContactSolver contact(m);
+  ContactSolver contact(m, settings);
   ContactReport rep;
   ToolShape t;
   t.kind = kind;
@@ -188,6 +188,13 @@ TEST(NoAllocation, ContactStepAfterWarmUp) {
   EXPECT_EQ(allocations_in_contact_steps(ToolShape::Kind::cylinder), 0);
   EXPECT_EQ(allocations_in_contact_steps(ToolShape::Kind::box), 0);
   EXPECT_EQ(allocations_in_contact_steps(ToolShape::Kind::convex), 0);
+}
+
+TEST(NoAllocation, PenaltyContactStepAfterWarmUp) {
+  ContactSettings penalty;
+  penalty.method = ContactSettings::Method::penalty;
+  EXPECT_EQ(allocations_in_contact_steps(ToolShape::Kind::capsule, penalty), 0);
+  EXPECT_EQ(allocations_in_contact_steps(ToolShape::Kind::box, penalty), 0);
 }
 
 }  // namespace

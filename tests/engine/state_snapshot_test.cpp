@@ -17,23 +17,36 @@ struct Case {
   SolverMethod method;
   int refresh_every, nonlinear_iterations;
   bool gravity;
+  bool springs = false;
 };
 
 // Presses the cube's top a little further each step (step k), with a side force that
-// changes every step (so the loads the halving fallback remembers matter too).
-void load(const TissueModel& m, int k, StepInput& in) {
+// changes every step (so the loads the halving fallback remembers matter too); with
+// `springs`, per-node springs (as penalty contact sets them) pull one side's nodes instead,
+// the same for two steps in a row (so the matrices of the step before are reused).
+void load(const TissueModel& m, int k, StepInput& in, bool springs = false) {
   in.clear();
   scenario::press_top(m, 0.1, -0.003 * k, in);
   for (int i = 0; i < m.n; ++i)
     if (m.rest.positions(i, 0) > 0.05 - 1e-12) in.force(i, 0) = 0.01 * (k % 3);
+  if (springs) {
+    in.spring_k = NodeMat::Zero(m.n, 3);
+    in.spring_u = NodeMat::Zero(m.n, 3);
+    for (int i = 0; i < m.n; ++i)
+      if (m.rest.positions(i, 1) > 0.05 - 1e-12) {
+        in.spring_k(i, 1) = 50.0 * (1 + (k + 1) / 2);  // steps 7 and 8 alike
+        in.spring_u(i, 1) = 0.001 * k;
+      }
+  }
 }
 
 TEST(StateSnapshot, ALoadedStateContinuesBitForBit) {
   for (const Case& c : {Case{SolverMethod::structured, 1, 1, false}, Case{SolverMethod::structured, 3, 3, true},
                         Case{SolverMethod::reference, 1, 1, true}, Case{SolverMethod::reference, 2, 3, false},
-                        Case{SolverMethod::direct, 1, 1, false}, Case{SolverMethod::direct, 3, 2, true}}) {
+                        Case{SolverMethod::direct, 1, 1, false}, Case{SolverMethod::direct, 3, 2, true},
+                        Case{SolverMethod::structured, 3, 1, false, true}, Case{SolverMethod::direct, 2, 1, true, true}}) {
     const std::string what = std::string(to_string(c.method)) + " refresh " + std::to_string(c.refresh_every) +
-                             " nonlinear " + std::to_string(c.nonlinear_iterations);
+                             " nonlinear " + std::to_string(c.nonlinear_iterations) + (c.springs ? " springs" : "");
     TissueDef def = scenario::cube_on_table(0.1, 5, c.method);
     def.solver.refresh_every = c.refresh_every;
     def.solver.nonlinear_iterations = c.nonlinear_iterations;
@@ -42,7 +55,7 @@ TEST(StateSnapshot, ALoadedStateContinuesBitForBit) {
     SimState a = make_sim_state(m);
     StepInput in = make_step_input(m);
     for (int k = 1; k <= 7; ++k) {  // 7: not a multiple of the refresh periods
-      load(m, k, in);
+      load(m, k, in, c.springs);
       step(m, in, a);
     }
     std::string bytes;
@@ -55,7 +68,7 @@ TEST(StateSnapshot, ALoadedStateContinuesBitForBit) {
     EXPECT_EQ(b.u, a.u);
     EXPECT_EQ(b.step, a.step);
     for (int k = 8; k <= 14; ++k) {
-      load(m, k, in);
+      load(m, k, in, c.springs);
       step(m, in, a);
       step(m, in, b);
       ASSERT_FALSE(a.failed || b.failed) << what;

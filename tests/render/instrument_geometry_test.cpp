@@ -1,5 +1,5 @@
 // The pictures match what collides: every vertex of a drawn probe or jaw lies on the surface
-// of its collision shape (tools::probe_shape, tools::jaw_shape).
+// of its collision shape (tools::probe_shape, tools::jaw_shape, tools::shaft_shape).
 #include <gtest/gtest.h>
 
 #include "engine/convex_hull.hpp"
@@ -71,6 +71,20 @@ TEST(InstrumentGeometry, DrawnJawsLieOnTheirCollisionBoxes) {
           << "opening " << opening << " side " << side;
     }
   }
+}
+
+TEST(InstrumentGeometry, DrawnGrasperShaftLiesOnItsCollisionCapsule) {
+  tools::InstrumentDef def;
+  def.type = tools::InstrumentDef::Type::grasper;
+  def.radius = 0.005;
+  def.length = 0.25;
+  def.jaw_length = 0.015;
+  tools::InstrumentPose pose;
+  pose.tip = vdm::Vec3(0.01, 0.02, 0.03);
+  pose.axis = vdm::Vec3(0.2, -0.3, -1).normalized();
+  const SkinMesh m = grasper_shaft_mesh(def.radius, def.length, def.jaw_length);
+  // The working half (the drawn handle end is flat, the capsule's rounded).
+  EXPECT_LT(off_surface(m, tools::shaft_shape(def, pose, pose), tools::instrument_frame(pose), -0.5 * def.length), 1e-6);
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
-// Grasper jaws are boxes in contact: opening beside an organ they push its surface instead of
-// passing through it; grasped nodes take no part in contact.
+// Grasper jaws are boxes in contact: opening or closing beside an organ they push its surface
+// instead of passing through it; the shaft collides too; grasped nodes take no part in
+// contact.
 #include <gtest/gtest.h>
 
 #include "engine/contact.hpp"
@@ -19,14 +20,19 @@ double deepest(const vdm::ToolShape& t, const vdm::NodeMat& x) {
   return d;
 }
 
-TEST(JawContact, JawsOpeningBesideABallPushItsSurface) {
-  const double R = 0.05;
+// A ball of radius R (2562 nodes) fixed at its bottom.
+vdm::TissueModel ball_on_base(double R) {
   vdm::TissueDef def = vdm::default_tissue(vdm::make_icosphere(R, 4));
   const int n = def.mesh.node_count();
   def.fixed = vdm::FlagMat::Zero(n, 3);
   for (int i = 0; i < n; ++i)
-    if (def.mesh.positions(i, 2) < -0.04) def.fixed.row(i).setOnes();
-  const vdm::TissueModel m = vdm::scenario::build(def);
+    if (def.mesh.positions(i, 2) < -0.8 * R) def.fixed.row(i).setOnes();
+  return vdm::scenario::build(def);
+}
+
+TEST(JawContact, JawsOpeningBesideABallPushItsSurface) {
+  const double R = 0.05;
+  const vdm::TissueModel m = ball_on_base(R);
   InstrumentDef g;
   g.type = InstrumentDef::Type::grasper;
   g.radius = 0.005;
@@ -75,6 +81,96 @@ TEST(JawContact, JawsOpeningBesideABallPushItsSurface) {
   EXPECT_GT(last_push, 0.6 * through) << "the surface went away from the jaw";
   std::printf("jaw opening beside a ball: jaw tip %.2f mm inside the ball without contact; surface pushed %.2f mm, force %.3f N\n",
               through * 1e3, last_push * 1e3, rep.force.dot(y));
+}
+
+TEST(JawContact, JawsClosingOnTheOrganPushItAndStayOut) {
+  // An open grasper pointing down at the top of a ball, its jaws' tips just above it: closing,
+  // the jaws swing down and in, and closed they would reach below the surface. With contact
+  // the top is pushed down and no node ends inside a jaw.
+  const double R = 0.05;
+  const vdm::TissueModel m = ball_on_base(R);
+  InstrumentDef g;
+  g.type = InstrumentDef::Type::grasper;
+  g.radius = 0.005;
+  g.jaw_length = 0.015;
+  InstrumentPose pose;
+  pose.axis = vdm::Vec3(0, 0, -1);
+  pose.tip = vdm::Vec3(0, 0, R - 0.0025);
+  pose.jaw_opening = 1;
+  const vdm::Vec3 y = vdm::Vec3::UnitZ();  // the direction the organ pushes the jaws
+  InstrumentPose closed = pose;
+  closed.jaw_opening = 0;
+  // How far a jaw's tip end reaches inside the ball at rest (negative: outside).
+  auto reach = [&](const InstrumentPose& p, int side) {
+    const vdm::ToolShape jaw = jaw_shape(g, p, p, side);
+    double most = -1.0;
+    for (double cx : {-1.0, 1.0})
+      for (double cy : {-1.0, 1.0})
+        most = std::max(most, R - (jaw.pose * vdm::Vec3(cx * jaw.half_size.x(), cy * jaw.half_size.y(), jaw.half_size.z())).norm());
+    return most;
+  };
+  double through = 0.0;
+  for (int side : {+1, -1}) {
+    EXPECT_LT(reach(pose, side), 0.0) << "open jaws start outside";
+    EXPECT_GT(reach(closed, side), 0.001) << "closed they reach inside";
+    through = std::max(through, reach(closed, side));
+  }
+  vdm::SimState s = vdm::make_sim_state(m);
+  const vdm::StepInput base = vdm::make_step_input(m);
+  vdm::ContactSolver contact(m);
+  vdm::ContactReport rep;
+  InstrumentPose prev = pose;
+  double last_push = 0;
+  for (int k = 0; k <= 10; ++k) {
+    InstrumentPose now = pose;
+    now.jaw_opening = 1.0 - k / 10.0;
+    const std::vector<vdm::ToolShape> tools = {jaw_shape(g, now, prev, +1), jaw_shape(g, now, prev, -1),
+                                               shaft_shape(g, now, prev)};
+    contact.step(m, base, tools, s, rep);
+    ASSERT_FALSE(s.failed);
+    EXPECT_LT(std::abs(s.volume_rel_error), 1e-4) << "opening " << now.jaw_opening;
+    for (const vdm::ToolShape& t : tools) EXPECT_LE(deepest(t, s.x), 0.02 * t.size()) << "opening " << now.jaw_opening;
+    const double push = -(s.u * y).minCoeff();
+    EXPECT_GE(push, last_push - 1e-9) << "opening " << now.jaw_opening;
+    last_push = push;
+    prev = now;
+  }
+  EXPECT_GT(rep.nodes, 0);
+  EXPECT_GT(rep.force.dot(y), 0.0);  // the ball pushes the jaw back, toward +y
+  EXPECT_GT(last_push, 0.5 * through);
+}
+
+TEST(JawContact, TheShaftCollides) {
+  // A grasper lowered onto the ball lying on its side: the shaft, not the jaws, meets the top.
+  const double R = 0.05;
+  const vdm::TissueModel m = ball_on_base(R);
+  InstrumentDef g;
+  g.type = InstrumentDef::Type::grasper;
+  g.radius = 0.005;
+  g.length = 0.2;
+  g.jaw_length = 0.015;
+  InstrumentPose pose;
+  pose.axis = vdm::Vec3(1, 0, 0);  // horizontal: tip at +x, shaft back along -x
+  pose.jaw_opening = 0;
+  vdm::SimState s = vdm::make_sim_state(m);
+  const vdm::StepInput base = vdm::make_step_input(m);
+  vdm::ContactSolver contact(m);
+  vdm::ContactReport rep;
+  InstrumentPose prev = pose;
+  prev.tip = vdm::Vec3(0.08, 0, R + g.radius + 0.001);
+  for (int k = 0; k <= 5; ++k) {
+    InstrumentPose now = pose;
+    now.tip = vdm::Vec3(0.08, 0, R + g.radius + 0.001 - 0.001 * k);  // the jaws are beyond the ball
+    const std::vector<vdm::ToolShape> tools = {jaw_shape(g, now, prev, +1), jaw_shape(g, now, prev, -1),
+                                               shaft_shape(g, now, prev)};
+    contact.step(m, base, tools, s, rep);
+    ASSERT_FALSE(s.failed);
+    EXPECT_LE(deepest(tools[2], s.x), 0.02 * tools[2].size());
+    prev = now;
+  }
+  EXPECT_GT(rep.nodes, 0);
+  EXPECT_GT(rep.force.z(), 0.0);  // pushed up by the ball
+  EXPECT_LT(s.u.col(2).minCoeff(), -0.003);
 }
 
 TEST(JawContact, GraspedNodesTakeNoPartInContact) {
