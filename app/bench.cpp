@@ -233,7 +233,7 @@ Row bench_pipeline(const fs::path& dir, int frames) {
 
 }  // namespace
 
-int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::ostream& err) {
+int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::ostream& err, const std::string& only) {
   std::string error;
   if (!prepare_output_dir(out_dir, error)) {
     err << "vdmsim: error: " << error << "\n";
@@ -260,6 +260,7 @@ int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::os
 
   std::vector<Row> rows;
   for (const auto& [label, body] : cases) {
+    if (!only.empty() && label.find(only) == std::string::npos) continue;
     Row row;
     out << "bench: " << label << " ..." << std::flush;
     if (!run_isolated(body, row, error)) {

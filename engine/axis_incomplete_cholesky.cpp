@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "engine/simd2.hpp"
+
 namespace vdm {
 
 void AxisIncompleteCholesky::analyze(const AxisMatrices& K) {
@@ -78,42 +80,105 @@ int AxisIncompleteCholesky::factorize(const AxisMatrices& K) {
 
 template <int W>
 void AxisIncompleteCholesky::apply(const double* r, double* z, double* rz) const {
-  static_assert(W % 3 == 0, "blocks of whole axis triples");
+  static_assert(W == 3 || W == 6, "blocks of 3 or 6 vectors");
+  using simd::V2;
+  using simd::load2;
+  using simd::splat;
+  using simd::store2;
   const int* lo_start = lo_start_.data();
   const int* lo_col = lo_col_.data();
   const double* lo_val = lo_val_.data();
-  const double* inv_diag = inv_diag_.data();
-  // Forward: L y = r (y stored in z).
-  for (int i = 0; i < n_; ++i) {
-    double acc[W];
-    for (int c = 0; c < W; ++c) acc[c] = r[size_t(i) * W + c];
-    for (int p = lo_start[i]; p < lo_start[i + 1]; ++p) {
-      const double* v = lo_val + 3 * size_t(p);
-      const double* zj = z + size_t(lo_col[p]) * W;
-      for (int c = 0; c < W; ++c) acc[c] -= v[c % 3] * zj[c];
-    }
-    for (int c = 0; c < W; ++c) z[size_t(i) * W + c] = acc[c] * inv_diag[3 * size_t(i) + c % 3];
-  }
-  // Backward: L^T z = y, by the rows of L^T (a gather like the forward solve).
   const int* up_start = up_start_.data();
   const int* up_col = up_col_.data();
   const double* up_val = up_val_.data();
-  double dot[W] = {};
-  for (int i = n_ - 1; i >= 0; --i) {
-    double acc[W];
-    for (int c = 0; c < W; ++c) acc[c] = z[size_t(i) * W + c];
-    for (int p = up_start[i]; p < up_start[i + 1]; ++p) {
-      const double* v = up_val + 3 * size_t(p);
-      const double* zj = z + size_t(up_col[p]) * W;
-      for (int c = 0; c < W; ++c) acc[c] -= v[c % 3] * zj[c];
+  const double* inv_diag = inv_diag_.data();
+  if constexpr (W == 6) {
+    // Lanes: the two vectors of an axis (axis_matrices.hpp) share the value of L^d.
+    // Forward: L y = r (y stored in z).
+    for (int i = 0; i < n_; ++i) {
+      const double* ri = r + size_t(i) * 6;
+      V2 a0 = load2(ri), a1 = load2(ri + 2), a2 = load2(ri + 4);
+      for (int p = lo_start[i]; p < lo_start[i + 1]; ++p) {
+        const double* v = lo_val + 3 * size_t(p);
+        const double* zj = z + size_t(lo_col[p]) * 6;
+        a0 -= splat(v[0]) * load2(zj);
+        a1 -= splat(v[1]) * load2(zj + 2);
+        a2 -= splat(v[2]) * load2(zj + 4);
+      }
+      const double* id = inv_diag + 3 * size_t(i);
+      double* zi = z + size_t(i) * 6;
+      store2(zi, a0 * splat(id[0]));
+      store2(zi + 2, a1 * splat(id[1]));
+      store2(zi + 4, a2 * splat(id[2]));
     }
-    for (int c = 0; c < W; ++c) {
-      const double zi = acc[c] * inv_diag[3 * size_t(i) + c % 3];
-      z[size_t(i) * W + c] = zi;
-      dot[c] += r[size_t(i) * W + c] * zi;
+    // Backward: L^T z = y, by the rows of L^T (a gather like the forward solve).
+    V2 d0 = {0, 0}, d1 = {0, 0}, d2 = {0, 0};
+    for (int i = n_ - 1; i >= 0; --i) {
+      double* zi = z + size_t(i) * 6;
+      V2 a0 = load2(zi), a1 = load2(zi + 2), a2 = load2(zi + 4);
+      for (int p = up_start[i]; p < up_start[i + 1]; ++p) {
+        const double* v = up_val + 3 * size_t(p);
+        const double* zj = z + size_t(up_col[p]) * 6;
+        a0 -= splat(v[0]) * load2(zj);
+        a1 -= splat(v[1]) * load2(zj + 2);
+        a2 -= splat(v[2]) * load2(zj + 4);
+      }
+      const double* id = inv_diag + 3 * size_t(i);
+      a0 *= splat(id[0]);
+      a1 *= splat(id[1]);
+      a2 *= splat(id[2]);
+      store2(zi, a0);
+      store2(zi + 2, a1);
+      store2(zi + 4, a2);
+      const double* ri = r + size_t(i) * 6;
+      d0 += load2(ri) * a0;
+      d1 += load2(ri + 2) * a1;
+      d2 += load2(ri + 4) * a2;
     }
+    store2(rz, d0);
+    store2(rz + 2, d1);
+    store2(rz + 4, d2);
+  } else {
+    // Lanes: x and y together (their values are adjacent), z alone.
+    for (int i = 0; i < n_; ++i) {
+      const double* ri = r + size_t(i) * 3;
+      V2 axy = load2(ri);
+      double az = ri[2];
+      for (int p = lo_start[i]; p < lo_start[i + 1]; ++p) {
+        const double* v = lo_val + 3 * size_t(p);
+        const double* zj = z + size_t(lo_col[p]) * 3;
+        axy -= load2(v) * load2(zj);
+        az -= v[2] * zj[2];
+      }
+      const double* id = inv_diag + 3 * size_t(i);
+      double* zi = z + size_t(i) * 3;
+      store2(zi, axy * load2(id));
+      zi[2] = az * id[2];
+    }
+    V2 dxy = {0, 0};
+    double dz = 0;
+    for (int i = n_ - 1; i >= 0; --i) {
+      double* zi = z + size_t(i) * 3;
+      V2 axy = load2(zi);
+      double az = zi[2];
+      for (int p = up_start[i]; p < up_start[i + 1]; ++p) {
+        const double* v = up_val + 3 * size_t(p);
+        const double* zj = z + size_t(up_col[p]) * 3;
+        axy -= load2(v) * load2(zj);
+        az -= v[2] * zj[2];
+      }
+      const double* id = inv_diag + 3 * size_t(i);
+      axy *= load2(id);
+      az *= id[2];
+      store2(zi, axy);
+      zi[2] = az;
+      const double* ri = r + size_t(i) * 3;
+      dxy += load2(ri) * axy;
+      dz += ri[2] * az;
+    }
+    store2(rz, dxy);
+    rz[2] = dz;
   }
-  for (int c = 0; c < W; ++c) rz[c] = dot[c];
 }
 
 template void AxisIncompleteCholesky::apply<3>(const double*, double*, double*) const;

@@ -2,7 +2,7 @@
 // Zero-fill incomplete Cholesky of the three per-axis matrices at once (AxisMatrices: one
 // pattern, three values per entry), K^d ~ L^d (L^d)^T. The same factorisation as
 // IncompleteCholesky, per axis; the index work is shared and apply() solves a block of W
-// vectors (vector c with axis c mod 3) in one forward and one backward sweep. analyze()
+// vectors (vector c with axis axis_of<W>(c)) in one forward and one backward sweep. analyze()
 // allocates; factorize() and apply() do not.
 #include <vector>
 

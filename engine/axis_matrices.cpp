@@ -4,6 +4,8 @@
 #include <stdexcept>
 #include <utility>
 
+#include "engine/simd2.hpp"
+
 namespace vdm {
 
 void AxisMatrices::analyze(const SpMat& pattern, const std::vector<int>& perm) {
@@ -38,37 +40,82 @@ void AxisMatrices::analyze(const SpMat& pattern, const std::vector<int>& perm) {
 }
 
 void AxisMatrices::gather(const std::array<SpMat, 3>& K) {
-  for (int d = 0; d < 3; ++d) {
-    const double* v = K[size_t(d)].valuePtr();
-    for (size_t e = 0; e < off_src.size(); ++e) off[3 * e + size_t(d)] = v[off_src[e]];
-    for (size_t i = 0; i < diag_src.size(); ++i) diag[3 * i + size_t(d)] = v[diag_src[i]];
+  const double* v0 = K[0].valuePtr();
+  const double* v1 = K[1].valuePtr();
+  const double* v2 = K[2].valuePtr();
+  for (size_t e = 0; e < off_src.size(); ++e) {
+    const int k = off_src[e];
+    off[3 * e] = v0[k];
+    off[3 * e + 1] = v1[k];
+    off[3 * e + 2] = v2[k];
+  }
+  for (size_t i = 0; i < diag_src.size(); ++i) {
+    const int k = diag_src[i];
+    diag[3 * i] = v0[k];
+    diag[3 * i + 1] = v1[k];
+    diag[3 * i + 2] = v2[k];
   }
 }
 
 template <int W>
 void multiply_block(const AxisMatrices& K, const double* x, double* y, double* dot) {
-  static_assert(W % 3 == 0, "blocks of whole axis triples");
-  double dsum[W] = {};
+  static_assert(W == 3 || W == 6, "blocks of 3 or 6 vectors");
+  using simd::V2;
+  using simd::load2;
+  using simd::splat;
   const int* start = K.start.data();
   const int* col = K.col.data();
   const double* off = K.off.data();
   const double* diag = K.diag.data();
-  for (int i = 0; i < K.n; ++i) {
-    const double* xi = x + size_t(i) * W;
-    double acc[W];
-    for (int c = 0; c < W; ++c) acc[c] = diag[3 * i + c % 3] * xi[c];
-    for (int p = start[i]; p < start[i + 1]; ++p) {
-      const double* v = off + 3 * size_t(p);
-      const double* xj = x + size_t(col[p]) * W;
-      for (int c = 0; c < W; ++c) acc[c] += v[c % 3] * xj[c];
+  if constexpr (W == 6) {
+    // Lanes: the two vectors of an axis (r^d, s^d) share the value of K^d.
+    V2 d0 = {0, 0}, d1 = {0, 0}, d2 = {0, 0};
+    for (int i = 0; i < K.n; ++i) {
+      const double* xi = x + size_t(i) * 6;
+      const double* di = diag + 3 * size_t(i);
+      V2 a0 = splat(di[0]) * load2(xi), a1 = splat(di[1]) * load2(xi + 2), a2 = splat(di[2]) * load2(xi + 4);
+      for (int p = start[i]; p < start[i + 1]; ++p) {
+        const double* v = off + 3 * size_t(p);
+        const double* xj = x + size_t(col[p]) * 6;
+        a0 += splat(v[0]) * load2(xj);
+        a1 += splat(v[1]) * load2(xj + 2);
+        a2 += splat(v[2]) * load2(xj + 4);
+      }
+      double* yi = y + size_t(i) * 6;
+      simd::store2(yi, a0);
+      simd::store2(yi + 2, a1);
+      simd::store2(yi + 4, a2);
+      d0 += load2(xi) * a0;
+      d1 += load2(xi + 2) * a1;
+      d2 += load2(xi + 4) * a2;
     }
-    double* yi = y + size_t(i) * W;
-    for (int c = 0; c < W; ++c) {
-      yi[c] = acc[c];
-      dsum[c] += xi[c] * acc[c];
+    simd::store2(dot, d0);
+    simd::store2(dot + 2, d1);
+    simd::store2(dot + 4, d2);
+  } else {
+    // Lanes: x and y together (their values are adjacent), z alone.
+    V2 dxy = {0, 0};
+    double dz = 0;
+    for (int i = 0; i < K.n; ++i) {
+      const double* xi = x + size_t(i) * 3;
+      const double* di = diag + 3 * size_t(i);
+      V2 axy = load2(di) * load2(xi);
+      double az = di[2] * xi[2];
+      for (int p = start[i]; p < start[i + 1]; ++p) {
+        const double* v = off + 3 * size_t(p);
+        const double* xj = x + size_t(col[p]) * 3;
+        axy += load2(v) * load2(xj);
+        az += v[2] * xj[2];
+      }
+      double* yi = y + size_t(i) * 3;
+      simd::store2(yi, axy);
+      yi[2] = az;
+      dxy += load2(xi) * axy;
+      dz += xi[2] * az;
     }
+    simd::store2(dot, dxy);
+    dot[2] = dz;
   }
-  for (int c = 0; c < W; ++c) dot[c] = dsum[c];
 }
 
 template void multiply_block<3>(const AxisMatrices&, const double*, double*, double*);

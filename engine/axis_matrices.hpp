@@ -1,10 +1,12 @@
 #pragma once
 // The three per-axis matrices K^x, K^y, K^z on their shared symmetric sparsity pattern,
 // stored together: one index array, the three values of an entry side by side. Kernels work
-// on blocks of W vectors stored node-major (entry (i, c) at [i * W + c]); vector c is
-// multiplied by K^(c mod 3). One pass over the indices then serves three (or six: the
-// displacement and the pressure response) right-hand sides, and their independent
-// dependency chains overlap in the triangular solves.
+// on blocks of W = 3 G vectors stored node-major (entry (i, c) at [i * W + c]), G vectors per
+// axis side by side: vector c belongs to axis axis_of<W>(c) = c / G (W = 6: r^x s^x r^y s^y
+// r^z s^z). One pass over the indices then serves three (or six: the displacement and the
+// pressure response) right-hand sides, the G vectors of an axis share each matrix value
+// (one SIMD multiply), and the independent dependency chains overlap in the triangular
+// solves.
 #include <array>
 #include <vector>
 
@@ -28,7 +30,13 @@ struct AxisMatrices {
   void gather(const std::array<SpMat, 3>& K);
 };
 
-// y = K x for a block of W vectors (W a multiple of 3 or 3 itself); also dot[c] = x_c . y_c.
+// The axis of vector c in a block of W.
+template <int W>
+constexpr int axis_of(int c) {
+  return c / (W / 3);
+}
+
+// y = K x for a block of W vectors (W = 3 or 6); also dot[c] = x_c . y_c.
 template <int W>
 void multiply_block(const AxisMatrices& K, const double* x, double* y, double* dot);
 

@@ -54,7 +54,7 @@ void block_pcg(const Op& op, const Pre& pre, int n, const double* b, double* x, 
     const double bnorm = std::sqrt(bn[c]);
     live[c] = 0.0;
     if (bnorm == 0.0) {
-      for (int i = 0; i < n; ++i) x[size_t(i) * W + c] = r[size_t(i) * W + c] = 0.0;
+      for (int i = 0; i < n; ++i) x[size_t(i) * W + c] = 0.0;
     } else if (!(std::sqrt(rn[c]) <= threshold[c])) {  // NaN: iterate (and break down)
       live[c] = 1.0;
       ++active;
@@ -62,15 +62,24 @@ void block_pcg(const Op& op, const Pre& pre, int n, const double* b, double* x, 
     result[size_t(c)].relative_residual = bnorm > 0 ? std::sqrt(rn[c]) / bnorm : 0.0;
   }
   if (active == 0) return;
-  pre(r, z, rz);
-  for (int i = 0; i < n; ++i)
-    for (int c = 0; c < W; ++c) p[size_t(i) * W + c] = live[c] != 0.0 ? z[size_t(i) * W + c] : 0.0;
-  // Freezes column c: no further change to its x (its direction and product are zeroed).
+  // A stopped column has r = p = q = 0 (then z = 0 and nothing changes it), unless the
+  // preconditioner is not finite there: its direction is zeroed again after each update.
+  auto zero = [&](double* v, int c) {
+    for (int i = 0; i < n; ++i) v[size_t(i) * W + c] = 0.0;
+  };
   auto freeze = [&](int c) {
     live[c] = 0.0;
     --active;
-    for (int i = 0; i < n; ++i) p[size_t(i) * W + c] = q[size_t(i) * W + c] = 0.0;
+    zero(r, c);
+    zero(p, c);
+    zero(q, c);
   };
+  for (int c = 0; c < W; ++c)
+    if (live[c] == 0.0) zero(r, c);
+  pre(r, z, rz);
+  for (size_t k = 0; k < size_t(n) * W; ++k) p[k] = z[k];
+  for (int c = 0; c < W; ++c)
+    if (live[c] == 0.0 && rz[c] != 0.0) zero(p, c);  // rz = 0 . z: not 0 only when z is not finite
   for (int it = 1; it <= max_iter; ++it) {
     op(p, q, dot);
     for (int c = 0; c < W; ++c) {
@@ -108,8 +117,10 @@ void block_pcg(const Op& op, const Pre& pre, int n, const double* b, double* x, 
     for (int i = 0; i < n; ++i)
       for (int c = 0; c < W; ++c) {
         const size_t k = size_t(i) * W + c;
-        p[k] = live[c] != 0.0 ? z[k] + beta[c] * p[k] : 0.0;
+        p[k] = z[k] + beta[c] * p[k];
       }
+    for (int c = 0; c < W; ++c)
+      if (live[c] == 0.0 && rz_new[c] != 0.0) zero(p, c);
   }
   for (int c = 0; c < W; ++c)
     if (live[c] != 0.0) result[size_t(c)].converged = false;

@@ -85,23 +85,24 @@ class StructuredSolver final : public LinearSolver {
   // results go to r_ and s_ in node order. W = 3 for one of them, 6 for both.
   template <int W>
   BlockReport solve_block(const NodeMat* rhs, const NodeMat* a) {
+    constexpr int G = W / 3;  // systems per axis: column d G + g is axis d of system g
     const NodeMat* src[2] = {rhs ? rhs : a, rhs ? a : nullptr};
     std::vector<double>* warm[2] = {rhs ? &rp_ : &sp_, &sp_};
     NodeMat* out[2] = {rhs ? &r_ : &s_, &s_};
     double threshold[W];
-    for (int g = 0; g < W / 3; ++g) {
+    for (int g = 0; g < G; ++g) {
       const NodeMat& b = *src[g];
       const std::vector<double>& x0 = *warm[g];
       for (int i = 0; i < n_; ++i) {
         const int node = perm_[size_t(i)];
         for (int d = 0; d < 3; ++d) {
-          b_[size_t(i) * W + size_t(3 * g + d)] = b(node, d);
-          x_[size_t(i) * W + size_t(3 * g + d)] = settings_.warm_start ? x0[3 * size_t(i) + size_t(d)] : 0.0;
+          b_[size_t(i) * W + size_t(d * G + g)] = b(node, d);
+          x_[size_t(i) * W + size_t(d * G + g)] = settings_.warm_start ? x0[3 * size_t(i) + size_t(d)] : 0.0;
         }
       }
       // sqrt(3): the three axes together then meet the tolerance on the whole system.
       const double t = settings_.tolerance * b.norm() / std::sqrt(3.0);
-      for (int d = 0; d < 3; ++d) threshold[3 * g + d] = t;
+      for (int d = 0; d < 3; ++d) threshold[d * G + g] = t;
     }
     const AxisMatrices& K = K_;
     const AxisIncompleteCholesky& ic = ic_;
@@ -114,13 +115,13 @@ class StructuredSolver final : public LinearSolver {
       rep.iterations += k.iterations;
       rep.converged = rep.converged && k.converged;
     }
-    for (int g = 0; g < W / 3; ++g) {
+    for (int g = 0; g < G; ++g) {
       std::vector<double>& x0 = *warm[g];
       NodeMat& o = *out[g];
       for (int i = 0; i < n_; ++i) {
         const int node = perm_[size_t(i)];
         for (int d = 0; d < 3; ++d) {
-          const double v = x_[size_t(i) * W + size_t(3 * g + d)];
+          const double v = x_[size_t(i) * W + size_t(d * G + g)];
           x0[3 * size_t(i) + size_t(d)] = v;
           o(node, d) = v;
         }

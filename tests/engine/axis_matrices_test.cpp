@@ -17,7 +17,7 @@ void check_block_product(const axis_test::System& s, const AxisMatrices& K) {
   double dot[W];
   multiply_block<W>(K, x.data(), y.data(), dot);
   for (int c = 0; c < W; ++c) {
-    const SpMat P = axis_test::permuted(s.K[size_t(c % 3)], s.perm);
+    const SpMat P = axis_test::permuted(s.K[size_t(axis_of<W>(c))], s.perm);
     Vec xc(n);
     for (int i = 0; i < n; ++i) xc[i] = x[size_t(i) * W + c];
     const Vec yc = P * xc;
