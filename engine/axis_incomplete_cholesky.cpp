@@ -35,43 +35,59 @@ void AxisIncompleteCholesky::analyze(const AxisMatrices& K) {
     }
   up_val_.assign(3 * lo_col_.size(), 0.0);
   inv_diag_.assign(3 * size_t(n_), 0.0);
-  marker_.assign(size_t(n_), -1);
+  work_lo_.assign(3 * lo_col_.size(), 0.0);
+  work_diag_.assign(3 * size_t(n_), 0.0);
 }
 
-int AxisIncompleteCholesky::factorize(const AxisMatrices& K) {
+int AxisIncompleteCholesky::factorize(const AxisMatrices& K, double omega) {
+  // Right-looking: column k of L, then its updates of the rows below; an update that falls
+  // outside the pattern is dropped and, times omega, taken off both diagonals instead.
   int repaired = 0;
   double* L = lo_val_.data();
-  for (int i = 0; i < n_; ++i) {
-    const int begin = lo_start_[size_t(i)], end = lo_start_[size_t(i) + 1];
-    for (int p = begin; p < end; ++p) marker_[size_t(lo_col_[size_t(p)])] = p;
-    double diag_sum[3] = {0.0, 0.0, 0.0};
-    for (int p = begin; p < end; ++p) {
-      const int k = lo_col_[size_t(p)];
-      const double* a = &K.off[3 * size_t(lo_src_[size_t(p)])];
-      double s[3] = {a[0], a[1], a[2]};
-      // subtract sum_{j<k} L_ij L_kj over the shared pattern (row k's columns are all < k,
-      // so a column of row i found there lies before p)
-      for (int q = lo_start_[size_t(k)]; q < lo_start_[size_t(k) + 1]; ++q) {
-        const int m = marker_[size_t(lo_col_[size_t(q)])];
-        if (m >= 0)
-          for (int d = 0; d < 3; ++d) s[d] -= L[3 * size_t(m) + size_t(d)] * L[3 * size_t(q) + size_t(d)];
-      }
-      for (int d = 0; d < 3; ++d) {
-        const double v = s[d] * inv_diag_[3 * size_t(k) + size_t(d)];
-        L[3 * size_t(p) + size_t(d)] = v;
-        diag_sum[d] += v * v;
-      }
-    }
+  double* wl = work_lo_.data();
+  double* wd = work_diag_.data();
+  for (size_t p = 0; p < lo_src_.size(); ++p)
+    for (size_t d = 0; d < 3; ++d) wl[3 * p + d] = K.off[3 * size_t(lo_src_[p]) + d];
+  for (size_t k = 0; k < 3 * size_t(n_); ++k) wd[k] = K.diag[k];
+  for (int k = 0; k < n_; ++k) {
     for (int d = 0; d < 3; ++d) {
-      const double aii = K.diag[3 * size_t(i) + size_t(d)];
-      double piv = aii - diag_sum[d];
-      if (!(piv > 1e-12 * std::abs(aii))) {
-        piv = std::abs(aii) > 0 ? std::abs(aii) : 1.0;
+      const double akk = K.diag[3 * size_t(k) + size_t(d)];
+      double piv = wd[3 * size_t(k) + size_t(d)];
+      if (!(piv > 1e-12 * std::abs(akk))) {
+        piv = std::abs(akk) > 0 ? std::abs(akk) : 1.0;
         ++repaired;
       }
-      inv_diag_[3 * size_t(i) + size_t(d)] = 1.0 / std::sqrt(piv);
+      inv_diag_[3 * size_t(k) + size_t(d)] = 1.0 / std::sqrt(piv);
     }
-    for (int p = begin; p < end; ++p) marker_[size_t(lo_col_[size_t(p)])] = -1;
+    const int qb = up_start_[size_t(k)], qe = up_start_[size_t(k) + 1];
+    for (int q = qb; q < qe; ++q) {
+      const size_t p = size_t(up_src_[size_t(q)]);
+      for (size_t d = 0; d < 3; ++d) L[3 * p + d] = wl[3 * p + d] * inv_diag_[3 * size_t(k) + d];
+    }
+    for (int q1 = qb; q1 < qe; ++q1) {
+      const int i = up_col_[size_t(q1)];
+      const double* li = &L[3 * size_t(up_src_[size_t(q1)])];
+      for (size_t d = 0; d < 3; ++d) wd[3 * size_t(i) + d] -= li[d] * li[d];
+      for (int q2 = qb; q2 < q1; ++q2) {
+        const int j = up_col_[size_t(q2)];  // j < i
+        const double* lj = &L[3 * size_t(up_src_[size_t(q2)])];
+        int m = -1;
+        for (int t = lo_start_[size_t(i)]; t < lo_start_[size_t(i) + 1]; ++t)
+          if (lo_col_[size_t(t)] == j) {
+            m = t;
+            break;
+          }
+        if (m >= 0) {
+          for (size_t d = 0; d < 3; ++d) wl[3 * size_t(m) + d] -= li[d] * lj[d];
+        } else {
+          for (size_t d = 0; d < 3; ++d) {
+            const double drop = omega * li[d] * lj[d];
+            wd[3 * size_t(i) + d] -= drop;
+            wd[3 * size_t(j) + d] -= drop;
+          }
+        }
+      }
+    }
   }
   for (size_t q = 0; q < up_src_.size(); ++q)
     for (size_t d = 0; d < 3; ++d) up_val_[3 * q + d] = L[3 * size_t(up_src_[q]) + d];
