@@ -144,13 +144,13 @@ void BM_ContactStep(benchmark::State& st) {
 BENCHMARK(BM_ContactStep)->Unit(benchmark::kMillisecond);
 
 // The bench's liver probe case (`vdmsim bench`, liver_probe): an 8 mm probe pressed into the
-// liver (2.5k or 10k nodes, refresh every step, structured solver); one benchmark iteration
+// liver (2.5k, 10k or 40k nodes, refresh every step, structured solver); one benchmark iteration
 // is the whole 60-frame run, its time the engine time of the frames in contact. Counters:
 // median ms per contact frame (wall, and CPU time of this thread: less disturbed by other
 // processes on a shared machine), engine solves (active-set iterations) and Krylov
 // iterations per contact frame.
 void BM_LiverProbeFrames(benchmark::State& st) {
-  const char* mesh = st.range(0) == 10 ? "liver_L5.obj" : "liver_L4.obj";
+  const char* mesh = st.range(0) == 40 ? "liver_L6.obj" : st.range(0) == 10 ? "liver_L5.obj" : "liver_L4.obj";
   static vdmsim::PreparedScene ps;
   static std::string loaded;
   if (loaded != mesh) {
@@ -182,7 +182,7 @@ void BM_LiverProbeFrames(benchmark::State& st) {
   st.counters["krylov_its_per_frame"] = iterations / frames;
   st.SetLabel(std::to_string(ps.model.n) + " nodes");
 }
-BENCHMARK(BM_LiverProbeFrames)->Arg(2)->Arg(10)->Iterations(3)->UseManualTime()->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_LiverProbeFrames)->Arg(2)->Arg(10)->Arg(40)->Iterations(3)->UseManualTime()->Unit(benchmark::kMillisecond);
 
 // The per-axis kernels of the structured solver on the 10k liver's K^z at rest: SpMV, IC(0)
 // factorisation and apply, and the cached sparse LDL^T (factorisation, one solve).

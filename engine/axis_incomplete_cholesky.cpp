@@ -37,6 +37,18 @@ void AxisIncompleteCholesky::analyze(const AxisMatrices& K) {
   inv_diag_.assign(3 * size_t(n_), 0.0);
   work_lo_.assign(3 * lo_col_.size(), 0.0);
   work_diag_.assign(3 * size_t(n_), 0.0);
+  // Where each update of the right-looking factorisation lands, in the order factorize()
+  // makes them: entry (i, j) of L for rows i > j of column k, or -1 outside the pattern.
+  update_target_.clear();
+  for (int k = 0; k < n_; ++k)
+    for (int q1 = up_start_[size_t(k)]; q1 < up_start_[size_t(k) + 1]; ++q1)
+      for (int q2 = up_start_[size_t(k)]; q2 < q1; ++q2) {
+        const int i = up_col_[size_t(q1)], j = up_col_[size_t(q2)];
+        int m = -1;
+        for (int t = lo_start_[size_t(i)]; t < lo_start_[size_t(i) + 1]; ++t)
+          if (lo_col_[size_t(t)] == j) m = t;
+        update_target_.push_back(m);
+      }
 }
 
 int AxisIncompleteCholesky::factorize(const AxisMatrices& K, double omega) {
@@ -49,6 +61,7 @@ int AxisIncompleteCholesky::factorize(const AxisMatrices& K, double omega) {
   for (size_t p = 0; p < lo_src_.size(); ++p)
     for (size_t d = 0; d < 3; ++d) wl[3 * p + d] = K.off[3 * size_t(lo_src_[p]) + d];
   for (size_t k = 0; k < 3 * size_t(n_); ++k) wd[k] = K.diag[k];
+  const int* target = update_target_.data();
   for (int k = 0; k < n_; ++k) {
     for (int d = 0; d < 3; ++d) {
       const double akk = K.diag[3 * size_t(k) + size_t(d)];
@@ -71,12 +84,7 @@ int AxisIncompleteCholesky::factorize(const AxisMatrices& K, double omega) {
       for (int q2 = qb; q2 < q1; ++q2) {
         const int j = up_col_[size_t(q2)];  // j < i
         const double* lj = &L[3 * size_t(up_src_[size_t(q2)])];
-        int m = -1;
-        for (int t = lo_start_[size_t(i)]; t < lo_start_[size_t(i) + 1]; ++t)
-          if (lo_col_[size_t(t)] == j) {
-            m = t;
-            break;
-          }
+        const int m = *target++;
         if (m >= 0) {
           for (size_t d = 0; d < 3; ++d) wl[3 * size_t(m) + d] -= li[d] * lj[d];
         } else {
