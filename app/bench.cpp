@@ -18,6 +18,8 @@
 #include "app/bench_bullet.hpp"
 #include "app/commands.hpp"
 #include "app/frame_output.hpp"
+#include "app/mesh_io.hpp"
+#include "app/organ_generator.hpp"
 #include "app/quantile.hpp"
 #include "app/scene_simulation.hpp"
 #include "render/number_format.hpp"
@@ -104,7 +106,7 @@ PreparedScene bench_probe_scene(const std::string& mesh, int frames, bool render
   SceneLoadResult loaded = load_scene(path);
   if (!loaded.ok()) throw std::runtime_error(path + ": cannot load");
   SceneDef s = loaded.scene;
-  s.mesh_path = (fs::path(VDMSIM_SOURCE_DIR_STR) / "assets" / "meshes" / mesh).string();
+  s.mesh_path = mesh.find('/') != std::string::npos ? mesh : (fs::path(VDMSIM_SOURCE_DIR_STR) / "assets" / "meshes" / mesh).string();
   s.frames = frames;
   for (auto& in : s.instruments) in.radius = 0.008;
   if (!render) s.has_render = false;
@@ -118,7 +120,7 @@ namespace {
 
 PreparedScene probe_scene(const std::string& mesh, int frames, bool render) { return bench_probe_scene(mesh, frames, render); }
 
-// Runs `ps` for 60 frames, `repeats` times, timing the steps that `timed(rep, f, sim)`
+// Runs `ps` for its frames (60 at most), `repeats` times, timing the steps that `timed(rep, f, sim)`
 // accepts, and fills the row's step figures.
 template <typename Timed>
 void time_steps(const PreparedScene& ps, int repeats, Timed timed, Row& r) {
@@ -126,7 +128,7 @@ void time_steps(const PreparedScene& ps, int repeats, Timed timed, Row& r) {
   double iterations = 0, vol = 0;
   for (int rep = 0; rep < repeats; ++rep) {
     SceneSimulation sim(ps);
-    for (int f = 0; f < 60; ++f) {
+    for (int f = 0; f < std::min(ps.scene.frames, 60); ++f) {
       sim.advance(f);
       if (!timed(rep, f, sim)) continue;
       times.push_back(sim.frame_step_ms());
@@ -150,6 +152,39 @@ Row bench_probe(const std::string& mesh, int repeats) {
              r);
   return r;
 }
+
+// The FEM reference (corotational tets, static Newton: organ.model fem, E = 5 kPa, nu = 0.45
+// as in the accuracy study) on the same probe scene, on the level-3 liver (642 surface
+// nodes; FEM is too slow on the bench's larger livers), written to `dir`. The same
+// timing as bench_probe; `vdm` at the same level is the row to compare with.
+std::string write_level3_liver(const fs::path& dir) {
+  const std::string mesh = (dir / "liver_L3.obj").string();
+  std::string error;
+  if (!save_obj(make_liver_mesh(3), mesh, "vdmsim liver level 3 (app/organ_generator.cpp), for `vdmsim bench`", error))
+    throw std::runtime_error(error);
+  return mesh;
+}
+
+Row bench_fem(const fs::path& dir, int frames) {
+  Row r{"liver_probe", "fem"};
+  const std::string mesh = write_level3_liver(dir);
+  PreparedScene ps;
+  std::vector<SceneProblem> problems;
+  {
+    PreparedScene vdm_scene = probe_scene(mesh, frames, false);
+    SceneDef s = vdm_scene.scene;
+    s.model = "fem";
+    s.young_modulus = 5000;
+    s.poisson_ratio = 0.45;
+    if (!prepare_scene_def(s, ps, problems))
+      throw std::runtime_error(problems.empty() ? "cannot prepare the FEM probe scene" : problems.back().text());
+  }
+  time_steps(ps, 1, [](int, int f, const SceneSimulation& sim) { return sim.contact_report().nodes > 0 && f > 20; }, r);
+  return r;
+}
+
+// VDM on the FEM case's level-3 liver (bench_fem), timed the same way.
+Row bench_probe_level3(const fs::path& dir, int repeats) { return bench_probe(write_level3_liver(dir), repeats); }
 
 // Bullet's btSoftBody on the same surface, probe motion and frames as bench_probe; timed the
 // same way (frames in contact, the first 20 frames of the first run not timed).
@@ -233,7 +268,7 @@ Row bench_pipeline(const fs::path& dir, int frames) {
 
 }  // namespace
 
-int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::ostream& err) {
+int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::ostream& err, const std::string& only) {
   std::string error;
   if (!prepare_output_dir(out_dir, error)) {
     err << "vdmsim: error: " << error << "\n";
@@ -253,6 +288,8 @@ int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::os
   } else {
     out << "bench: liver_probe bullet: skipped (this build has no Bullet: install libbullet-dev and reconfigure)\n";
   }
+  cases.push_back({"liver_probe 642", [&] { return bench_probe_level3(dir, repeats); }});
+  cases.push_back({"liver_probe fem 642", [&] { return bench_fem(dir, quick ? 26 : 60); }});
   cases.push_back({"grasp_lift", [&] { return bench_grasp(repeats); }});
   cases.push_back({"render_720p", [&] { return bench_render(dir, quick ? 6 : 20, 4); }});
   cases.push_back({"render_720p_1x", [&] { return bench_render(dir, quick ? 6 : 20, 1); }});
@@ -260,6 +297,7 @@ int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::os
 
   std::vector<Row> rows;
   for (const auto& [label, body] : cases) {
+    if (!only.empty() && label.find(only) == std::string::npos) continue;
     Row row;
     out << "bench: " << label << " ..." << std::flush;
     if (!run_isolated(body, row, error)) {
@@ -287,7 +325,7 @@ int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::os
   p.x_label = "surface nodes";
   p.y_label = "median ms per step";
   p.log_x = p.log_y = true;
-  for (const char* model : {"vdm", "bullet"}) {
+  for (const char* model : {"vdm", "bullet", "fem"}) {
     render::Series s;
     s.label = model;
     s.markers = true;
@@ -297,10 +335,14 @@ int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::os
         s.y.push_back(r.median_ms);
       }
     if (s.x.empty()) continue;
-    if (s.x.size() >= 2) {
+    // The fit spans 2.5k nodes and up (the range; the 642-node row is FEM's organ).
+    std::vector<size_t> fit;
+    for (size_t i = 0; i < s.x.size(); ++i)
+      if (s.x[i] >= 2000) fit.push_back(i);
+    if (fit.size() >= 2) {
       double sx = 0, sy = 0, sxx = 0, sxy = 0;
-      const double n = double(s.x.size());
-      for (size_t i = 0; i < s.x.size(); ++i) {
+      const double n = double(fit.size());
+      for (size_t i : fit) {
         const double lx = std::log(s.x[i]), ly = std::log(s.y[i]);
         sx += lx;
         sy += ly;
@@ -309,7 +351,7 @@ int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::os
       }
       const double slope = (n * sxy - sx * sy) / (n * sxx - sx * sx);
       out << "scaling: " << model << " ms per step grows as nodes^" << std::setprecision(3) << slope
-          << " (log-log fit over " << s.x.size() << " sizes)\n";
+          << " (log-log fit over " << fit.size() << " sizes, 2.5k nodes and up)\n";
       s.label += " (nodes^" + render::format_number(slope, 3) + ")";
     }
     p.series.push_back(s);

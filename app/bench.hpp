@@ -13,6 +13,8 @@ namespace vdmsim {
 // with an 8 mm probe, so that it meets nodes on every mesh; `frames` frames.
 PreparedScene bench_probe_scene(const std::string& mesh, int frames, bool render);
 
-int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::ostream& err);
+// `only` (may be empty): run only the cases whose label contains it.
+int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::ostream& err,
+              const std::string& only = "");
 
 }  // namespace vdmsim

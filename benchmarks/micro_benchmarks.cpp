@@ -6,14 +6,22 @@
 // alone), the stress view's scalar field and colour lookup, PNG encoding of a 720p frame.
 #include <benchmark/benchmark.h>
 
+#include <time.h>
+
 #include <array>
 #include <cstdio>
 #include <string>
 
+#include "app/bench.hpp"
 #include "app/mesh_io.hpp"
+#include "app/quantile.hpp"
+#include "app/scene_simulation.hpp"
 #include "engine/contact.hpp"
 #include "engine/geometry.hpp"
+#include "engine/axis_incomplete_cholesky.hpp"
+#include "engine/axis_matrices.hpp"
 #include "engine/incomplete_cholesky.hpp"
+#include "engine/node_ordering.hpp"
 #include "engine/sparse_ldlt.hpp"
 #include "engine/sim_state.hpp"
 #include "engine/stiffness.hpp"
@@ -23,6 +31,12 @@
 #include "render/render_scene.hpp"
 
 namespace {
+
+double thread_cpu_ms() {
+  timespec t;
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return 1e3 * double(t.tv_sec) + 1e-6 * double(t.tv_nsec);
+}
 
 const vdm::SurfaceMesh& liver() {
   static const vdm::SurfaceMesh mesh = [] {
@@ -129,11 +143,53 @@ void BM_ContactStep(benchmark::State& st) {
 }
 BENCHMARK(BM_ContactStep)->Unit(benchmark::kMillisecond);
 
+// The bench's liver probe case (`vdmsim bench`, liver_probe): an 8 mm probe pressed into the
+// liver (2.5k, 10k or 40k nodes, refresh every step, structured solver); one benchmark iteration
+// is the whole 60-frame run, its time the engine time of the frames in contact. Counters:
+// median ms per contact frame (wall, and CPU time of this thread: less disturbed by other
+// processes on a shared machine), engine solves (active-set iterations) and Krylov
+// iterations per contact frame.
+void BM_LiverProbeFrames(benchmark::State& st) {
+  const char* mesh = st.range(0) == 40 ? "liver_L6.obj" : st.range(0) == 10 ? "liver_L5.obj" : "liver_L4.obj";
+  static vdmsim::PreparedScene ps;
+  static std::string loaded;
+  if (loaded != mesh) {
+    ps = vdmsim::bench_probe_scene(mesh, 60, false);
+    loaded = mesh;
+  }
+  std::vector<double> times, cpu_times;
+  double solves = 0, iterations = 0;
+  for (auto _ : st) {
+    vdmsim::SceneSimulation sim(ps);
+    double total = 0;
+    for (int f = 0; f < 60; ++f) {
+      const double cpu0 = thread_cpu_ms();
+      sim.advance(f);
+      const double cpu = thread_cpu_ms() - cpu0;
+      if (sim.contact_report().nodes == 0) continue;
+      total += sim.frame_step_ms();
+      times.push_back(sim.frame_step_ms());
+      cpu_times.push_back(cpu);
+      solves += sim.contact_report().solves;
+      iterations += sim.frame_iterations();
+    }
+    st.SetIterationTime(total / 1000.0);
+  }
+  const double frames = std::max<double>(1.0, double(times.size()));
+  st.counters["median_ms"] = vdmsim::quantile(times, 0.5);
+  st.counters["median_cpu_ms"] = vdmsim::quantile(cpu_times, 0.5);
+  st.counters["solves_per_frame"] = solves / frames;
+  st.counters["krylov_its_per_frame"] = iterations / frames;
+  st.SetLabel(std::to_string(ps.model.n) + " nodes");
+}
+BENCHMARK(BM_LiverProbeFrames)->Arg(2)->Arg(10)->Arg(40)->Iterations(3)->UseManualTime()->Unit(benchmark::kMillisecond);
+
 // The per-axis kernels of the structured solver on the 10k liver's K^z at rest: SpMV, IC(0)
 // factorisation and apply, and the cached sparse LDL^T (factorisation, one solve).
 struct AxisMatrix {
   vdm::TissueModel m = model(vdm::SolverMethod::structured);
   vdm::SpMat K;
+  std::array<vdm::SpMat, 3> K3;
   AxisMatrix() {
     vdm::NodeMat a(m.n, 3);
     vdm::Vec v(m.n);
@@ -142,6 +198,7 @@ struct AxisMatrix {
     std::array<vdm::SpMat, 3> k3 = {m.pattern.matrix, m.pattern.matrix, m.pattern.matrix};
     vdm::assemble_stiffness(m, a, v, vdm::Vec(), k3);
     K = k3[2];
+    K3 = k3;
   }
 };
 
@@ -170,6 +227,44 @@ void BM_AxisKernels(benchmark::State& st) {
   st.SetLabel(std::string(names[which]) + (which >= 3 ? " (L nnz " + std::to_string(ldlt.factor_nonzeros()) + ")" : ""));
 }
 BENCHMARK(BM_AxisKernels)->DenseRange(0, 4)->Unit(benchmark::kMicrosecond);
+
+// The same kernels on the three axes together (engine/axis_matrices, axis_incomplete_cholesky:
+// what the structured solver runs), in its reverse Cuthill-McKee order: one product or IC(0)
+// apply on a block of 3 vectors (r) or 6 (r and s), the IC(0) factorisation of all three
+// axes (plain and modified), the gather of their values. Compare with 3x (or 6x) the single-axis figures of BM_AxisKernels.
+void BM_ThreeAxisKernels(benchmark::State& st) {
+  static const AxisMatrix am;
+  const int n = am.m.n;
+  static vdm::AxisMatrices K;
+  static vdm::AxisIncompleteCholesky ic;
+  if (K.n != n) {
+    K.analyze(am.m.pattern.matrix, vdm::reverse_cuthill_mckee(am.m.pattern.matrix));
+    K.gather(am.K3);
+    ic.analyze(K);
+  }
+  ic.factorize(K);
+  std::vector<double> x(6 * size_t(n), 1.0), y(6 * size_t(n));
+  double dot[6];
+  const int which = static_cast<int>(st.range(0));
+  for (auto _ : st) {
+    switch (which) {
+      case 0: vdm::multiply_block<3>(K, x.data(), y.data(), dot); break;
+      case 1: vdm::multiply_block<6>(K, x.data(), y.data(), dot); break;
+      case 2: ic.apply<3>(x.data(), y.data(), dot); break;
+      case 3: ic.apply<6>(x.data(), y.data(), dot); break;
+      case 4: ic.factorize(K); break;
+      case 5: K.gather(am.K3); break;
+      default: ic.factorize(K, 0.9); break;
+    }
+    benchmark::DoNotOptimize(y.data());
+    benchmark::DoNotOptimize(dot);
+  }
+  const char* names[] = {"spmv x3",       "spmv x6",       "ic0_apply x3", "ic0_apply x6", "ic0_factorize 3 axes",
+                         "gather 3 axes", "mic0_factorize 3 axes (omega 0.9, the solver's)"};
+  st.SetLabel(names[which]);
+}
+BENCHMARK(BM_ThreeAxisKernels)->DenseRange(0, 6)->Unit(benchmark::kMicrosecond);
+
 
 // What the contact broad phase costs without a BVH: the exact node-versus-capsule distance of
 // every node (the narrow phase's own test), for comparison with BM_ContactStep's collision_ms.

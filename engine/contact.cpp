@@ -187,7 +187,13 @@ ContactSolver::ContactSolver(const TissueModel& m, ContactSettings settings)
 ContactSolver::~ContactSolver() = default;
 
 void ContactSolver::refit(const NodeMat& x) {
-  for (size_t i = 0; i < fcl_->points.size(); ++i) fcl_->points[i] = x.row(static_cast<Eigen::Index>(i)).transpose();
+  // A step starts where the last one ended: the tree already has these positions.
+  size_t i = 0;
+  if (refitted_)
+    while (i < fcl_->points.size() && fcl_->points[i] == x.row(static_cast<Eigen::Index>(i)).transpose()) ++i;
+  if (refitted_ && i == fcl_->points.size()) return;
+  refitted_ = true;
+  for (i = 0; i < fcl_->points.size(); ++i) fcl_->points[i] = x.row(static_cast<Eigen::Index>(i)).transpose();
   fcl_->bvh->beginUpdateModel();
   fcl_->bvh->updateSubModel(fcl_->points);
   fcl_->bvh->endUpdateModel(true, true);

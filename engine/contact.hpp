@@ -106,7 +106,9 @@ class ContactSolver {
   // Penalty forces on the nodes at positions x (penalty_force_) and the per-axis spring
   // stiffness that bounds their Jacobian (penalty_spring_). Returns the deepest sample (m).
   double penalty_forces(const std::vector<ToolShape>& tools, const NodeMat& x, ContactReport& report);
+  // Refits the organ's tree to positions x (nothing to do when they are those of the last refit).
   void refit(const NodeMat& x);
+  bool refitted_ = false;
 
   struct Fcl;
   std::unique_ptr<Fcl> fcl_;

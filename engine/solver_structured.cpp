@@ -1,111 +1,103 @@
 // Structured solver: u = r + dP s with K^d r^d = rhs^d and K^d s^d = a^d (six SPD solves by
-// PCG with IC(0), each warm-started), dP = (c - a.r) / (a.s). While the matrices are
+// PCG with a modified IC(0), each warm-started), dP = (c - a.r) / (a.s). While the matrices are
 // unchanged s is reused and only the three r solves run. The three axes are one system: each
 // axis stops when its residual is below the tolerance times the norm of the whole right-hand
 // side (all axes) over sqrt(3), so an axis that carries little load (x and y under a
 // vertical probe) is not solved to a finer absolute accuracy than the others. (Warm starts
 // extrapolated from the last two solutions were tried: with this ordering they saved one
 // iteration in 50 and broke the 60 % cube's mirror symmetry test; not kept.)
-// The solves run on a copy of K^d in reverse Cuthill-McKee order (engine/node_ordering).
+// The solves run on a copy of K^d in reverse Cuthill-McKee order (engine/node_ordering), the
+// three axes stored together (engine/axis_matrices): the three r solves, and the three s
+// solves with them when s is due, run as one block PCG (engine/block_pcg.hpp) whose every
+// column is its own PCG with its own stop; the matrix product and the IC(0) sweeps serve the
+// whole block in one pass over the indices. Per contact frame of the bench's 10k liver this
+// is one block of about 11 iterations (the s columns take longest) where the six separate
+// solves took 50 iterations of one vector each with plain IC(0).
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
-#include "engine/incomplete_cholesky.hpp"
-#include "engine/krylov.hpp"
+#include "engine/axis_incomplete_cholesky.hpp"
+#include "engine/axis_matrices.hpp"
+#include "engine/block_pcg.hpp"
 #include "engine/linear_solver.hpp"
 #include "engine/node_ordering.hpp"
-#include "engine/stiffness.hpp"
 
 namespace vdm {
 namespace {
+
+// Relaxation of the modified IC(0) preconditioner (axis_incomplete_cholesky.hpp). On the
+// bench's liver probe, PCG iterations per solve (the longest column of the block; 0 = plain
+// IC(0)): 14.6 at omega 0, 11.3 at 0.8, 10.6 at 0.9 and 0.95, 11.5 at 1 (10k nodes); 11.3
+// at 0, 9.2 at 0.9 (2.5k).
+constexpr double kMicOmega = 0.9;
 
 class StructuredSolver final : public LinearSolver {
  public:
   explicit StructuredSolver(const SolverSettings& s) : settings_(s) {}
 
   void analyze(const SpMat& pattern) override {
-    const int n = static_cast<int>(pattern.rows());
-    // The solves run in reverse Cuthill-McKee order: entry (i, j) of the permuted matrix is
-    // entry (perm_[i], perm_[j]) of K; src_ maps its values to K's.
+    n_ = static_cast<int>(pattern.rows());
     perm_ = reverse_cuthill_mckee(pattern);
-    std::vector<int> iperm(static_cast<size_t>(n));
-    for (int i = 0; i < n; ++i) iperm[perm_[i]] = i;
-    std::vector<Eigen::Triplet<double, int>> entries;
-    entries.reserve(static_cast<size_t>(pattern.nonZeros()));
-    for (int j = 0; j < n; ++j)
-      for (int k = pattern.outerIndexPtr()[j]; k < pattern.outerIndexPtr()[j + 1]; ++k)
-        entries.emplace_back(iperm[pattern.innerIndexPtr()[k]], iperm[j], double(k));
-    SpMat permuted(n, n);
-    permuted.setFromTriplets(entries.begin(), entries.end());
-    permuted.makeCompressed();
-    src_.resize(static_cast<size_t>(permuted.nonZeros()));
-    for (Eigen::Index k = 0; k < permuted.nonZeros(); ++k) src_[size_t(k)] = static_cast<int>(permuted.valuePtr()[k]);
-    permuted.coeffs().setZero();
-    for (int d = 0; d < 3; ++d) {
-      Kp_[d] = permuted;
-      ic_[d].analyze(Kp_[d]);
-    }
-    r_ = NodeMat::Zero(n, 3);
-    s_ = NodeMat::Zero(n, 3);
-    rp_ = NodeMat::Zero(n, 3);
-    sp_ = NodeMat::Zero(n, 3);
-    b_.resize(n);
-    x_.resize(n);
-    work_.resize(n);
+    K_.analyze(pattern, perm_);
+    ic_.analyze(K_);
+    r_ = NodeMat::Zero(n_, 3);
+    s_ = NodeMat::Zero(n_, 3);
+    rp_.assign(3 * size_t(n_), 0.0);
+    sp_.assign(3 * size_t(n_), 0.0);
+    b_.assign(6 * size_t(n_), 0.0);
+    x_.assign(6 * size_t(n_), 0.0);
+    work_.resize(6 * size_t(n_));
   }
 
   const NodeMat& pressure_response(const std::array<SpMat, 3>&, const NodeMat& a) override {
     if (!s_valid_) {
-      const double a_norm = a.norm();
-      for (int d = 0; d < 3; ++d) solve_axis(d, a, a_norm, sp_, s_);
+      solve_block<3>(nullptr, &a);
       s_valid_ = true;
     }
     return s_;
   }
 
   void matrices_changed(const std::array<SpMat, 3>& K) override {
-    for (int d = 0; d < 3; ++d) {
-      const double* src = K[d].valuePtr();
-      double* dst = Kp_[d].valuePtr();
-      for (size_t k = 0; k < src_.size(); ++k) dst[k] = src[src_[k]];
-      ic_[d].factorize(Kp_[d]);
-    }
+    K_.gather(K);
+    ic_.factorize(K_, kMicOmega);
     s_valid_ = false;
     pending_factorizations_ = 3;
   }
 
   void save_warm_state(std::vector<double>& out) const override {
-    for (const NodeMat* x : {&r_, &s_, &rp_, &sp_}) put_warm(out, *x);
+    put_warm(out, r_);
+    put_warm(out, s_);
+    out.insert(out.end(), rp_.begin(), rp_.end());
+    out.insert(out.end(), sp_.begin(), sp_.end());
     out.push_back(s_valid_ ? 1.0 : 0.0);
     out.push_back(pending_factorizations_);
   }
 
   bool load_warm_state(const std::vector<double>& in) override {
     size_t pos = 0;
-    for (NodeMat* x : {&r_, &s_, &rp_, &sp_})
-      if (!take_warm(in, pos, *x)) return false;
-    if (in.size() != pos + 2) return false;
+    if (!take_warm(in, pos, r_) || !take_warm(in, pos, s_)) return false;
+    if (in.size() != pos + rp_.size() + sp_.size() + 2) return false;
+    for (std::vector<double>* v : {&rp_, &sp_}) {
+      std::copy(in.begin() + static_cast<std::ptrdiff_t>(pos), in.begin() + static_cast<std::ptrdiff_t>(pos + v->size()),
+                v->begin());
+      pos += v->size();
+    }
     s_valid_ = in[pos] != 0.0;
     pending_factorizations_ = static_cast<int>(in[pos + 1]);
     return true;
   }
 
-  // `K` is the one last given to matrices_changed(), of which Kp_ holds the permuted values.
+  // `K` is the one last given to matrices_changed(), of which K_ holds the permuted values.
   SolveReport solve(const std::array<SpMat, 3>&, const NodeMat& rhs, const NodeMat& a, double c,
                     bool volume_constraint, NodeMat& u, double& dP) override {
     SolveReport rep;
     rep.factorizations = pending_factorizations_;
     pending_factorizations_ = 0;
-    auto count = [&rep](const KrylovResult& kr) {
-      rep.iterations += kr.iterations;
-      rep.converged = rep.converged && kr.converged;
-    };
-    const double rhs_norm = rhs.norm(), a_norm = a.norm();
     const bool new_s = volume_constraint && !s_valid_;
-    for (int d = 0; d < 3; ++d) {
-      count(solve_axis(d, rhs, rhs_norm, rp_, r_));
-      if (new_s) count(solve_axis(d, a, a_norm, sp_, s_));
-    }
+    const BlockReport br = new_s ? solve_block<6>(&rhs, &a) : solve_block<3>(&rhs, nullptr);
+    rep.iterations = br.iterations;
+    rep.converged = br.converged;
     if (volume_constraint) s_valid_ = true;
     dP = volume_constraint ? pressure_for_volume(a, r_, s_, c) : 0.0;
     u.noalias() = r_ + dP * s_;
@@ -113,36 +105,71 @@ class StructuredSolver final : public LinearSolver {
   }
 
  private:
-  // K^d x = b.col(d) (original order) by PCG with IC(0) in the permuted order until
-  // |b - K x| <= tolerance b_all / sqrt(3), warm-started from xp.col(d) (the last solution of
-  // the same system, permuted). The result goes to xp.col(d) and, in node order, to out.col(d).
-  KrylovResult solve_axis(int d, const NodeMat& b, double b_all, NodeMat& xp, NodeMat& out) {
-    const SpMat& K = Kp_[d];
-    const IncompleteCholesky& ic = ic_[d];
-    auto op = [&K](const double* in, double* res) { symmetric_multiply(K, in, res); };
-    auto pre = [&ic](const double* in, double* res) { ic.apply(in, res); };
-    const int n = static_cast<int>(b_.size());
-    for (int i = 0; i < n; ++i) b_[i] = b(perm_[i], d);
-    if (!settings_.warm_start) x_.setZero();
-    else x_ = xp.col(d);
-    const double bd = b_.norm();
-    // sqrt(3): the three axes together then meet the tolerance on the whole system.
-    const double tol = bd > 0 ? settings_.tolerance * b_all / (bd * std::sqrt(3.0)) : settings_.tolerance;
-    const KrylovResult kr = pcg(op, pre, b_, x_, tol, settings_.max_iterations, work_);
-    xp.col(d) = x_;
-    for (int i = 0; i < n; ++i) out(perm_[i], d) = x_[i];
-    return kr;
+  struct BlockReport {
+    int iterations = 0;  // summed over the columns (the per-axis solves)
+    bool converged = true;
+  };
+
+  // K^d r^d = rhs^d (rhs given) and K^d s^d = a^d (a given) by block PCG with IC(0) in the
+  // permuted order, warm-started from the last solutions (rp_, sp_), each axis until
+  // |b - K x| <= tolerance |b_all| / sqrt(3) (b_all: that right-hand side on all axes). The
+  // results go to r_ and s_ in node order. W = 3 for one of them, 6 for both.
+  template <int W>
+  BlockReport solve_block(const NodeMat* rhs, const NodeMat* a) {
+    constexpr int G = W / 3;  // systems per axis: column d G + g is axis d of system g
+    const NodeMat* src[2] = {rhs ? rhs : a, rhs ? a : nullptr};
+    std::vector<double>* warm[2] = {rhs ? &rp_ : &sp_, &sp_};
+    NodeMat* out[2] = {rhs ? &r_ : &s_, &s_};
+    double threshold[W];
+    for (int g = 0; g < G; ++g) {
+      const NodeMat& b = *src[g];
+      const std::vector<double>& x0 = *warm[g];
+      for (int i = 0; i < n_; ++i) {
+        const int node = perm_[size_t(i)];
+        for (int d = 0; d < 3; ++d) {
+          b_[size_t(i) * W + size_t(d * G + g)] = b(node, d);
+          x_[size_t(i) * W + size_t(d * G + g)] = settings_.warm_start ? x0[3 * size_t(i) + size_t(d)] : 0.0;
+        }
+      }
+      // sqrt(3): the three axes together then meet the tolerance on the whole system.
+      const double t = settings_.tolerance * b.norm() / std::sqrt(3.0);
+      for (int d = 0; d < 3; ++d) threshold[d * G + g] = t;
+    }
+    const AxisMatrices& K = K_;
+    const AxisIncompleteCholesky& ic = ic_;
+    auto op = [&K](const double* in, double* res, double* dot) { multiply_block<W>(K, in, res, dot); };
+    auto pre = [&ic](const double* in, double* res, double* dot) { ic.apply<W>(in, res, dot); };
+    std::array<KrylovResult, W> kr;
+    block_pcg<W>(op, pre, n_, b_.data(), x_.data(), threshold, settings_.max_iterations, work_, kr);
+    BlockReport rep;
+    for (const KrylovResult& k : kr) {
+      rep.iterations += k.iterations;
+      rep.converged = rep.converged && k.converged;
+    }
+    for (int g = 0; g < G; ++g) {
+      std::vector<double>& x0 = *warm[g];
+      NodeMat& o = *out[g];
+      for (int i = 0; i < n_; ++i) {
+        const int node = perm_[size_t(i)];
+        for (int d = 0; d < 3; ++d) {
+          const double v = x_[size_t(i) * W + size_t(d * G + g)];
+          x0[3 * size_t(i) + size_t(d)] = v;
+          o(node, d) = v;
+        }
+      }
+    }
+    return rep;
   }
 
   SolverSettings settings_;
+  int n_ = 0;
   std::vector<int> perm_;        // solver index -> node (reverse Cuthill-McKee)
-  std::vector<int> src_;         // permuted value index -> index in K's values
-  std::array<SpMat, 3> Kp_;      // permuted K^d
-  IncompleteCholesky ic_[3];
+  AxisMatrices K_;               // permuted K^x, K^y, K^z
+  AxisIncompleteCholesky ic_;
   NodeMat r_, s_;                // node order
-  NodeMat rp_, sp_;              // solver order: the last solutions (warm starts)
-  Vec b_, x_;
-  PcgWorkspace work_;
+  std::vector<double> rp_, sp_;  // solver order, 3 per row: the last solutions (warm starts)
+  std::vector<double> b_, x_;    // the block's right-hand sides and iterates
+  BlockPcgWorkspace work_;
   bool s_valid_ = false;
   int pending_factorizations_ = 0;
 };

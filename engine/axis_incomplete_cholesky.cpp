@@ -1,0 +1,211 @@
+#include "engine/axis_incomplete_cholesky.hpp"
+
+#include <cmath>
+
+#include "engine/simd2.hpp"
+
+namespace vdm {
+
+void AxisIncompleteCholesky::analyze(const AxisMatrices& K) {
+  n_ = K.n;
+  lo_start_.assign(size_t(n_) + 1, 0);
+  lo_col_.clear();
+  lo_src_.clear();
+  for (int i = 0; i < n_; ++i) {
+    for (int p = K.start[size_t(i)]; p < K.start[size_t(i) + 1]; ++p)
+      if (K.col[size_t(p)] < i) {  // columns ascending: the lower ones come first
+        lo_col_.push_back(K.col[size_t(p)]);
+        lo_src_.push_back(p);
+      }
+    lo_start_[size_t(i) + 1] = static_cast<int>(lo_col_.size());
+  }
+  lo_val_.assign(3 * lo_col_.size(), 0.0);
+  // Rows of L^T: entry (i, k) of L with k < i is entry (k, i) of L^T.
+  up_start_.assign(size_t(n_) + 1, 0);
+  for (size_t p = 0; p < lo_col_.size(); ++p) ++up_start_[size_t(lo_col_[p]) + 1];
+  for (int k = 0; k < n_; ++k) up_start_[size_t(k) + 1] += up_start_[size_t(k)];
+  up_col_.assign(lo_col_.size(), 0);
+  up_src_.assign(lo_col_.size(), 0);
+  std::vector<int> fill(up_start_.begin(), up_start_.end() - 1);
+  for (int i = 0; i < n_; ++i)
+    for (int p = lo_start_[size_t(i)]; p < lo_start_[size_t(i) + 1]; ++p) {
+      const int k = lo_col_[size_t(p)];
+      up_col_[size_t(fill[size_t(k)])] = i;
+      up_src_[size_t(fill[size_t(k)]++)] = p;
+    }
+  up_val_.assign(3 * lo_col_.size(), 0.0);
+  inv_diag_.assign(3 * size_t(n_), 0.0);
+  work_lo_.assign(3 * lo_col_.size(), 0.0);
+  work_diag_.assign(3 * size_t(n_), 0.0);
+  // Where each update of the right-looking factorisation lands, in the order factorize()
+  // makes them: entry (i, j) of L for rows i > j of column k, or -1 outside the pattern.
+  update_target_.clear();
+  for (int k = 0; k < n_; ++k)
+    for (int q1 = up_start_[size_t(k)]; q1 < up_start_[size_t(k) + 1]; ++q1)
+      for (int q2 = up_start_[size_t(k)]; q2 < q1; ++q2) {
+        const int i = up_col_[size_t(q1)], j = up_col_[size_t(q2)];
+        int m = -1;
+        for (int t = lo_start_[size_t(i)]; t < lo_start_[size_t(i) + 1]; ++t)
+          if (lo_col_[size_t(t)] == j) m = t;
+        update_target_.push_back(m);
+      }
+}
+
+int AxisIncompleteCholesky::factorize(const AxisMatrices& K, double omega) {
+  // Right-looking: column k of L, then its updates of the rows below; an update that falls
+  // outside the pattern is dropped and, times omega, taken off both diagonals instead.
+  int repaired = 0;
+  double* L = lo_val_.data();
+  double* wl = work_lo_.data();
+  double* wd = work_diag_.data();
+  for (size_t p = 0; p < lo_src_.size(); ++p)
+    for (size_t d = 0; d < 3; ++d) wl[3 * p + d] = K.off[3 * size_t(lo_src_[p]) + d];
+  for (size_t k = 0; k < 3 * size_t(n_); ++k) wd[k] = K.diag[k];
+  const int* target = update_target_.data();
+  for (int k = 0; k < n_; ++k) {
+    for (int d = 0; d < 3; ++d) {
+      const double akk = K.diag[3 * size_t(k) + size_t(d)];
+      double piv = wd[3 * size_t(k) + size_t(d)];
+      if (!(piv > 1e-12 * std::abs(akk))) {
+        piv = std::abs(akk) > 0 ? std::abs(akk) : 1.0;
+        ++repaired;
+      }
+      inv_diag_[3 * size_t(k) + size_t(d)] = 1.0 / std::sqrt(piv);
+    }
+    const int qb = up_start_[size_t(k)], qe = up_start_[size_t(k) + 1];
+    for (int q = qb; q < qe; ++q) {
+      const size_t p = size_t(up_src_[size_t(q)]);
+      for (size_t d = 0; d < 3; ++d) L[3 * p + d] = wl[3 * p + d] * inv_diag_[3 * size_t(k) + d];
+    }
+    for (int q1 = qb; q1 < qe; ++q1) {
+      const int i = up_col_[size_t(q1)];
+      const double* li = &L[3 * size_t(up_src_[size_t(q1)])];
+      for (size_t d = 0; d < 3; ++d) wd[3 * size_t(i) + d] -= li[d] * li[d];
+      for (int q2 = qb; q2 < q1; ++q2) {
+        const int j = up_col_[size_t(q2)];  // j < i
+        const double* lj = &L[3 * size_t(up_src_[size_t(q2)])];
+        const int m = *target++;
+        if (m >= 0) {
+          for (size_t d = 0; d < 3; ++d) wl[3 * size_t(m) + d] -= li[d] * lj[d];
+        } else {
+          for (size_t d = 0; d < 3; ++d) {
+            const double drop = omega * li[d] * lj[d];
+            wd[3 * size_t(i) + d] -= drop;
+            wd[3 * size_t(j) + d] -= drop;
+          }
+        }
+      }
+    }
+  }
+  for (size_t q = 0; q < up_src_.size(); ++q)
+    for (size_t d = 0; d < 3; ++d) up_val_[3 * q + d] = L[3 * size_t(up_src_[q]) + d];
+  return repaired;
+}
+
+template <int W>
+void AxisIncompleteCholesky::apply(const double* r, double* z, double* rz) const {
+  static_assert(W == 3 || W == 6, "blocks of 3 or 6 vectors");
+  using simd::V2;
+  using simd::load2;
+  using simd::splat;
+  using simd::store2;
+  const int* lo_start = lo_start_.data();
+  const int* lo_col = lo_col_.data();
+  const double* lo_val = lo_val_.data();
+  const int* up_start = up_start_.data();
+  const int* up_col = up_col_.data();
+  const double* up_val = up_val_.data();
+  const double* inv_diag = inv_diag_.data();
+  if constexpr (W == 6) {
+    // Lanes: the two vectors of an axis (axis_matrices.hpp) share the value of L^d.
+    // Forward: L y = r (y stored in z).
+    for (int i = 0; i < n_; ++i) {
+      const double* ri = r + size_t(i) * 6;
+      V2 a0 = load2(ri), a1 = load2(ri + 2), a2 = load2(ri + 4);
+      for (int p = lo_start[i]; p < lo_start[i + 1]; ++p) {
+        const double* v = lo_val + 3 * size_t(p);
+        const double* zj = z + size_t(lo_col[p]) * 6;
+        a0 -= splat(v[0]) * load2(zj);
+        a1 -= splat(v[1]) * load2(zj + 2);
+        a2 -= splat(v[2]) * load2(zj + 4);
+      }
+      const double* id = inv_diag + 3 * size_t(i);
+      double* zi = z + size_t(i) * 6;
+      store2(zi, a0 * splat(id[0]));
+      store2(zi + 2, a1 * splat(id[1]));
+      store2(zi + 4, a2 * splat(id[2]));
+    }
+    // Backward: L^T z = y, by the rows of L^T (a gather like the forward solve).
+    V2 d0 = {0, 0}, d1 = {0, 0}, d2 = {0, 0};
+    for (int i = n_ - 1; i >= 0; --i) {
+      double* zi = z + size_t(i) * 6;
+      V2 a0 = load2(zi), a1 = load2(zi + 2), a2 = load2(zi + 4);
+      for (int p = up_start[i]; p < up_start[i + 1]; ++p) {
+        const double* v = up_val + 3 * size_t(p);
+        const double* zj = z + size_t(up_col[p]) * 6;
+        a0 -= splat(v[0]) * load2(zj);
+        a1 -= splat(v[1]) * load2(zj + 2);
+        a2 -= splat(v[2]) * load2(zj + 4);
+      }
+      const double* id = inv_diag + 3 * size_t(i);
+      a0 *= splat(id[0]);
+      a1 *= splat(id[1]);
+      a2 *= splat(id[2]);
+      store2(zi, a0);
+      store2(zi + 2, a1);
+      store2(zi + 4, a2);
+      const double* ri = r + size_t(i) * 6;
+      d0 += load2(ri) * a0;
+      d1 += load2(ri + 2) * a1;
+      d2 += load2(ri + 4) * a2;
+    }
+    store2(rz, d0);
+    store2(rz + 2, d1);
+    store2(rz + 4, d2);
+  } else {
+    // Lanes: x and y together (their values are adjacent), z alone.
+    for (int i = 0; i < n_; ++i) {
+      const double* ri = r + size_t(i) * 3;
+      V2 axy = load2(ri);
+      double az = ri[2];
+      for (int p = lo_start[i]; p < lo_start[i + 1]; ++p) {
+        const double* v = lo_val + 3 * size_t(p);
+        const double* zj = z + size_t(lo_col[p]) * 3;
+        axy -= load2(v) * load2(zj);
+        az -= v[2] * zj[2];
+      }
+      const double* id = inv_diag + 3 * size_t(i);
+      double* zi = z + size_t(i) * 3;
+      store2(zi, axy * load2(id));
+      zi[2] = az * id[2];
+    }
+    V2 dxy = {0, 0};
+    double dz = 0;
+    for (int i = n_ - 1; i >= 0; --i) {
+      double* zi = z + size_t(i) * 3;
+      V2 axy = load2(zi);
+      double az = zi[2];
+      for (int p = up_start[i]; p < up_start[i + 1]; ++p) {
+        const double* v = up_val + 3 * size_t(p);
+        const double* zj = z + size_t(up_col[p]) * 3;
+        axy -= load2(v) * load2(zj);
+        az -= v[2] * zj[2];
+      }
+      const double* id = inv_diag + 3 * size_t(i);
+      axy *= load2(id);
+      az *= id[2];
+      store2(zi, axy);
+      zi[2] = az;
+      const double* ri = r + size_t(i) * 3;
+      dxy += load2(ri) * axy;
+      dz += ri[2] * az;
+    }
+    store2(rz, dxy);
+    rz[2] = dz;
+  }
+}
+
+template void AxisIncompleteCholesky::apply<3>(const double*, double*, double*) const;
+template void AxisIncompleteCholesky::apply<6>(const double*, double*, double*) const;
+
+}  // namespace vdm

@@ -1,0 +1,43 @@
+#pragma once
+// Zero-fill incomplete Cholesky of the three per-axis matrices at once (AxisMatrices: one
+// pattern, three values per entry), K^d ~ L^d (L^d)^T. With omega = 0 the same factorisation
+// as IncompleteCholesky, per axis; with omega > 0 the modified one (see factorize()). The
+// index work is shared, and apply() solves a block of W vectors (vector c with axis
+// axis_of<W>(c)) in one forward and one backward sweep. analyze() allocates; factorize()
+// and apply() do not.
+#include <vector>
+
+#include "engine/axis_matrices.hpp"
+
+namespace vdm {
+
+class AxisIncompleteCholesky {
+ public:
+  void analyze(const AxisMatrices& K);
+  // Factorisation on K's pattern. omega = 0: IC(0), fill-in outside the pattern dropped;
+  // omega in (0, 1]: relaxed modified IC(0), the fill-in times omega taken off the diagonals
+  // instead (omega = 1: L L^T has K's row sums, MIC(0)), a stronger preconditioner for a
+  // Laplacian plus a diagonal. Returns the number of pivots (over the three axes) that were
+  // not positive and had to be replaced (0 for M-matrices at omega = 0).
+  int factorize(const AxisMatrices& K, double omega = 0.0);
+  // z = (L L^T)^{-1} r on a block of W vectors; also rz[c] = r_c . z_c.
+  template <int W>
+  void apply(const double* r, double* z, double* rz) const;
+  int size() const { return n_; }
+
+ private:
+  int n_ = 0;
+  // Strictly lower part of L by rows (the columns of K's row i below i, ascending);
+  // source: index of the entry among K's off-diagonal entries.
+  std::vector<int> lo_start_, lo_col_, lo_src_;
+  std::vector<double> lo_val_;             // 3 per entry
+  // The same entries by rows of L^T (strictly upper), for a gathering backward solve;
+  // up_src_: index into the lower entries.
+  std::vector<int> up_start_, up_col_, up_src_;
+  std::vector<double> up_val_;             // 3 per entry
+  std::vector<double> inv_diag_;           // 3 per row: 1 / L_ii
+  std::vector<double> work_lo_, work_diag_;  // scratch: K's values as the elimination updates them
+  std::vector<int> update_target_;           // factorize(): the L entry of each update, or -1
+};
+
+}  // namespace vdm

@@ -1,0 +1,43 @@
+#pragma once
+// The three per-axis matrices K^x, K^y, K^z on their shared symmetric sparsity pattern,
+// stored together: one index array, the three values of an entry side by side. Kernels work
+// on blocks of W = 3 G vectors stored node-major (entry (i, c) at [i * W + c]), G vectors per
+// axis side by side: vector c belongs to axis axis_of<W>(c) = c / G (W = 6: r^x s^x r^y s^y
+// r^z s^z). One pass over the indices then serves three (or six: the displacement and the
+// pressure response) right-hand sides, the G vectors of an axis share each matrix value
+// (one SIMD multiply), and the independent dependency chains overlap in the triangular
+// solves.
+#include <array>
+#include <vector>
+
+#include "engine/sparse.hpp"
+
+namespace vdm {
+
+struct AxisMatrices {
+  int n = 0;
+  std::vector<int> start;      // n + 1: row i's off-diagonal entries are [start[i], start[i+1])
+  std::vector<int> col;        // their columns, ascending
+  std::vector<double> off;     // 3 values per off-diagonal entry (x, y, z)
+  std::vector<double> diag;    // 3 values per row
+  std::vector<int> off_src;    // index of each off-diagonal entry in the source matrices' values
+  std::vector<int> diag_src;   // index of each diagonal entry in the source matrices' values
+
+  // Pattern of `pattern` (symmetric, diagonal present) with rows and columns renumbered:
+  // row i here is row perm[i] of `pattern` (perm empty: the identity). Values are zero.
+  void analyze(const SpMat& pattern, const std::vector<int>& perm);
+  // Values from K[0..2] (the pattern analysed; no allocation).
+  void gather(const std::array<SpMat, 3>& K);
+};
+
+// The axis of vector c in a block of W.
+template <int W>
+constexpr int axis_of(int c) {
+  return c / (W / 3);
+}
+
+// y = K x for a block of W vectors (W = 3 or 6); also dot[c] = x_c . y_c.
+template <int W>
+void multiply_block(const AxisMatrices& K, const double* x, double* y, double* dot);
+
+}  // namespace vdm

@@ -1,0 +1,129 @@
+#pragma once
+// Preconditioned conjugate gradients on a block of W independent SPD systems at once (node-
+// major storage, entry (i, c) at [i * W + c]): every column runs its own PCG, exactly the
+// iteration of pcg() in krylov.hpp, with its own step lengths and its own stop, while the
+// operator and the preconditioner are applied to the whole block in one pass. A column that
+// has stopped is frozen (its direction is zeroed), so its result is what it would be alone.
+// The caller owns the workspace: a warmed-up solve allocates nothing.
+#include <array>
+#include <cmath>
+#include <vector>
+
+#include "engine/krylov.hpp"
+
+namespace vdm {
+
+struct BlockPcgWorkspace {
+  std::vector<double> r, z, p, q;
+  void resize(size_t size) {
+    if (r.size() != size) {
+      r.assign(size, 0.0);
+      z.assign(size, 0.0);
+      p.assign(size, 0.0);
+      q.assign(size, 0.0);
+    }
+  }
+};
+
+// Solves A_c x_c = b_c for c < W from the guesses in x, column c until |b_c - A_c x_c| <=
+// threshold[c] (absolute), or max_iter iterations. `op(in, out, dot)`: out = A in on the
+// block and dot[c] = in_c . out_c; `pre(in, out, dot)`: out = P^{-1} in and dot[c] = in_c .
+// out_c. A column with b_c = 0 gets x_c = 0. result[c]: iterations and convergence per
+// column (breakdown: A_c not SPD along the direction, or not finite).
+template <int W, class Op, class Pre>
+void block_pcg(const Op& op, const Pre& pre, int n, const double* b, double* x, const double* threshold,
+               int max_iter, BlockPcgWorkspace& w, std::array<KrylovResult, W>& result) {
+  w.resize(size_t(n) * W);
+  double* r = w.r.data();
+  double* z = w.z.data();
+  double* p = w.p.data();
+  double* q = w.q.data();
+  double bn[W] = {}, rn[W] = {}, dot[W], rz[W], alpha[W], beta[W], live[W];
+  for (int i = 0; i < n; ++i)
+    for (int c = 0; c < W; ++c) bn[c] += b[size_t(i) * W + c] * b[size_t(i) * W + c];
+  op(x, q, dot);
+  for (int i = 0; i < n; ++i)
+    for (int c = 0; c < W; ++c) {
+      const double v = b[size_t(i) * W + c] - q[size_t(i) * W + c];
+      r[size_t(i) * W + c] = v;
+      rn[c] += v * v;
+    }
+  int active = 0;
+  for (int c = 0; c < W; ++c) {
+    result[size_t(c)] = KrylovResult();
+    const double bnorm = std::sqrt(bn[c]);
+    live[c] = 0.0;
+    if (bnorm == 0.0) {
+      for (int i = 0; i < n; ++i) x[size_t(i) * W + c] = 0.0;
+    } else if (!(std::sqrt(rn[c]) <= threshold[c])) {  // NaN: iterate (and break down)
+      live[c] = 1.0;
+      ++active;
+    }
+    result[size_t(c)].relative_residual = bnorm > 0 ? std::sqrt(rn[c]) / bnorm : 0.0;
+  }
+  if (active == 0) return;
+  // A stopped column has r = p = q = 0 (then z = 0 and nothing changes it), unless the
+  // preconditioner is not finite there: its direction is zeroed again after each update.
+  auto zero = [&](double* v, int c) {
+    for (int i = 0; i < n; ++i) v[size_t(i) * W + c] = 0.0;
+  };
+  auto freeze = [&](int c) {
+    live[c] = 0.0;
+    --active;
+    zero(r, c);
+    zero(p, c);
+    zero(q, c);
+  };
+  for (int c = 0; c < W; ++c)
+    if (live[c] == 0.0) zero(r, c);
+  pre(r, z, rz);
+  for (size_t k = 0; k < size_t(n) * W; ++k) p[k] = z[k];
+  for (int c = 0; c < W; ++c)
+    if (live[c] == 0.0 && rz[c] != 0.0) zero(p, c);  // rz = 0 . z: not 0 only when z is not finite
+  for (int it = 1; it <= max_iter; ++it) {
+    op(p, q, dot);
+    for (int c = 0; c < W; ++c) {
+      alpha[c] = 0.0;
+      if (live[c] == 0.0) continue;
+      if (!(dot[c] > 0.0) || !std::isfinite(dot[c])) {  // breakdown: A not SPD along p, or NaN
+        result[size_t(c)].iterations = it;
+        result[size_t(c)].converged = false;
+        freeze(c);
+        continue;
+      }
+      alpha[c] = rz[c] / dot[c];
+    }
+    for (int c = 0; c < W; ++c) rn[c] = 0.0;
+    for (int i = 0; i < n; ++i)
+      for (int c = 0; c < W; ++c) {
+        const size_t k = size_t(i) * W + c;
+        x[k] += alpha[c] * p[k];
+        r[k] -= alpha[c] * q[k];
+        rn[c] += r[k] * r[k];
+      }
+    for (int c = 0; c < W; ++c) {
+      if (live[c] == 0.0) continue;
+      result[size_t(c)].iterations = it;
+      result[size_t(c)].relative_residual = std::sqrt(rn[c] / bn[c]);
+      if (std::sqrt(rn[c]) <= threshold[c]) freeze(c);
+    }
+    if (active == 0) return;
+    double rz_new[W];
+    pre(r, z, rz_new);
+    for (int c = 0; c < W; ++c) {
+      beta[c] = live[c] != 0.0 ? rz_new[c] / rz[c] : 0.0;
+      rz[c] = rz_new[c];
+    }
+    for (int i = 0; i < n; ++i)
+      for (int c = 0; c < W; ++c) {
+        const size_t k = size_t(i) * W + c;
+        p[k] = z[k] + beta[c] * p[k];
+      }
+    for (int c = 0; c < W; ++c)
+      if (live[c] == 0.0 && rz_new[c] != 0.0) zero(p, c);
+  }
+  for (int c = 0; c < W; ++c)
+    if (live[c] != 0.0) result[size_t(c)].converged = false;
+}
+
+}  // namespace vdm
