@@ -271,6 +271,16 @@ void ContactSolver::step(const TissueModel& m, const StepInput& base, const std:
   else step_kinematic(m, base, tools, s, rep);
 }
 
+void ContactSolver::copy_scene_constraints(const TissueModel& m, const StepInput& base) {
+  if (base.prescribed.rows() == m.n) {
+    input_.prescribed = base.prescribed;
+    input_.prescribed_u = base.prescribed_u;
+  } else {
+    input_.prescribed.setZero();
+    input_.prescribed_u.setZero();
+  }
+}
+
 double ContactSolver::penalty_forces(const std::vector<ToolShape>& tools, const NodeMat& x, ContactReport& rep) {
   penalty_force_.setZero();
   penalty_spring_.setZero();
@@ -327,13 +337,7 @@ void ContactSolver::step_penalty(const TissueModel& m, const StepInput& base, co
     return;
   }
   const bool has_prescribed = base.prescribed.rows() == m.n;
-  if (has_prescribed) {
-    input_.prescribed = base.prescribed;
-    input_.prescribed_u = base.prescribed_u;
-  } else {
-    input_.prescribed.setZero();
-    input_.prescribed_u.setZero();
-  }
+  copy_scene_constraints(m, base);
   input_.pressure = base.pressure;
   double smallest = std::numeric_limits<double>::infinity();
   for (const ToolShape& t : tools) smallest = std::min(smallest, t.size());
@@ -484,13 +488,7 @@ void ContactSolver::step_kinematic(const TissueModel& m, const StepInput& base, 
   for (int it = 0; it <= max_it; ++it) {
     input_.force = base.force;
     input_.pressure = base.pressure;
-    if (has_prescribed) {
-      input_.prescribed = base.prescribed;
-      input_.prescribed_u = base.prescribed_u;
-    } else {
-      input_.prescribed.setZero();
-      input_.prescribed_u.setZero();
-    }
+    copy_scene_constraints(m, base);
     for (int i = 0; i < m.n; ++i)
       if (active_[i]) {
         input_.prescribed.row(i).setOnes();

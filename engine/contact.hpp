@@ -103,6 +103,8 @@ class ContactSolver {
                       SimState& state, ContactReport& report);
   void step_penalty(const TissueModel& model, const StepInput& base, const std::vector<ToolShape>& tools,
                     SimState& state, ContactReport& report);
+  // The scene's own prescribed motion (grasp, scripted regions) into input_.
+  void copy_scene_constraints(const TissueModel& model, const StepInput& base);
   // Penalty forces on the nodes at positions x (penalty_force_) and the per-axis spring
   // stiffness that bounds their Jacobian (penalty_spring_). Returns the deepest sample (m).
   double penalty_forces(const std::vector<ToolShape>& tools, const NodeMat& x, ContactReport& report);
