@@ -54,6 +54,21 @@ inline bool take_warm(const std::vector<double>& in, size_t& pos, NodeMat& x) {
   return true;
 }
 
+// A solver's whole warm state when it is its cached pressure response s, whether s is valid,
+// and the factorisations still pending (the direct and reference solvers).
+inline void put_response(std::vector<double>& out, const NodeMat& s, bool valid, int pending) {
+  put_warm(out, s);
+  out.push_back(valid ? 1.0 : 0.0);
+  out.push_back(pending);
+}
+inline bool take_response(const std::vector<double>& in, NodeMat& s, bool& valid, int& pending) {
+  size_t pos = 0;
+  if (!take_warm(in, pos, s) || in.size() != pos + 2) return false;
+  valid = in[pos] != 0.0;
+  pending = static_cast<int>(in[pos + 1]);
+  return true;
+}
+
 // dP = (c - a.r) / (a.s): the pressure that makes u = r + dP s satisfy the volume row
 // (0 when a.s is not positive: no node is free to move).
 double pressure_for_volume(const NodeMat& a, const NodeMat& r, const NodeMat& s, double c);

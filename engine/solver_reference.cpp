@@ -75,17 +75,11 @@ class ReferenceSolver final : public LinearSolver {
 
   // The BiCGSTAB warm start is the caller's u and dP; the pressure response warm-starts from s_.
   void save_warm_state(std::vector<double>& out) const override {
-    put_warm(out, s_);
-    out.push_back(s_valid_ ? 1.0 : 0.0);
-    out.push_back(pending_factorizations_);
+    put_response(out, s_, s_valid_, pending_factorizations_);
   }
 
   bool load_warm_state(const std::vector<double>& in) override {
-    size_t pos = 0;
-    if (!take_warm(in, pos, s_) || in.size() != pos + 2) return false;
-    s_valid_ = in[pos] != 0.0;
-    pending_factorizations_ = static_cast<int>(in[pos + 1]);
-    return true;
+    return take_response(in, s_, s_valid_, pending_factorizations_);
   }
 
   SolveReport solve(const std::array<SpMat, 3>& K, const NodeMat& rhs, const NodeMat& a, double c,

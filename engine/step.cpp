@@ -95,6 +95,25 @@ void build_constraints(const TissueModel& m, const StepInput& in, StepWorkspace&
     }
 }
 
+// K_masked from K with the entries of last_mask eliminated and last_springs on the free
+// diagonal; the free area vectors; the solvers told.
+void build_masked_matrices(const TissueModel& m, const SimState& s, StepWorkspace& w) {
+  const bool springs = !w.last_springs.isZero(0.0);
+  for (int d = 0; d < 3; ++d) {
+    mask_constrained(w.K[d], w.last_mask.col(d).data(), w.K_masked[d]);
+    double* diag = w.K_masked[d].valuePtr();
+    if (springs)
+      for (int i = 0; i < m.n; ++i)
+        if (!w.last_mask(i, d)) diag[m.pattern.diagonal[i]] += w.last_springs(i, d);
+  }
+  w.a_free = s.area_vectors;
+  for (int d = 0; d < 3; ++d)
+    for (int i = 0; i < m.n; ++i)
+      if (w.last_mask(i, d)) w.a_free(i, d) = 0.0;
+  w.solver->matrices_changed(w.K_masked);
+  w.fallback_stale = true;
+}
+
 // Loads f (section 3): external forces and pressures, hydrostatic gravity (eq 9), inertia.
 void build_loads(const TissueModel& m, const StepInput& in, SimState& s, StepWorkspace& w) {
   const NodeMat& A = s.area_vectors;
@@ -257,19 +276,7 @@ void rebuild_matrices(const TissueModel& m, SimState& s) {
   w.steps_since_refresh = since;
   w.matrix_dirty = dirty;
   if (dirty || w.last_mask(0, 0) > 1) return;  // the next step builds K_masked
-  for (int d = 0; d < 3; ++d) {
-    mask_constrained(w.K[d], w.last_mask.col(d).data(), w.K_masked[d]);
-    double* diag = w.K_masked[d].valuePtr();  // the springs of the last step, as it added them
-    if (!w.last_springs.isZero(0.0))
-      for (int i = 0; i < m.n; ++i)
-        if (!w.last_mask(i, d)) diag[m.pattern.diagonal[i]] += w.last_springs(i, d);
-  }
-  w.a_free = s.area_vectors;
-  for (int d = 0; d < 3; ++d)
-    for (int i = 0; i < m.n; ++i)
-      if (w.last_mask(i, d)) w.a_free(i, d) = 0.0;
-  w.solver->matrices_changed(w.K_masked);
-  w.fallback_stale = true;
+  build_masked_matrices(m, s, w);  // with the mask and springs of the last step
 }
 
 void rewind_step(const TissueModel& m, SimState& s) {
@@ -373,24 +380,10 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
     const bool springs = in.spring_k.rows() == m.n;
     const bool springs_changed = springs ? in.spring_k != w.last_springs : !w.last_springs.isZero(0.0);
     if (w.matrix_dirty || w.mask != w.last_mask || springs_changed) {
-      for (int d = 0; d < 3; ++d) mask_constrained(w.K[d], w.mask.col(d).data(), w.K_masked[d]);
-      if (springs) {
-        w.last_springs = in.spring_k;
-        for (int d = 0; d < 3; ++d) {
-          double* diag = w.K_masked[d].valuePtr();
-          for (int i = 0; i < m.n; ++i)
-            if (!w.mask(i, d)) diag[m.pattern.diagonal[i]] += in.spring_k(i, d);
-        }
-      } else {
-        w.last_springs.setZero();
-      }
-      w.a_free = s.area_vectors;
-      for (int d = 0; d < 3; ++d)
-        for (int i = 0; i < m.n; ++i)
-          if (w.mask(i, d)) w.a_free(i, d) = 0.0;
-      w.solver->matrices_changed(w.K_masked);
-      w.fallback_stale = true;
       w.last_mask = w.mask;
+      if (springs) w.last_springs = in.spring_k;
+      else w.last_springs.setZero();
+      build_masked_matrices(m, s, w);
       w.matrix_dirty = false;
     }
     build_loads(m, in, s, w);
