@@ -137,7 +137,7 @@ TEST(PenaltyContact, ThinProbeBetweenNodesMeetsTheTriangle) {
   }
 }
 
-TEST(PenaltyContact, DrivenNodesAndModelsWithoutSpringsAreRefused) {
+TEST(PenaltyContact, ModelsWithoutSpringsAreRefused) {
   const double R = 0.05;
   const TissueModel m = ball(R, 3);
   SimState s = make_sim_state(m);
