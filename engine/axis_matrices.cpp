@@ -37,6 +37,9 @@ void AxisMatrices::analyze(const SpMat& pattern, const std::vector<int>& perm) {
   }
   off.assign(3 * col.size(), 0.0);
   diag.assign(3 * size_t(n), 0.0);
+  node.resize(size_t(n));
+  for (int i = 0; i < n; ++i) node[size_t(i)] = perm.empty() ? i : perm[size_t(i)];
+  row_mask.assign(3 * size_t(n), 0);
 }
 
 void AxisMatrices::gather(const std::array<SpMat, 3>& K) {
@@ -54,6 +57,25 @@ void AxisMatrices::gather(const std::array<SpMat, 3>& K) {
     diag[3 * i] = v0[k];
     diag[3 * i + 1] = v1[k];
     diag[3 * i + 2] = v2[k];
+  }
+}
+
+void AxisMatrices::gather(const std::array<SpMat, 3>& K, const FlagMat& mask, const NodeMat* springs) {
+  const double* v[3] = {K[0].valuePtr(), K[1].valuePtr(), K[2].valuePtr()};
+  std::uint8_t* rm = row_mask.data();
+  for (int i = 0; i < n; ++i)
+    for (int d = 0; d < 3; ++d) rm[3 * size_t(i) + size_t(d)] = mask(node[size_t(i)], d) != 0;
+  for (int i = 0; i < n; ++i) {
+    const std::uint8_t* mi = rm + 3 * size_t(i);
+    for (int d = 0; d < 3; ++d) {
+      const double k = springs ? (*springs)(node[size_t(i)], d) : 0.0;
+      diag[3 * size_t(i) + size_t(d)] = mi[d] ? 1.0 : v[d][diag_src[size_t(i)]] + k;
+    }
+    for (int p = start[size_t(i)]; p < start[size_t(i) + 1]; ++p) {
+      const std::uint8_t* mj = rm + 3 * size_t(col[size_t(p)]);
+      const int k = off_src[size_t(p)];
+      for (int d = 0; d < 3; ++d) off[3 * size_t(p) + size_t(d)] = (mi[d] | mj[d]) ? 0.0 : v[d][k];
+    }
   }
 }
 

@@ -41,15 +41,37 @@ void distributed_area_vectors(const NodeMat& x, const TriMat& tris, NodeMat& are
   }
 }
 
+double area_vectors_and_volume(const NodeMat& x, const TriMat& tris, const Vec3& origin, NodeMat& area_vectors) {
+  area_vectors.setZero();
+  double six_v = 0.0;
+  for (Eigen::Index k = 0; k < tris.rows(); ++k) {
+    const int ia = tris(k, 0), ib = tris(k, 1), ic = tris(k, 2);
+    const Vec3 a = x.row(ia), b = x.row(ib), c = x.row(ic);
+    const Vec3 s = (b - a).cross(c - a) / 6.0;  // S_k / 3
+    area_vectors.row(ia) += s.transpose();
+    area_vectors.row(ib) += s.transpose();
+    area_vectors.row(ic) += s.transpose();
+    six_v += (a - origin).dot((b - origin).cross(c - origin));
+  }
+  return six_v / 6.0;
+}
+
 void distributed_volumes(const NodeMat& area_vectors, double volume, Vec& volumes,
                          double min_fraction) {
   const Eigen::Index n = area_vectors.rows();
+  Vec norms(n);
+  for (Eigen::Index i = 0; i < n; ++i) norms[i] = area_vectors.row(i).norm();
+  distributed_volumes_from_norms(norms, volume, volumes, min_fraction);
+}
+
+void distributed_volumes_from_norms(const Vec& area_norms, double volume, Vec& volumes, double min_fraction) {
+  const Eigen::Index n = area_norms.size();
   double total = 0.0;
-  for (Eigen::Index i = 0; i < n; ++i) total += area_vectors.row(i).norm();
+  for (Eigen::Index i = 0; i < n; ++i) total += area_norms[i];
   const double floor_area = min_fraction * total / std::max<Eigen::Index>(n, 1);
   double floored_total = 0.0;
   for (Eigen::Index i = 0; i < n; ++i) {
-    volumes[i] = std::max(area_vectors.row(i).norm(), floor_area);
+    volumes[i] = std::max(area_norms[i], floor_area);
     floored_total += volumes[i];
   }
   const double scale = floored_total > 0.0 ? volume / floored_total : 0.0;

@@ -15,11 +15,17 @@ double surface_area(const NodeMat& x, const TriMat& tris);
 // `area_vectors` (N x 3, must already have N rows). S_k = (x_b - x_a) x (x_c - x_a) / 2.
 void distributed_area_vectors(const NodeMat& x, const TriMat& tris, NodeMat& area_vectors);
 
+// Both of the above in one pass over the triangles (the same values): writes the area
+// vectors and returns the enclosed volume.
+double area_vectors_and_volume(const NodeMat& x, const TriMat& tris, const Vec3& origin, NodeMat& area_vectors);
+
 // Eq (2) with the normalisation choice of vdm-model.md: V_i = V |A_i| / sum_j |A_j|,
 // so that sum_i V_i = V exactly. `volumes` must have N entries. A node whose distributed
 // area is below `min_fraction` of the mean gets that floor (keeps V_i > 0).
 void distributed_volumes(const NodeMat& area_vectors, double volume, Vec& volumes,
                          double min_fraction = 1e-9);
+// The same from the lengths |A_i| (`area_norms`, N) of the area vectors.
+void distributed_volumes_from_norms(const Vec& area_norms, double volume, Vec& volumes, double min_fraction = 1e-9);
 
 // Index of the node of x nearest to p (the first one on a tie).
 int nearest_node(const NodeMat& x, const Vec3& p);

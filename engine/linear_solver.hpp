@@ -18,24 +18,33 @@ struct SolveReport {
   int factorizations = 0;
 };
 
+// The per-axis system a solver sees: K^d as assembled (unmasked, on the model's pattern), the
+// constrained entries (mask(i, d) != 0: row and column i of K^d become the identity) and
+// per-axis springs added to the free diagonal entries (null: none). Each solver eliminates
+// the constraints its own way (the structured one while it copies K into its own layout).
+struct AxisSystem {
+  const std::array<SpMat, 3>* K = nullptr;
+  const FlagMat* mask = nullptr;
+  const NodeMat* springs = nullptr;
+};
+
 class LinearSolver {
  public:
   virtual ~LinearSolver() = default;
   // Once: the (shared) pattern of the per-axis matrices.
   virtual void analyze(const SpMat& pattern) = 0;
-  // The masked matrices or the constrained set changed: refactor / rebuild preconditioners.
-  virtual void matrices_changed(const std::array<SpMat, 3>& K) = 0;
-  // Solves  K^d u^d - dP a^d = rhs^d (d = x, y, z),  a . u = c, where `a` is zero on
-  // constrained entries (whose rows are identities carrying their prescribed values in rhs).
-  // Without the volume constraint dP = 0 and the last row is dropped. `u` holds the
-  // previous solution on entry (warm start). `K` must be the matrices last given to
-  // matrices_changed(): a solver may work on its own copy of them (the structured one keeps
-  // them permuted to reverse Cuthill-McKee order) and not read `K` again.
-  virtual SolveReport solve(const std::array<SpMat, 3>& K, const NodeMat& rhs, const NodeMat& a,
-                            double c, bool volume_constraint, NodeMat& u, double& dP) = 0;
+  // The matrices or the constrained set changed: refactor / rebuild preconditioners. A
+  // solver keeps what it needs of `system` (it may not read the referenced arrays again).
+  virtual void matrices_changed(const AxisSystem& system) = 0;
+  // Solves  K^d u^d - dP a^d = rhs^d (d = x, y, z),  a . u = c, for the system last given to
+  // matrices_changed(), where `a` is zero on constrained entries (whose rows are identities
+  // carrying their prescribed values in rhs). Without the volume constraint dP = 0 and the
+  // last row is dropped. `u` holds the previous solution on entry (warm start).
+  virtual SolveReport solve(const NodeMat& rhs, const NodeMat& a, double c, bool volume_constraint, NodeMat& u,
+                            double& dP) = 0;
   // s with K^d s^d = a^d on every axis (zero on constrained entries): the displacement per
   // unit of fluid pressure. Valid until the matrices change.
-  virtual const NodeMat& pressure_response(const std::array<SpMat, 3>& K, const NodeMat& a) = 0;
+  virtual const NodeMat& pressure_response(const NodeMat& a) = 0;
   // What a solve carries over to the next (warm starts, the cached pressure response), for
   // state snapshots (engine/state_snapshot): appended to `out`, and read back (after
   // matrices_changed() with the same matrices) from `in`; false when `in` does not fit.
@@ -73,8 +82,17 @@ inline bool take_response(const std::vector<double>& in, NodeMat& s, bool& valid
 // (0 when a.s is not positive: no node is free to move).
 double pressure_for_volume(const NodeMat& a, const NodeMat& r, const NodeMat& s, double c);
 
-// The scale that makes the pressure column comparable with the stiffness blocks:
-// mean diagonal of K over mean |a| (the reference solver's unknown is dP / scale).
-double pressure_scale(const std::array<SpMat, 3>& K, const NodeMat& a);
+// The mean diagonal entry of the eliminated matrices of `system` (identity rows: 1; free
+// rows: K plus springs). `diagonal`: the value index of each diagonal entry
+// (StiffnessPattern::diagonal).
+double eliminated_mean_diagonal(const AxisSystem& system, const std::vector<int>& diagonal);
+
+// The scale that makes the pressure column comparable with the stiffness blocks: the mean
+// diagonal of the eliminated K over mean |a| (the reference solver's unknown is dP / scale).
+double pressure_scale(double mean_diagonal, const NodeMat& a);
+
+// K_masked[d] = K^d of `system` with its constrained rows and columns replaced by the
+// identity and its springs on the free diagonal (K_masked on K's pattern; values written).
+void eliminate_constraints(const AxisSystem& system, std::array<SpMat, 3>& K_masked);
 
 }  // namespace vdm

@@ -14,18 +14,20 @@ class DirectSolver final : public LinearSolver {
 
   void analyze(const SpMat& pattern) override {
     for (auto& f : ldlt_) f.analyze(pattern);
+    for (auto& k : K_masked_) k = pattern;
     r_ = NodeMat::Zero(pattern.rows(), 3);
     s_ = NodeMat::Zero(pattern.rows(), 3);
   }
 
-  void matrices_changed(const std::array<SpMat, 3>& K) override {
+  void matrices_changed(const AxisSystem& system) override {
+    eliminate_constraints(system, K_masked_);
     factor_ok_ = true;
-    for (int d = 0; d < 3; ++d) factor_ok_ = ldlt_[d].factorize(K[d]) && factor_ok_;
+    for (int d = 0; d < 3; ++d) factor_ok_ = ldlt_[d].factorize(K_masked_[d]) && factor_ok_;
     s_valid_ = false;
     pending_factorizations_ = 3;
   }
 
-  const NodeMat& pressure_response(const std::array<SpMat, 3>&, const NodeMat& a) override {
+  const NodeMat& pressure_response(const NodeMat& a) override {
     if (!s_valid_) {
       for (int d = 0; d < 3; ++d) ldlt_[d].solve(a.col(d).data(), s_.col(d).data());
       s_valid_ = true;
@@ -42,14 +44,14 @@ class DirectSolver final : public LinearSolver {
     return take_response(in, s_, s_valid_, pending_factorizations_);
   }
 
-  SolveReport solve(const std::array<SpMat, 3>& K, const NodeMat& rhs, const NodeMat& a, double c,
-                    bool volume_constraint, NodeMat& u, double& dP) override {
+  SolveReport solve(const NodeMat& rhs, const NodeMat& a, double c, bool volume_constraint, NodeMat& u,
+                    double& dP) override {
     SolveReport rep;
     rep.factorizations = pending_factorizations_;
     pending_factorizations_ = 0;
     rep.converged = factor_ok_;
     for (int d = 0; d < 3; ++d) ldlt_[d].solve(rhs.col(d).data(), r_.col(d).data());
-    dP = volume_constraint ? pressure_for_volume(a, r_, pressure_response(K, a), c) : 0.0;
+    dP = volume_constraint ? pressure_for_volume(a, r_, pressure_response(a), c) : 0.0;
     u.noalias() = r_ + dP * s_;
     if (!u.allFinite()) rep.converged = false;
     return rep;
@@ -57,6 +59,7 @@ class DirectSolver final : public LinearSolver {
 
  private:
   SolverSettings settings_;
+  std::array<SpMat, 3> K_masked_;  // the system's K with its constraints eliminated
   SparseLdlt ldlt_[3];
   NodeMat r_, s_;
   bool s_valid_ = false, factor_ok_ = true;

@@ -41,6 +41,11 @@ class ReferenceSolver final : public LinearSolver {
     big_.setFromTriplets(trip.begin(), trip.end());
     big_.makeCompressed();
     for (auto& ic : ic_) ic.analyze(pattern);
+    for (auto& k : K_masked_) k = pattern;
+    diagonal_.assign(size_t(n_), 0);
+    for (int j = 0; j < n_; ++j)
+      for (int k = pattern.outerIndexPtr()[j]; k < pattern.outerIndexPtr()[j + 1]; ++k)
+        if (pattern.innerIndexPtr()[k] == j) diagonal_[size_t(j)] = k;
     y_ = Vec::Zero(m);
     b_.resize(m);
     s_ = NodeMat::Zero(n_, 3);
@@ -48,8 +53,10 @@ class ReferenceSolver final : public LinearSolver {
     sx_.resize(n_);
   }
 
-  void matrices_changed(const std::array<SpMat, 3>& K) override {
-    for (int d = 0; d < 3; ++d) ic_[d].factorize(K[d]);
+  void matrices_changed(const AxisSystem& system) override {
+    eliminate_constraints(system, K_masked_);
+    mean_diagonal_ = eliminated_mean_diagonal(system, diagonal_);
+    for (int d = 0; d < 3; ++d) ic_[d].factorize(K_masked_[d]);
     pending_factorizations_ = 3;
     dirty_ = true;
     s_valid_ = false;
@@ -57,10 +64,10 @@ class ReferenceSolver final : public LinearSolver {
 
   // s from K^d s^d = a^d per axis (PCG with the IC(0) factors this solver already keeps):
   // accurate to the solver tolerance, which dividing an assembled solve by its pressure is not.
-  const NodeMat& pressure_response(const std::array<SpMat, 3>& K, const NodeMat& a) override {
+  const NodeMat& pressure_response(const NodeMat& a) override {
     if (s_valid_) return s_;
     for (int d = 0; d < 3; ++d) {
-      const SpMat& Kd = K[d];
+      const SpMat& Kd = K_masked_[d];
       const IncompleteCholesky& ic = ic_[d];
       auto op = [&Kd](const double* in, double* out) { symmetric_multiply(Kd, in, out); };
       auto pre = [&ic](const double* in, double* out) { ic.apply(in, out); };
@@ -82,13 +89,13 @@ class ReferenceSolver final : public LinearSolver {
     return take_response(in, s_, s_valid_, pending_factorizations_);
   }
 
-  SolveReport solve(const std::array<SpMat, 3>& K, const NodeMat& rhs, const NodeMat& a, double c,
-                    bool volume_constraint, NodeMat& u, double& dP) override {
+  SolveReport solve(const NodeMat& rhs, const NodeMat& a, double c, bool volume_constraint, NodeMat& u,
+                    double& dP) override {
     SolveReport rep;
     rep.factorizations = pending_factorizations_;
     pending_factorizations_ = 0;
     if (dirty_ || volume_constraint != last_volume_constraint_) {
-      fill_matrix(K, a, volume_constraint);
+      fill_matrix(K_masked_, a, volume_constraint);
       dirty_ = false;
       last_volume_constraint_ = volume_constraint;
     }
@@ -132,7 +139,7 @@ class ReferenceSolver final : public LinearSolver {
   Precondition pre() const { return {this}; }
 
   void fill_matrix(const std::array<SpMat, 3>& K, const NodeMat& a, bool volume_constraint) {
-    alpha_ = pressure_scale(K, a);
+    alpha_ = pressure_scale(mean_diagonal_, a);
     double* val = big_.valuePtr();
     const int* outer = big_.outerIndexPtr();
     double schur = 0.0;
@@ -163,6 +170,9 @@ class ReferenceSolver final : public LinearSolver {
 
   SolverSettings settings_;
   int n_ = 0;
+  std::array<SpMat, 3> K_masked_;  // the system's K with its constraints eliminated
+  std::vector<int> diagonal_;       // value index of each diagonal entry of the pattern
+  double mean_diagonal_ = 1.0;
   RowSpMat big_;
   IncompleteCholesky ic_[3];
   Vec y_, b_;

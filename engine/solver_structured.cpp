@@ -50,7 +50,7 @@ class StructuredSolver final : public LinearSolver {
     work_.resize(6 * size_t(n_));
   }
 
-  const NodeMat& pressure_response(const std::array<SpMat, 3>&, const NodeMat& a) override {
+  const NodeMat& pressure_response(const NodeMat& a) override {
     if (!s_valid_) {
       solve_block<3>(nullptr, &a);
       s_valid_ = true;
@@ -58,8 +58,8 @@ class StructuredSolver final : public LinearSolver {
     return s_;
   }
 
-  void matrices_changed(const std::array<SpMat, 3>& K) override {
-    K_.gather(K);
+  void matrices_changed(const AxisSystem& system) override {
+    K_.gather(*system.K, *system.mask, system.springs);
     ic_.factorize(K_, kMicOmega);
     s_valid_ = false;
     pending_factorizations_ = 3;
@@ -88,9 +88,9 @@ class StructuredSolver final : public LinearSolver {
     return true;
   }
 
-  // `K` is the one last given to matrices_changed(), of which K_ holds the permuted values.
-  SolveReport solve(const std::array<SpMat, 3>&, const NodeMat& rhs, const NodeMat& a, double c,
-                    bool volume_constraint, NodeMat& u, double& dP) override {
+  // K_ holds the permuted, eliminated values of the system last given to matrices_changed().
+  SolveReport solve(const NodeMat& rhs, const NodeMat& a, double c, bool volume_constraint, NodeMat& u,
+                    double& dP) override {
     SolveReport rep;
     rep.factorizations = pending_factorizations_;
     pending_factorizations_ = 0;
@@ -178,28 +178,6 @@ class StructuredSolver final : public LinearSolver {
 
 std::unique_ptr<LinearSolver> make_structured_solver(const SolverSettings& s) {
   return std::make_unique<StructuredSolver>(s);
-}
-
-double pressure_for_volume(const NodeMat& a, const NodeMat& r, const NodeMat& s, double c) {
-  double as = 0.0, ar = 0.0;
-  for (int d = 0; d < 3; ++d) {
-    as += a.col(d).dot(s.col(d));
-    ar += a.col(d).dot(r.col(d));
-  }
-  // a.s > 0 whenever some node can move; otherwise the fluid has nothing to push.
-  return (as > 0.0 && std::isfinite(as)) ? (c - ar) / as : 0.0;
-}
-
-double pressure_scale(const std::array<SpMat, 3>& K, const NodeMat& a) {
-  double diag = 0.0;
-  long count = 0;
-  for (int d = 0; d < 3; ++d) {
-    diag += K[d].diagonal().cwiseAbs().sum();
-    count += K[d].rows();
-  }
-  const double mean_a = a.cwiseAbs().sum() / std::max<double>(1.0, double(a.size()));
-  if (!(mean_a > 0) || !(diag > 0)) return 1.0;
-  return (diag / count) / mean_a;
 }
 
 }  // namespace vdm

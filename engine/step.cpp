@@ -27,18 +27,20 @@ void add_warning(SimState& s, const char* what) {
 // Step 1 of section 4: A_i, V_i, V and every K^d at the positions `x`. Returns V. A geometry
 // that encloses no positive volume (inverted mid-run) would make K indefinite: then the last
 // valid geometry is kept (returns -1 after restoring it) and the caller says so.
+// |A_i| and V_i from the area vectors and the volume v.
+void node_volumes(const TissueModel& m, double v, SimState& s, StepWorkspace& w) {
+  for (int i = 0; i < m.n; ++i) w.area_norms[i] = s.area_vectors.row(i).norm();
+  distributed_volumes_from_norms(w.area_norms, v, s.node_volumes);
+}
+
 double refresh_geometry(const TissueModel& m, const NodeMat& x, SimState& s, StepWorkspace& w) {
-  distributed_area_vectors(x, m.rest.triangles, s.area_vectors);
-  const double v = enclosed_volume(x, m.rest.triangles, m.origin);
+  const double v = area_vectors_and_volume(x, m.rest.triangles, m.origin, s.area_vectors);
   if (!(v > 0.0) || !std::isfinite(v) || !s.area_vectors.allFinite()) {
-    if (w.have_geometry) {  // back to the geometry K was built from
-      distributed_area_vectors(w.x_refresh, m.rest.triangles, s.area_vectors);
-      distributed_volumes(s.area_vectors, enclosed_volume(w.x_refresh, m.rest.triangles, m.origin),
-                          s.node_volumes);
-    }
+    if (w.have_geometry)  // back to the geometry K was built from
+      node_volumes(m, area_vectors_and_volume(w.x_refresh, m.rest.triangles, m.origin, s.area_vectors), s, w);
     return -1.0;
   }
-  distributed_volumes(s.area_vectors, v, s.node_volumes);
+  node_volumes(m, v, s, w);
   if (m.use_inertia) {
     const double h = m.dt;
     for (int i = 0; i < m.n; ++i) {
@@ -46,7 +48,7 @@ double refresh_geometry(const TissueModel& m, const NodeMat& x, SimState& s, Ste
       w.extra_diagonal[i] = mass / (h * h) + m.damping * mass / h;
     }
   }
-  assemble_stiffness(m, s.area_vectors, s.node_volumes, w.extra_diagonal, w.K);
+  assemble_stiffness(m, s.area_vectors, w.area_norms, s.node_volumes, w.extra_diagonal, w.K, w.scratch);
   if (&x != &w.x_refresh) w.x_refresh = x;
   w.matrix_dirty = true;
   w.have_geometry = true;
@@ -95,22 +97,22 @@ void build_constraints(const TissueModel& m, const StepInput& in, StepWorkspace&
     }
 }
 
-// K_masked from K with the entries of last_mask eliminated and last_springs on the free
-// diagonal; the free area vectors; the solvers told.
-void build_masked_matrices(const TissueModel& m, const SimState& s, StepWorkspace& w) {
-  const bool springs = !w.last_springs.isZero(0.0);
-  for (int d = 0; d < 3; ++d) {
-    mask_constrained(w.K[d], w.last_mask.col(d).data(), w.K_masked[d]);
-    double* diag = w.K_masked[d].valuePtr();
-    if (springs)
-      for (int i = 0; i < m.n; ++i)
-        if (!w.last_mask(i, d)) diag[m.pattern.diagonal[i]] += w.last_springs(i, d);
-  }
+// The system of K with the entries of last_mask constrained and last_springs on the free
+// diagonal.
+AxisSystem axis_system(const StepWorkspace& w) {
+  return {&w.K, &w.last_mask, w.last_springs_any ? &w.last_springs : nullptr};
+}
+
+// The solver told of the system (K, last_mask, last_springs); the free area vectors.
+void update_solver_system(const TissueModel& m, const SimState& s, StepWorkspace& w) {
+  w.last_springs_any = !w.last_springs.isZero(0.0);
+  const AxisSystem system = axis_system(w);
   w.a_free = s.area_vectors;
   for (int d = 0; d < 3; ++d)
     for (int i = 0; i < m.n; ++i)
       if (w.last_mask(i, d)) w.a_free(i, d) = 0.0;
-  w.solver->matrices_changed(w.K_masked);
+  w.mean_diagonal = eliminated_mean_diagonal(system, m.pattern.diagonal);
+  w.solver->matrices_changed(system);
   w.fallback_stale = true;
 }
 
@@ -121,7 +123,7 @@ void build_loads(const TissueModel& m, const StepInput& in, SimState& s, StepWor
   else w.force.setZero();
   if (in.pressure.size() == m.n)
     for (int i = 0; i < m.n; ++i) w.force.row(i) -= in.pressure[i] * A.row(i);
-  // Springs: k (u_s - u) with k on the matrix's diagonal (see the K_masked build), k u_s here.
+  // Springs: k (u_s - u) with k on the matrix's diagonal (the solver's system), k u_s here.
   if (in.spring_k.rows() == m.n) w.force.array() += in.spring_k.array() * in.spring_u.array();
   // Area vectors and depths of the same geometry (the last refresh), so that between
   // refreshes the load is that of one surface: summed, exactly the weight.
@@ -148,7 +150,7 @@ double correct_volume(const TissueModel& m, SimState& s, StepWorkspace& w, Linea
   for (int k = 0; k < max_corr; ++k) {
     const double err = m.rest_volume - enclosed_volume(s.x, m.rest.triangles, m.origin);
     if (std::abs(err) <= m.solver.volume_tolerance * m.rest_volume) return c_shift;
-    if (!response) response = &solver.pressure_response(w.K_masked, w.a_free);
+    if (!response) response = &solver.pressure_response(w.a_free);
     if (!response->allFinite()) return c_shift;
     distributed_area_vectors(s.x, m.rest.triangles, w.area_now);
     double slope = 0.0;
@@ -204,10 +206,9 @@ SimState make_sim_state(const TissueModel& m) {
   s.warnings.reserve(64);
   auto w = std::make_unique<StepWorkspace>();
   for (auto& k : w->K) k = m.pattern.matrix;
-  for (auto& k : w->K_masked) k = m.pattern.matrix;
   w->mask = FlagMat::Zero(n, 3);
   w->last_springs = NodeMat::Zero(n, 3);
-  w->last_mask = FlagMat::Constant(n, 3, 2);  // never equal: the first step builds K_masked
+  w->last_mask = FlagMat::Constant(n, 3, 2);  // never equal: the first step tells the solver
   w->u_fixed = NodeMat::Zero(n, 3);
   w->a_free = NodeMat::Zero(n, 3);
   w->force = NodeMat::Zero(n, 3);
@@ -221,6 +222,7 @@ SimState make_sim_state(const TissueModel& m) {
   w->velocity_start = NodeMat::Zero(n, 3);
   if (m.use_inertia) w->extra_diagonal = Vec::Zero(n);
   w->scratch = Vec::Zero(n);
+  w->area_norms = Vec::Zero(n);
   w->force_last = NodeMat::Zero(n, 3);
   w->force_prev = NodeMat::Zero(n, 3);
   w->pressure_last = Vec::Zero(n);
@@ -259,7 +261,7 @@ LinearSolver& fallback_solver(const TissueModel& m, StepWorkspace& w) {
     w.fallback_stale = true;
   }
   if (w.fallback_stale) {
-    w.fallback->matrices_changed(w.K_masked);
+    w.fallback->matrices_changed(axis_system(w));
     w.fallback_stale = false;
   }
   return *w.fallback;
@@ -275,8 +277,8 @@ void rebuild_matrices(const TissueModel& m, SimState& s) {
   refresh_geometry(m, w.x_refresh, s, w);
   w.steps_since_refresh = since;
   w.matrix_dirty = dirty;
-  if (dirty || w.last_mask(0, 0) > 1) return;  // the next step builds K_masked
-  build_masked_matrices(m, s, w);  // with the mask and springs of the last step
+  if (dirty || w.last_mask(0, 0) > 1) return;  // the next step tells the solver
+  update_solver_system(m, s, w);  // with the mask and springs of the last step
 }
 
 void rewind_step(const TissueModel& m, SimState& s) {
@@ -378,12 +380,12 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
 
     build_constraints(m, in, w);
     const bool springs = in.spring_k.rows() == m.n;
-    const bool springs_changed = springs ? in.spring_k != w.last_springs : !w.last_springs.isZero(0.0);
+    const bool springs_changed = springs ? in.spring_k != w.last_springs : w.last_springs_any;
     if (w.matrix_dirty || w.mask != w.last_mask || springs_changed) {
       w.last_mask = w.mask;
       if (springs) w.last_springs = in.spring_k;
       else w.last_springs.setZero();
-      build_masked_matrices(m, s, w);
+      update_solver_system(m, s, w);
       w.matrix_dirty = false;
     }
     build_loads(m, in, s, w);
@@ -405,7 +407,7 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
     LinearSolver* solver = w.solver.get();
     w.u_new = s.u;
     double p_new = s.pressure;
-    SolveReport rep = solver->solve(w.K_masked, w.rhs, w.a_free, c, m.volume_constraint, w.u_new, p_new);
+    SolveReport rep = solver->solve(w.rhs, w.a_free, c, m.volume_constraint, w.u_new, p_new);
     st.iterations += rep.iterations;
     st.factorizations += rep.factorizations;
     bool ok = rep.converged && w.u_new.allFinite() && std::isfinite(p_new);
@@ -418,7 +420,7 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
       solver = &fallback_solver(m, w);
       w.u_new = s.u;
       p_new = s.pressure;
-      rep = solver->solve(w.K_masked, w.rhs, w.a_free, c, m.volume_constraint, w.u_new, p_new);
+      rep = solver->solve(w.rhs, w.a_free, c, m.volume_constraint, w.u_new, p_new);
       st.factorizations += rep.factorizations;
       ok = rep.converged && w.u_new.allFinite() && std::isfinite(p_new);
     }
@@ -474,19 +476,32 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
   s.volume = enclosed_volume(s.x, m.rest.triangles, m.origin);
   s.volume_rel_error = (s.volume - m.rest_volume) / m.rest_volume;
   // True residual of the last solve's eliminated 3N+1 system (volume row scaled like the
-  // reference solver's), and the reactions on the unmasked system.
-  const double alpha = pressure_scale(w.K_masked, w.a_free);
+  // reference solver's), and the reactions, from one product with the unmasked K per axis:
+  // on a free row (K u)_i + k_i u_i - dP a_i - f_i is the eliminated system's residual (the
+  // constrained u_j are their prescribed values), on a constrained row (K u)_i - dP A_i - f_i
+  // is the reaction (the constrained rows' residual is zero: u is pinned to its values).
+  const double alpha = pressure_scale(w.mean_diagonal, w.a_free);
   double res2 = 0.0, rhs2 = 0.0, vol_row = -last_c;
   for (int d = 0; d < 3; ++d) {
-    symmetric_multiply(w.K_masked[d], s.u.col(d).data(), w.scratch.data());
-    w.scratch.noalias() -= s.pressure * w.a_free.col(d) + w.rhs.col(d);
-    res2 += w.scratch.squaredNorm();
+    symmetric_multiply(w.K[d], s.u.col(d).data(), w.scratch.data());
+    const std::uint8_t* mask = w.mask.col(d).data();
+    const double* ku = w.scratch.data();
+    const double* u = s.u.col(d).data();
+    const double* f = w.force.col(d).data();
+    const double* a = s.area_vectors.col(d).data();
+    const double* k = w.last_springs_any ? w.last_springs.col(d).data() : nullptr;
+    double* reaction = s.reaction.col(d).data();
+    for (int i = 0; i < m.n; ++i) {
+      if (mask[i]) {
+        reaction[i] = ku[i] - s.pressure * a[i] - f[i];
+      } else {
+        const double r = ku[i] + (k ? k[i] * u[i] : 0.0) - s.pressure * a[i] - f[i];
+        res2 += r * r;
+        reaction[i] = 0.0;
+      }
+    }
     rhs2 += w.rhs.col(d).squaredNorm();
     vol_row += w.a_free.col(d).dot(s.u.col(d));
-    symmetric_multiply_rows(w.K[d], w.mask.col(d).data(), s.u.col(d).data(), w.scratch.data());  // constrained rows only
-    for (int i = 0; i < m.n; ++i)
-      s.reaction(i, d) =
-          w.mask(i, d) ? w.scratch[i] - s.pressure * s.area_vectors(i, d) - w.force(i, d) : 0.0;
   }
   if (m.volume_constraint) {
     res2 += alpha * alpha * vol_row * vol_row;

@@ -11,9 +11,10 @@ namespace vdm {
 
 struct StepWorkspace {
   std::array<SpMat, 3> K;         // per-axis K^d at the last refresh (unmasked)
-  std::array<SpMat, 3> K_masked;  // with constrained rows/columns eliminated
-  FlagMat mask, last_mask;        // constrained entries this step / when K_masked was built
-  NodeMat last_springs;           // StepInput::spring_k when K_masked was built (N x 3)
+  FlagMat mask, last_mask;        // constrained entries this step / when the solver was last told
+  NodeMat last_springs;           // StepInput::spring_k when the solver was last told (N x 3)
+  bool last_springs_any = false;  // some of last_springs is not zero
+  double mean_diagonal = 1.0;     // of the eliminated matrices (the residual's pressure scale)
   NodeMat u_fixed;                // values of constrained entries (m)
   NodeMat a_free;                 // area vectors, zero on constrained entries
   NodeMat force;                  // total load f this step (N)
@@ -43,16 +44,17 @@ struct StepWorkspace {
   const char* failure_reason = nullptr;  // why the last attempt failed (static text)
   Vec extra_diagonal;             // inertia M/h^2 + D/h (empty without inertia)
   Vec scratch;                    // N
+  Vec area_norms;                 // |A_i| at the last refresh (N)
   std::unique_ptr<LinearSolver> solver;
   std::unique_ptr<LinearSolver> fallback;  // direct solver, made on the first failed solve
-  bool fallback_stale = true;              // fallback not factorised for the current K_masked
-  bool matrix_dirty = true;       // K changed since K_masked was built
+  bool fallback_stale = true;              // fallback not told of the current system
+  bool matrix_dirty = true;       // K changed since the solver was last told
   bool have_geometry = false;     // a refresh has happened
   int steps_since_refresh = 0;
 };
 
 // Rebuilds what a step leaves behind from the workspace's saved parts (engine/state_snapshot):
-// K^d, A_i, V_i at x_refresh, and K_masked for last_mask given to the solver, as the last
+// K^d, A_i, V_i at x_refresh, and the system for last_mask given to the solver, as the last
 // step built them (the refresh counter is kept).
 void rebuild_matrices(const TissueModel& model, SimState& state);
 

@@ -34,39 +34,51 @@ StiffnessPattern build_stiffness_pattern(int n, const std::vector<std::array<int
   return p;
 }
 
-void assemble_stiffness(const TissueModel& m, const NodeMat& A, const Vec& Vi,
-                        const Vec& extra_diagonal, std::array<SpMat, 3>& K) {
+void assemble_stiffness(const TissueModel& m, const NodeMat& A, const Vec& Vi, const Vec& extra_diagonal,
+                        std::array<SpMat, 3>& K) {
+  Vec norms(m.n), scratch(m.n);
+  for (int i = 0; i < m.n; ++i) norms[i] = A.row(i).norm();
+  assemble_stiffness(m, A, norms, Vi, extra_diagonal, K, scratch);
+}
+
+void assemble_stiffness(const TissueModel& m, const NodeMat& A, const Vec& area_norms, const Vec& Vi,
+                        const Vec& extra_diagonal, std::array<SpMat, 3>& K, Vec& scratch) {
   double* v[3] = {K[0].valuePtr(), K[1].valuePtr(), K[2].valuePtr()};
-  const Eigen::Index nnz = K[0].nonZeros();
-  for (int d = 0; d < 3; ++d) std::fill(v[d], v[d] + nnz, 0.0);
-  // Connectivity: a graph Laplacian with weights w_ij, the same on every axis.
+  // Connectivity: a graph Laplacian with weights w_ij, the same on every axis. Every
+  // off-diagonal entry belongs to one edge: written once; the diagonal sums in `scratch`.
+  double* lap = scratch.data();
+  std::fill(lap, lap + m.n, 0.0);
   const double bc = m.connectivity_modulus;
+  const double* norm = area_norms.data();
+  const double* vol = Vi.data();
+  const std::array<int, 2>* slot = m.pattern.edge_slot.data();
   for (size_t e = 0; e < m.edges.size(); ++e) {
     const int i = m.edges[e][0], j = m.edges[e][1];
-    const double a = 0.5 * (A.row(i).norm() + A.row(j).norm());
-    const double vij = 0.5 * (Vi[i] + Vi[j]);
+    const double a = 0.5 * (norm[i] + norm[j]);
+    const double vij = 0.5 * (vol[i] + vol[j]);
     const double w = bc * a * a / vij;
     for (int d = 0; d < 3; ++d) {
-      v[d][m.pattern.edge_slot[e][0]] -= w;
-      v[d][m.pattern.edge_slot[e][1]] -= w;
-      v[d][m.pattern.diagonal[i]] += w;
-      v[d][m.pattern.diagonal[j]] += w;
+      v[d][slot[e][0]] = -w;
+      v[d][slot[e][1]] = -w;
     }
+    lap[i] += w;
+    lap[j] += w;
   }
-  // Bulk: per node and axis.
+  // Diagonal: the Laplacian's, then the bulk term per node and axis.
   const bool extra = extra_diagonal.size() == m.n;
   const double floor = m.axis_stiffness_floor;
   for (int i = 0; i < m.n; ++i) {
-    const int di = m.pattern.diagonal[i];
+    const int di = m.pattern.diagonal[size_t(i)];
     const double a2 = floor * A.row(i).squaredNorm();
     for (int d = 0; d < 3; ++d) {
-      v[d][di] += m.bulk(i, d) * std::max(A(i, d) * A(i, d), a2) / Vi[i];
-      if (extra) v[d][di] += extra_diagonal[i];
+      double k = lap[i] + m.bulk(i, d) * std::max(A(i, d) * A(i, d), a2) / vol[i];
+      if (extra) k += extra_diagonal[i];
+      v[d][di] = k;
     }
   }
 }
 
-void mask_constrained(const SpMat& K, const std::uint8_t* mask, SpMat& Km) {
+void mask_constrained(const SpMat& K, const std::uint8_t* mask, SpMat& Km, const double* spring) {
   const int n = static_cast<int>(K.cols());
   const int* outer = K.outerIndexPtr();
   const int* inner = K.innerIndexPtr();
@@ -76,7 +88,7 @@ void mask_constrained(const SpMat& K, const std::uint8_t* mask, SpMat& Km) {
     for (int k = outer[j]; k < outer[j + 1]; ++k) {
       const int i = inner[k];
       if (mask[i] || mask[j]) dst[k] = (i == j) ? 1.0 : 0.0;
-      else dst[k] = src[k];
+      else dst[k] = (i == j && spring) ? src[k] + spring[i] : src[k];
     }
 }
 

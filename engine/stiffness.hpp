@@ -16,10 +16,16 @@ namespace vdm {
 void assemble_stiffness(const TissueModel& model, const NodeMat& area_vectors,
                         const Vec& node_volumes, const Vec& extra_diagonal,
                         std::array<SpMat, 3>& K);
+// The same with the lengths |A_i| given (`area_norms`, N) and `scratch` (N) to work in: no
+// allocation, every value written once (the step's).
+void assemble_stiffness(const TissueModel& model, const NodeMat& area_vectors, const Vec& area_norms,
+                        const Vec& node_volumes, const Vec& extra_diagonal, std::array<SpMat, 3>& K,
+                        Vec& scratch);
 
 // K_masked = K with rows and columns of constrained nodes (mask(i) != 0) replaced by the
-// identity. Same pattern, values written in place.
-void mask_constrained(const SpMat& K, const std::uint8_t* mask, SpMat& K_masked);
+// identity, and spring[i] (when given) added to the free diagonal entries. Same pattern,
+// values written in place.
+void mask_constrained(const SpMat& K, const std::uint8_t* mask, SpMat& K_masked, const double* spring = nullptr);
 
 // Right-hand side of the eliminated system on one axis: rhs_i = f_i - sum_{j constrained}
 // K_ij u_j for free i, rhs_j = u_j for constrained j.

@@ -7,29 +7,33 @@ namespace vdm {
 void compute_strain_stress(const TissueModel& m, SimState& s) {
   const NodeMat& A = s.area_vectors;
   const Vec& Vi = s.node_volumes;
-  for (int i = 0; i < m.n; ++i) {
-    const double tiny = 1e-9 * A.row(i).norm();
+  // dV_i^d = A_i^d u_i^d, kept in `strain` until the division by V_i below.
+  s.strain = A.cwiseProduct(s.u);
+  // Connectivity: sum_j B_ij (dV_i^d - dV_j^d), summed per node in `stress` first.
+  s.stress.setZero();
+  const double bc = m.connectivity_modulus;
+  if (bc != 0.0)
     for (int d = 0; d < 3; ++d) {
-      const double dv = A(i, d) * s.u(i, d);
-      s.strain(i, d) = dv / Vi[i];
-      if (m.infinite(i, d)) {
-        s.strain(i, d) = 0.0;
-        s.stress(i, d) = std::abs(A(i, d)) > tiny ? -s.reaction(i, d) / A(i, d) : 0.0;
-      } else {
-        s.stress(i, d) = m.bulk(i, d) * s.strain(i, d);
+      const double* dv = s.strain.col(d).data();
+      double* sum = s.stress.col(d).data();
+      for (const auto& e : m.edges) {
+        const double t = bc * (dv[e[0]] - dv[e[1]]);
+        sum[e[0]] += t;
+        sum[e[1]] -= t;
       }
     }
-  }
-  const double bc = m.connectivity_modulus;
-  if (bc == 0.0) return;
-  for (const auto& e : m.edges) {
-    const int i = e[0], j = e[1];
-    for (int d = 0; d < 3; ++d) {
-      const double t = bc * (A(i, d) * s.u(i, d) - A(j, d) * s.u(j, d));
-      s.stress(i, d) += t / Vi[i];
-      s.stress(j, d) -= t / Vi[j];
+  for (int d = 0; d < 3; ++d)
+    for (int i = 0; i < m.n; ++i) {
+      const double tension = s.stress(i, d) / Vi[i];
+      if (m.infinite(i, d)) {
+        const double tiny = 1e-9 * A.row(i).norm();
+        s.strain(i, d) = 0.0;
+        s.stress(i, d) = (std::abs(A(i, d)) > tiny ? -s.reaction(i, d) / A(i, d) : 0.0) + tension;
+      } else {
+        s.strain(i, d) /= Vi[i];
+        s.stress(i, d) = m.bulk(i, d) * s.strain(i, d) + tension;
+      }
     }
-  }
 }
 
 }  // namespace vdm

@@ -13,7 +13,6 @@
 
 namespace vdm {
 
-using FlagMat = Eigen::Matrix<std::uint8_t, Eigen::Dynamic, 3>;  // N x 3 per-axis flags
 
 struct TissueDef {
   SurfaceMesh mesh;                     // closed, outward; metres
