@@ -1,5 +1,6 @@
 #include "engine/axis_incomplete_cholesky.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "engine/simd2.hpp"
@@ -97,9 +98,28 @@ int AxisIncompleteCholesky::factorize(const AxisMatrices& K, double omega) {
       }
     }
   }
-  for (size_t q = 0; q < up_src_.size(); ++q)
-    for (size_t d = 0; d < 3; ++d) up_val_[3 * q + d] = L[3 * size_t(up_src_[q]) + d];
+  copy_to_upper();
   return repaired;
+}
+
+void AxisIncompleteCholesky::copy_to_upper() {
+  for (size_t q = 0; q < up_src_.size(); ++q)
+    for (size_t d = 0; d < 3; ++d) up_val_[3 * q + d] = lo_val_[3 * size_t(up_src_[q]) + d];
+}
+
+void AxisIncompleteCholesky::save_values(std::vector<double>& out) const {
+  out.insert(out.end(), lo_val_.begin(), lo_val_.end());
+  out.insert(out.end(), inv_diag_.begin(), inv_diag_.end());
+}
+
+bool AxisIncompleteCholesky::load_values(const std::vector<double>& in, size_t& pos) {
+  if (in.size() < pos || in.size() - pos < lo_val_.size() + inv_diag_.size()) return false;
+  for (std::vector<double>* v : {&lo_val_, &inv_diag_}) {
+    std::copy(in.begin() + std::ptrdiff_t(pos), in.begin() + std::ptrdiff_t(pos + v->size()), v->begin());
+    pos += v->size();
+  }
+  copy_to_upper();
+  return true;
 }
 
 template <int W>

@@ -24,6 +24,10 @@ class AxisIncompleteCholesky {
   template <int W>
   void apply(const double* r, double* z, double* rz) const;
   int size() const { return n_; }
+  // The factors' values, for state snapshots: appended to `out`; read back from `in` at
+  // `pos` (advanced) after analyze() of the same pattern. False when `in` is too short.
+  void save_values(std::vector<double>& out) const;
+  bool load_values(const std::vector<double>& in, size_t& pos);
 
  private:
   int n_ = 0;
@@ -38,6 +42,7 @@ class AxisIncompleteCholesky {
   std::vector<double> inv_diag_;           // 3 per row: 1 / L_ii
   std::vector<double> work_lo_, work_diag_;  // scratch: K's values as the elimination updates them
   std::vector<int> update_target_;           // factorize(): the L entry of each update, or -1
+  void copy_to_upper();                      // up_val_ from lo_val_
 };
 
 }  // namespace vdm
