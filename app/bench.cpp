@@ -99,7 +99,7 @@ bool run_isolated(const std::function<Row()>& body, Row& row, std::string& error
 
 }  // namespace
 
-PreparedScene bench_probe_scene(const std::string& mesh, int frames, bool render) {
+PreparedScene bench_probe_scene(const std::string& mesh, int frames, bool render, double tolerance) {
   PreparedScene ps;
   std::vector<SceneProblem> problems;
   const std::string path = (fs::path(VDMSIM_SOURCE_DIR_STR) / "assets" / "scenes" / "probe_poke.yaml").string();
@@ -108,12 +108,35 @@ PreparedScene bench_probe_scene(const std::string& mesh, int frames, bool render
   SceneDef s = loaded.scene;
   s.mesh_path = mesh.find('/') != std::string::npos ? mesh : (fs::path(VDMSIM_SOURCE_DIR_STR) / "assets" / "meshes" / mesh).string();
   s.frames = frames;
+  s.solver.tolerance = tolerance;
   for (auto& in : s.instruments) in.radius = 0.008;
   if (!render) s.has_render = false;
   s.render.stress = false;
   if (!prepare_scene_def(s, ps, problems))
     throw std::runtime_error(problems.empty() ? "cannot prepare the probe scene" : problems.back().text());
   return ps;
+}
+
+ToleranceError bench_tolerance_error(const std::string& mesh, double tolerance, double reference_tolerance) {
+  const PreparedScene loose = bench_probe_scene(mesh, 60, false, tolerance);
+  const PreparedScene tight = bench_probe_scene(mesh, 60, false, reference_tolerance);
+  SceneSimulation a(loose), b(tight);
+  ToleranceError e;
+  e.nodes = loose.model.n;
+  double sum2 = 0;
+  long count = 0;
+  for (int f = 0; f < 60; ++f) {
+    a.advance(f);
+    b.advance(f);
+    for (int i = 0; i < loose.model.n; ++i) {
+      const double d2 = (a.state().u.row(i) - b.state().u.row(i)).squaredNorm();
+      e.max_m = std::max(e.max_m, std::sqrt(d2));
+      sum2 += d2;
+      ++count;
+    }
+  }
+  e.rms_m = count ? std::sqrt(sum2 / double(count)) : 0.0;
+  return e;
 }
 
 namespace {
@@ -318,6 +341,32 @@ int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::os
   if (!csv) {
     err << "vdmsim: error: " << (dir / "bench.csv").string() << ": write failed\n";
     return 1;
+  }
+  // Side by side: Bullet's and FEM's time per step over VDM's on the same mesh.
+  for (const Row& r : rows)
+    for (const Row& v : rows)
+      if (r.name == "liver_probe" && v.name == r.name && v.model == "vdm" && r.model != "vdm" && v.nodes == r.nodes &&
+          v.median_ms > 0)
+        out << "bench: liver_probe " << r.nodes << " nodes: " << r.model << " takes " << std::setprecision(3)
+            << r.median_ms / v.median_ms << "x VDM's time per step\n";
+  // The displacement error of the bench's solver tolerance, against a tight one.
+  if (only.empty() || std::string("liver_probe tolerance").find(only) != std::string::npos) {
+    constexpr double kReference = 1e-10;
+    std::ofstream tc(dir / "bench_tolerance.csv");
+    tc << "nodes,tolerance,reference_tolerance,max_error_mm,rms_error_mm\n";
+    for (const char* mesh : {"liver_L4.obj", "liver_L5.obj"}) {
+      const ToleranceError e = bench_tolerance_error(mesh, kBenchTolerance, kReference);
+      tc << e.nodes << ',' << kBenchTolerance << ',' << kReference << ',' << std::setprecision(6) << e.max_m * 1e3 << ','
+         << e.rms_m * 1e3 << '\n';
+      out << "bench: liver_probe " << e.nodes << " nodes at tolerance " << kBenchTolerance
+          << ": displacements within " << std::setprecision(3) << e.max_m * 1e3 << " mm (max; RMS " << e.rms_m * 1e3
+          << " mm) of tolerance " << kReference << "\n";
+    }
+    tc.flush();
+    if (!tc) {
+      err << "vdmsim: error: " << (dir / "bench_tolerance.csv").string() << ": write failed\n";
+      return 1;
+    }
   }
   // Scaling of the probe step with the node count: log-log fit and plot.
   render::Panel p;

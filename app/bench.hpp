@@ -9,9 +9,25 @@
 
 namespace vdmsim {
 
+// The solver tolerance of the bench's probe cases: the performance issue times the step "at
+// the solver tolerance that gives under 0.1 mm displacement error". `vdmsim bench` measures
+// that error against a tolerance of 1e-10 on the same mesh (bench_tolerance.csv): about
+// 0.002 mm (2.5k nodes) and 0.004 mm (10k).
+constexpr double kBenchTolerance = 1e-3;
+
 // The bench's probe scene (assets/scenes/probe_poke.yaml) on `mesh` (a file in assets/meshes)
-// with an 8 mm probe, so that it meets nodes on every mesh; `frames` frames.
-PreparedScene bench_probe_scene(const std::string& mesh, int frames, bool render);
+// with an 8 mm probe, so that it meets nodes on every mesh; `frames` frames; solver
+// tolerance `tolerance`.
+PreparedScene bench_probe_scene(const std::string& mesh, int frames, bool render, double tolerance = kBenchTolerance);
+
+// The largest and the RMS difference (m) of the nodes' displacements, over every frame of
+// the bench's probe scene on `mesh`, between the solver tolerances `tolerance` and
+// `reference_tolerance`.
+struct ToleranceError {
+  long nodes = 0;
+  double max_m = 0, rms_m = 0;
+};
+ToleranceError bench_tolerance_error(const std::string& mesh, double tolerance, double reference_tolerance);
 
 // `only` (may be empty): run only the cases whose label contains it.
 int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::ostream& err,
