@@ -60,21 +60,32 @@ void AxisMatrices::gather(const std::array<SpMat, 3>& K) {
   }
 }
 
-void AxisMatrices::gather(const std::array<SpMat, 3>& K, const FlagMat& mask, const NodeMat* springs) {
-  const double* v[3] = {K[0].valuePtr(), K[1].valuePtr(), K[2].valuePtr()};
+void AxisMatrices::analyze(const StiffnessPattern& pattern, const std::vector<int>& perm) {
+  analyze(pattern.matrix, perm);
+  std::vector<int> slot_edge(size_t(pattern.matrix.nonZeros()), -1);
+  for (size_t e = 0; e < pattern.edge_slot.size(); ++e)
+    slot_edge[size_t(pattern.edge_slot[e][0])] = slot_edge[size_t(pattern.edge_slot[e][1])] = int(e);
+  off_edge.resize(off_src.size());
+  for (size_t p = 0; p < off_src.size(); ++p) {
+    off_edge[p] = slot_edge[size_t(off_src[p])];
+    if (off_edge[p] < 0) throw std::invalid_argument("AxisMatrices: an off-diagonal entry without its edge");
+  }
+}
+
+void AxisMatrices::gather(const AxisStiffness& K, const FlagMat& mask, const NodeMat* springs) {
   std::uint8_t* rm = row_mask.data();
   for (int i = 0; i < n; ++i)
     for (int d = 0; d < 3; ++d) rm[3 * size_t(i) + size_t(d)] = mask(node[size_t(i)], d) != 0;
+  const double* weight = K.weight.data();
   for (int i = 0; i < n; ++i) {
     const std::uint8_t* mi = rm + 3 * size_t(i);
-    for (int d = 0; d < 3; ++d) {
-      const double k = springs ? (*springs)(node[size_t(i)], d) : 0.0;
-      diag[3 * size_t(i) + size_t(d)] = mi[d] ? 1.0 : v[d][diag_src[size_t(i)]] + k;
-    }
+    const int src = node[size_t(i)];
+    for (int d = 0; d < 3; ++d)
+      diag[3 * size_t(i) + size_t(d)] = mi[d] ? 1.0 : K.diagonal(src, d) + (springs ? (*springs)(src, d) : 0.0);
     for (int p = start[size_t(i)]; p < start[size_t(i) + 1]; ++p) {
       const std::uint8_t* mj = rm + 3 * size_t(col[size_t(p)]);
-      const int k = off_src[size_t(p)];
-      for (int d = 0; d < 3; ++d) off[3 * size_t(p) + size_t(d)] = (mi[d] | mj[d]) ? 0.0 : v[d][k];
+      const double v = -weight[off_edge[size_t(p)]];
+      for (int d = 0; d < 3; ++d) off[3 * size_t(p) + size_t(d)] = (mi[d] | mj[d]) ? 0.0 : v;
     }
   }
 }

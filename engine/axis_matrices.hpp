@@ -23,18 +23,21 @@ struct AxisMatrices {
   std::vector<double> diag;    // 3 values per row
   std::vector<int> off_src;    // index of each off-diagonal entry in the source matrices' values
   std::vector<int> diag_src;   // index of each diagonal entry in the source matrices' values
+  std::vector<int> off_edge;   // the edge of each off-diagonal entry (analysed from a StiffnessPattern)
   std::vector<int> node;       // row i here is row node[i] of the source
   std::vector<std::uint8_t> row_mask;  // gather(): 3 per row, the constrained entries
 
   // Pattern of `pattern` (symmetric, diagonal present) with rows and columns renumbered:
   // row i here is row perm[i] of `pattern` (perm empty: the identity). Values are zero.
   void analyze(const SpMat& pattern, const std::vector<int>& perm);
+  // The same for the pattern of an AxisStiffness (gathered by the second gather()).
+  void analyze(const StiffnessPattern& pattern, const std::vector<int>& perm);
   // Values from K[0..2] (the pattern analysed; no allocation).
   void gather(const std::array<SpMat, 3>& K);
-  // The same with the entries constrained by `mask` (N x 3, source numbering) eliminated:
-  // their rows and columns become the identity; `springs` (N x 3, may be null) added to the
-  // free diagonal entries.
-  void gather(const std::array<SpMat, 3>& K, const FlagMat& mask, const NodeMat* springs);
+  // Values from K (the StiffnessPattern analysed; no allocation), with the entries
+  // constrained by `mask` (N x 3, source numbering) eliminated: their rows and columns become
+  // the identity; `springs` (N x 3, may be null) added to the free diagonal entries.
+  void gather(const AxisStiffness& K, const FlagMat& mask, const NodeMat* springs);
 };
 
 // The axis of vector c in a block of W.

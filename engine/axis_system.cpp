@@ -4,25 +4,34 @@
 #include <cmath>
 
 #include "engine/linear_solver.hpp"
-#include "engine/stiffness.hpp"
 
 namespace vdm {
 
 void eliminate_constraints(const AxisSystem& system, std::array<SpMat, 3>& K_masked) {
-  for (int d = 0; d < 3; ++d)
-    mask_constrained((*system.K)[size_t(d)], system.mask->col(d).data(), K_masked[size_t(d)],
-                     system.springs ? system.springs->col(d).data() : nullptr);
+  const StiffnessPattern& p = *system.pattern;
+  const AxisStiffness& K = *system.K;
+  for (int d = 0; d < 3; ++d) {
+    const std::uint8_t* mask = system.mask->col(d).data();
+    const double* k = system.springs ? system.springs->col(d).data() : nullptr;
+    double* v = K_masked[size_t(d)].valuePtr();
+    for (size_t e = 0; e < p.edges.size(); ++e) {
+      const bool held = mask[p.edges[e][0]] || mask[p.edges[e][1]];
+      v[p.edge_slot[e][0]] = v[p.edge_slot[e][1]] = held ? 0.0 : -K.weight[Eigen::Index(e)];
+    }
+    const double* diag = K.diagonal.col(d).data();
+    for (size_t i = 0; i < p.diagonal.size(); ++i) v[p.diagonal[i]] = mask[i] ? 1.0 : diag[i] + (k ? k[i] : 0.0);
+  }
 }
 
-double eliminated_mean_diagonal(const AxisSystem& system, const std::vector<int>& diagonal) {
+double eliminated_mean_diagonal(const AxisSystem& system) {
   double sum = 0.0;
-  const size_t n = diagonal.size();
+  const Eigen::Index n = system.K->diagonal.rows();
   for (int d = 0; d < 3; ++d) {
-    const double* v = (*system.K)[size_t(d)].valuePtr();
+    const double* diag = system.K->diagonal.col(d).data();
     const std::uint8_t* mask = system.mask->col(d).data();
     const double* k = system.springs ? system.springs->col(d).data() : nullptr;
     double axis = 0.0;  // per axis, then summed: as the solvers have always added it up
-    for (size_t i = 0; i < n; ++i) axis += mask[i] ? 1.0 : std::abs(v[diagonal[i]] + (k ? k[i] : 0.0));
+    for (Eigen::Index i = 0; i < n; ++i) axis += mask[i] ? 1.0 : std::abs(diag[i] + (k ? k[i] : 0.0));
     sum += axis;
   }
   return n > 0 ? sum / double(3 * n) : 0.0;

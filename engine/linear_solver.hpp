@@ -18,12 +18,14 @@ struct SolveReport {
   int factorizations = 0;
 };
 
-// The per-axis system a solver sees: K^d as assembled (unmasked, on the model's pattern), the
-// constrained entries (mask(i, d) != 0: row and column i of K^d become the identity) and
-// per-axis springs added to the free diagonal entries (null: none). Each solver eliminates
-// the constraints its own way (the structured one while it copies K into its own layout).
+// The per-axis system a solver sees: K^d as assembled (unmasked: edge weights and diagonals,
+// on the model's pattern), the constrained entries (mask(i, d) != 0: row and column i of K^d
+// become the identity) and per-axis springs added to the free diagonal entries (null: none).
+// Each solver eliminates the constraints its own way (the structured one while it copies K
+// into its own layout).
 struct AxisSystem {
-  const std::array<SpMat, 3>* K = nullptr;
+  const AxisStiffness* K = nullptr;
+  const StiffnessPattern* pattern = nullptr;
   const FlagMat* mask = nullptr;
   const NodeMat* springs = nullptr;
 };
@@ -32,7 +34,7 @@ class LinearSolver {
  public:
   virtual ~LinearSolver() = default;
   // Once: the (shared) pattern of the per-axis matrices.
-  virtual void analyze(const SpMat& pattern) = 0;
+  virtual void analyze(const StiffnessPattern& pattern) = 0;
   // The matrices or the constrained set changed: refactor / rebuild preconditioners. A
   // solver keeps what it needs of `system` (it may not read the referenced arrays again).
   virtual void matrices_changed(const AxisSystem& system) = 0;
@@ -83,16 +85,16 @@ inline bool take_response(const std::vector<double>& in, NodeMat& s, bool& valid
 double pressure_for_volume(const NodeMat& a, const NodeMat& r, const NodeMat& s, double c);
 
 // The mean diagonal entry of the eliminated matrices of `system` (identity rows: 1; free
-// rows: K plus springs). `diagonal`: the value index of each diagonal entry
-// (StiffnessPattern::diagonal).
-double eliminated_mean_diagonal(const AxisSystem& system, const std::vector<int>& diagonal);
+// rows: K plus springs).
+double eliminated_mean_diagonal(const AxisSystem& system);
 
 // The scale that makes the pressure column comparable with the stiffness blocks: the mean
 // diagonal of the eliminated K over mean |a| (the reference solver's unknown is dP / scale).
 double pressure_scale(double mean_diagonal, const NodeMat& a);
 
 // K_masked[d] = K^d of `system` with its constrained rows and columns replaced by the
-// identity and its springs on the free diagonal (K_masked on K's pattern; values written).
+// identity and its springs on the free diagonal (K_masked carries the system's pattern;
+// values written).
 void eliminate_constraints(const AxisSystem& system, std::array<SpMat, 3>& K_masked);
 
 }  // namespace vdm

@@ -12,11 +12,11 @@ class DirectSolver final : public LinearSolver {
  public:
   explicit DirectSolver(const SolverSettings& s) : settings_(s) {}
 
-  void analyze(const SpMat& pattern) override {
-    for (auto& f : ldlt_) f.analyze(pattern);
-    for (auto& k : K_masked_) k = pattern;
-    r_ = NodeMat::Zero(pattern.rows(), 3);
-    s_ = NodeMat::Zero(pattern.rows(), 3);
+  void analyze(const StiffnessPattern& pattern) override {
+    for (auto& f : ldlt_) f.analyze(pattern.matrix);
+    for (auto& k : K_masked_) k = pattern.matrix;
+    r_ = NodeMat::Zero(pattern.matrix.rows(), 3);
+    s_ = NodeMat::Zero(pattern.matrix.rows(), 3);
   }
 
   void matrices_changed(const AxisSystem& system) override {

@@ -23,7 +23,8 @@ class ReferenceSolver final : public LinearSolver {
  public:
   explicit ReferenceSolver(const SolverSettings& s) : settings_(s) {}
 
-  void analyze(const SpMat& pattern) override {
+  void analyze(const StiffnessPattern& stiffness_pattern) override {
+    const SpMat& pattern = stiffness_pattern.matrix;
     n_ = static_cast<int>(pattern.rows());
     const int m = 3 * n_ + 1;
     std::vector<Eigen::Triplet<double, int>> trip;
@@ -42,10 +43,6 @@ class ReferenceSolver final : public LinearSolver {
     big_.makeCompressed();
     for (auto& ic : ic_) ic.analyze(pattern);
     for (auto& k : K_masked_) k = pattern;
-    diagonal_.assign(size_t(n_), 0);
-    for (int j = 0; j < n_; ++j)
-      for (int k = pattern.outerIndexPtr()[j]; k < pattern.outerIndexPtr()[j + 1]; ++k)
-        if (pattern.innerIndexPtr()[k] == j) diagonal_[size_t(j)] = k;
     y_ = Vec::Zero(m);
     b_.resize(m);
     s_ = NodeMat::Zero(n_, 3);
@@ -55,7 +52,7 @@ class ReferenceSolver final : public LinearSolver {
 
   void matrices_changed(const AxisSystem& system) override {
     eliminate_constraints(system, K_masked_);
-    mean_diagonal_ = eliminated_mean_diagonal(system, diagonal_);
+    mean_diagonal_ = eliminated_mean_diagonal(system);
     for (int d = 0; d < 3; ++d) ic_[d].factorize(K_masked_[d]);
     pending_factorizations_ = 3;
     dirty_ = true;
@@ -171,7 +168,6 @@ class ReferenceSolver final : public LinearSolver {
   SolverSettings settings_;
   int n_ = 0;
   std::array<SpMat, 3> K_masked_;  // the system's K with its constraints eliminated
-  std::vector<int> diagonal_;       // value index of each diagonal entry of the pattern
   double mean_diagonal_ = 1.0;
   RowSpMat big_;
   IncompleteCholesky ic_[3];

@@ -99,19 +99,19 @@ void build_constraints(const TissueModel& m, const StepInput& in, StepWorkspace&
 
 // The system of K with the entries of last_mask constrained and last_springs on the free
 // diagonal.
-AxisSystem axis_system(const StepWorkspace& w) {
-  return {&w.K, &w.last_mask, w.last_springs_any ? &w.last_springs : nullptr};
+AxisSystem axis_system(const TissueModel& m, const StepWorkspace& w) {
+  return {&w.K, &m.pattern, &w.last_mask, w.last_springs_any ? &w.last_springs : nullptr};
 }
 
 // The solver told of the system (K, last_mask, last_springs); the free area vectors.
 void update_solver_system(const TissueModel& m, const SimState& s, StepWorkspace& w) {
   w.last_springs_any = !w.last_springs.isZero(0.0);
-  const AxisSystem system = axis_system(w);
+  const AxisSystem system = axis_system(m, w);
   w.a_free = s.area_vectors;
   for (int d = 0; d < 3; ++d)
     for (int i = 0; i < m.n; ++i)
       if (w.last_mask(i, d)) w.a_free(i, d) = 0.0;
-  w.mean_diagonal = eliminated_mean_diagonal(system, m.pattern.diagonal);
+  w.mean_diagonal = eliminated_mean_diagonal(system);
   w.solver->matrices_changed(system);
   w.fallback_stale = true;
 }
@@ -205,7 +205,8 @@ SimState make_sim_state(const TissueModel& m) {
   s.stress = NodeMat::Zero(n, 3);
   s.warnings.reserve(64);
   auto w = std::make_unique<StepWorkspace>();
-  for (auto& k : w->K) k = m.pattern.matrix;
+  w->K.weight = Vec::Zero(Eigen::Index(m.edges.size()));
+  w->K.diagonal = NodeMat::Zero(n, 3);
   w->mask = FlagMat::Zero(n, 3);
   w->last_springs = NodeMat::Zero(n, 3);
   w->last_mask = FlagMat::Constant(n, 3, 2);  // never equal: the first step tells the solver
@@ -235,7 +236,7 @@ SimState make_sim_state(const TissueModel& m) {
   w->whole_velocity_start = NodeMat::Zero(n, 3);
   w->whole_x_refresh_start = m.rest.positions;
   w->solver = make_linear_solver(m.solver);
-  w->solver->analyze(m.pattern.matrix);
+  w->solver->analyze(m.pattern);
   s.work = std::move(w);
   return s;
 }
@@ -257,11 +258,11 @@ LinearSolver& fallback_solver(const TissueModel& m, StepWorkspace& w) {
     SolverSettings fs = m.solver;
     fs.method = SolverMethod::direct;
     w.fallback = make_linear_solver(fs);
-    w.fallback->analyze(m.pattern.matrix);
+    w.fallback->analyze(m.pattern);
     w.fallback_stale = true;
   }
   if (w.fallback_stale) {
-    w.fallback->matrices_changed(axis_system(w));
+    w.fallback->matrices_changed(axis_system(m, w));
     w.fallback_stale = false;
   }
   return *w.fallback;
@@ -390,7 +391,7 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
     }
     build_loads(m, in, s, w);
     for (int d = 0; d < 3; ++d)
-      eliminate_rhs(w.K[d], w.mask.col(d).data(), w.force.col(d).data(), w.u_fixed.col(d).data(),
+      eliminate_rhs(m.pattern, w.K, d, w.mask.col(d).data(), w.force.col(d).data(), w.u_fixed.col(d).data(),
                     w.rhs.col(d).data());
     // Eq (11) as a Newton step on the exact volume: a.u^{n+1} = V_0 - V(x^n) + a.u^n,
     // with the constrained part moved to the right.
@@ -483,7 +484,7 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
   const double alpha = pressure_scale(w.mean_diagonal, w.a_free);
   double res2 = 0.0, rhs2 = 0.0, vol_row = -last_c;
   for (int d = 0; d < 3; ++d) {
-    symmetric_multiply(w.K[d], s.u.col(d).data(), w.scratch.data());
+    multiply(m.pattern, w.K, d, s.u.col(d).data(), w.scratch.data());
     const std::uint8_t* mask = w.mask.col(d).data();
     const double* ku = w.scratch.data();
     const double* u = s.u.col(d).data();

@@ -10,7 +10,7 @@
 namespace vdm {
 
 struct StepWorkspace {
-  std::array<SpMat, 3> K;         // per-axis K^d at the last refresh (unmasked)
+  AxisStiffness K;                // per-axis K^d at the last refresh (unmasked)
   FlagMat mask, last_mask;        // constrained entries this step / when the solver was last told
   NodeMat last_springs;           // StepInput::spring_k when the solver was last told (N x 3)
   bool last_springs_any = false;  // some of last_springs is not zero

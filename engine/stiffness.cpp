@@ -8,6 +8,7 @@ namespace vdm {
 
 StiffnessPattern build_stiffness_pattern(int n, const std::vector<std::array<int, 2>>& edges) {
   StiffnessPattern p;
+  p.edges = edges;
   std::vector<Eigen::Triplet<double, int>> trip;
   trip.reserve(static_cast<size_t>(n) + 2 * edges.size());
   for (int i = 0; i < n; ++i) trip.emplace_back(i, i, 0.0);
@@ -34,51 +35,83 @@ StiffnessPattern build_stiffness_pattern(int n, const std::vector<std::array<int
   return p;
 }
 
-void assemble_stiffness(const TissueModel& m, const NodeMat& A, const Vec& Vi, const Vec& extra_diagonal,
-                        std::array<SpMat, 3>& K) {
-  Vec norms(m.n), scratch(m.n);
-  for (int i = 0; i < m.n; ++i) norms[i] = A.row(i).norm();
-  assemble_stiffness(m, A, norms, Vi, extra_diagonal, K, scratch);
-}
-
 void assemble_stiffness(const TissueModel& m, const NodeMat& A, const Vec& area_norms, const Vec& Vi,
-                        const Vec& extra_diagonal, std::array<SpMat, 3>& K, Vec& scratch) {
-  double* v[3] = {K[0].valuePtr(), K[1].valuePtr(), K[2].valuePtr()};
-  // Connectivity: a graph Laplacian with weights w_ij, the same on every axis. Every
-  // off-diagonal entry belongs to one edge: written once; the diagonal sums in `scratch`.
+                        const Vec& extra_diagonal, AxisStiffness& K, Vec& scratch) {
+  // Connectivity: a graph Laplacian with weights w_ij, the same on every axis; its diagonal
+  // sums in `scratch`.
   double* lap = scratch.data();
   std::fill(lap, lap + m.n, 0.0);
   const double bc = m.connectivity_modulus;
   const double* norm = area_norms.data();
   const double* vol = Vi.data();
-  const std::array<int, 2>* slot = m.pattern.edge_slot.data();
+  double* weight = K.weight.data();
   for (size_t e = 0; e < m.edges.size(); ++e) {
     const int i = m.edges[e][0], j = m.edges[e][1];
     const double a = 0.5 * (norm[i] + norm[j]);
     const double vij = 0.5 * (vol[i] + vol[j]);
     const double w = bc * a * a / vij;
-    for (int d = 0; d < 3; ++d) {
-      v[d][slot[e][0]] = -w;
-      v[d][slot[e][1]] = -w;
-    }
+    weight[e] = w;
     lap[i] += w;
     lap[j] += w;
   }
   // Diagonal: the Laplacian's, then the bulk term per node and axis.
   const bool extra = extra_diagonal.size() == m.n;
   const double floor = m.axis_stiffness_floor;
-  for (int i = 0; i < m.n; ++i) {
-    const int di = m.pattern.diagonal[size_t(i)];
-    const double a2 = floor * A.row(i).squaredNorm();
-    for (int d = 0; d < 3; ++d) {
-      double k = lap[i] + m.bulk(i, d) * std::max(A(i, d) * A(i, d), a2) / vol[i];
-      if (extra) k += extra_diagonal[i];
-      v[d][di] = k;
+  for (int d = 0; d < 3; ++d) {
+    double* diag = K.diagonal.col(d).data();
+    const double* a = A.col(d).data();
+    const double* bulk = m.bulk.col(d).data();
+    for (int i = 0; i < m.n; ++i) {
+      const double a2 = floor * (norm[i] * norm[i]);
+      diag[i] = lap[i] + bulk[i] * std::max(a[i] * a[i], a2) / vol[i];
+      if (extra) diag[i] += extra_diagonal[i];
     }
   }
 }
 
-void mask_constrained(const SpMat& K, const std::uint8_t* mask, SpMat& Km, const double* spring) {
+void assemble_stiffness(const TissueModel& m, const NodeMat& A, const Vec& Vi, const Vec& extra_diagonal,
+                        std::array<SpMat, 3>& K) {
+  Vec norms(m.n), scratch(m.n);
+  for (int i = 0; i < m.n; ++i) norms[i] = A.row(i).norm();
+  AxisStiffness k{Vec(Eigen::Index(m.edges.size())), NodeMat(m.n, 3)};
+  assemble_stiffness(m, A, norms, Vi, extra_diagonal, k, scratch);
+  to_sparse(m.pattern, k, K);
+}
+
+void to_sparse(const StiffnessPattern& p, const AxisStiffness& K, std::array<SpMat, 3>& out) {
+  for (int d = 0; d < 3; ++d) {
+    double* v = out[size_t(d)].valuePtr();
+    for (size_t e = 0; e < p.edge_slot.size(); ++e) v[p.edge_slot[e][0]] = v[p.edge_slot[e][1]] = -K.weight[Eigen::Index(e)];
+    for (size_t i = 0; i < p.diagonal.size(); ++i) v[p.diagonal[i]] = K.diagonal(Eigen::Index(i), d);
+  }
+}
+
+void multiply(const StiffnessPattern& p, const AxisStiffness& K, int d, const double* x, double* y) {
+  const double* diag = K.diagonal.col(d).data();
+  const Eigen::Index n = K.diagonal.rows();
+  for (Eigen::Index i = 0; i < n; ++i) y[i] = diag[i] * x[i];
+  const double* w = K.weight.data();
+  for (size_t e = 0; e < p.edges.size(); ++e) {
+    const int i = p.edges[e][0], j = p.edges[e][1];
+    y[i] -= w[e] * x[j];
+    y[j] -= w[e] * x[i];
+  }
+}
+
+void eliminate_rhs(const StiffnessPattern& p, const AxisStiffness& K, int /*d*/, const std::uint8_t* mask,
+                   const double* f, const double* u_fixed, double* rhs) {
+  const Eigen::Index n = K.diagonal.rows();
+  for (Eigen::Index i = 0; i < n; ++i) rhs[i] = mask[i] ? u_fixed[i] : f[i];
+  const double* w = K.weight.data();
+  for (size_t e = 0; e < p.edges.size(); ++e) {
+    const int i = p.edges[e][0], j = p.edges[e][1];
+    if (mask[i] == mask[j]) continue;  // both free, or both constrained
+    if (mask[j]) rhs[i] += w[e] * u_fixed[j];  // K_ij = -w
+    else rhs[j] += w[e] * u_fixed[i];
+  }
+}
+
+void mask_constrained(const SpMat& K, const std::uint8_t* mask, SpMat& Km) {
   const int n = static_cast<int>(K.cols());
   const int* outer = K.outerIndexPtr();
   const int* inner = K.innerIndexPtr();
@@ -88,24 +121,8 @@ void mask_constrained(const SpMat& K, const std::uint8_t* mask, SpMat& Km, const
     for (int k = outer[j]; k < outer[j + 1]; ++k) {
       const int i = inner[k];
       if (mask[i] || mask[j]) dst[k] = (i == j) ? 1.0 : 0.0;
-      else dst[k] = (i == j && spring) ? src[k] + spring[i] : src[k];
+      else dst[k] = src[k];
     }
-}
-
-void eliminate_rhs(const SpMat& K, const std::uint8_t* mask, const double* f, const double* u_fixed,
-                   double* rhs) {
-  const int n = static_cast<int>(K.cols());
-  const int* outer = K.outerIndexPtr();
-  const int* inner = K.innerIndexPtr();
-  const double* val = K.valuePtr();
-  for (int i = 0; i < n; ++i) rhs[i] = mask[i] ? u_fixed[i] : f[i];
-  for (int j = 0; j < n; ++j) {
-    if (!mask[j] || u_fixed[j] == 0.0) continue;
-    for (int k = outer[j]; k < outer[j + 1]; ++k) {
-      const int i = inner[k];
-      if (!mask[i]) rhs[i] -= val[k] * u_fixed[j];
-    }
-  }
 }
 
 void symmetric_multiply(const SpMat& K, const double* x, double* y) {
@@ -115,23 +132,6 @@ void symmetric_multiply(const SpMat& K, const double* x, double* y) {
   const int* inner = K.innerIndexPtr();
   const double* val = K.valuePtr();
   for (int i = 0; i < n; ++i) {
-    double s = 0.0;
-    for (int k = outer[i]; k < outer[i + 1]; ++k) s += val[k] * x[inner[k]];
-    y[i] = s;
-  }
-}
-
-}  // namespace vdm
-
-namespace vdm {
-
-void symmetric_multiply_rows(const SpMat& K, const std::uint8_t* rows, const double* x, double* y) {
-  const int n = static_cast<int>(K.cols());
-  const int* outer = K.outerIndexPtr();
-  const int* inner = K.innerIndexPtr();
-  const double* val = K.valuePtr();
-  for (int i = 0; i < n; ++i) {
-    if (!rows[i]) continue;
     double s = 0.0;
     for (int k = outer[i]; k < outer[i + 1]; ++k) s += val[k] * x[inner[k]];
     y[i] = s;
