@@ -192,15 +192,13 @@ class StructuredSolver final : public LinearSolver {
     // Out in node order (gathering rows of the block: one cache line each, where scattering
     // into the three columns of `out` missed on every store).
     for (int g = 0; g < G; ++g) {
-      std::vector<double>& x0 = *warm[g];
+      double* x0 = warm[g]->data();
+      for (size_t i = 0; i < size_t(n_); ++i)
+        for (size_t d = 0; d < 3; ++d) x0[3 * i + d] = x_[i * W + d * G + size_t(g)];
       double* o[3] = {out[g]->col(0).data(), out[g]->col(1).data(), out[g]->col(2).data()};
       for (int node = 0; node < n_; ++node) {
-        const size_t i = size_t(iperm_[size_t(node)]);
-        for (int d = 0; d < 3; ++d) {
-          const double v = x_[i * W + size_t(d * G + g)];
-          x0[3 * i + size_t(d)] = v;
-          o[d][node] = v;
-        }
+        const double* xi = x0 + 3 * size_t(iperm_[size_t(node)]);
+        for (int d = 0; d < 3; ++d) o[d][node] = xi[d];
       }
     }
     return rep;
