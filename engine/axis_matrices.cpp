@@ -37,8 +37,7 @@ void AxisMatrices::analyze(const SpMat& pattern, const std::vector<int>& perm) {
   }
   off.assign(3 * col.size(), 0.0);
   diag.assign(3 * size_t(n), 0.0);
-  node.resize(size_t(n));
-  for (int i = 0; i < n; ++i) node[size_t(i)] = perm.empty() ? i : perm[size_t(i)];
+  row_of = iperm;
   row_mask.assign(3 * size_t(n), 0);
 }
 
@@ -73,15 +72,25 @@ void AxisMatrices::analyze(const StiffnessPattern& pattern, const std::vector<in
 }
 
 void AxisMatrices::gather(const AxisStiffness& K, const FlagMat& mask, const NodeMat* springs) {
+  // The per-node values in node order (sequential reads of the three columns; each row here
+  // written whole), then the entries row by row.
   std::uint8_t* rm = row_mask.data();
-  for (int i = 0; i < n; ++i)
-    for (int d = 0; d < 3; ++d) rm[3 * size_t(i) + size_t(d)] = mask(node[size_t(i)], d) != 0;
+  const double* kd[3] = {K.diagonal.col(0).data(), K.diagonal.col(1).data(), K.diagonal.col(2).data()};
+  const std::uint8_t* md[3] = {mask.col(0).data(), mask.col(1).data(), mask.col(2).data()};
+  const double* sd[3] = {nullptr, nullptr, nullptr};
+  if (springs)
+    for (int d = 0; d < 3; ++d) sd[d] = springs->col(d).data();
+  for (int v = 0; v < n; ++v) {
+    const size_t i = size_t(row_of[size_t(v)]);
+    for (int d = 0; d < 3; ++d) {
+      const bool held = md[d][v] != 0;
+      rm[3 * i + size_t(d)] = held;
+      diag[3 * i + size_t(d)] = held ? 1.0 : kd[d][v] + (springs ? sd[d][v] : 0.0);
+    }
+  }
   const double* weight = K.weight.data();
   for (int i = 0; i < n; ++i) {
     const std::uint8_t* mi = rm + 3 * size_t(i);
-    const int src = node[size_t(i)];
-    for (int d = 0; d < 3; ++d)
-      diag[3 * size_t(i) + size_t(d)] = mi[d] ? 1.0 : K.diagonal(src, d) + (springs ? (*springs)(src, d) : 0.0);
     for (int p = start[size_t(i)]; p < start[size_t(i) + 1]; ++p) {
       const std::uint8_t* mj = rm + 3 * size_t(col[size_t(p)]);
       const double v = -weight[off_edge[size_t(p)]];

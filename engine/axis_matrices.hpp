@@ -24,7 +24,7 @@ struct AxisMatrices {
   std::vector<int> off_src;    // index of each off-diagonal entry in the source matrices' values
   std::vector<int> diag_src;   // index of each diagonal entry in the source matrices' values
   std::vector<int> off_edge;   // the edge of each off-diagonal entry (analysed from a StiffnessPattern)
-  std::vector<int> node;       // row i here is row node[i] of the source
+  std::vector<int> row_of;     // row v of the source is row row_of[v] here
   std::vector<std::uint8_t> row_mask;  // gather(): 3 per row, the constrained entries
 
   // Pattern of `pattern` (symmetric, diagonal present) with rows and columns renumbered:
