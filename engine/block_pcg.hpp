@@ -7,6 +7,7 @@
 // The caller owns the workspace: a warmed-up solve allocates nothing.
 #include <array>
 #include <cmath>
+#include <initializer_list>
 #include <vector>
 
 #include "engine/krylov.hpp"
@@ -64,26 +65,34 @@ void block_pcg(const Op& op, const Pre& pre, int n, const double* b, double* x, 
   if (active == 0) return;
   // A stopped column has r = p = q = 0 (then z = 0 and nothing changes it), unless the
   // preconditioner is not finite there: its direction is zeroed again after each update.
-  auto zero = [&](double* v, int c) {
-    for (int i = 0; i < n; ++i) v[size_t(i) * W + c] = 0.0;
+  // Columns are zeroed together, in one pass over the block (a pass per column and vector
+  // cost as much as the iteration itself on large blocks).
+  bool cut[W];
+  auto zero = [&](std::initializer_list<double*> vs) {
+    bool any = false;
+    for (int c = 0; c < W; ++c) any = any || cut[c];
+    if (!any) return;
+    for (double* v : vs)
+      for (int i = 0; i < n; ++i)
+        for (int c = 0; c < W; ++c)
+          if (cut[c]) v[size_t(i) * W + c] = 0.0;
   };
-  auto freeze = [&](int c) {
+  auto freeze = [&](int c) {  // zeroed by the next zero() with cut[c] set
     live[c] = 0.0;
     --active;
-    zero(r, c);
-    zero(p, c);
-    zero(q, c);
+    cut[c] = true;
   };
-  for (int c = 0; c < W; ++c)
-    if (live[c] == 0.0) zero(r, c);
+  for (int c = 0; c < W; ++c) cut[c] = live[c] == 0.0;
+  zero({r});
   pre(r, z, rz);
   for (size_t k = 0; k < size_t(n) * W; ++k) p[k] = z[k];
-  for (int c = 0; c < W; ++c)
-    if (live[c] == 0.0 && rz[c] != 0.0) zero(p, c);  // rz = 0 . z: not 0 only when z is not finite
+  for (int c = 0; c < W; ++c) cut[c] = live[c] == 0.0 && rz[c] != 0.0;  // rz = 0 . z: not 0 only when z is not finite
+  zero({p});
   for (int it = 1; it <= max_iter; ++it) {
     op(p, q, dot);
     for (int c = 0; c < W; ++c) {
       alpha[c] = 0.0;
+      cut[c] = false;
       if (live[c] == 0.0) continue;
       if (!(dot[c] > 0.0) || !std::isfinite(dot[c])) {  // breakdown: A not SPD along p, or NaN
         result[size_t(c)].iterations = it;
@@ -93,6 +102,7 @@ void block_pcg(const Op& op, const Pre& pre, int n, const double* b, double* x, 
       }
       alpha[c] = rz[c] / dot[c];
     }
+    zero({r, p, q});
     for (int c = 0; c < W; ++c) rn[c] = 0.0;
     for (int i = 0; i < n; ++i)
       for (int c = 0; c < W; ++c) {
@@ -102,12 +112,14 @@ void block_pcg(const Op& op, const Pre& pre, int n, const double* b, double* x, 
         rn[c] += r[k] * r[k];
       }
     for (int c = 0; c < W; ++c) {
+      cut[c] = false;
       if (live[c] == 0.0) continue;
       result[size_t(c)].iterations = it;
       result[size_t(c)].relative_residual = std::sqrt(rn[c] / bn[c]);
       if (std::sqrt(rn[c]) <= threshold[c]) freeze(c);
     }
     if (active == 0) return;
+    zero({r, p, q});
     double rz_new[W];
     pre(r, z, rz_new);
     for (int c = 0; c < W; ++c) {
@@ -119,8 +131,8 @@ void block_pcg(const Op& op, const Pre& pre, int n, const double* b, double* x, 
         const size_t k = size_t(i) * W + c;
         p[k] = z[k] + beta[c] * p[k];
       }
-    for (int c = 0; c < W; ++c)
-      if (live[c] == 0.0 && rz_new[c] != 0.0) zero(p, c);
+    for (int c = 0; c < W; ++c) cut[c] = live[c] == 0.0 && rz_new[c] != 0.0;
+    zero({p});
   }
   for (int c = 0; c < W; ++c)
     if (live[c] != 0.0) result[size_t(c)].converged = false;
