@@ -36,8 +36,11 @@ bool encode(std::FILE* f, const Image& image, int level, bool alpha, std::vector
   }
   png_init_io(png, f);
   png_set_compression_level(png, level);
-  // The Sub filter alone is much faster than adaptive filtering at a similar size for renders.
-  png_set_filter(png, 0, level <= 3 ? PNG_FILTER_SUB : PNG_ALL_FILTERS);
+  // At the fast levels no filter: for renders (smooth gradients, flat backgrounds) deflate
+  // alone gives files as small as with the Sub filter (720p frames: 235 against 252 kB
+  // shaded, 169 against 198 kB stress) in about 0.8x the time; adaptive filtering is much
+  // slower.
+  png_set_filter(png, 0, level <= 3 ? PNG_FILTER_NONE : PNG_ALL_FILTERS);
   png_set_IHDR(png, info, image.width, image.height, 8, alpha ? PNG_COLOR_TYPE_RGBA : PNG_COLOR_TYPE_RGB,
                PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
   png_write_info(png, info);
