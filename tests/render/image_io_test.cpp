@@ -45,6 +45,20 @@ TEST(PngIo, RoundTripIsLosslessAtEveryLevel) {
   }
 }
 
+TEST(PngIo, RoundTripKeepsTheAlphaChannelAtFastAndSlowLevels) {
+  render::Image im = pattern(29, 17);
+  for (int y = 0; y < im.height; ++y)
+    for (int x = 0; x < im.width; ++x) im.pixel(x, y)[3] = std::uint8_t(x * 9 + y * 5);
+  for (int level : {1, 3, 6}) {  // the fast levels go through libdeflate when the build has it
+    const fs::path p = scratch("alpha_" + std::to_string(level) + ".png");
+    std::string error;
+    ASSERT_TRUE(render::write_png(p.string(), im, level, true, error)) << error;
+    render::Image back;
+    ASSERT_TRUE(render::read_png(p.string(), back, error)) << error;
+    EXPECT_EQ(back.rgba, im.rgba) << "level " << level;
+  }
+}
+
 TEST(PngIo, ReadingGarbageOrAMissingFileFailsWithTheFileName) {
   const fs::path p = scratch("garbage.png");
   { std::ofstream(p) << "not a png at all"; }
