@@ -123,8 +123,14 @@ bool encode_fast(std::FILE* f, const Image& image, int level, bool alpha, std::s
       }
     }
   }
-  packed.resize(libdeflate_zlib_compress_bound(compressor.c, raw.size()));
-  const size_t n = libdeflate_zlib_compress(compressor.c, raw.data(), raw.size(), packed.data(), packed.size());
+  // Renders compress to well under a quarter of their raw size: a buffer of that size, and
+  // the worst-case bound only for an image that does not fit (compressed again).
+  if (packed.size() < raw.size() / 4) packed.resize(raw.size() / 4);
+  size_t n = libdeflate_zlib_compress(compressor.c, raw.data(), raw.size(), packed.data(), packed.size());
+  if (n == 0) {
+    packed.resize(libdeflate_zlib_compress_bound(compressor.c, raw.size()));
+    n = libdeflate_zlib_compress(compressor.c, raw.data(), raw.size(), packed.data(), packed.size());
+  }
   if (n == 0) {
     msg = "compression failed";
     return false;
