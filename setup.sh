@@ -19,7 +19,7 @@ packages=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libassimp-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
-  libfcl-dev libyaml-cpp-dev libpng-dev libosmesa6-dev libglm-dev libimgui-dev
+  libfcl-dev libyaml-cpp-dev libpng-dev libdeflate-dev libosmesa6-dev libglm-dev libimgui-dev
   fonts-dejavu-core ffmpeg gmsh libgmsh-dev libsuitesparse-dev libopenblas0-serial libbullet-dev
 )
 

@@ -47,8 +47,19 @@ double peak_mb() {
   return 0;
 }
 
-// Runs `body` in a child process; the child prints one CSV row on a pipe.
-bool run_isolated(const std::function<Row()>& body, Row& row, std::string& error) {
+std::string format_row(const Row& r) {
+  std::ostringstream s;
+  s << std::setprecision(9) << r.name << ',' << r.model << ',' << r.nodes << ',' << r.median_ms << ',' << r.p95_ms << ','
+    << r.iterations << ',' << r.volume_rel_error << ',' << r.peak_mb << '\n';
+  return s.str();
+}
+
+// Runs one case in a new process: this program exec'd again as `bench --only LABEL --case-fd
+// N`, which runs the case and writes its CSV row to descriptor N (a pipe). A new program, not
+// only a fork: its peak memory counts every page it touches itself, the shared libraries'
+// included (a forked child inherits the parent's resident library pages without counting
+// them: at 40k nodes with rendering that hid about 65 MB).
+bool run_isolated(const std::string& label, const std::string& out_dir, bool quick, Row& row, std::string& error) {
   int fd[2];
   if (pipe(fd) != 0) {
     error = "pipe failed";
@@ -57,21 +68,14 @@ bool run_isolated(const std::function<Row()>& body, Row& row, std::string& error
   const pid_t pid = fork();
   if (pid == 0) {
     close(fd[0]);
-    Row r;
-    try {
-      r = body();
-    } catch (const std::exception& e) {
-      std::fprintf(stderr, "vdmsim: bench: %s\n", e.what());
-      _exit(1);
-    }
-    r.peak_mb = peak_mb();
-    std::ostringstream s;
-    s << std::setprecision(9) << r.name << ',' << r.model << ',' << r.nodes << ',' << r.median_ms << ',' << r.p95_ms << ','
-      << r.iterations << ',' << r.volume_rel_error << ',' << r.peak_mb << '\n';
-    const std::string text = s.str();
-    const ssize_t w = write(fd[1], text.data(), text.size());
-    close(fd[1]);
-    _exit(w == ssize_t(text.size()) ? 0 : 1);
+    const std::string fd_text = std::to_string(fd[1]);
+    std::vector<const char*> args = {"vdmsim", "bench", "--out", out_dir.c_str(), "--only", label.c_str(), "--case-fd",
+                                     fd_text.c_str()};
+    if (quick) args.push_back("--quick");
+    args.push_back(nullptr);
+    execv("/proc/self/exe", const_cast<char* const*>(args.data()));
+    std::fprintf(stderr, "vdmsim: bench: cannot run /proc/self/exe\n");
+    _exit(1);
   }
   close(fd[1]);
   std::string text;
@@ -269,21 +273,32 @@ Row bench_render(const fs::path& dir, int frames, int samples) {
   return r;
 }
 
-// The whole pipeline as `vdmsim run` does it: simulate, render 1280x720 with the HUD, encode
-// PNGs on the writer thread. The figure is wall time per frame over the run.
-Row bench_pipeline(const fs::path& dir, int frames) {
-  Row r{"pipeline_720p", "pipeline"};
+// The whole pipeline as `vdmsim run` does it: simulate, render 1280x720 with the HUD (the
+// scene's 4x MSAA, or `samples`), encode PNGs on the writer thread. The figures are the
+// steady frame interval: the wall time between consecutive frames done (the render and PNG
+// queues are bounded, so the loop runs at the pace of the slowest stage), the first
+// `warm_up` frames (renderer start, shader compilation, queues filling) left out. The wall
+// time per frame of the whole run (start and the final drain included) is printed.
+Row bench_pipeline(const fs::path& dir, const std::string& mesh, int frames, int samples, std::ostream& out) {
+  Row r{samples == 4 ? "pipeline_720p" : "pipeline_720p_" + std::to_string(samples) + "x", "pipeline"};
   std::string error;
-  PreparedScene ps = probe_scene("liver_L5.obj", frames, true);
+  PreparedScene ps = probe_scene(mesh, frames, true);
+  ps.scene.render.settings.samples = samples;
   RunOptions opt;
   opt.out_dir = (dir / "pipeline_run").string();
+  std::vector<double> done;
+  opt.frame_done_ms = &done;
   std::ostringstream o, e;
   const auto t0 = Clock::now();
   if (run_scene(ps, opt, o, e, false) != 0) throw std::runtime_error("the pipeline run failed: " + e.str());
-  const double per_frame = ms_since(t0) / frames;
+  const double whole = ms_since(t0) / frames;
+  const size_t warm_up = std::min<size_t>(10, done.size() / 3);
+  std::vector<double> intervals;
+  for (size_t f = warm_up + 1; f < done.size(); ++f) intervals.push_back(done[f] - done[f - 1]);
   r.nodes = ps.model.n;
-  r.median_ms = per_frame;
-  r.p95_ms = per_frame;
+  r.median_ms = quantile(intervals, 0.5);
+  r.p95_ms = quantile(intervals, 0.95);
+  out << " (whole run " << std::setprecision(4) << whole << " ms per frame)" << std::flush;
   std::error_code ec;
   fs::remove_all(dir / "pipeline_run", ec);
   return r;
@@ -291,7 +306,8 @@ Row bench_pipeline(const fs::path& dir, int frames) {
 
 }  // namespace
 
-int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::ostream& err, const std::string& only) {
+int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::ostream& err, const std::string& only,
+              int case_fd) {
   std::string error;
   if (!prepare_output_dir(out_dir, error)) {
     err << "vdmsim: error: " << error << "\n";
@@ -305,10 +321,10 @@ int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::os
   };
   if (!quick) cases.push_back({"liver_probe 40k", [&] { return bench_probe("liver_L6.obj", 1); }});
   if (bullet_available()) {
-    out << "bench: Bullet " << describe(BulletSettings{}) << "\n";
+    if (case_fd < 0) out << "bench: Bullet " << describe(BulletSettings{}) << "\n";
     cases.push_back({"liver_probe bullet 2.5k", [&] { return bench_bullet("liver_L4.obj", repeats); }});
     cases.push_back({"liver_probe bullet 10k", [&] { return bench_bullet("liver_L5.obj", repeats); }});
-  } else {
+  } else if (case_fd < 0) {
     out << "bench: liver_probe bullet: skipped (this build has no Bullet: install libbullet-dev and reconfigure)\n";
   }
   cases.push_back({"liver_probe 642", [&] { return bench_probe_level3(dir, repeats); }});
@@ -316,14 +332,36 @@ int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::os
   cases.push_back({"grasp_lift", [&] { return bench_grasp(repeats); }});
   cases.push_back({"render_720p", [&] { return bench_render(dir, quick ? 6 : 20, 4); }});
   cases.push_back({"render_720p_1x", [&] { return bench_render(dir, quick ? 6 : 20, 1); }});
-  cases.push_back({"pipeline_720p", [&] { return bench_pipeline(dir, quick ? 20 : 60); }});
+  cases.push_back({"pipeline_720p 10k", [&] { return bench_pipeline(dir, "liver_L5.obj", quick ? 30 : 90, 4, out); }});
+  cases.push_back({"pipeline_720p_1x 10k", [&] { return bench_pipeline(dir, "liver_L5.obj", quick ? 30 : 90, 1, out); }});
+  // 40k nodes with rendering: its peak memory (a few contact frames).
+  cases.push_back({"pipeline_720p 40k", [&] { return bench_pipeline(dir, "liver_L6.obj", 24, 4, out); }});
 
+  if (case_fd >= 0) {  // the process of one case (run_isolated): its row to the pipe
+    for (const auto& [label, body] : cases) {
+      if (label != only) continue;
+      Row r;
+      try {
+        r = body();
+      } catch (const std::exception& e) {
+        err << "vdmsim: bench: " << e.what() << "\n";
+        return 1;
+      }
+      r.peak_mb = peak_mb();
+      const std::string text = format_row(r);
+      const ssize_t w = write(case_fd, text.data(), text.size());
+      close(case_fd);
+      return w == ssize_t(text.size()) ? 0 : 1;
+    }
+    err << "vdmsim: bench: no case " << only << "\n";
+    return 1;
+  }
   std::vector<Row> rows;
   for (const auto& [label, body] : cases) {
     if (!only.empty() && label.find(only) == std::string::npos) continue;
     Row row;
     out << "bench: " << label << " ..." << std::flush;
-    if (!run_isolated(body, row, error)) {
+    if (!run_isolated(label, out_dir, quick, row, error)) {
       out << " failed\n";
       err << "vdmsim: error: " << label << ": " << error << "\n";
       return 1;

@@ -29,8 +29,10 @@ struct ToleranceError {
 };
 ToleranceError bench_tolerance_error(const std::string& mesh, double tolerance, double reference_tolerance);
 
-// `only` (may be empty): run only the cases whose label contains it.
+// `only` (may be empty): run only the cases whose label contains it. Each case runs in a
+// process of its own: this program again with `case_fd` >= 0 and `only` the case's label,
+// which writes the case's CSV row to that descriptor.
 int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::ostream& err,
-              const std::string& only = "");
+              const std::string& only = "", int case_fd = -1);
 
 }  // namespace vdmsim

@@ -1,5 +1,7 @@
 #include "app/frame_output.hpp"
 
+#include <pthread.h>
+
 #include <algorithm>
 #include <chrono>
 
@@ -85,6 +87,7 @@ void FrameOutput::stop() {
 }
 
 void FrameOutput::render_loop(std::string* start_error, bool* started) {
+  pthread_setname_np(pthread_self(), "vdmsim-render");  // for profilers (perf, top -H)
   {
     std::string error;
     auto renderer = render::Renderer::create(ps_->scene.render.settings, ps_->model.rest, error);

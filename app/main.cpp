@@ -67,6 +67,8 @@ int main(int argc, char** argv) {
   bench->add_option("--out", bench_out, "Output folder (default: out/bench)");
   bench->add_flag("--quick", bench_quick, "Fewer cases and repeats (under 2 minutes)");
   bench->add_option("--only", bench_only, "Only the cases whose label contains this text (e.g. 'liver_probe 10k')");
+  int bench_case_fd = -1;  // internal: the process of one case writes its row there
+  bench->add_option("--case-fd", bench_case_fd)->group("");
   vdmsim::AccuracyOptions accuracy_opt;
   auto* accuracy = app.add_subcommand("accuracy",
                                       "Accuracy against time: knobs swept on the liver probe and grasp scenes; "
@@ -90,7 +92,7 @@ int main(int argc, char** argv) {
     if (mesh_info->parsed()) return vdmsim::cmd_mesh_info(mesh_path, mesh_scale, std::cout, std::cerr);
     if (run->parsed())
       return vdmsim::cmd_run(scene_path, run_out, run_frames, !no_render, video, resume, checkpoint_every, std::cout, std::cerr, isatty(2) != 0);
-    if (bench->parsed()) return vdmsim::cmd_bench(bench_out, bench_quick, std::cout, std::cerr, bench_only);
+    if (bench->parsed()) return vdmsim::cmd_bench(bench_out, bench_quick, std::cout, std::cerr, bench_only, bench_case_fd);
     if (accuracy->parsed()) return vdmsim::run_accuracy(accuracy_opt, std::cout, std::cerr);
     if (check->parsed()) return vdmsim::cmd_check(scene_path, std::cout, std::cerr);
     if (make_organ->parsed()) return vdmsim::cmd_make_organ(organ, organ_level, organ_out, std::cout, std::cerr);

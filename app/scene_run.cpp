@@ -546,6 +546,7 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
     done = f + 1;
     state_frame = f;
     last_hash = state_hash(state);
+    if (opt.frame_done_ms) opt.frame_done_ms->push_back(ms_since(t_run));
     progress(rendering ? "render" : "simulate", done, frames, last_pct);
     // A checkpoint every K frames, once this frame's images are on disk.
     if (done % std::max(1, opt.checkpoint_every) == 0 && done < frames) {

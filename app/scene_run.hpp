@@ -50,6 +50,10 @@ struct RunOptions {
   bool video = false;       // also encode DIR/video.mp4 with ffmpeg
   bool resume = false;      // continue an interrupted run in out_dir from its checkpoint
   int checkpoint_every = 30;  // frames between checkpoints (each waits for the PNG writer)
+  // When set: for each frame, the wall time (ms since the run's loop started) at which it was
+  // done (simulated and, when rendering, handed to the render thread). `vdmsim bench` takes
+  // the pipeline's frame interval from it.
+  std::vector<double>* frame_done_ms = nullptr;
 };
 
 // Runs a prepared scene; returns the exit code (0, or 1 on a runtime failure). `progress`

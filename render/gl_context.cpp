@@ -82,6 +82,18 @@ void Framebuffer::bind_draw() {
   glViewport(0, 0, width_, height_);
 }
 
+void Framebuffer::copy_color_from(unsigned fbo) {
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, fbo);
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, draw_fbo_);
+  glBlitFramebuffer(0, 0, width_, height_, 0, 0, width_, height_, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+}
+
+void Framebuffer::blit_color_to(unsigned fbo) {
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, draw_fbo_);
+  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, fbo);
+  glBlitFramebuffer(0, 0, width_, height_, 0, 0, width_, height_, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+}
+
 void Framebuffer::resolve_and_read(Image& out) {
   glBindFramebuffer(GL_READ_FRAMEBUFFER, draw_fbo_);
   glBindFramebuffer(GL_DRAW_FRAMEBUFFER, read_fbo_);

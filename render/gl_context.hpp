@@ -41,6 +41,10 @@ class Framebuffer {
   int samples() const { return samples_; }
   void bind_draw();                        // the multisampled target, viewport set
   void resolve_and_read(Image& out);      // rows top first
+  // Copies the colour of the framebuffer object `fbo` (same size and samples) into this
+  // one's multisampled target, or this one's into `fbo`.
+  void copy_color_from(unsigned fbo);
+  void blit_color_to(unsigned fbo);
 
  private:
   int width_, height_, samples_;

@@ -1,7 +1,11 @@
 #include "render/png_io.hpp"
 
 #include <png.h>
+#ifdef VDMSIM_HAVE_LIBDEFLATE
+#include <libdeflate.h>
+#endif
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -36,8 +40,11 @@ bool encode(std::FILE* f, const Image& image, int level, bool alpha, std::vector
   }
   png_init_io(png, f);
   png_set_compression_level(png, level);
-  // The Sub filter alone is much faster than adaptive filtering at a similar size for renders.
-  png_set_filter(png, 0, level <= 3 ? PNG_FILTER_SUB : PNG_ALL_FILTERS);
+  // At the fast levels no filter: for renders (smooth gradients, flat backgrounds) deflate
+  // alone gives files as small as with the Sub filter (720p frames: 235 against 252 kB
+  // shaded, 169 against 198 kB stress) in about 0.8x the time; adaptive filtering is much
+  // slower.
+  png_set_filter(png, 0, level <= 3 ? PNG_FILTER_NONE : PNG_ALL_FILTERS);
   png_set_IHDR(png, info, image.width, image.height, 8, alpha ? PNG_COLOR_TYPE_RGBA : PNG_COLOR_TYPE_RGB,
                PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
   png_write_info(png, info);
@@ -56,6 +63,88 @@ bool encode(std::FILE* f, const Image& image, int level, bool alpha, std::vector
   png_destroy_write_struct(&png, &info);
   return true;
 }
+
+#ifdef VDMSIM_HAVE_LIBDEFLATE
+// The fast levels (1-3) without libpng: the rows (filter byte 0, no filter) in one buffer,
+// compressed at once by libdeflate (a 720p frame: about 5.6 ms against 9.7 ms for libpng
+// with zlib at level 1, and about 13 % smaller), written as IHDR, one IDAT and IEND. The
+// buffers are kept per thread (the PNG writer's), so a frame allocates nothing.
+void put_u32(std::uint8_t* p, std::uint32_t v) {
+  p[0] = std::uint8_t(v >> 24);
+  p[1] = std::uint8_t(v >> 16);
+  p[2] = std::uint8_t(v >> 8);
+  p[3] = std::uint8_t(v);
+}
+
+bool put_chunk(std::FILE* f, const char* type, const std::uint8_t* data, size_t size) {
+  std::uint8_t head[8], tail[4];
+  put_u32(head, std::uint32_t(size));
+  std::copy(type, type + 4, head + 4);
+  std::uint32_t crc = libdeflate_crc32(0, head + 4, 4);
+  if (size > 0) crc = libdeflate_crc32(crc, data, size);  // (a null buffer would restart it)
+  put_u32(tail, crc);
+  return std::fwrite(head, 1, 8, f) == 8 && (size == 0 || std::fwrite(data, 1, size, f) == size) &&
+         std::fwrite(tail, 1, 4, f) == 4;
+}
+
+bool encode_fast(std::FILE* f, const Image& image, int level, bool alpha, std::string& msg) {
+  struct Compressor {
+    libdeflate_compressor* c = nullptr;
+    int level = -1;
+    ~Compressor() {
+      if (c) libdeflate_free_compressor(c);
+    }
+  };
+  thread_local Compressor compressor;
+  thread_local std::vector<std::uint8_t> raw, packed;
+  if (compressor.level != level) {
+    if (compressor.c) libdeflate_free_compressor(compressor.c);
+    compressor.c = libdeflate_alloc_compressor(level);
+    compressor.level = compressor.c ? level : -1;
+    if (!compressor.c) {
+      msg = "out of memory";
+      return false;
+    }
+  }
+  const size_t w = static_cast<size_t>(image.width), h = static_cast<size_t>(image.height);
+  const size_t channels = alpha ? 4 : 3, stride = 1 + channels * w;
+  raw.resize(stride * h);
+  for (size_t y = 0; y < h; ++y) {
+    std::uint8_t* d = &raw[y * stride];
+    const std::uint8_t* s = &image.rgba[y * w * 4];
+    *d++ = 0;  // filter: none
+    if (alpha) {
+      std::copy(s, s + 4 * w, d);
+    } else {
+      for (size_t x = 0; x < w; ++x, d += 3, s += 4) {
+        d[0] = s[0];
+        d[1] = s[1];
+        d[2] = s[2];
+      }
+    }
+  }
+  // Renders compress to well under a quarter of their raw size: a buffer of that size, and
+  // the worst-case bound only for an image that does not fit (compressed again).
+  if (packed.size() < raw.size() / 4) packed.resize(raw.size() / 4);
+  size_t n = libdeflate_zlib_compress(compressor.c, raw.data(), raw.size(), packed.data(), packed.size());
+  if (n == 0) {
+    packed.resize(libdeflate_zlib_compress_bound(compressor.c, raw.size()));
+    n = libdeflate_zlib_compress(compressor.c, raw.data(), raw.size(), packed.data(), packed.size());
+  }
+  if (n == 0) {
+    msg = "compression failed";
+    return false;
+  }
+  static const std::uint8_t signature[8] = {137, 80, 78, 71, 13, 10, 26, 10};
+  std::uint8_t ihdr[13] = {};
+  put_u32(ihdr, std::uint32_t(w));
+  put_u32(ihdr + 4, std::uint32_t(h));
+  ihdr[8] = 8;                  // bits per channel
+  ihdr[9] = alpha ? 6 : 2;      // RGBA or RGB; compression, filter, interlace 0
+  return std::fwrite(signature, 1, 8, f) == 8 && put_chunk(f, "IHDR", ihdr, 13) &&
+         put_chunk(f, "IDAT", packed.data(), n) && put_chunk(f, "IEND", nullptr, 0);
+}
+#endif
 
 bool decode(std::FILE* f, Image& image, std::vector<png_bytep>& rows, std::string& msg) {
   png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &msg, on_error, on_warning);
@@ -100,8 +189,15 @@ bool write_png(const std::string& path, const Image& image, int level, bool alph
       error = path + ": cannot open for writing";
       return false;
     }
-    std::vector<std::uint8_t> rgb(static_cast<size_t>(image.width) * 3);
-    ok = encode(f.get(), image, level, alpha, rgb, msg);
+#ifdef VDMSIM_HAVE_LIBDEFLATE
+    if (level >= 1 && level <= 3) {
+      ok = encode_fast(f.get(), image, level, alpha, msg);
+    } else
+#endif
+    {
+      std::vector<std::uint8_t> rgb(static_cast<size_t>(image.width) * 3);
+      ok = encode(f.get(), image, level, alpha, rgb, msg);
+    }
     ok = ok && std::fflush(f.get()) == 0 && !std::ferror(f.get());
     ok = (std::fclose(f.release()) == 0) && ok;
   }

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <map>
 #include <tuple>
 
@@ -23,7 +24,10 @@ namespace {
 struct GpuMesh {
   GLuint vao = 0, vbo = 0, ebo = 0;
   GLsizei count = 0;
+  Eigen::AlignedBox3f box;  // of the vertices, in the mesh's frame: what its shadow can reach
   void upload(const SkinMesh& m) {
+    box.setEmpty();
+    for (const Eigen::Vector3f& p : m.positions) box.extend(p);
     std::vector<float> data;
     data.reserve(m.positions.size() * 6);
     for (size_t i = 0; i < m.positions.size(); ++i) {
@@ -65,17 +69,27 @@ struct InstrumentMeshes {
 
 Eigen::Vector3f f3(const Eigen::Vector3d& v) { return v.cast<float>(); }
 
-// VDMSIM_RENDER_TIMING=1 prints the time of each pass (with glFinish between passes, so
-// the total is slower than a normal frame): for profiling only.
+// VDMSIM_RENDER_TIMING=1 prints the wall and CPU time (all of the process's threads,
+// llvmpipe's included) of each pass, with glFinish between passes, so the total is slower
+// than a normal frame: for profiling only.
+double process_cpu_ms() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return double(ts.tv_sec) * 1e3 + double(ts.tv_nsec) * 1e-6;
+}
 struct PassTimer {
   bool on = std::getenv("VDMSIM_RENDER_TIMING") != nullptr;
   std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now();
+  double cpu0 = on ? process_cpu_ms() : 0.0;
   void mark(const char* what) {
     if (!on) return;
     glFinish();
     const auto t = std::chrono::steady_clock::now();
-    std::fprintf(stderr, "render %-12s %7.2f ms\n", what, std::chrono::duration<double, std::milli>(t - t0).count());
+    const double cpu = process_cpu_ms();
+    std::fprintf(stderr, "render %-12s %7.2f ms  cpu %7.2f ms\n", what,
+                 std::chrono::duration<double, std::milli>(t - t0).count(), cpu - cpu0);
     t0 = t;
+    cpu0 = cpu;
   }
 };
 
@@ -103,6 +117,14 @@ struct Renderer::Impl {
   GLuint mask_fbo = 0, mask_tex = 0;
   static constexpr int kMaskSize = 512;  // coarse on purpose: bilinear lookups give a soft edge
   double mask_half = 1;
+  // The part of the floor where the mask can darken it this frame (floor coordinates
+  // x0, y0, x1, y1); the rest of the floor is the backdrop's.
+  Eigen::Vector4f shadow_rect = Eigen::Vector4f::Zero();
+  GpuMesh shadow_quad;
+  // The backdrop: the background gradient and the unshadowed floor, fixed for the renderer's
+  // camera, drawn once and copied into each frame (a copy of the multisampled colour costs
+  // far less than shading the floor and the background again).
+  GLuint backdrop_fbo = 0, backdrop_color = 0;
   std::map<ColorMapName, GLuint> colormaps;
   ImGuiLayer imgui;
   Camera camera;
@@ -125,6 +147,9 @@ struct Renderer::Impl {
     }
     for (auto& [key, m] : skins) m.destroy();
     floor.destroy();
+    shadow_quad.destroy();
+    glDeleteFramebuffers(1, &backdrop_fbo);
+    glDeleteRenderbuffers(1, &backdrop_color);
     glDeleteVertexArrays(1, &organ_vao);
     glDeleteBuffers(1, &organ_vbo);
     glDeleteBuffers(1, &organ_ebo);
@@ -143,6 +168,10 @@ struct Renderer::Impl {
   void draw_instruments(const RenderScene& scene, GlProgram& prog, bool mask_only);
   void set_capsules(const RenderScene& scene);
   void shadow_mask_pass(const RenderScene& scene);
+  void find_shadow_rect(const RenderScene& scene);
+  void draw_floor(const GpuMesh& quad, bool shadowed);
+  void draw_background();
+  bool make_backdrop(std::string& error);
   GlProgram& use(Material m);
   void draw(const RenderScene& scene, const StressView* view, bool hud, Image& out);
 };
@@ -240,8 +269,46 @@ bool Renderer::Impl::init(const vdm::SurfaceMesh& rest, std::string& error) {
   square.indices = {0, 1, 2, 0, 2, 3};
   floor.upload(square);
 
+  // A quad on the floor for its shadowed part, moved every frame (find_shadow_rect).
+  SkinMesh rect = square;
+  shadow_quad.upload(rect);
+  glBindBuffer(GL_ARRAY_BUFFER, shadow_quad.vbo);
+  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(4 * 6 * sizeof(float)), nullptr, GL_STREAM_DRAW);
+
+  if (!make_backdrop(error)) return false;
   const float body_px = std::max(12.0f, settings.height / 40.0f);
   return imgui.init(body_px, error);
+}
+
+bool Renderer::Impl::make_backdrop(std::string& error) {
+  glGenRenderbuffers(1, &backdrop_color);
+  glBindRenderbuffer(GL_RENDERBUFFER, backdrop_color);
+  glRenderbufferStorageMultisample(GL_RENDERBUFFER, fb->samples() > 1 ? fb->samples() : 0, GL_RGBA8, settings.width,
+                                   settings.height);
+  glGenFramebuffers(1, &backdrop_fbo);
+  glBindFramebuffer(GL_FRAMEBUFFER, backdrop_fbo);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, backdrop_color);
+  if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+    error = "OpenGL backdrop framebuffer incomplete";
+    return false;
+  }
+  // Drawn in the frame's own target (with its depth: the floor hides the background) and
+  // copied out.
+  fb->bind_draw();
+  glClearColor(0, 0, 0, 1);
+  glClearDepth(1.0);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  const double aspect = double(settings.width) / settings.height;
+  const double dist = (camera.eye - camera.target).norm();
+  view_proj = perspective(camera.fov_deg, aspect, std::max(dist - 6 * radius, dist * 0.02), dist + 8 * radius) *
+              look_at(camera.eye, camera.target, camera.up);
+  if (settings.floor) draw_floor(floor, false);
+  draw_background();
+  fb->blit_color_to(backdrop_fbo);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  return true;
 }
 
 void Renderer::Impl::upload_organ(const vdm::NodeMat& x, const std::vector<float>* scalar) {
@@ -393,12 +460,93 @@ void Renderer::Impl::shadow_mask_pass(const RenderScene& scene) {
   glUniformMatrix4fv(mask_program.uniform("u_floor_proj"), 1, GL_FALSE, floor_proj.data());
   const Eigen::Matrix4f identity = Eigen::Matrix4f::Identity();
   glUniformMatrix4fv(mask_program.uniform("u_model"), 1, GL_FALSE, identity.data());
+  // The organ is closed: the triangles facing away from the light alone cover its shadow
+  // (half the triangles to set up and bin).
+  glEnable(GL_CULL_FACE);
+  glCullFace(GL_BACK);
   glBindVertexArray(organ_vao);
   glDrawElements(GL_TRIANGLES, organ_count, GL_UNSIGNED_INT, nullptr);
+  glDisable(GL_CULL_FACE);
   draw_instruments(scene, mask_program, true);
   // Its mipmaps: the floor samples a coarser level, a cheap blur for a soft edge.
   glBindTexture(GL_TEXTURE_2D, mask_tex);
   glGenerateMipmap(GL_TEXTURE_2D);
+}
+
+void Renderer::Impl::find_shadow_rect(const RenderScene& scene) {
+  // Where the casters (the organ's nodes, the instruments' bounding boxes) fall on the floor
+  // along the key light, in the mask's square [-1, 1]^2.
+  Eigen::AlignedBox2f cast;
+  const Eigen::Matrix4f& P = floor_proj;
+  auto add = [&](const Eigen::Vector3f& p) {
+    cast.extend(Eigen::Vector2f(P(0, 0) * p.x() + P(0, 1) * p.y() + P(0, 2) * p.z() + P(0, 3),
+                                P(1, 0) * p.x() + P(1, 1) * p.y() + P(1, 2) * p.z() + P(1, 3)));
+  };
+  const vdm::NodeMat& x = *scene.positions;
+  for (Eigen::Index i = 0; i < x.rows(); ++i) add(Eigen::Vector3f(float(x(i, 0)), float(x(i, 1)), float(x(i, 2))));
+  auto add_box = [&](const Eigen::Isometry3f& model, const Eigen::AlignedBox3f& box) {
+    if (box.isEmpty()) return;
+    for (int k = 0; k < 8; ++k) add(model * box.corner(Eigen::AlignedBox3f::CornerType(k)));
+  };
+  for (const InstrumentView& v : scene.instruments) {
+    const Eigen::Isometry3f frame = v.frame.cast<float>();
+    InstrumentMeshes& param = instrument_meshes(v);
+    add_box(frame, v.skin ? skin_mesh(v.skin).box : param.body.box);
+    if (v.type == tools::InstrumentDef::Type::grasper)
+      for (int j = 0; j < 2; ++j)
+        add_box(frame * jaw_transform(v.jaw_length, v.jaw_opening, j == 0 ? +1 : -1),
+                v.jaw_skins[j] ? skin_mesh(v.jaw_skins[j]).box : param.jaws[j].box);
+  }
+  // The floor reads the mask at a coarser level (a blur a few texels wide): a margin of 16
+  // texels. Past the mask's edge the floor reads its edge texels (clamped): a side reaching
+  // the edge extends to the floor's end.
+  const float margin = 16.0f * 2.0f / float(kMaskSize);
+  const float floor_end = float(3 * radius / mask_half);
+  Eigen::Vector4f r(-floor_end, -floor_end, floor_end, floor_end);
+  if (!cast.isEmpty()) {
+    const Eigen::Vector2f lo2 = cast.min().array() - margin, hi2 = cast.max().array() + margin;
+    r = Eigen::Vector4f(lo2.x() <= -1 ? -floor_end : lo2.x(), lo2.y() <= -1 ? -floor_end : lo2.y(),
+                        hi2.x() >= 1 ? floor_end : hi2.x(), hi2.y() >= 1 ? floor_end : hi2.y());
+    r = r.cwiseMax(Eigen::Vector4f::Constant(-floor_end)).cwiseMin(Eigen::Vector4f::Constant(floor_end));
+  }
+  // Back to floor coordinates (metres).
+  const float h = float(mask_half), cx = float(centre.x()), cy = float(centre.y());
+  shadow_rect = Eigen::Vector4f(cx + h * r[0], cy + h * r[1], cx + h * r[2], cy + h * r[3]);
+}
+
+void Renderer::Impl::draw_floor(const GpuMesh& quad, bool shadowed) {
+  const Eigen::Vector3f top(0.80f, 0.82f, 0.85f), bottom(0.47f, 0.49f, 0.53f);
+  const Eigen::Matrix4f identity = Eigen::Matrix4f::Identity();
+  const Eigen::Matrix3f identity3 = Eigen::Matrix3f::Identity();
+  glUseProgram(floor_program.id());
+  glUniformMatrix4fv(floor_program.uniform("u_model"), 1, GL_FALSE, identity.data());
+  glUniformMatrix3fv(floor_program.uniform("u_normal_matrix"), 1, GL_FALSE, identity3.data());
+  glUniformMatrix4fv(floor_program.uniform("u_view_proj"), 1, GL_FALSE, view_proj.data());
+  glUniform3fv(floor_program.uniform("u_top_srgb"), 1, top.data());
+  glUniform3fv(floor_program.uniform("u_bottom_srgb"), 1, bottom.data());
+  glUniform1f(floor_program.uniform("u_height"), float(settings.height));
+  glUniform3fv(floor_program.uniform("u_floor_center"), 1, f3(centre).data());
+  glUniform1f(floor_program.uniform("u_floor_radius"), float(3 * radius));
+  glUniform1f(floor_program.uniform("u_mask_half"), float(mask_half));
+  glUniform1i(floor_program.uniform("u_floor_shadow"), shadowed ? 1 : 0);
+  glUniform1i(floor_program.uniform("u_mask"), 1);
+  glActiveTexture(GL_TEXTURE1);
+  glBindTexture(GL_TEXTURE_2D, mask_tex);
+  glActiveTexture(GL_TEXTURE0);
+  quad.draw();
+}
+
+void Renderer::Impl::draw_background() {
+  const Eigen::Vector3f top(0.80f, 0.82f, 0.85f), bottom(0.47f, 0.49f, 0.53f);
+  glDepthFunc(GL_LEQUAL);
+  glUseProgram(background.id());
+  glUniform3fv(background.uniform("u_top_srgb"), 1, top.data());
+  glUniform3fv(background.uniform("u_bottom_srgb"), 1, bottom.data());
+  glUniform1f(background.uniform("u_height"), float(settings.height));
+  glBindVertexArray(empty_vao);
+  glDrawArrays(GL_TRIANGLES, 0, 3);
+  glDepthFunc(GL_LESS);
+  glBindVertexArray(0);
 }
 
 GlProgram& Renderer::Impl::use(Material m) {
@@ -432,11 +580,11 @@ void Renderer::Impl::draw(const RenderScene& scene, const StressView* view, bool
   if (settings.floor && settings.shadows) shadow_mask_pass(scene);
   timer.mark("shadow mask");
 
+  fb->copy_color_from(backdrop_fbo);
   fb->bind_draw();
-  glClearColor(0, 0, 0, 1);
   glClearDepth(1.0);
-  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-  timer.mark("clear");
+  glClear(GL_DEPTH_BUFFER_BIT);
+  timer.mark("backdrop");
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   const double aspect = double(settings.width) / settings.height;
@@ -469,37 +617,18 @@ void Renderer::Impl::draw(const RenderScene& scene, const StressView* view, bool
   draw_instruments(scene, metal, false);
   timer.mark("instruments");
 
-  // The floor under the organ, then the background gradient at the far plane: each pixel
-  // is shaded once.
-  const Eigen::Vector3f top(0.80f, 0.82f, 0.85f), bottom(0.47f, 0.49f, 0.53f);
-  if (settings.floor) {
-    glUseProgram(floor_program.id());
-    glUniformMatrix4fv(floor_program.uniform("u_model"), 1, GL_FALSE, identity.data());
-    glUniformMatrix3fv(floor_program.uniform("u_normal_matrix"), 1, GL_FALSE, identity3.data());
-    glUniformMatrix4fv(floor_program.uniform("u_view_proj"), 1, GL_FALSE, view_proj.data());
-    glUniform3fv(floor_program.uniform("u_top_srgb"), 1, top.data());
-    glUniform3fv(floor_program.uniform("u_bottom_srgb"), 1, bottom.data());
-    glUniform1f(floor_program.uniform("u_height"), float(settings.height));
-    glUniform3fv(floor_program.uniform("u_floor_center"), 1, f3(centre).data());
-    glUniform1f(floor_program.uniform("u_floor_radius"), float(3 * radius));
-    glUniform1f(floor_program.uniform("u_mask_half"), float(mask_half));
-    glUniform1i(floor_program.uniform("u_floor_shadow"), settings.shadows ? 1 : 0);
-    glUniform1i(floor_program.uniform("u_mask"), 1);
-    glActiveTexture(GL_TEXTURE1);
-    glBindTexture(GL_TEXTURE_2D, mask_tex);
-    glActiveTexture(GL_TEXTURE0);
-    floor.draw();
+  // The floor where its shadow falls, behind what is drawn (the backdrop has the rest of
+  // the floor and the background).
+  if (settings.floor && settings.shadows) {
+    find_shadow_rect(scene);
+    const float z = float(floor_z), r[4] = {shadow_rect[0], shadow_rect[1], shadow_rect[2], shadow_rect[3]};
+    const float quad[24] = {r[0], r[1], z, 0, 0, 1, r[2], r[1], z, 0, 0, 1, r[2], r[3], z, 0, 0, 1, r[0], r[3], z, 0, 0, 1};
+    glBindBuffer(GL_ARRAY_BUFFER, shadow_quad.vbo);
+    glBufferSubData(GL_ARRAY_BUFFER, 0, sizeof quad, quad);
+    draw_floor(shadow_quad, true);
   }
-  glDepthFunc(GL_LEQUAL);
-  glUseProgram(background.id());
-  glUniform3fv(background.uniform("u_top_srgb"), 1, top.data());
-  glUniform3fv(background.uniform("u_bottom_srgb"), 1, bottom.data());
-  glUniform1f(background.uniform("u_height"), float(settings.height));
-  glBindVertexArray(empty_vao);
-  glDrawArrays(GL_TRIANGLES, 0, 3);
-  glDepthFunc(GL_LESS);
   glBindVertexArray(0);
-  timer.mark("background");
+  timer.mark("floor shadow");
   if (hud) {
     glDisable(GL_DEPTH_TEST);
     ImDrawList* dl = imgui.begin(settings.width, settings.height);

@@ -4,6 +4,7 @@
 // the probe cases are timed at keeps the displacements within 0.1 mm (bench_tolerance.csv).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -25,6 +26,7 @@ TEST(Bench, QuickRunWritesTheContractCsvAndThePlot) {
   ASSERT_TRUE(std::getline(csv, line));
   EXPECT_EQ(line, "case,model,nodes,median_ms,p95_ms,iterations,volume_rel_error,peak_mb");
   std::set<std::string> cases, models;
+  long largest_pipeline = 0;
   while (std::getline(csv, line)) {
     std::stringstream s(line);
     std::string name, model, nodes, median, p95, iterations, volume, peak;
@@ -38,6 +40,7 @@ TEST(Bench, QuickRunWritesTheContractCsvAndThePlot) {
     std::getline(s, peak, ',');
     cases.insert(name);
     models.insert(model);
+    if (name == "pipeline_720p") largest_pipeline = std::max(largest_pipeline, std::stol(nodes));
     EXPECT_GT(std::stol(nodes), 0) << line;
     EXPECT_GT(std::stod(median), 0) << line;
     EXPECT_GE(std::stod(p95), std::stod(median) * 0.999) << line;
@@ -47,7 +50,9 @@ TEST(Bench, QuickRunWritesTheContractCsvAndThePlot) {
     else EXPECT_TRUE(std::isfinite(std::stod(volume))) << line;
     EXPECT_GT(std::stod(peak), 1) << line;
   }
-  for (const char* c : {"liver_probe", "grasp_lift", "render_720p", "pipeline_720p"}) EXPECT_TRUE(cases.count(c)) << c;
+  for (const char* c : {"liver_probe", "grasp_lift", "render_720p", "render_720p_1x", "pipeline_720p", "pipeline_720p_1x"})
+    EXPECT_TRUE(cases.count(c)) << c;
+  EXPECT_GT(largest_pipeline, 40000) << "the pipeline at 40k nodes (the peak-memory case)";
   EXPECT_EQ(models.count("fem"), 1u) << "the FEM reference side by side";
 #ifdef VDMSIM_HAVE_BULLET
   EXPECT_EQ(models.count("bullet"), 1u) << "built with Bullet: the bench has a bullet row";

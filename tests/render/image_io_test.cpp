@@ -45,6 +45,38 @@ TEST(PngIo, RoundTripIsLosslessAtEveryLevel) {
   }
 }
 
+TEST(PngIo, RoundTripKeepsTheAlphaChannelAtFastAndSlowLevels) {
+  render::Image im = pattern(29, 17);
+  for (int y = 0; y < im.height; ++y)
+    for (int x = 0; x < im.width; ++x) im.pixel(x, y)[3] = std::uint8_t(x * 9 + y * 5);
+  for (int level : {1, 3, 6}) {  // the fast levels go through libdeflate when the build has it
+    const fs::path p = scratch("alpha_" + std::to_string(level) + ".png");
+    std::string error;
+    ASSERT_TRUE(render::write_png(p.string(), im, level, true, error)) << error;
+    render::Image back;
+    ASSERT_TRUE(render::read_png(p.string(), back, error)) << error;
+    EXPECT_EQ(back.rgba, im.rgba) << "level " << level;
+  }
+}
+
+TEST(PngIo, NoiseThatDoesNotCompressRoundTripsAtTheFastLevel) {
+  render::Image im(64, 48);
+  std::uint32_t state = 12345;
+  for (std::uint8_t& v : im.rgba) {
+    state = state * 1664525u + 1013904223u;
+    v = std::uint8_t(state >> 24);
+  }
+  for (int y = 0; y < im.height; ++y)
+    for (int x = 0; x < im.width; ++x) im.pixel(x, y)[3] = 255;
+  const fs::path p = scratch("noise_1.png");
+  std::string error;
+  ASSERT_TRUE(render::write_png(p.string(), im, 1, false, error)) << error;
+  EXPECT_GT(fs::file_size(p), im.rgba.size() * 3 / 4 / 4) << "noise does not compress below a quarter";
+  render::Image back;
+  ASSERT_TRUE(render::read_png(p.string(), back, error)) << error;
+  EXPECT_EQ(back.rgba, im.rgba);
+}
+
 TEST(PngIo, ReadingGarbageOrAMissingFileFailsWithTheFileName) {
   const fs::path p = scratch("garbage.png");
   { std::ofstream(p) << "not a png at all"; }
