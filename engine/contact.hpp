@@ -9,10 +9,13 @@
 // meets the surface). The forces are solved implicitly by a majorised Newton iteration: each
 // solve adds, per node and axis, a spring that bounds the penalty's stiffness from above
 // (StepInput::spring_k), which makes the iteration converge for any k_c.
-// Broad phase: an FCL BVHModel (AABB) of the organ, refitted each frame from the current
-// positions, walked against each tool's oriented bounding box (or, with
+// Broad phase: an FCL BVHModel (AABB) of the organ, walked against each tool's oriented
+// bounding box (or, with
 // ContactSettings::fcl_shape_queries, queried by FCL against the tool's FCL shape: capsule,
-// cylinder, box, convex). Narrow phase: exact node-versus-shape signed distance
+// cylinder, box, convex). The walk refits the tree lazily (ContactSettings::lazy_refit): a
+// box is updated only where a node left its box by more than a slack, and the walk inflates
+// the boxes by that slack, then keeps exactly the triangles that a tree refitted to the
+// query's positions would give, in the same order. Narrow phase: exact node-versus-shape signed distance
 // (engine/tool_shape.hpp). Once warmed up (the same number and kinds of tools), a step
 // allocates nothing in the contact code.
 #include <memory>
@@ -58,6 +61,14 @@ struct ContactSettings {
   // shape (capsule, cylinder, box, convex: tighter, but FCL's GJK allocates per triangle
   // pair). The narrow phase is exact either way, so both give the same contacts.
   bool fcl_shape_queries = false;
+  // The tree walk's refit (without fcl_shape_queries). true (default): lazy, only the boxes of
+  // nodes that moved more than `refit_slack` (a fraction of the mean edge length of the rest
+  // surface) since their box was last set are updated, and the walk inflates every box by the
+  // slack; the triangles kept are exactly those whose boxes at the query's positions meet
+  // the tool (tested one by one), so the contacts and results are the same bit for bit as
+  // with false: FCL refits the whole tree at every query whose positions changed.
+  bool lazy_refit = true;
+  double refit_slack = 0.5;
   enum class Method { kinematic, penalty } method = Method::kinematic;
   double penalty_stiffness = 1e8;  // k_c: contact pressure per metre of penetration (Pa/m)
   int max_penalty_iterations = 40;
@@ -75,6 +86,7 @@ struct ContactReport {
   int iterations = 0;              // linear-solver iterations summed over those solves
   bool converged = true;           // the active set stopped changing within the cap
   long queries = 0;                // FCL collision queries this step
+  long refit_boxes = 0;            // boxes of the organ's tree refitted this step
   double collision_ms = 0.0;       // broad + narrow phase time
 };
 
@@ -110,7 +122,11 @@ class ContactSolver {
   double penalty_forces(const std::vector<ToolShape>& tools, const NodeMat& x, ContactReport& report);
   // Refits the organ's tree to positions x (nothing to do when they are those of the last refit).
   void refit(const NodeMat& x);
+  // The lazy refit: node boxes that x left by more than the slack are reset, their triangles'
+  // leaves and those leaves' ancestors updated (all of them the first time).
+  void refit_lazy(const NodeMat& x);
   bool refitted_ = false;
+  bool lazy() const { return settings_.lazy_refit && !settings_.fcl_shape_queries; }
 
   struct Fcl;
   std::unique_ptr<Fcl> fcl_;
@@ -119,6 +135,10 @@ class ContactSolver {
   StepInput input_;
   OrganSolver* solver_ = nullptr;
   std::vector<char> active_, mark_;
+  std::vector<int> held_;       // the nodes flagged in active_
+  std::vector<int> held_rows_;  // the nodes whose rows of input_ the last solve held
+  std::vector<double> close_d_;  // a node's distance to each tool, closest points and normals
+  std::vector<Vec3> close_p_, close_n_;
   NodeMat target_;                 // held position of active nodes (m)
   NodeMat normal_;                 // contact normal of active nodes
   std::vector<int> candidates_;
