@@ -1,11 +1,11 @@
 #include "engine/contact.hpp"
 #include "engine/organ_solver.hpp"
+#include "engine/simd2.hpp"
 
 #include <fcl/fcl.h>
 
 #include <algorithm>
 #include <chrono>
-#include <cstdint>
 #include <cmath>
 #include <limits>
 
@@ -80,7 +80,7 @@ struct ContactSolver::Fcl {
   // triangles' corners, and every node's positions at the last two refits lie within
   // `slack` of its box: boxes grown by the slack hold every triangle FCL's boxes would.
   NodeMat prev, last, lo, hi;
-  std::vector<std::uint8_t> outside;  // per node: left its box by more than the slack
+  std::vector<long long> outside;  // per node: left its box by more than the slack (0 = no)
   std::vector<int> node_triangles_start, node_triangles;  // triangles of each node (CSR)
   std::vector<int> leaf, parent, post_order;             // leaf of each triangle, parent of each BV node
   std::vector<char> leaf_dirty;                           // per triangle
@@ -186,7 +186,7 @@ ContactSolver::ContactSolver(const TissueModel& m, ContactSettings settings)
     Fcl& f = *fcl_;
     const int T = m.rest.triangle_count();
     f.prev = f.last = f.lo = f.hi = m.rest.positions;  // before the first refit: the rest positions (FCL's too)
-    f.outside.assign(static_cast<size_t>(m.n), 0);
+    f.outside.assign(static_cast<size_t>(m.n), 0);  // (every entry written before it is read)
     f.node_triangles_start.assign(static_cast<size_t>(m.n) + 1, 0);
     for (int k = 0; k < T; ++k)
       for (int c = 0; c < 3; ++c) ++f.node_triangles_start[static_cast<size_t>(m.rest.triangles(k, c)) + 1];
@@ -237,7 +237,8 @@ ContactSolver::ContactSolver(const TissueModel& m, ContactSettings settings)
   normal_ = NodeMat::Zero(m.n, 3);
   candidates_.reserve(static_cast<size_t>(m.n));
   held_.reserve(static_cast<size_t>(m.n));
-  held_rows_.reserve(static_cast<size_t>(m.n));
+  saved_flags_.reserve(static_cast<size_t>(m.n));
+  saved_u_.reserve(static_cast<size_t>(m.n));
   stack_.reserve(256);
   if (settings_.method == ContactSettings::Method::penalty) {
     triangle_mark_.assign(static_cast<size_t>(m.rest.triangle_count()), 0);
@@ -262,17 +263,22 @@ ContactSolver::~ContactSolver() = default;
 
 namespace {
 
-// a == b entry by entry (as the comparison of doubles: -0 == 0), in blocks without branches.
+typedef long long Mask2 __attribute__((vector_size(16)));  // lane-wise comparison results of two doubles
+
+// a == b entry by entry (as the comparison of doubles: -0 == 0), two lanes at a time,
+// leaving at the first block that differs.
 bool same_positions(const NodeMat& a, const NodeMat& b) {
   const Eigen::Index n = a.size();
   const double *p = a.data(), *q = b.data();
-  constexpr Eigen::Index kBlock = 64;
-  for (Eigen::Index s = 0; s < n; s += kBlock) {
-    const Eigen::Index e = std::min(n, s + kBlock);
-    bool differ = false;
-    for (Eigen::Index k = s; k < e; ++k) differ |= p[k] != q[k];
-    if (differ) return false;
+  constexpr Eigen::Index kBlock = 128;
+  Eigen::Index k = 0;
+  for (Eigen::Index s = 0; s + kBlock <= n; s += kBlock) {
+    Mask2 differ = {0, 0};
+    for (k = s; k < s + kBlock; k += 2) differ |= simd::load2(p + k) != simd::load2(q + k);
+    if (differ[0] | differ[1]) return false;
   }
+  for (; k < n; ++k)
+    if (p[k] != q[k]) return false;
   return true;
 }
 
@@ -284,7 +290,7 @@ void ContactSolver::refit_lazy(const NodeMat& x) {
   // A step starts where the last one ended: the tree already has these positions.
   if (refitted_ && same_positions(f.last, x)) return;
   f.prev.swap(f.last);
-  f.last = x;
+  if (!refitted_) f.last = x;  // (otherwise copied while checking the boxes)
   BvNode* const bvs = &f.bvh->getBV(0);
   auto merge = [&](const BvNode& node, Vec3& lo, Vec3& hi) {
     const fcl::AABBd &l = bvs[node.first_child].bv, &r = bvs[node.first_child + 1].bv;
@@ -313,11 +319,24 @@ void ContactSolver::refit_lazy(const NodeMat& x) {
   // branches): the box is reset to their last two positions (the earlier one was within
   // the slack of the old box).
   const double d = f.slack;
-  std::uint8_t* const out = f.outside.data();
-  std::fill(f.outside.begin(), f.outside.end(), std::uint8_t(0));
+  long long* const out = f.outside.data();
+  const simd::V2 d2 = simd::splat(d);
   for (int c = 0; c < 3; ++c) {
-    const double *p = f.last.col(c).data(), *lo = f.lo.col(c).data(), *hi = f.hi.col(c).data();
-    for (Eigen::Index i = 0; i < n; ++i) out[i] |= static_cast<std::uint8_t>((p[i] - hi[i] > d) | (lo[i] - p[i] > d));
+    const double *p = x.col(c).data(), *lo = f.lo.col(c).data(), *hi = f.hi.col(c).data();
+    double* const last = f.last.col(c).data();
+    Eigen::Index i = 0;
+    for (; i + 2 <= n; i += 2) {
+      const simd::V2 v = simd::load2(p + i);
+      simd::store2(last + i, v);
+      Mask2 m = (v - simd::load2(hi + i) > d2) | (simd::load2(lo + i) - v > d2);
+      if (c > 0) m |= Mask2{out[i], out[i + 1]};
+      out[i] = m[0];
+      out[i + 1] = m[1];
+    }
+    for (; i < n; ++i) {
+      last[i] = p[i];
+      out[i] = (c > 0 && out[i]) || (p[i] - hi[i] > d) || (lo[i] - p[i] > d);
+    }
   }
   f.dirty.clear();
   for (Eigen::Index i = 0; i < n; ++i) {
@@ -447,10 +466,21 @@ void ContactSolver::step(const TissueModel& m, const StepInput& base, const std:
 
 void ContactSolver::step(const TissueModel& m, const StepInput& base, const std::vector<ToolShape>& tools, SimState& s,
                          ContactReport& rep) {
+  step_any(m, base, tools, s, rep, nullptr);
+}
+
+void ContactSolver::step(const TissueModel& m, StepInput& base, const std::vector<ToolShape>& tools, SimState& s,
+                         ContactReport& rep) {
+  const bool rows = base.prescribed.rows() == m.n && base.prescribed_u.rows() == m.n;
+  step_any(m, base, tools, s, rep, rows ? &base : nullptr);
+}
+
+void ContactSolver::step_any(const TissueModel& m, const StepInput& base, const std::vector<ToolShape>& tools,
+                             SimState& s, ContactReport& rep, StepInput* borrowed) {
   rep = ContactReport();
   const long boxes = fcl_->box_updates;
   if (settings_.method == ContactSettings::Method::penalty) step_penalty(m, base, tools, s, rep);
-  else step_kinematic(m, base, tools, s, rep);
+  else step_kinematic(m, base, tools, s, rep, borrowed);
   rep.refit_boxes = fcl_->box_updates - boxes;
 }
 
@@ -621,7 +651,7 @@ void ContactSolver::step_penalty(const TissueModel& m, const StepInput& base, co
 }
 
 void ContactSolver::step_kinematic(const TissueModel& m, const StepInput& base, const std::vector<ToolShape>& tools,
-                                   SimState& s, ContactReport& rep) {
+                                   SimState& s, ContactReport& rep, StepInput* borrowed) {
   const auto t0 = Clock::now();
   x0_ = s.x;  // positions at the step's start: a node's own motion in the step is x - x0_
   // The start of the step, for re-solving it with a reference model (fem, mass_spring); the
@@ -677,27 +707,25 @@ void ContactSolver::step_kinematic(const TissueModel& m, const StepInput& base, 
   // Active set: solve, release adhesive nodes, catch penetrating ones, solve again. When the
   // cap is reached with the set still changing, one last solve makes the state and the set
   // agree (that set is not checked again: rep.converged says so).
-  // The scene's loads and constraints once per step; each solve then changes only the rows
-  // of the nodes held for it (those of the last solve back to the scene's first).
+  // Each solve sees the scene's loads and constraints with the rows of the held nodes set:
+  // in `borrowed` (the caller's input, put back after the solve) or in a copy made once per
+  // step (input_: its held rows put back after each solve too).
   const int max_it = std::max(1, settings_.max_active_set_iterations);
-  input_.force = base.force;
-  input_.pressure = base.pressure;
-  copy_scene_constraints(m, base);
-  held_rows_.clear();
+  StepInput& in = borrowed ? *borrowed : input_;
+  if (!borrowed) {
+    input_.force = base.force;
+    input_.pressure = base.pressure;
+    copy_scene_constraints(m, base);
+  }
   for (int it = 0; it <= max_it; ++it) {
-    for (int i : held_rows_) {
-      if (has_prescribed) {
-        input_.prescribed.row(i) = base.prescribed.row(i);
-        input_.prescribed_u.row(i) = base.prescribed_u.row(i);
-      } else {
-        input_.prescribed.row(i).setZero();
-        input_.prescribed_u.row(i).setZero();
-      }
-    }
-    held_rows_.assign(held_.begin(), held_.end());
-    for (int i : held_) {
-      input_.prescribed.row(i).setOnes();
-      input_.prescribed_u.row(i) = target_.row(i) - m.rest.positions.row(i);
+    saved_flags_.resize(held_.size());
+    saved_u_.resize(held_.size());
+    for (size_t k = 0; k < held_.size(); ++k) {
+      const int i = held_[k];
+      saved_flags_[k] = in.prescribed.row(i);
+      saved_u_[k] = in.prescribed_u.row(i);
+      in.prescribed.row(i).setOnes();
+      in.prescribed_u.row(i) = target_.row(i) - m.rest.positions.row(i);
     }
     if (it > 0) {  // solve the same step again from its start
       if (solver_) {
@@ -710,8 +738,12 @@ void ContactSolver::step_kinematic(const TissueModel& m, const StepInput& base, 
         rewind_step(m, s);
       }
     }
-    if (solver_) solver_->step(input_, s);
-    else vdm::step(m, input_, s);
+    if (solver_) solver_->step(in, s);
+    else vdm::step(m, in, s);
+    for (size_t k = 0; k < held_.size(); ++k) {
+      in.prescribed.row(held_[k]) = saved_flags_[k];
+      in.prescribed_u.row(held_[k]) = saved_u_[k];
+    }
     ++rep.solves;
     rep.iterations += s.stats.iterations;
     if (s.failed) return;  // the caller stops; the state is the step's start

@@ -18,6 +18,7 @@
 // query's positions would give, in the same order. Narrow phase: exact node-versus-shape signed distance
 // (engine/tool_shape.hpp). Once warmed up (the same number and kinds of tools), a step
 // allocates nothing in the contact code.
+#include <cstdint>
 #include <memory>
 #include <vector>
 
@@ -99,6 +100,11 @@ class ContactSolver {
   // prescribes on all three axes (grasped, scripted) take no part in contact.
   void step(const TissueModel& model, const StepInput& base, const std::vector<ToolShape>& tools, SimState& state,
             ContactReport& report);
+  // The same, borrowing `base` (kinematic contact): each solve sets the held nodes' rows in
+  // it and puts them back after, instead of working on a copy (saves copying the scene's
+  // loads and constraints every step). On return `base` is as it was.
+  void step(const TissueModel& model, StepInput& base, const std::vector<ToolShape>& tools, SimState& state,
+            ContactReport& report);
   void step(const TissueModel& model, const StepInput& base, const std::vector<Capsule>& tools, SimState& state,
             ContactReport& report);
   // Steps the organ with `solver` (fem, mass_spring) instead of vdm::step; null: vdm::step.
@@ -111,8 +117,11 @@ class ContactSolver {
   // tool k (inflated by `pad`, m).
   void broad_phase(const ToolShape& t, size_t k, double pad, std::vector<int>& found, ContactReport& report,
                    bool triangles = false);
+  void step_any(const TissueModel& model, const StepInput& base, const std::vector<ToolShape>& tools, SimState& state,
+                ContactReport& report, StepInput* borrowed);
+  // `borrowed`: base itself, changed for each solve and put back (null: a copy in input_).
   void step_kinematic(const TissueModel& model, const StepInput& base, const std::vector<ToolShape>& tools,
-                      SimState& state, ContactReport& report);
+                      SimState& state, ContactReport& report, StepInput* borrowed);
   void step_penalty(const TissueModel& model, const StepInput& base, const std::vector<ToolShape>& tools,
                     SimState& state, ContactReport& report);
   // The scene's own prescribed motion (grasp, scripted regions) into input_.
@@ -136,7 +145,9 @@ class ContactSolver {
   OrganSolver* solver_ = nullptr;
   std::vector<char> active_, mark_;
   std::vector<int> held_;       // the nodes flagged in active_
-  std::vector<int> held_rows_;  // the nodes whose rows of input_ the last solve held
+  // The input rows of the held nodes before a solve set them (put back after it).
+  std::vector<Eigen::Matrix<std::uint8_t, 1, 3>> saved_flags_;
+  std::vector<Eigen::RowVector3d> saved_u_;
   std::vector<double> close_d_;  // a node's distance to each tool, closest points and normals
   std::vector<Vec3> close_p_, close_n_;
   NodeMat target_;                 // held position of active nodes (m)

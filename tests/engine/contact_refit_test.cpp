@@ -6,6 +6,7 @@
 // (three tools, opening in contact), each with slacks from none to several edges.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <functional>
 #include <string>
@@ -110,6 +111,49 @@ TEST(ContactRefit, LazyRefitGivesTheSameKinematicContactBitForBit) {
   shapes.fcl_shape_queries = true;
   const Record fcl_shapes = run(m, shapes, 19, tools);
   for (size_t k = 0; k < fcl.u.size(); ++k) EXPECT_LE((fcl.u[k] - fcl_shapes.u[k]).cwiseAbs().maxCoeff(), 1e-12);
+}
+
+TEST(ContactRefit, BorrowedInputGivesTheSameStepsAndIsPutBack) {
+  // ContactSolver::step with a non-const input sets the held rows in it for each solve and
+  // puts them back, instead of copying it: the same steps bit for bit, the input unchanged.
+  // The scene prescribes z on a patch under the sliding probe (nodes the probe may hold on
+  // all axes) and all axes on a few nodes beside it (driven: no contact).
+  const double R = 0.05, r = 0.004;
+  const TissueModel m = ball(R, 4);
+  StepInput base = make_step_input(m);
+  int partial = 0, driven = 0;
+  for (int i = 0; i < m.n; ++i) {
+    const Vec3 X = m.rest.positions.row(i).transpose();
+    if (X.z() < 0.8 * R) continue;
+    if (std::abs(X.y()) < 0.004 && X.x() > 0.004 && X.x() < 0.01) {
+      base.prescribed(i, 2) = 1;
+      base.prescribed_u(i, 2) = -0.001;
+      ++partial;
+    } else if (std::abs(X.y()) > 0.012 && std::abs(X.y()) < 0.016 && std::abs(X.x()) < 0.004) {
+      base.prescribed.row(i).setOnes();
+      base.prescribed_u.row(i) = Eigen::RowVector3d(0, 0, -0.0005);
+      ++driven;
+    }
+  }
+  ASSERT_GT(partial, 0);
+  ASSERT_GT(driven, 0);
+  const StepInput original = base;
+  ContactSolver copying(m), borrowing(m);
+  SimState s_copy = make_sim_state(m), s_borrow = make_sim_state(m);
+  Record copied, borrowed;
+  ContactReport rep;
+  for (int k = 0; k < 19; ++k) {
+    const std::vector<ToolShape> tools = sliding_probe(R, r, k);
+    copying.step(m, static_cast<const StepInput&>(base), tools, s_copy, rep);
+    copied.add(s_copy, rep);
+    borrowing.step(m, base, tools, s_borrow, rep);
+    borrowed.add(s_borrow, rep);
+    ASSERT_FALSE(s_borrow.failed) << s_borrow.failure;
+    EXPECT_TRUE(std::memcmp(base.prescribed.data(), original.prescribed.data(), size_t(base.prescribed.size())) == 0) << k;
+    EXPECT_TRUE(same_bits(base.prescribed_u, original.prescribed_u)) << k;
+    EXPECT_TRUE(same_bits(base.force, original.force)) << k;
+  }
+  expect_same(copied, borrowed, "borrowed input");
 }
 
 TEST(ContactRefit, LazyRefitGivesTheSamePenaltyContactBitForBit) {
