@@ -184,6 +184,63 @@ void BM_LiverProbeFrames(benchmark::State& st) {
 }
 BENCHMARK(BM_LiverProbeFrames)->Arg(2)->Arg(10)->Arg(40)->Iterations(3)->UseManualTime()->Unit(benchmark::kMillisecond);
 
+// The contact's own cost in the bench's probe case (kinematic contact) and the same probe
+// with penalty contact: the lazy refit (ContactSettings::lazy_refit, default) and FCL's
+// refit at every query, run alternately in each benchmark iteration (both see the same
+// machine load). Counters per contact frame, medians: CPU time of the whole frame (cpu_*),
+// ContactReport::collision_ms (refit, walk, narrow phase: coll_*), FCL walks (queries_*),
+// tree boxes refitted (boxes_*);
+// ratio = median old / median new. Arg 0: mesh (2: 2.5k, 10k, 40k), arg 1: 1 = penalty,
+// arg 2: ContactSettings::refit_slack in percent of the mean edge (the default: 50).
+void BM_ContactRefitModes(benchmark::State& st) {
+  const char* mesh = st.range(0) == 40 ? "liver_L6.obj" : st.range(0) == 10 ? "liver_L5.obj" : "liver_L4.obj";
+  const bool penalty = st.range(1) == 1;
+  vdmsim::PreparedScene ps[2] = {vdmsim::bench_probe_scene(mesh, 60, false), vdmsim::bench_probe_scene(mesh, 60, false)};
+  for (int mode = 0; mode < 2; ++mode) {
+    ps[mode].scene.contact.lazy_refit = mode == 1;
+    ps[mode].scene.contact.refit_slack = 0.01 * double(st.range(2));
+    if (penalty) ps[mode].scene.contact.method = vdm::ContactSettings::Method::penalty;
+  }
+  std::vector<double> cpu[2], coll[2];
+  double queries[2] = {0, 0}, boxes[2] = {0, 0};
+  for (auto _ : st) {
+    for (int mode = 0; mode < 2; ++mode) {
+      vdmsim::SceneSimulation sim(ps[mode]);
+      for (int f = 0; f < 60; ++f) {
+        const double cpu0 = thread_cpu_ms();
+        sim.advance(f);
+        const double t = thread_cpu_ms() - cpu0;
+        if (sim.contact_report().nodes == 0) continue;
+        cpu[mode].push_back(t);
+        coll[mode].push_back(sim.contact_report().collision_ms);
+        queries[mode] += double(sim.contact_report().queries);
+        boxes[mode] += double(sim.contact_report().refit_boxes);
+      }
+    }
+  }
+  for (int mode = 0; mode < 2; ++mode) {
+    const std::string tag = mode ? "_lazy" : "_fcl";
+    st.counters["cpu" + tag] = vdmsim::quantile(cpu[mode], 0.5);
+    st.counters["coll" + tag] = vdmsim::quantile(coll[mode], 0.5);
+    st.counters["queries" + tag] = queries[mode] / std::max<double>(1.0, double(cpu[mode].size()));
+    st.counters["boxes" + tag] = boxes[mode] / std::max<double>(1.0, double(cpu[mode].size()));
+  }
+  st.counters["coll_ratio"] = vdmsim::quantile(coll[0], 0.5) / std::max(1e-12, vdmsim::quantile(coll[1], 0.5));
+  st.counters["cpu_ratio"] = vdmsim::quantile(cpu[0], 0.5) / std::max(1e-12, vdmsim::quantile(cpu[1], 0.5));
+}
+BENCHMARK(BM_ContactRefitModes)
+    ->Args({2, 0, 50})
+    ->Args({10, 0, 50})
+    ->Args({40, 0, 50})
+    ->Args({10, 1, 50})
+    ->Args({10, 0, 0})
+    ->Args({10, 0, 20})
+    ->Args({10, 0, 100})
+    ->Args({10, 0, 200})
+    ->Args({10, 0, 400})
+    ->Iterations(3)
+    ->Unit(benchmark::kMillisecond);
+
 // The per-axis kernels of the structured solver on the 10k liver's K^z at rest: SpMV, IC(0)
 // factorisation and apply, and the cached sparse LDL^T (factorisation, one solve).
 struct AxisMatrix {

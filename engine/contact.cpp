@@ -1,5 +1,6 @@
 #include "engine/contact.hpp"
 #include "engine/organ_solver.hpp"
+#include "engine/simd2.hpp"
 
 #include <fcl/fcl.h>
 
@@ -71,6 +72,21 @@ struct ContactSolver::Fcl {
     std::unique_ptr<fcl::CollisionObjectd> object;
   };
   std::vector<Slot> slots;
+
+  // The lazy refit (ContactSettings::lazy_refit). FCL's refit fits each leaf to its
+  // triangle's corners at the last two refits' positions (its `prev_vertices` and
+  // `vertices`): `prev` and `last` here, so that the walk can keep exactly the leaves FCL's
+  // refitted tree would give. The tree's boxes hold the node boxes [lo, hi] of their
+  // triangles' corners, and every node's positions at the last two refits lie within
+  // `slack` of its box: boxes grown by the slack hold every triangle FCL's boxes would.
+  NodeMat prev, last, lo, hi;
+  std::vector<long long> outside;  // per node: left its box by more than the slack (0 = no)
+  std::vector<int> node_triangles_start, node_triangles;  // triangles of each node (CSR)
+  std::vector<int> leaf, parent, post_order;             // leaf of each triangle, parent of each BV node
+  std::vector<char> leaf_dirty;                           // per triangle
+  std::vector<int> dirty;
+  double slack = 0.0, margin = 0.0;  // margin: far above rounding, keeps the grown test conservative
+  long box_updates = 0;  // tree boxes refitted so far (FCL's refit: all of them)
 };
 
 namespace {
@@ -132,8 +148,10 @@ void tool_box(const ToolShape& t, double pad, Vec3& centre, Vec3& half) {
 
 // Whether an oriented box (centre c, rotation R, half extents h) and an axis-aligned box
 // [lo, hi] may overlap: separating axes of both boxes (conservative: edge-edge axes skipped).
-bool may_overlap(const Vec3& c, const Eigen::Matrix3d& R, const Vec3& h, const Vec3& lo, const Vec3& hi) {
-  const Vec3 ac = 0.5 * (lo + hi), ah = 0.5 * (hi - lo), d = c - ac;
+// `grow`: the axis-aligned box grown by this much on every side.
+inline bool may_overlap(const Vec3& c, const Eigen::Matrix3d& R, const Vec3& h, const Vec3& lo, const Vec3& hi,
+                        double grow = 0.0) {
+  const Vec3 ac = 0.5 * (lo + hi), ah = 0.5 * (hi - lo) + Vec3::Constant(grow), d = c - ac;
   const Eigen::Matrix3d absR = R.cwiseAbs();
   for (int a = 0; a < 3; ++a)  // world axes
     if (std::abs(d[a]) > ah[a] + absR.row(a).dot(h)) return false;
@@ -141,6 +159,13 @@ bool may_overlap(const Vec3& c, const Eigen::Matrix3d& R, const Vec3& h, const V
     if (std::abs(R.col(b).dot(d)) > h[b] + absR.col(b).dot(ah)) return false;
   return true;
 }
+
+// FCL's tree nodes (fcl/geometry/bvh/BV_node_base.h), read in place: `first_child` >= 0 is
+// the first of two adjacent children, < 0 is -(triangle + 1). (FCL's accessors are compiled
+// in its library: a call per node.)
+using BvNode = fcl::BVNode<fcl::AABBd>;
+inline bool is_leaf(const BvNode& n) { return n.first_child < 0; }
+inline int triangle_of(const BvNode& n) { return -(n.first_child + 1); }
 
 }  // namespace
 
@@ -157,6 +182,53 @@ ContactSolver::ContactSolver(const TissueModel& m, ContactSettings settings)
   fcl_->bvh->addSubModel(fcl_->points, tris);
   fcl_->bvh->endModel();
   fcl_->organ = std::make_unique<fcl::CollisionObjectd>(fcl_->bvh);
+  if (lazy()) {
+    Fcl& f = *fcl_;
+    const int T = m.rest.triangle_count();
+    f.prev = f.last = f.lo = f.hi = m.rest.positions;  // before the first refit: the rest positions (FCL's too)
+    f.outside.assign(static_cast<size_t>(m.n), 0);  // (every entry written before it is read)
+    f.node_triangles_start.assign(static_cast<size_t>(m.n) + 1, 0);
+    for (int k = 0; k < T; ++k)
+      for (int c = 0; c < 3; ++c) ++f.node_triangles_start[static_cast<size_t>(m.rest.triangles(k, c)) + 1];
+    for (int i = 0; i < m.n; ++i) f.node_triangles_start[i + 1] += f.node_triangles_start[i];
+    f.node_triangles.resize(3 * static_cast<size_t>(T));
+    std::vector<int> fill(f.node_triangles_start.begin(), f.node_triangles_start.end() - 1);
+    for (int k = 0; k < T; ++k)
+      for (int c = 0; c < 3; ++c) f.node_triangles[fill[m.rest.triangles(k, c)]++] = k;
+    const int nbv = f.bvh->getNumBVs();
+    f.leaf.assign(static_cast<size_t>(T), -1);
+    f.parent.assign(static_cast<size_t>(nbv), -1);
+    f.post_order.clear();
+    f.post_order.reserve(static_cast<size_t>(nbv));
+    // Children before their parents (depth-first, each node after its subtree).
+    std::vector<std::pair<int, bool>> todo{{0, false}};
+    while (!todo.empty()) {
+      const auto [id, expanded] = todo.back();
+      todo.pop_back();
+      const fcl::BVNode<fcl::AABBd>& node = f.bvh->getBV(id);
+      if (node.isLeaf()) {
+        f.leaf[node.primitiveId()] = id;
+        f.post_order.push_back(id);
+      } else if (expanded) {
+        f.post_order.push_back(id);
+      } else {
+        todo.push_back({id, true});
+        for (int child : {node.leftChild(), node.rightChild()}) {
+          f.parent[child] = id;
+          todo.push_back({child, false});
+        }
+      }
+    }
+    f.leaf_dirty.assign(static_cast<size_t>(T), 0);
+    f.dirty.reserve(static_cast<size_t>(T));
+    double edges = 0.0, extent = 0.0;
+    for (int k = 0; k < T; ++k)
+      for (int c = 0; c < 3; ++c)
+        edges += (m.rest.positions.row(m.rest.triangles(k, c)) - m.rest.positions.row(m.rest.triangles(k, (c + 1) % 3))).norm();
+    for (const Vec3& p : f.points) extent = std::max(extent, p.cwiseAbs().maxCoeff());
+    f.slack = T > 0 ? std::max(0.0, settings_.refit_slack) * edges / (3.0 * T) : 0.0;
+    f.margin = 1e-9 * std::max(extent, 1.0);
+  }
   fcl_->request = fcl::CollisionRequestd(static_cast<size_t>(m.rest.triangle_count()), false);
   input_ = make_step_input(m);
   active_.assign(m.n, 0);
@@ -164,6 +236,9 @@ ContactSolver::ContactSolver(const TissueModel& m, ContactSettings settings)
   target_ = NodeMat::Zero(m.n, 3);
   normal_ = NodeMat::Zero(m.n, 3);
   candidates_.reserve(static_cast<size_t>(m.n));
+  held_.reserve(static_cast<size_t>(m.n));
+  saved_flags_.reserve(static_cast<size_t>(m.n));
+  saved_u_.reserve(static_cast<size_t>(m.n));
   stack_.reserve(256);
   if (settings_.method == ContactSettings::Method::penalty) {
     triangle_mark_.assign(static_cast<size_t>(m.rest.triangle_count()), 0);
@@ -186,7 +261,118 @@ ContactSolver::ContactSolver(const TissueModel& m, ContactSettings settings)
 
 ContactSolver::~ContactSolver() = default;
 
+namespace {
+
+typedef long long Mask2 __attribute__((vector_size(16)));  // lane-wise comparison results of two doubles
+
+// a == b entry by entry (as the comparison of doubles: -0 == 0), two lanes at a time,
+// leaving at the first block that differs.
+bool same_positions(const NodeMat& a, const NodeMat& b) {
+  const Eigen::Index n = a.size();
+  const double *p = a.data(), *q = b.data();
+  constexpr Eigen::Index kBlock = 128;
+  Eigen::Index k = 0;
+  for (Eigen::Index s = 0; s + kBlock <= n; s += kBlock) {
+    Mask2 differ = {0, 0};
+    for (k = s; k < s + kBlock; k += 2) differ |= simd::load2(p + k) != simd::load2(q + k);
+    if (differ[0] | differ[1]) return false;
+  }
+  for (; k < n; ++k)
+    if (p[k] != q[k]) return false;
+  return true;
+}
+
+}  // namespace
+
+void ContactSolver::refit_lazy(const NodeMat& x) {
+  Fcl& f = *fcl_;
+  const Eigen::Index n = f.last.rows();
+  // A step starts where the last one ended: the tree already has these positions.
+  if (refitted_ && same_positions(f.last, x)) return;
+  f.prev.swap(f.last);
+  if (!refitted_) f.last = x;  // (otherwise copied while checking the boxes)
+  BvNode* const bvs = &f.bvh->getBV(0);
+  auto merge = [&](const BvNode& node, Vec3& lo, Vec3& hi) {
+    const fcl::AABBd &l = bvs[node.first_child].bv, &r = bvs[node.first_child + 1].bv;
+    lo = l.min_.cwiseMin(r.min_);
+    hi = l.max_.cwiseMax(r.max_);
+  };
+  auto fit_leaf = [&](int tri) {
+    fcl::AABBd& box = bvs[f.leaf[tri]].bv;
+    const int a = (*triangles_)(tri, 0), b = (*triangles_)(tri, 1), c = (*triangles_)(tri, 2);
+    box.min_ = f.lo.row(a).cwiseMin(f.lo.row(b)).cwiseMin(f.lo.row(c)).transpose();
+    box.max_ = f.hi.row(a).cwiseMax(f.hi.row(b)).cwiseMax(f.hi.row(c)).transpose();
+  };
+  if (!refitted_) {  // every box, as FCL's first refit (the rest positions as the previous ones)
+    f.lo = f.prev.cwiseMin(f.last);
+    f.hi = f.prev.cwiseMax(f.last);
+    for (int id : f.post_order) {
+      BvNode& node = bvs[id];
+      if (is_leaf(node)) fit_leaf(triangle_of(node));
+      else merge(node, node.bv.min_, node.bv.max_);
+    }
+    f.box_updates += static_cast<long>(f.post_order.size());
+    refitted_ = true;
+    return;
+  }
+  // Nodes that left their box by more than the slack (flagged axis by axis, without
+  // branches): the box is reset to their last two positions (the earlier one was within
+  // the slack of the old box).
+  const double d = f.slack;
+  long long* const out = f.outside.data();
+  const simd::V2 d2 = simd::splat(d);
+  for (int c = 0; c < 3; ++c) {
+    const double *p = x.col(c).data(), *lo = f.lo.col(c).data(), *hi = f.hi.col(c).data();
+    double* const last = f.last.col(c).data();
+    Eigen::Index i = 0;
+    for (; i + 2 <= n; i += 2) {
+      const simd::V2 v = simd::load2(p + i);
+      simd::store2(last + i, v);
+      Mask2 m = (v - simd::load2(hi + i) > d2) | (simd::load2(lo + i) - v > d2);
+      if (c > 0) m |= Mask2{out[i], out[i + 1]};
+      out[i] = m[0];
+      out[i + 1] = m[1];
+    }
+    for (; i < n; ++i) {
+      last[i] = p[i];
+      out[i] = (c > 0 && out[i]) || (p[i] - hi[i] > d) || (lo[i] - p[i] > d);
+    }
+  }
+  f.dirty.clear();
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (!out[i]) continue;
+    f.lo.row(i) = f.prev.row(i).cwiseMin(f.last.row(i));
+    f.hi.row(i) = f.prev.row(i).cwiseMax(f.last.row(i));
+    for (int k = f.node_triangles_start[i]; k < f.node_triangles_start[i + 1]; ++k) {
+      const int tri = f.node_triangles[k];
+      if (!f.leaf_dirty[tri]) {
+        f.leaf_dirty[tri] = 1;
+        f.dirty.push_back(tri);
+      }
+    }
+  }
+  // Their leaves, and each leaf's ancestors up to the first whose box does not change.
+  f.box_updates += static_cast<long>(f.dirty.size());
+  for (int tri : f.dirty) {
+    f.leaf_dirty[tri] = 0;
+    fit_leaf(tri);
+    for (int id = f.parent[f.leaf[tri]]; id >= 0; id = f.parent[id]) {
+      BvNode& node = bvs[id];
+      Vec3 lo, hi;
+      merge(node, lo, hi);
+      ++f.box_updates;
+      if (lo == node.bv.min_ && hi == node.bv.max_) break;
+      node.bv.min_ = lo;
+      node.bv.max_ = hi;
+    }
+  }
+}
+
 void ContactSolver::refit(const NodeMat& x) {
+  if (lazy()) {
+    refit_lazy(x);
+    return;
+  }
   // A step starts where the last one ended: the tree already has these positions.
   size_t i = 0;
   if (refitted_)
@@ -198,6 +384,7 @@ void ContactSolver::refit(const NodeMat& x) {
   fcl_->bvh->updateSubModel(fcl_->points);
   fcl_->bvh->endUpdateModel(true, true);
   fcl_->organ->computeAABB();
+  fcl_->box_updates += fcl_->bvh->getNumBVs();
 }
 
 void ContactSolver::broad_phase(const ToolShape& t, size_t k, double pad, std::vector<int>& found, ContactReport& rep,
@@ -224,19 +411,32 @@ void ContactSolver::broad_phase(const ToolShape& t, size_t k, double pad, std::v
     Vec3 c, h;
     tool_box(t, pad, c, h);
     const Eigen::Matrix3d R = t.pose.linear();
-    const fcl::BVHModel<fcl::AABBd>& bvh = *fcl_->bvh;
+    const BvNode* const bvs = &static_cast<const fcl::BVHModel<fcl::AABBd>&>(*fcl_->bvh).getBV(0);
+    const Fcl& f = *fcl_;
+    const bool lazy_tree = lazy();
+    const double grow = lazy_tree ? f.slack + f.margin : 0.0;
     stack_.clear();
     stack_.push_back(0);
     while (!stack_.empty()) {
       const int id = stack_.back();
       stack_.pop_back();
-      const fcl::BVNode<fcl::AABBd>& node = bvh.getBV(id);
-      if (!may_overlap(c, R, h, node.bv.min_, node.bv.max_)) continue;
-      if (node.isLeaf()) {
-        add_triangle(node.primitiveId());
+      const BvNode& node = bvs[id];
+      if (!may_overlap(c, R, h, node.bv.min_, node.bv.max_, grow)) continue;
+      if (is_leaf(node)) {
+        const int tri = triangle_of(node);
+        if (lazy_tree) {  // FCL's refitted leaf: the corners at the last two refits
+          Vec3 lo = Vec3::Constant(std::numeric_limits<double>::max()), hi = -lo;
+          for (int corner = 0; corner < 3; ++corner) {
+            const Eigen::Index i = (*triangles_)(tri, corner);
+            lo = lo.cwiseMin(f.prev.row(i).transpose()).cwiseMin(f.last.row(i).transpose());
+            hi = hi.cwiseMax(f.prev.row(i).transpose()).cwiseMax(f.last.row(i).transpose());
+          }
+          if (!may_overlap(c, R, h, lo, hi)) continue;
+        }
+        add_triangle(tri);
       } else {
-        stack_.push_back(node.leftChild());
-        stack_.push_back(node.rightChild());
+        stack_.push_back(node.first_child);
+        stack_.push_back(node.first_child + 1);
       }
     }
     return;
@@ -266,9 +466,22 @@ void ContactSolver::step(const TissueModel& m, const StepInput& base, const std:
 
 void ContactSolver::step(const TissueModel& m, const StepInput& base, const std::vector<ToolShape>& tools, SimState& s,
                          ContactReport& rep) {
+  step_any(m, base, tools, s, rep, nullptr);
+}
+
+void ContactSolver::step(const TissueModel& m, StepInput& base, const std::vector<ToolShape>& tools, SimState& s,
+                         ContactReport& rep) {
+  const bool rows = base.prescribed.rows() == m.n && base.prescribed_u.rows() == m.n;
+  step_any(m, base, tools, s, rep, rows ? &base : nullptr);
+}
+
+void ContactSolver::step_any(const TissueModel& m, const StepInput& base, const std::vector<ToolShape>& tools,
+                             SimState& s, ContactReport& rep, StepInput* borrowed) {
   rep = ContactReport();
+  const long boxes = fcl_->box_updates;
   if (settings_.method == ContactSettings::Method::penalty) step_penalty(m, base, tools, s, rep);
-  else step_kinematic(m, base, tools, s, rep);
+  else step_kinematic(m, base, tools, s, rep, borrowed);
+  rep.refit_boxes = fcl_->box_updates - boxes;
 }
 
 void ContactSolver::copy_scene_constraints(const TissueModel& m, const StepInput& base) {
@@ -438,36 +651,46 @@ void ContactSolver::step_penalty(const TissueModel& m, const StepInput& base, co
 }
 
 void ContactSolver::step_kinematic(const TissueModel& m, const StepInput& base, const std::vector<ToolShape>& tools,
-                                   SimState& s, ContactReport& rep) {
+                                   SimState& s, ContactReport& rep, StepInput* borrowed) {
   const auto t0 = Clock::now();
   x0_ = s.x;  // positions at the step's start: a node's own motion in the step is x - x0_
   // The start of the step, for re-solving it with a reference model (fem, mass_spring); the
   // VDM engine restores itself with rewind_step().
-  u0_ = s.u;
-  v0_ = s.velocity;
+  if (solver_) {
+    u0_ = s.u;
+    v0_ = s.velocity;
+  }
   const long step0 = s.step;
   const double time0 = s.time;
   const bool has_prescribed = base.prescribed.rows() == m.n;
   // Nodes the scene itself moves (grasped, scripted) on every axis take no part in contact.
   auto driven = [&](int i) { return has_prescribed && base.prescribed.row(i).minCoeff() != 0; };
   // Contacts at the start: nodes inside (or touching) an instrument at its new pose.
-  std::fill(active_.begin(), active_.end(), 0);
+  for (int i : held_) active_[i] = 0;
+  held_.clear();
+  close_d_.resize(tools.size());
+  close_p_.resize(tools.size());
+  close_n_.resize(tools.size());
   refit(s.x);
   candidates_.clear();
   for (size_t k = 0; k < tools.size(); ++k) broad_phase(tools[k], k, settings_.activation * tools[k].size(), candidates_, rep);
   // `after_solve`: the node may have moved this step (relative motion = its move - the tool's).
-  auto classify = [&](int i, bool allow_touch, bool after_solve) {
+  // `known`: close_* hold node i's distances to every tool already.
+  auto classify = [&](int i, bool allow_touch, bool after_solve, bool known) {
     const Vec3 x = s.x.row(i).transpose();
-    for (const ToolShape& t : tools) {
-      Vec3 p, nrm;
-      const double dist = tool_distance(t, x, p, nrm);
+    for (size_t k = 0; k < tools.size(); ++k) {
+      const ToolShape& t = tools[k];
+      if (!known) close_d_[k] = tool_distance(t, x, close_p_[k], close_n_[k]);
+      const double dist = close_d_[k];
+      const Vec3 &p = close_p_[k], &nrm = close_n_[k];
       const double limit = allow_touch ? settings_.activation * t.size() : -settings_.tolerance * 0.5 * t.size();
       if (dist < limit) {
         Vec3 dir;
         const Vec3 node_move = after_solve ? Vec3((s.x.row(i) - x0_.row(i)).transpose()) : Vec3::Zero();
         const Vec3 target = dist < 0.0 ? push_out(t, x, node_move - t.motion_at(x), dir) : p;
         if (dist >= 0.0) dir = nrm;  // touching: held where it is; the tool pushes it along its normal
-        active_[i] = 1;
+        active_[i] = 1;  // (classify only sees free nodes)
+        held_.push_back(i);
         target_.row(i) = target.transpose();
         normal_.row(i) = dir.transpose();
         return true;
@@ -477,23 +700,33 @@ void ContactSolver::step_kinematic(const TissueModel& m, const StepInput& base, 
   };
   for (int i : candidates_) {
     mark_[i] = 0;
-    if (!driven(i)) classify(i, true, false);
+    if (!driven(i)) classify(i, true, false, false);
   }
   rep.collision_ms += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 
   // Active set: solve, release adhesive nodes, catch penetrating ones, solve again. When the
   // cap is reached with the set still changing, one last solve makes the state and the set
   // agree (that set is not checked again: rep.converged says so).
+  // Each solve sees the scene's loads and constraints with the rows of the held nodes set:
+  // in `borrowed` (the caller's input, put back after the solve) or in a copy made once per
+  // step (input_: its held rows put back after each solve too).
   const int max_it = std::max(1, settings_.max_active_set_iterations);
-  for (int it = 0; it <= max_it; ++it) {
+  StepInput& in = borrowed ? *borrowed : input_;
+  if (!borrowed) {
     input_.force = base.force;
     input_.pressure = base.pressure;
     copy_scene_constraints(m, base);
-    for (int i = 0; i < m.n; ++i)
-      if (active_[i]) {
-        input_.prescribed.row(i).setOnes();
-        input_.prescribed_u.row(i) = target_.row(i) - m.rest.positions.row(i);
-      }
+  }
+  for (int it = 0; it <= max_it; ++it) {
+    saved_flags_.resize(held_.size());
+    saved_u_.resize(held_.size());
+    for (size_t k = 0; k < held_.size(); ++k) {
+      const int i = held_[k];
+      saved_flags_[k] = in.prescribed.row(i);
+      saved_u_[k] = in.prescribed_u.row(i);
+      in.prescribed.row(i).setOnes();
+      in.prescribed_u.row(i) = target_.row(i) - m.rest.positions.row(i);
+    }
     if (it > 0) {  // solve the same step again from its start
       if (solver_) {
         s.u = u0_;
@@ -505,8 +738,12 @@ void ContactSolver::step_kinematic(const TissueModel& m, const StepInput& base, 
         rewind_step(m, s);
       }
     }
-    if (solver_) solver_->step(input_, s);
-    else vdm::step(m, input_, s);
+    if (solver_) solver_->step(in, s);
+    else vdm::step(m, in, s);
+    for (size_t k = 0; k < held_.size(); ++k) {
+      in.prescribed.row(held_[k]) = saved_flags_[k];
+      in.prescribed_u.row(held_[k]) = saved_u_[k];
+    }
     ++rep.solves;
     rep.iterations += s.stats.iterations;
     if (s.failed) return;  // the caller stops; the state is the step's start
@@ -514,12 +751,18 @@ void ContactSolver::step_kinematic(const TissueModel& m, const StepInput& base, 
     const auto tc = Clock::now();
     bool changed = false;
     // Release nodes the instrument would have to pull (adhesion).
-    if (it < max_it)
-      for (int i = 0; i < m.n; ++i)
-        if (active_[i] && s.reaction.row(i).dot(normal_.row(i)) < 0.0) {
+    if (it < max_it) {
+      size_t kept = 0;
+      for (int i : held_) {
+        if (s.reaction.row(i).dot(normal_.row(i)) < 0.0) {
           active_[i] = 0;
           changed = true;
+        } else {
+          held_[kept++] = i;
         }
+      }
+      held_.resize(kept);
+    }
     // Catch free nodes that the step pushed into an instrument.
     refit(s.x);
     candidates_.clear();
@@ -528,12 +771,12 @@ void ContactSolver::step_kinematic(const TissueModel& m, const StepInput& base, 
     for (int i : candidates_) {
       mark_[i] = 0;
       if (active_[i] || driven(i)) continue;
-      for (const ToolShape& t : tools) {
-        Vec3 p, nrm;
-        const double dist = tool_distance(t, s.x.row(i).transpose(), p, nrm);
-        rep.max_penetration = std::max(rep.max_penetration, -dist);
+      const Vec3 x = s.x.row(i).transpose();
+      for (size_t k = 0; k < tools.size(); ++k) {
+        close_d_[k] = tool_distance(tools[k], x, close_p_[k], close_n_[k]);
+        rep.max_penetration = std::max(rep.max_penetration, -close_d_[k]);
       }
-      if (it < max_it && classify(i, false, true)) changed = true;
+      if (it < max_it && classify(i, false, true, true)) changed = true;
     }
     rep.collision_ms += std::chrono::duration<double, std::milli>(Clock::now() - tc).count();
     if (!changed) {
@@ -541,11 +784,11 @@ void ContactSolver::step_kinematic(const TissueModel& m, const StepInput& base, 
       break;
     }
   }
-  for (int i = 0; i < m.n; ++i)
-    if (active_[i]) {
-      ++rep.nodes;
-      rep.force -= s.reaction.row(i).transpose();
-    }
+  std::sort(held_.begin(), held_.end());  // the force summed in node order
+  for (int i : held_) {
+    ++rep.nodes;
+    rep.force -= s.reaction.row(i).transpose();
+  }
 }
 
 }  // namespace vdm

@@ -141,11 +141,13 @@ TEST(NoAllocation, HalvedStepAfterWarmUp) {
 
 // Contact steps with a tool of each kind pressing the cube's top further each step (the
 // active set changes): nothing allocated once warmed up.
-long allocations_in_contact_steps(ToolShape::Kind kind, ContactSettings settings = {}) {
+// `borrow`: ContactSolver::step with the input itself (not a copy) for its solves.
+long allocations_in_contact_steps(ToolShape::Kind kind, ContactSettings settings = {}, bool borrow = false) {
   const double L = 0.1;
   const TissueModel m = scenario::build(scenario::cube_on_table(L, 6));
   SimState s = make_sim_state(m);
-  const StepInput base = make_step_input(m);
+  StepInput input = make_step_input(m);
+  const StepInput& base = input;
   ContactSolver contact(m, settings);
   ContactReport rep;
   ToolShape t;
@@ -167,7 +169,8 @@ long allocations_in_contact_steps(ToolShape::Kind kind, ContactSettings settings
     t.previous = Eigen::Isometry3d(Eigen::Translation3d(0, 0, L / 2 + reach - 0.001 * (k - 1)));
     t.pose = Eigen::Isometry3d(Eigen::Translation3d(0, 0, L / 2 + reach - 0.001 * k));
     tools[0] = t;
-    contact.step(m, base, tools, s, rep);
+    if (borrow) contact.step(m, input, tools, s, rep);
+    else contact.step(m, base, tools, s, rep);
   };
   for (int k = 1; k <= 3; ++k) press(k);  // warm-up
   long total = 0;
@@ -188,6 +191,10 @@ TEST(NoAllocation, ContactStepAfterWarmUp) {
   EXPECT_EQ(allocations_in_contact_steps(ToolShape::Kind::cylinder), 0);
   EXPECT_EQ(allocations_in_contact_steps(ToolShape::Kind::box), 0);
   EXPECT_EQ(allocations_in_contact_steps(ToolShape::Kind::convex), 0);
+  EXPECT_EQ(allocations_in_contact_steps(ToolShape::Kind::capsule, {}, true), 0);
+  ContactSettings refit_every_query;
+  refit_every_query.lazy_refit = false;
+  EXPECT_EQ(allocations_in_contact_steps(ToolShape::Kind::box, refit_every_query), 0);
 }
 
 TEST(NoAllocation, PenaltyContactStepAfterWarmUp) {
