@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 #include "engine/geometry.hpp"
 #include "engine/loads.hpp"
@@ -142,14 +143,21 @@ void build_loads(const TissueModel& m, const StepInput& in, SimState& s, StepWor
 // dP += dP', with dV/d(dP') = A(x) . s. K u - dP a = f still holds exactly, and V -> V_0.
 // Returns the change of the volume row's right-hand side, sum dP' (a . s), so the reported
 // residual is that of the corrected system.
-double correct_volume(const TissueModel& m, SimState& s, StepWorkspace& w, LinearSolver& solver) {
+// `volume` gets the enclosed volume at the final positions when the last check measured it
+// there, NaN otherwise.
+double correct_volume(const TissueModel& m, SimState& s, StepWorkspace& w, LinearSolver& solver, double& volume) {
   const int max_corr = m.solver.volume_corrections;
   double c_shift = 0.0;
+  volume = std::numeric_limits<double>::quiet_NaN();
   if (max_corr <= 0) return c_shift;
   const NodeMat* response = nullptr;
   for (int k = 0; k < max_corr; ++k) {
-    const double err = m.rest_volume - enclosed_volume(s.x, m.rest.triangles, m.origin);
-    if (std::abs(err) <= m.solver.volume_tolerance * m.rest_volume) return c_shift;
+    const double v = enclosed_volume(s.x, m.rest.triangles, m.origin);
+    const double err = m.rest_volume - v;
+    if (std::abs(err) <= m.solver.volume_tolerance * m.rest_volume) {
+      volume = v;
+      return c_shift;
+    }
     if (!response) response = &solver.pressure_response(w.a_free);
     if (!response->allFinite()) return c_shift;
     distributed_area_vectors(s.x, m.rest.triangles, w.area_now);
@@ -355,6 +363,7 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
   double last_c = 0.0;
   double last_du = 0.0;
   double omega = 1.0;  // Aitken relaxation of the nonlinear (fixed-point) iteration
+  double final_volume = std::numeric_limits<double>::quiet_NaN();  // at s.x, when known
 
   const int max_it = m.solver.nonlinear_iterations;
   for (int it = 0; it < max_it; ++it) {
@@ -460,12 +469,19 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
     s.pressure += omega * (p_new - s.pressure);
     s.x = m.rest.positions + s.u;
     if (m.volume_constraint) {
-      last_c += correct_volume(m, s, w, *solver);
+      last_c += correct_volume(m, s, w, *solver, final_volume);
       // s is zero on constrained entries only to solver tolerance: pin them again.
+      bool moved = false;
       for (int d = 0; d < 3; ++d)
         for (int i = 0; i < m.n; ++i)
-          if (w.mask(i, d)) s.u(i, d) = w.u_fixed(i, d);
-      s.x = m.rest.positions + s.u;
+          if (w.mask(i, d) && s.u(i, d) != w.u_fixed(i, d)) {
+            s.u(i, d) = w.u_fixed(i, d);
+            s.x(i, d) = m.rest.positions(i, d) + s.u(i, d);
+            moved = true;
+          }
+      if (moved) final_volume = std::numeric_limits<double>::quiet_NaN();
+    } else {
+      final_volume = std::numeric_limits<double>::quiet_NaN();
     }
     if (it + 1 < max_it && du <= m.solver.nonlinear_tolerance * m.size) break;
   }
@@ -473,8 +489,9 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
   st.total_factorizations += st.factorizations;
   st.total_fallbacks += st.fallbacks;
 
-  // Results: volume, reactions at constrained entries, contact pressure, strain and stress.
-  s.volume = enclosed_volume(s.x, m.rest.triangles, m.origin);
+  // Results: volume (measured at these positions by the last volume check, if any),
+  // reactions at constrained entries, contact pressure, strain and stress.
+  s.volume = std::isnan(final_volume) ? enclosed_volume(s.x, m.rest.triangles, m.origin) : final_volume;
   s.volume_rel_error = (s.volume - m.rest_volume) / m.rest_volume;
   // True residual of the last solve's eliminated 3N+1 system (volume row scaled like the
   // reference solver's), and the reactions, from one product with the unmasked K per axis:
