@@ -41,17 +41,31 @@ void distributed_area_vectors(const NodeMat& x, const TriMat& tris, NodeMat& are
   }
 }
 
-double area_vectors_and_volume(const NodeMat& x, const TriMat& tris, const Vec3& origin, NodeMat& area_vectors) {
-  area_vectors.setZero();
+double area_vectors_and_volume(const NodeMat& x, const TriMat& tris, const Vec3& origin, NodeMat& area_vectors,
+                               std::vector<double>& packed) {
+  const size_t n = size_t(x.rows());
+  packed.resize(6 * n);
+  double* px = packed.data();
+  double* pa = px + 3 * n;
+  for (size_t d = 0; d < 3; ++d) {
+    const double* col = x.col(Eigen::Index(d)).data();
+    for (size_t i = 0; i < n; ++i) {
+      px[3 * i + d] = col[i];
+      pa[3 * i + d] = 0.0;
+    }
+  }
   double six_v = 0.0;
   for (Eigen::Index k = 0; k < tris.rows(); ++k) {
-    const int ia = tris(k, 0), ib = tris(k, 1), ic = tris(k, 2);
-    const Vec3 a = x.row(ia), b = x.row(ib), c = x.row(ic);
+    const size_t ia = size_t(tris(k, 0)), ib = size_t(tris(k, 1)), ic = size_t(tris(k, 2));
+    const Vec3 a(px + 3 * ia), b(px + 3 * ib), c(px + 3 * ic);
     const Vec3 s = (b - a).cross(c - a) / 6.0;  // S_k / 3
-    area_vectors.row(ia) += s.transpose();
-    area_vectors.row(ib) += s.transpose();
-    area_vectors.row(ic) += s.transpose();
+    for (size_t node : {ia, ib, ic})
+      for (size_t d = 0; d < 3; ++d) pa[3 * node + d] += s[Eigen::Index(d)];
     six_v += (a - origin).dot((b - origin).cross(c - origin));
+  }
+  for (size_t d = 0; d < 3; ++d) {
+    double* col = area_vectors.col(Eigen::Index(d)).data();
+    for (size_t i = 0; i < n; ++i) col[i] = pa[3 * i + d];
   }
   return six_v / 6.0;
 }

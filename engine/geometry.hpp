@@ -1,5 +1,7 @@
 #pragma once
 // Surface geometry of the VDM model (vdm-model.md section 1, paper eqs 1-2).
+#include <vector>
+
 #include "engine/types.hpp"
 
 namespace vdm {
@@ -16,8 +18,11 @@ double surface_area(const NodeMat& x, const TriMat& tris);
 void distributed_area_vectors(const NodeMat& x, const TriMat& tris, NodeMat& area_vectors);
 
 // Both of the above in one pass over the triangles (the same values): writes the area
-// vectors and returns the enclosed volume.
-double area_vectors_and_volume(const NodeMat& x, const TriMat& tris, const Vec3& origin, NodeMat& area_vectors);
+// vectors and returns the enclosed volume. `packed` (6 N doubles once sized: no allocation
+// after the first call) holds positions and sums row by row, so that a triangle's corner is
+// one cache line, not three.
+double area_vectors_and_volume(const NodeMat& x, const TriMat& tris, const Vec3& origin, NodeMat& area_vectors,
+                               std::vector<double>& packed);
 
 // Eq (2) with the normalisation choice of vdm-model.md: V_i = V |A_i| / sum_j |A_j|,
 // so that sum_i V_i = V exactly. `volumes` must have N entries. A node whose distributed

@@ -35,10 +35,10 @@ void node_volumes(const TissueModel& m, double v, SimState& s, StepWorkspace& w)
 }
 
 double refresh_geometry(const TissueModel& m, const NodeMat& x, SimState& s, StepWorkspace& w) {
-  const double v = area_vectors_and_volume(x, m.rest.triangles, m.origin, s.area_vectors);
+  const double v = area_vectors_and_volume(x, m.rest.triangles, m.origin, s.area_vectors, w.packed);
   if (!(v > 0.0) || !std::isfinite(v) || !s.area_vectors.allFinite()) {
     if (w.have_geometry)  // back to the geometry K was built from
-      node_volumes(m, area_vectors_and_volume(w.x_refresh, m.rest.triangles, m.origin, s.area_vectors), s, w);
+      node_volumes(m, area_vectors_and_volume(w.x_refresh, m.rest.triangles, m.origin, s.area_vectors, w.packed), s, w);
     return -1.0;
   }
   node_volumes(m, v, s, w);
@@ -232,6 +232,7 @@ SimState make_sim_state(const TissueModel& m) {
   if (m.use_inertia) w->extra_diagonal = Vec::Zero(n);
   w->scratch = Vec::Zero(n);
   w->area_norms = Vec::Zero(n);
+  w->packed.assign(6 * size_t(n), 0.0);
   w->force_last = NodeMat::Zero(n, 3);
   w->force_prev = NodeMat::Zero(n, 3);
   w->pressure_last = Vec::Zero(n);

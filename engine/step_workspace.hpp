@@ -3,6 +3,7 @@
 // chosen linear solver. Sized once in make_sim_state(); step() allocates nothing after that.
 #include <array>
 #include <memory>
+#include <vector>
 
 #include "engine/linear_solver.hpp"
 #include "engine/sim_state.hpp"
@@ -45,6 +46,7 @@ struct StepWorkspace {
   Vec extra_diagonal;             // inertia M/h^2 + D/h (empty without inertia)
   Vec scratch;                    // N
   Vec area_norms;                 // |A_i| at the last refresh (N)
+  std::vector<double> packed;     // 6 N: area_vectors_and_volume()'s rows
   std::unique_ptr<LinearSolver> solver;
   std::unique_ptr<LinearSolver> fallback;  // direct solver, made on the first failed solve
   bool fallback_stale = true;              // fallback not told of the current system

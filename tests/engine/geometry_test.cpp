@@ -33,6 +33,22 @@ TEST(Geometry, AreaVectorsSumToZeroOnClosedSurface) {
   for (int i = 0; i < s.node_count(); ++i) EXPECT_GT(A.row(i).dot(s.positions.row(i)), 0.0);
 }
 
+// The step's one-pass version gives the same bits as the two separate passes.
+TEST(Geometry, OnePassAreaVectorsAndVolumeEqualTheSeparatePasses) {
+  SurfaceMesh s = make_icosphere(0.05, 3);
+  for (int i = 0; i < s.node_count(); ++i)  // deformed, off the origin
+    s.positions.row(i) = Vec3(0.3 + 1.2 * s.positions(i, 0), -0.1 + s.positions(i, 1) * (1 + 3 * s.positions(i, 2)),
+                              0.7 * s.positions(i, 2)).transpose();
+  const Vec3 origin(0.31, -0.12, 0.01);
+  NodeMat A(s.node_count(), 3), B(s.node_count(), 3);
+  std::vector<double> packed;
+  const double v = area_vectors_and_volume(s.positions, s.triangles, origin, A, packed);
+  distributed_area_vectors(s.positions, s.triangles, B);
+  EXPECT_EQ(v, enclosed_volume(s.positions, s.triangles, origin));
+  EXPECT_EQ(A, B);
+  EXPECT_EQ(packed.size(), 6u * size_t(s.node_count()));
+}
+
 TEST(Geometry, DistributedVolumesSumToVolume) {
   const SurfaceMesh s = make_box(Vec3(0.1, 0.2, 0.3), 2, 5, 3);
   NodeMat A(s.node_count(), 3);
