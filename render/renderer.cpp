@@ -172,6 +172,7 @@ struct Renderer::Impl {
   void draw_floor(const GpuMesh& quad, bool shadowed);
   void draw_background();
   bool make_backdrop(std::string& error);
+  void set_view_proj();
   GlProgram& use(Material m);
   void draw(const RenderScene& scene, const StressView* view, bool hud, Image& out);
 };
@@ -280,6 +281,14 @@ bool Renderer::Impl::init(const vdm::SurfaceMesh& rest, std::string& error) {
   return imgui.init(body_px, error);
 }
 
+// The camera's projection, with near and far planes around the organ (radius `radius`).
+void Renderer::Impl::set_view_proj() {
+  const double aspect = double(settings.width) / settings.height;
+  const double dist = (camera.eye - camera.target).norm();
+  view_proj = perspective(camera.fov_deg, aspect, std::max(dist - 6 * radius, dist * 0.02), dist + 8 * radius) *
+              look_at(camera.eye, camera.target, camera.up);
+}
+
 bool Renderer::Impl::make_backdrop(std::string& error) {
   glGenRenderbuffers(1, &backdrop_color);
   glBindRenderbuffer(GL_RENDERBUFFER, backdrop_color);
@@ -300,10 +309,7 @@ bool Renderer::Impl::make_backdrop(std::string& error) {
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
-  const double aspect = double(settings.width) / settings.height;
-  const double dist = (camera.eye - camera.target).norm();
-  view_proj = perspective(camera.fov_deg, aspect, std::max(dist - 6 * radius, dist * 0.02), dist + 8 * radius) *
-              look_at(camera.eye, camera.target, camera.up);
+  set_view_proj();
   if (settings.floor) draw_floor(floor, false);
   draw_background();
   fb->blit_color_to(backdrop_fbo);
@@ -587,10 +593,7 @@ void Renderer::Impl::draw(const RenderScene& scene, const StressView* view, bool
   timer.mark("backdrop");
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
-  const double aspect = double(settings.width) / settings.height;
-  const double dist = (camera.eye - camera.target).norm();
-  view_proj = perspective(camera.fov_deg, aspect, std::max(dist - 6 * radius, dist * 0.02), dist + 8 * radius) *
-              look_at(camera.eye, camera.target, camera.up);
+  set_view_proj();
   const Eigen::Matrix4f identity = Eigen::Matrix4f::Identity();
   const Eigen::Matrix3f identity3 = Eigen::Matrix3f::Identity();
 

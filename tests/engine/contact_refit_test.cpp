@@ -59,14 +59,7 @@ void expect_same(const Record& fcl, const Record& lazy, const std::string& what)
 }
 
 // A ball of radius R fixed at its bottom.
-TissueModel ball(double R, int level) {
-  TissueDef def = default_tissue(make_icosphere(R, level));
-  const int n = def.mesh.node_count();
-  def.fixed = FlagMat::Zero(n, 3);
-  for (int i = 0; i < n; ++i)
-    if (def.mesh.positions(i, 2) < -0.8 * R) def.fixed.row(i).setOnes();
-  return scenario::build(def);
-}
+TissueModel ball(double R, int level) { return scenario::ball_on_base(R, level); }
 
 // Runs `steps` contact steps with tools(k) and records them.
 Record run(const TissueModel& m, ContactSettings cs, int steps, const std::function<std::vector<ToolShape>(int)>& tools) {

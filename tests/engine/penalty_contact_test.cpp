@@ -22,14 +22,7 @@ Capsule probe_down(double tip_z, double radius, double motion_z, double x = 0.0)
 }
 
 // A ball of radius R fixed at its bottom.
-TissueModel ball(double R, int level) {
-  TissueDef def = default_tissue(make_icosphere(R, level));
-  const int n = def.mesh.node_count();
-  def.fixed = FlagMat::Zero(n, 3);
-  for (int i = 0; i < n; ++i)
-    if (def.mesh.positions(i, 2) < -0.8 * R) def.fixed.row(i).setOnes();
-  return scenario::build(def);
-}
+TissueModel ball(double R, int level) { return scenario::ball_on_base(R, level); }
 
 ContactSettings penalty(double k) {
   ContactSettings cs;

@@ -17,6 +17,16 @@ inline TissueModel build(const TissueDef& def) {
   return m;
 }
 
+// A ball of radius R (icosphere of `level` subdivisions) held at its bottom (below -0.8 R).
+inline TissueModel ball_on_base(double R, int level) {
+  TissueDef def = default_tissue(make_icosphere(R, level));
+  const int n = def.mesh.node_count();
+  def.fixed = FlagMat::Zero(n, 3);
+  for (int i = 0; i < n; ++i)
+    if (def.mesh.positions(i, 2) < -0.8 * R) def.fixed.row(i).setOnes();
+  return build(def);
+}
+
 // Cube of side L centred at the origin, bottom face fixed.
 inline TissueDef cube_on_table(double L = 0.1, int cells = 6, SolverMethod method = SolverMethod::structured) {
   TissueDef def = default_tissue(make_box(Vec3(L, L, L), cells, cells, cells));
