@@ -422,6 +422,15 @@ int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::os
         s.y.push_back(r.median_ms);
       }
     if (s.x.empty()) continue;
+    // Points in order of size (the 642-node row comes last in the table).
+    std::vector<size_t> order(s.x.size());
+    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::sort(order.begin(), order.end(), [&s](size_t a, size_t b) { return s.x[a] < s.x[b]; });
+    const std::vector<double> x = s.x, y = s.y;
+    for (size_t i = 0; i < order.size(); ++i) {
+      s.x[i] = x[order[i]];
+      s.y[i] = y[order[i]];
+    }
     // The fit spans 2.5k nodes and up (the range; the 642-node row is FEM's organ).
     std::vector<size_t> fit;
     for (size_t i = 0; i < s.x.size(); ++i)

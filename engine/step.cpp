@@ -25,15 +25,15 @@ void add_warning(SimState& s, const char* what) {
   if (s.warnings.size() < 64) s.warnings.emplace_back(what);
 }
 
-// Step 1 of section 4: A_i, V_i, V and every K^d at the positions `x`. Returns V. A geometry
-// that encloses no positive volume (inverted mid-run) would make K indefinite: then the last
-// valid geometry is kept (returns -1 after restoring it) and the caller says so.
 // |A_i| and V_i from the area vectors and the volume v.
 void node_volumes(const TissueModel& m, double v, SimState& s, StepWorkspace& w) {
   for (int i = 0; i < m.n; ++i) w.area_norms[i] = s.area_vectors.row(i).norm();
   distributed_volumes_from_norms(w.area_norms, v, s.node_volumes);
 }
 
+// Step 1 of section 4: A_i, V_i, V and every K^d at the positions `x`. Returns V. A geometry
+// that encloses no positive volume (inverted mid-run) would make K indefinite: then the last
+// valid geometry is kept (returns -1 after restoring it) and the caller says so.
 double refresh_geometry(const TissueModel& m, const NodeMat& x, SimState& s, StepWorkspace& w) {
   const double v = area_vectors_and_volume(x, m.rest.triangles, m.origin, s.area_vectors, w.packed);
   if (!(v > 0.0) || !std::isfinite(v) || !s.area_vectors.allFinite()) {
@@ -401,7 +401,7 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
     }
     build_loads(m, in, s, w);
     for (int d = 0; d < 3; ++d)
-      eliminate_rhs(m.pattern, w.K, d, w.mask.col(d).data(), w.force.col(d).data(), w.u_fixed.col(d).data(),
+      eliminate_rhs(m.pattern, w.K, w.mask.col(d).data(), w.force.col(d).data(), w.u_fixed.col(d).data(),
                     w.rhs.col(d).data());
     // Eq (11) as a Newton step on the exact volume: a.u^{n+1} = V_0 - V(x^n) + a.u^n,
     // with the constrained part moved to the right.

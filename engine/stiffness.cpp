@@ -98,7 +98,7 @@ void multiply(const StiffnessPattern& p, const AxisStiffness& K, int d, const do
   }
 }
 
-void eliminate_rhs(const StiffnessPattern& p, const AxisStiffness& K, int /*d*/, const std::uint8_t* mask,
+void eliminate_rhs(const StiffnessPattern& p, const AxisStiffness& K, const std::uint8_t* mask,
                    const double* f, const double* u_fixed, double* rhs) {
   const Eigen::Index n = K.diagonal.rows();
   for (Eigen::Index i = 0; i < n; ++i) rhs[i] = mask[i] ? u_fixed[i] : f[i];

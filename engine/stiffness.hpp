@@ -25,9 +25,10 @@ void to_sparse(const StiffnessPattern& pattern, const AxisStiffness& K, std::arr
 // y = K^d x on axis d.
 void multiply(const StiffnessPattern& pattern, const AxisStiffness& K, int d, const double* x, double* y);
 
-// Right-hand side of the eliminated system on axis d: rhs_i = f_i - sum_{j constrained}
-// K_ij u_j for free i, rhs_j = u_j for constrained j.
-void eliminate_rhs(const StiffnessPattern& pattern, const AxisStiffness& K, int d, const std::uint8_t* mask,
+// Right-hand side of the eliminated system on one axis (its mask, load, prescribed values):
+// rhs_i = f_i - sum_{j constrained} K_ij u_j for free i, rhs_j = u_j for constrained j. Only
+// the edge weights enter, the same on every axis.
+void eliminate_rhs(const StiffnessPattern& pattern, const AxisStiffness& K, const std::uint8_t* mask,
                    const double* f, const double* u_fixed, double* rhs);
 
 // K_masked = K with rows and columns of constrained nodes (mask(i) != 0) replaced by the
