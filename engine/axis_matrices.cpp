@@ -39,6 +39,7 @@ void AxisMatrices::analyze(const SpMat& pattern, const std::vector<int>& perm) {
   diag.assign(3 * size_t(n), 0.0);
   row_of = iperm;
   row_mask.assign(3 * size_t(n), 0);
+  held_rows.assign(size_t(n), 0);
 }
 
 void AxisMatrices::gather(const std::array<SpMat, 3>& K) {
@@ -80,21 +81,36 @@ void AxisMatrices::gather(const AxisStiffness& K, const FlagMat& mask, const Nod
   const double* sd[3] = {nullptr, nullptr, nullptr};
   if (springs)
     for (int d = 0; d < 3; ++d) sd[d] = springs->col(d).data();
+  size_t held = 0;
   for (int v = 0; v < n; ++v) {
     const size_t i = size_t(row_of[size_t(v)]);
+    std::uint8_t any = 0;
     for (int d = 0; d < 3; ++d) {
-      const bool held = md[d][v] != 0;
-      rm[3 * i + size_t(d)] = held;
-      diag[3 * i + size_t(d)] = held ? 1.0 : kd[d][v] + (springs ? sd[d][v] : 0.0);
+      const std::uint8_t h = md[d][v] != 0;
+      rm[3 * i + size_t(d)] = h;
+      diag[3 * i + size_t(d)] = h ? 1.0 : kd[d][v] + (springs ? sd[d][v] : 0.0);
+      any |= h;
     }
+    if (any) held_rows[held++] = int(i);
   }
+  // Every entry unmasked, then the rows and columns of the constrained entries (few: the
+  // held and prescribed nodes) zeroed on their axes.
   const double* weight = K.weight.data();
-  for (int i = 0; i < n; ++i) {
+  for (size_t p = 0; p < off_edge.size(); ++p) {
+    const double v = -weight[off_edge[p]];
+    off[3 * p] = off[3 * p + 1] = off[3 * p + 2] = v;
+  }
+  for (size_t k = 0; k < held; ++k) {
+    const int i = held_rows[k];
     const std::uint8_t* mi = rm + 3 * size_t(i);
     for (int p = start[size_t(i)]; p < start[size_t(i) + 1]; ++p) {
-      const std::uint8_t* mj = rm + 3 * size_t(col[size_t(p)]);
-      const double v = -weight[off_edge[size_t(p)]];
-      for (int d = 0; d < 3; ++d) off[3 * size_t(p) + size_t(d)] = (mi[d] | mj[d]) ? 0.0 : v;
+      const int j = col[size_t(p)];
+      for (int q = start[size_t(j)]; q < start[size_t(j) + 1]; ++q)
+        if (col[size_t(q)] == i) {
+          for (int d = 0; d < 3; ++d)
+            if (mi[d]) off[3 * size_t(p) + size_t(d)] = off[3 * size_t(q) + size_t(d)] = 0.0;
+          break;
+        }
     }
   }
 }

@@ -26,6 +26,7 @@ struct AxisMatrices {
   std::vector<int> off_edge;   // the edge of each off-diagonal entry (analysed from a StiffnessPattern)
   std::vector<int> row_of;     // row v of the source is row row_of[v] here
   std::vector<std::uint8_t> row_mask;  // gather(): 3 per row, the constrained entries
+  std::vector<int> held_rows;  // gather(): the rows with a constrained entry
 
   // Pattern of `pattern` (symmetric, diagonal present) with rows and columns renumbered:
   // row i here is row perm[i] of `pattern` (perm empty: the identity). Values are zero.

@@ -167,13 +167,16 @@ class StructuredSolver final : public LinearSolver {
     for (int g = 0; g < G; ++g) {
       const NodeMat& b = *src[g];
       const std::vector<double>& x0 = *warm[g];
-      for (int i = 0; i < n_; ++i) {
-        const int node = perm_[size_t(i)];
-        for (int d = 0; d < 3; ++d) {
-          b_[size_t(i) * W + size_t(d * G + g)] = b(node, d);
-          x_[size_t(i) * W + size_t(d * G + g)] = settings_.warm_start ? x0[3 * size_t(i) + size_t(d)] : 0.0;
-        }
+      // b in node order, each node's entries to its row of the block (reading the three
+      // columns of b in solver order missed on every load).
+      const double* bc[3] = {b.col(0).data(), b.col(1).data(), b.col(2).data()};
+      for (int node = 0; node < n_; ++node) {
+        double* row = b_.data() + size_t(iperm_[size_t(node)]) * W + size_t(g);
+        for (int d = 0; d < 3; ++d) row[d * G] = bc[d][node];
       }
+      for (size_t i = 0; i < size_t(n_); ++i)
+        for (size_t d = 0; d < 3; ++d)
+          x_[i * W + d * G + size_t(g)] = settings_.warm_start ? x0[3 * i + d] : 0.0;
       // sqrt(3): the three axes together then meet the tolerance on the whole system.
       const double t = settings_.tolerance * b.norm() / std::sqrt(3.0);
       for (int d = 0; d < 3; ++d) threshold[d * G + g] = t;

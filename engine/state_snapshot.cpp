@@ -148,6 +148,7 @@ bool load_state(const TissueModel& m, std::string_view in, size_t& pos, SimState
     return fail("truncated");
   std::vector<double> warm(static_cast<size_t>(count));
   r.bytes(warm.data(), warm.size() * sizeof(double));
+  w.last_springs_any = !w.last_springs.isZero(0.0);
   w.input_remembered = false;
   s.failed = false;
   s.failure.clear();

@@ -86,16 +86,20 @@ const char* check_input(const TissueModel& m, const StepInput& in) {
 }
 
 // Constrained entries this step: held (fixed, infinite B) and prescribed by the input
-// (sizes checked by check_input).
-void build_constraints(const TissueModel& m, const StepInput& in, StepWorkspace& w) {
+// (sizes checked by check_input). Returns whether they differ from last_mask.
+bool build_constraints(const TissueModel& m, const StepInput& in, StepWorkspace& w) {
   const bool has_prescribed = in.prescribed.rows() == m.n && in.prescribed_u.rows() == m.n;
+  bool changed = false;
   for (int d = 0; d < 3; ++d)
     for (int i = 0; i < m.n; ++i) {
       const bool held = m.held(i, d) != 0;
       const bool presc = has_prescribed && in.prescribed(i, d) != 0;
-      w.mask(i, d) = (held || presc) ? 1 : 0;
+      const std::uint8_t constrained = (held || presc) ? 1 : 0;
+      w.mask(i, d) = constrained;
+      changed = changed || constrained != w.last_mask(i, d);
       w.u_fixed(i, d) = (!held && presc) ? in.prescribed_u(i, d) : 0.0;
     }
+  return changed;
 }
 
 // The system of K with the entries of last_mask constrained and last_springs on the free
@@ -108,10 +112,12 @@ AxisSystem axis_system(const TissueModel& m, const StepWorkspace& w) {
 void update_solver_system(const TissueModel& m, const SimState& s, StepWorkspace& w) {
   w.last_springs_any = !w.last_springs.isZero(0.0);
   const AxisSystem system = axis_system(m, w);
-  w.a_free = s.area_vectors;
-  for (int d = 0; d < 3; ++d)
-    for (int i = 0; i < m.n; ++i)
-      if (w.last_mask(i, d)) w.a_free(i, d) = 0.0;
+  for (int d = 0; d < 3; ++d) {
+    const std::uint8_t* mask = w.last_mask.col(d).data();
+    const double* a = s.area_vectors.col(d).data();
+    double* a_free = w.a_free.col(d).data();
+    for (int i = 0; i < m.n; ++i) a_free[i] = mask[i] ? 0.0 : a[i];
+  }
   w.mean_diagonal = eliminated_mean_diagonal(system);
   w.solver->matrices_changed(system);
   w.fallback_stale = true;
@@ -139,6 +145,37 @@ void build_loads(const TissueModel& m, const StepInput& in, SimState& s, StepWor
   }
 }
 
+// The solve's result `u_new` with the constrained entries set to their values, minus u: the
+// fixed-point residual, in place. Returns its largest magnitude.
+double pin_and_difference(const FlagMat& mask, const NodeMat& u_fixed, const NodeMat& u, NodeMat& u_new) {
+  double largest = 0.0;
+  for (int d = 0; d < 3; ++d) {
+    const std::uint8_t* mk = mask.col(d).data();
+    const double* fixed = u_fixed.col(d).data();
+    const double* now = u.col(d).data();
+    double* r = u_new.col(d).data();
+    for (Eigen::Index i = 0; i < u.rows(); ++i) {
+      r[i] = (mk[i] ? fixed[i] : r[i]) - now[i];
+      largest = std::max(largest, std::abs(r[i]));
+    }
+  }
+  return largest;
+}
+
+// u += omega r and x = X + u, in one pass.
+void advance_positions(const NodeMat& rest, double omega, const NodeMat& r, NodeMat& u, NodeMat& x) {
+  for (int d = 0; d < 3; ++d) {
+    const double* X = rest.col(d).data();
+    const double* dr = r.col(d).data();
+    double* ud = u.col(d).data();
+    double* xd = x.col(d).data();
+    for (Eigen::Index i = 0; i < u.rows(); ++i) {
+      ud[i] += omega * dr[i];
+      xd[i] = X[i] + ud[i];
+    }
+  }
+}
+
 // Newton on the exact volume along the fluid's own response s (K s = a): u += dP' s and
 // dP += dP', with dV/d(dP') = A(x) . s. K u - dP a = f still holds exactly, and V -> V_0.
 // Returns the change of the volume row's right-hand side, sum dP' (a . s), so the reported
@@ -161,13 +198,34 @@ double correct_volume(const TissueModel& m, SimState& s, StepWorkspace& w, Linea
     if (!response) response = &solver.pressure_response(w.a_free);
     if (!response->allFinite()) return c_shift;
     distributed_area_vectors(s.x, m.rest.triangles, w.area_now);
-    double slope = 0.0;
-    for (int d = 0; d < 3; ++d) slope += w.area_now.col(d).dot(response->col(d));
+    // The constrained entries stay at their values (s is zero there only to the solver's
+    // tolerance): the volume moves by dP' A(x).s over the free entries.
+    double slope = 0.0, as = 0.0;
+    for (int d = 0; d < 3; ++d) {
+      const std::uint8_t* mask = w.mask.col(d).data();
+      const double* area = w.area_now.col(d).data();
+      const double* a = w.a_free.col(d).data();
+      const double* r = response->col(d).data();
+      for (int i = 0; i < m.n; ++i) {
+        slope += mask[i] ? 0.0 : area[i] * r[i];
+        as += a[i] * r[i];
+      }
+    }
     if (!(slope > 0.0) || !std::isfinite(slope)) return c_shift;
     const double dp = err / slope;
-    for (int d = 0; d < 3; ++d) c_shift += dp * w.a_free.col(d).dot(response->col(d));
-    s.u.noalias() += dp * *response;
-    s.x = m.rest.positions + s.u;
+    c_shift += dp * as;
+    for (int d = 0; d < 3; ++d) {
+      const std::uint8_t* mask = w.mask.col(d).data();
+      const double* r = response->col(d).data();
+      const double* rest = m.rest.positions.col(d).data();
+      double* u = s.u.col(d).data();
+      double* x = s.x.col(d).data();
+      for (int i = 0; i < m.n; ++i)
+        if (!mask[i]) {
+          u[i] += dp * r[i];
+          x[i] = rest[i] + u[i];
+        }
+    }
     s.pressure += dp;
   }
   return c_shift;
@@ -389,20 +447,18 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
     }
     if (current_volume <= 0.0) current_volume = enclosed_volume(s.x, m.rest.triangles, m.origin);
 
-    build_constraints(m, in, w);
+    const bool mask_changed = build_constraints(m, in, w);
     const bool springs = in.spring_k.rows() == m.n;
     const bool springs_changed = springs ? in.spring_k != w.last_springs : w.last_springs_any;
-    if (w.matrix_dirty || w.mask != w.last_mask || springs_changed) {
-      w.last_mask = w.mask;
+    if (w.matrix_dirty || mask_changed || springs_changed) {
+      if (mask_changed) w.last_mask = w.mask;
       if (springs) w.last_springs = in.spring_k;
-      else w.last_springs.setZero();
+      else if (w.last_springs_any) w.last_springs.setZero();  // zero already otherwise
       update_solver_system(m, s, w);
       w.matrix_dirty = false;
     }
     build_loads(m, in, s, w);
-    for (int d = 0; d < 3; ++d)
-      eliminate_rhs(m.pattern, w.K, w.mask.col(d).data(), w.force.col(d).data(), w.u_fixed.col(d).data(),
-                    w.rhs.col(d).data());
+    eliminate_rhs(m.pattern, w.K, w.mask, w.force, w.u_fixed, w.rhs);
     // Eq (11) as a Newton step on the exact volume: a.u^{n+1} = V_0 - V(x^n) + a.u^n,
     // with the constrained part moved to the right.
     double c = m.rest_volume - current_volume;
@@ -443,14 +499,11 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
     }
     // Constrained entries take their prescribed values exactly (an iterative solve meets
     // its identity rows only to tolerance).
-    for (int d = 0; d < 3; ++d)
-      for (int i = 0; i < m.n; ++i)
-        if (w.mask(i, d)) w.u_new(i, d) = w.u_fixed(i, d);
     // Nonlinear iterations are a fixed point u <- G(u) on the geometry. Aitken's relaxation
     // (the first solve, the load increment, is taken whole): u += omega (G(u) - u), omega
     // from the last two residuals; it saves iterations where the plain iteration converges.
-    w.u_new -= s.u;  // the fixed-point residual r = G(u) - u
-    const double du = w.u_new.cwiseAbs().maxCoeff();
+    // u_new becomes the fixed-point residual r = G(u) - u (G(u) pinned), du = max |r|.
+    const double du = pin_and_difference(w.mask, w.u_fixed, s.u, w.u_new);
     if (it >= 2 && du > last_du && du > 10.0 * m.solver.nonlinear_tolerance * m.size) {
       // Diverging: past some deformation the geometric fixed point loses stability (its
       // contraction factor passes 1). Keep the current iterate, the best so far.
@@ -466,21 +519,10 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
     st.relaxation = omega;
     st.nonlinear_change = du / m.size;
     if (it + 1 < max_it) w.residual_prev = w.u_new;
-    s.u.noalias() += omega * w.u_new;
+    advance_positions(m.rest.positions, omega, w.u_new, s.u, s.x);
     s.pressure += omega * (p_new - s.pressure);
-    s.x = m.rest.positions + s.u;
     if (m.volume_constraint) {
       last_c += correct_volume(m, s, w, *solver, final_volume);
-      // s is zero on constrained entries only to solver tolerance: pin them again.
-      bool moved = false;
-      for (int d = 0; d < 3; ++d)
-        for (int i = 0; i < m.n; ++i)
-          if (w.mask(i, d) && s.u(i, d) != w.u_fixed(i, d)) {
-            s.u(i, d) = w.u_fixed(i, d);
-            s.x(i, d) = m.rest.positions(i, d) + s.u(i, d);
-            moved = true;
-          }
-      if (moved) final_volume = std::numeric_limits<double>::quiet_NaN();
     } else {
       final_volume = std::numeric_limits<double>::quiet_NaN();
     }
@@ -501,10 +543,11 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
   // is the reaction (the constrained rows' residual is zero: u is pinned to its values).
   const double alpha = pressure_scale(w.mean_diagonal, w.a_free);
   double res2 = 0.0, rhs2 = 0.0, vol_row = -last_c;
+  NodeMat& Ku = w.u_new;  // free after the iterations
+  multiply(m.pattern, w.K, s.u, Ku);
   for (int d = 0; d < 3; ++d) {
-    multiply(m.pattern, w.K, d, s.u.col(d).data(), w.scratch.data());
     const std::uint8_t* mask = w.mask.col(d).data();
-    const double* ku = w.scratch.data();
+    const double* ku = Ku.col(d).data();
     const double* u = s.u.col(d).data();
     const double* f = w.force.col(d).data();
     const double* a = s.area_vectors.col(d).data();
@@ -527,9 +570,12 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
     rhs2 += alpha * alpha * last_c * last_c;
   }
   st.residual = rhs2 > 0 ? std::sqrt(res2 / rhs2) : std::sqrt(res2);
+  // Only constrained entries carry a reaction.
+  const std::uint8_t* held[3] = {w.mask.col(0).data(), w.mask.col(1).data(), w.mask.col(2).data()};
   for (int i = 0; i < m.n; ++i) {
-    const double a = s.area_vectors.row(i).norm();
-    s.reaction_pressure[i] = a > 0 ? s.reaction.row(i).norm() / a : 0.0;
+    const double a = w.area_norms[i];  // |A_i| of s.area_vectors (refresh_geometry)
+    const bool any = (held[0][i] | held[1][i] | held[2][i]) != 0;
+    s.reaction_pressure[i] = any && a > 0 ? s.reaction.row(i).norm() / a : 0.0;
   }
   if (m.compute_stress) {
     const auto t_stress = Clock::now();

@@ -86,28 +86,42 @@ void to_sparse(const StiffnessPattern& p, const AxisStiffness& K, std::array<SpM
   }
 }
 
-void multiply(const StiffnessPattern& p, const AxisStiffness& K, int d, const double* x, double* y) {
-  const double* diag = K.diagonal.col(d).data();
+void multiply(const StiffnessPattern& p, const AxisStiffness& K, const NodeMat& X, NodeMat& Y) {
   const Eigen::Index n = K.diagonal.rows();
-  for (Eigen::Index i = 0; i < n; ++i) y[i] = diag[i] * x[i];
+  const double* x[3] = {X.col(0).data(), X.col(1).data(), X.col(2).data()};
+  double* y[3] = {Y.col(0).data(), Y.col(1).data(), Y.col(2).data()};
+  for (int d = 0; d < 3; ++d) {
+    const double* diag = K.diagonal.col(d).data();
+    for (Eigen::Index i = 0; i < n; ++i) y[d][i] = diag[i] * x[d][i];
+  }
   const double* w = K.weight.data();
   for (size_t e = 0; e < p.edges.size(); ++e) {
     const int i = p.edges[e][0], j = p.edges[e][1];
-    y[i] -= w[e] * x[j];
-    y[j] -= w[e] * x[i];
+    for (int d = 0; d < 3; ++d) {
+      y[d][i] -= w[e] * x[d][j];
+      y[d][j] -= w[e] * x[d][i];
+    }
   }
 }
 
-void eliminate_rhs(const StiffnessPattern& p, const AxisStiffness& K, const std::uint8_t* mask,
-                   const double* f, const double* u_fixed, double* rhs) {
+void eliminate_rhs(const StiffnessPattern& p, const AxisStiffness& K, const FlagMat& mask, const NodeMat& f,
+                   const NodeMat& u_fixed, NodeMat& rhs) {
   const Eigen::Index n = K.diagonal.rows();
-  for (Eigen::Index i = 0; i < n; ++i) rhs[i] = mask[i] ? u_fixed[i] : f[i];
+  const std::uint8_t* mk[3] = {mask.col(0).data(), mask.col(1).data(), mask.col(2).data()};
+  const double* uf[3] = {u_fixed.col(0).data(), u_fixed.col(1).data(), u_fixed.col(2).data()};
+  double* r[3] = {rhs.col(0).data(), rhs.col(1).data(), rhs.col(2).data()};
+  for (int d = 0; d < 3; ++d) {
+    const double* fd = f.col(d).data();
+    for (Eigen::Index i = 0; i < n; ++i) r[d][i] = mk[d][i] ? uf[d][i] : fd[i];
+  }
   const double* w = K.weight.data();
   for (size_t e = 0; e < p.edges.size(); ++e) {
     const int i = p.edges[e][0], j = p.edges[e][1];
-    if (mask[i] == mask[j]) continue;  // both free, or both constrained
-    if (mask[j]) rhs[i] += w[e] * u_fixed[j];  // K_ij = -w
-    else rhs[j] += w[e] * u_fixed[i];
+    for (int d = 0; d < 3; ++d) {
+      if (mk[d][i] == mk[d][j]) continue;  // both free, or both constrained
+      if (mk[d][j]) r[d][i] += w[e] * uf[d][j];  // K_ij = -w
+      else r[d][j] += w[e] * uf[d][i];
+    }
   }
 }
 

@@ -22,14 +22,16 @@ void assemble_stiffness(const TissueModel& model, const NodeMat& area_vectors,
 // K^d as sparse matrices on `pattern` (values written; the matrices carry the pattern).
 void to_sparse(const StiffnessPattern& pattern, const AxisStiffness& K, std::array<SpMat, 3>& out);
 
-// y = K^d x on axis d.
-void multiply(const StiffnessPattern& pattern, const AxisStiffness& K, int d, const double* x, double* y);
+// Y = K X: column d of Y is K^d times column d of X. The three axes share the edge weights,
+// so one pass over the edges serves them all (each axis summed in the order of a pass of its
+// own).
+void multiply(const StiffnessPattern& pattern, const AxisStiffness& K, const NodeMat& X, NodeMat& Y);
 
-// Right-hand side of the eliminated system on one axis (its mask, load, prescribed values):
+// Right-hand side of the eliminated system (per axis its mask, load, prescribed values):
 // rhs_i = f_i - sum_{j constrained} K_ij u_j for free i, rhs_j = u_j for constrained j. Only
-// the edge weights enter, the same on every axis.
-void eliminate_rhs(const StiffnessPattern& pattern, const AxisStiffness& K, const std::uint8_t* mask,
-                   const double* f, const double* u_fixed, double* rhs);
+// the edge weights enter, the same on every axis: one pass over the edges for the three.
+void eliminate_rhs(const StiffnessPattern& pattern, const AxisStiffness& K, const FlagMat& mask,
+                   const NodeMat& f, const NodeMat& u_fixed, NodeMat& rhs);
 
 // K_masked = K with rows and columns of constrained nodes (mask(i) != 0) replaced by the
 // identity. Same pattern, values written in place.

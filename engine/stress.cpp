@@ -12,16 +12,16 @@ void compute_strain_stress(const TissueModel& m, SimState& s) {
   // Connectivity: sum_j B_ij (dV_i^d - dV_j^d), summed per node in `stress` first.
   s.stress.setZero();
   const double bc = m.connectivity_modulus;
-  if (bc != 0.0)
-    for (int d = 0; d < 3; ++d) {
-      const double* dv = s.strain.col(d).data();
-      double* sum = s.stress.col(d).data();
-      for (const auto& e : m.edges) {
-        const double t = bc * (dv[e[0]] - dv[e[1]]);
-        sum[e[0]] += t;
-        sum[e[1]] -= t;
+  if (bc != 0.0) {  // one pass over the edges for the three axes
+    const double* dv[3] = {s.strain.col(0).data(), s.strain.col(1).data(), s.strain.col(2).data()};
+    double* sum[3] = {s.stress.col(0).data(), s.stress.col(1).data(), s.stress.col(2).data()};
+    for (const auto& e : m.edges)
+      for (int d = 0; d < 3; ++d) {
+        const double t = bc * (dv[d][e[0]] - dv[d][e[1]]);
+        sum[d][e[0]] += t;
+        sum[d][e[1]] -= t;
       }
-    }
+  }
   for (int d = 0; d < 3; ++d)
     for (int i = 0; i < m.n; ++i) {
       const double tension = s.stress(i, d) / Vi[i];
