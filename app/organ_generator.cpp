@@ -4,6 +4,7 @@
 #include <vector>
 
 #include "engine/mesh_topology.hpp"
+#include "engine/node_ordering.hpp"
 #include "engine/shapes.hpp"
 
 namespace vdmsim {
@@ -112,6 +113,10 @@ vdm::SurfaceMesh make_liver_mesh(int level, int relax_iterations) {
     }
     mesh.positions = next;
   }
+  // The icosphere numbers its nodes level by level (neighbours' indices about a quarter of N
+  // apart): in locality order every pass of the engine over nodes, edges and triangles walks
+  // memory nearly in order.
+  vdm::renumber_for_locality(mesh);
   return mesh;
 }
 

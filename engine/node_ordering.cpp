@@ -1,7 +1,11 @@
 #include "engine/node_ordering.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cstdlib>
+
+#include "engine/mesh_topology.hpp"
+#include "engine/stiffness.hpp"
 
 namespace vdm {
 namespace {
@@ -79,6 +83,34 @@ int bandwidth(const SpMat& p, const std::vector<int>& new_to_old) {
     for (int k = p.outerIndexPtr()[j]; k < p.outerIndexPtr()[j + 1]; ++k)
       b = std::max(b, std::abs(old_to_new[p.innerIndexPtr()[k]] - old_to_new[j]));
   return b;
+}
+
+std::vector<int> renumber_for_locality(SurfaceMesh& mesh) {
+  const int n = mesh.node_count();
+  const std::vector<int> order = reverse_cuthill_mckee(build_stiffness_pattern(n, unique_edges(mesh.triangles)).matrix);
+  std::vector<int> new_of(static_cast<size_t>(n));
+  for (int i = 0; i < n; ++i) new_of[size_t(order[size_t(i)])] = i;
+  NodeMat positions(n, 3);
+  for (int i = 0; i < n; ++i) positions.row(i) = mesh.positions.row(order[size_t(i)]);
+  // Triangles by their smallest new node index, then the next ones (a total order: the
+  // result does not depend on the sort's algorithm).
+  const int t = mesh.triangle_count();
+  std::vector<std::array<int, 3>> tris(static_cast<size_t>(t));
+  for (int k = 0; k < t; ++k)
+    for (int c = 0; c < 3; ++c) tris[size_t(k)][size_t(c)] = new_of[size_t(mesh.triangles(k, c))];
+  auto key = [](const std::array<int, 3>& a) {
+    std::array<int, 3> s = a;
+    std::sort(s.begin(), s.end());
+    return s;
+  };
+  std::sort(tris.begin(), tris.end(), [&](const std::array<int, 3>& a, const std::array<int, 3>& b) {
+    const auto ka = key(a), kb = key(b);
+    return ka != kb ? ka < kb : a < b;
+  });
+  for (int k = 0; k < t; ++k)
+    for (int c = 0; c < 3; ++c) mesh.triangles(k, c) = tris[size_t(k)][size_t(c)];
+  mesh.positions = std::move(positions);
+  return order;
 }
 
 }  // namespace vdm

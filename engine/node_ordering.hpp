@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "engine/sparse.hpp"
+#include "engine/types.hpp"
 
 namespace vdm {
 
@@ -17,5 +18,11 @@ std::vector<int> reverse_cuthill_mckee(const SpMat& pattern);
 // Largest |i - j| over the entries (i, j) of `pattern` with rows and columns renumbered by
 // `new_to_old` (empty: as they are).
 int bandwidth(const SpMat& pattern, const std::vector<int>& new_to_old = {});
+
+// Renumbers the nodes of `mesh` in reverse Cuthill-McKee order of its edges and sorts the
+// triangles by their nodes' new indices (each keeps its orientation): every pass over the
+// nodes, edges or triangles of the mesh then walks memory nearly in order. The same surface.
+// Returns new index -> old index.
+std::vector<int> renumber_for_locality(SurfaceMesh& mesh);
 
 }  // namespace vdm

@@ -4,7 +4,9 @@
 #include <algorithm>
 #include <numeric>
 #include <random>
+#include <set>
 
+#include "engine/geometry.hpp"
 #include "engine/mesh_topology.hpp"
 #include "engine/node_ordering.hpp"
 #include "engine/shapes.hpp"
@@ -72,6 +74,51 @@ TEST(NodeOrdering, SeveralPiecesAreAllOrdered) {
   const std::vector<int> order = reverse_cuthill_mckee(p);
   EXPECT_TRUE(is_permutation_of_n(order, 2 * na));
   EXPECT_LT(bandwidth(p, order), na);  // a piece's nodes stay together
+}
+
+TEST(NodeOrdering, RenumberedMeshIsTheSameSurfaceInLocalityOrder) {
+  // An icosphere with its nodes shuffled, renumbered: the same oriented triangles in space,
+  // the same volume, neighbours close in index, triangles in order of their nodes.
+  SurfaceMesh mesh = make_icosphere(1.0, 4);
+  const int n = mesh.node_count();
+  std::vector<int> shuffle(n);
+  std::iota(shuffle.begin(), shuffle.end(), 0);
+  std::mt19937 rng(11);
+  std::shuffle(shuffle.begin(), shuffle.end(), rng);
+  SurfaceMesh shuffled = mesh;
+  for (int i = 0; i < n; ++i) shuffled.positions.row(shuffle[i]) = mesh.positions.row(i);
+  for (int k = 0; k < mesh.triangle_count(); ++k)
+    for (int c = 0; c < 3; ++c) shuffled.triangles(k, c) = shuffle[mesh.triangles(k, c)];
+  SurfaceMesh renumbered = shuffled;
+  const std::vector<int> order = renumber_for_locality(renumbered);
+  ASSERT_TRUE(is_permutation_of_n(order, n));
+  ASSERT_EQ(renumbered.triangle_count(), mesh.triangle_count());
+  for (int i = 0; i < n; ++i) ASSERT_EQ(renumbered.positions.row(i), shuffled.positions.row(order[i]));
+  // Oriented triangles as node triples of the shuffled numbering, each rotated to start at
+  // its smallest node (a rotation keeps the orientation; a flip would not match).
+  auto oriented = [](int a, int b, int c) {
+    std::array<int, 3> t = {a, b, c};
+    std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
+    return t;
+  };
+  std::set<std::array<int, 3>> before, after;
+  for (int k = 0; k < mesh.triangle_count(); ++k) {
+    before.insert(oriented(shuffled.triangles(k, 0), shuffled.triangles(k, 1), shuffled.triangles(k, 2)));
+    after.insert(oriented(order[renumbered.triangles(k, 0)], order[renumbered.triangles(k, 1)],
+                          order[renumbered.triangles(k, 2)]));
+  }
+  EXPECT_EQ(before, after);
+  const Vec3 origin = Vec3::Zero();
+  const double volume = enclosed_volume(shuffled.positions, shuffled.triangles, origin);
+  EXPECT_NEAR(enclosed_volume(renumbered.positions, renumbered.triangles, origin), volume, 1e-13 * volume);  // summation order
+  // Edges span a band of order sqrt(n); the shuffled numbering spans about n.
+  std::vector<int> identity(n);
+  std::iota(identity.begin(), identity.end(), 0);
+  EXPECT_GT(bandwidth(pattern_of(shuffled, identity)), n / 2);
+  EXPECT_LT(bandwidth(pattern_of(renumbered, identity)), 6 * static_cast<int>(std::sqrt(double(n))));
+  // Triangles in order of their smallest node.
+  for (int k = 1; k < renumbered.triangle_count(); ++k)
+    EXPECT_LE(renumbered.triangles.row(k - 1).minCoeff(), renumbered.triangles.row(k).minCoeff());
 }
 
 }  // namespace
