@@ -51,6 +51,7 @@ double refresh_geometry(const TissueModel& m, const NodeMat& x, SimState& s, Ste
   }
   assemble_stiffness(m, s.area_vectors, w.area_norms, s.node_volumes, w.extra_diagonal, w.K, w.scratch);
   if (&x != &w.x_refresh) w.x_refresh = x;
+  w.volume_at_refresh = v;
   w.matrix_dirty = true;
   w.have_geometry = true;
   w.steps_since_refresh = 0;
@@ -313,6 +314,7 @@ namespace {
 // Gives up on this step: the state goes back to the step's start and says why.
 void fail_step(const TissueModel& m, SimState& s, const char* why) {
   rewind_step(m, s);
+  s.work->rewound = false;  // the geometry of a failed attempt is rebuilt, not trusted
   s.work->failure_reason = why;
   s.failed = true;
   s.failure = why;
@@ -351,6 +353,7 @@ void rebuild_matrices(const TissueModel& m, SimState& s) {
 
 void rewind_step(const TissueModel& m, SimState& s) {
   StepWorkspace& w = *s.work;
+  w.rewound = true;
   s.u = w.u_start;
   s.x = m.rest.positions + s.u;
   s.velocity = w.velocity_start;
@@ -427,8 +430,20 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
   const int max_it = m.solver.nonlinear_iterations;
   for (int it = 0; it < max_it; ++it) {
     const auto t_asm = Clock::now();
-    const bool refresh = !w.have_geometry || it > 0 || w.steps_since_refresh >= m.solver.refresh_every;
+    bool refresh = !w.have_geometry || it > 0 || w.steps_since_refresh >= m.solver.refresh_every;
     current_volume = -1.0;
+    if (refresh && it == 0 && w.rewound && w.have_geometry && s.x == w.x_refresh) {
+      // A step redone after rewind_step() (the contact's next active set, a halved part) at
+      // the positions of the last refresh: the geometry is current, exactly what a refresh
+      // would build again. The step goes on as after one (the geometry itself is unchanged:
+      // nothing for a rewind to bring back).
+      refresh = false;
+      current_volume = w.volume_at_refresh;
+      w.matrix_dirty = true;
+      w.steps_since_refresh = 0;
+      st.refreshed = true;
+    }
+    w.rewound = false;
     if (refresh) {
       current_volume = refresh_geometry(m, s.x, s, w);
       if (current_volume > 0.0) {

@@ -31,6 +31,8 @@ struct StepWorkspace {
   long step_start = 0;
   int since_refresh_start = 0;
   bool have_geometry_start = false, refreshed_in_step = false;
+  bool rewound = false;           // rewind_step() since the last step (the next may find its geometry current)
+  double volume_at_refresh = 0;   // enclosed volume at x_refresh
   // Halved load increments (step() in step.cpp): the loads of the last two completed steps,
   // the input of a part of a step, and the whole step's start while it is done in parts.
   NodeMat force_last, force_prev;
