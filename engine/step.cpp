@@ -163,15 +163,19 @@ double pin_and_difference(const FlagMat& mask, const NodeMat& u_fixed, const Nod
   return largest;
 }
 
-// u += omega r and x = X + u, in one pass.
-void advance_positions(const NodeMat& rest, double omega, const NodeMat& r, NodeMat& u, NodeMat& x) {
+// u += omega r on the free entries, u = u_fixed exactly on the constrained ones (u + (u_fixed
+// - u) may be an ulp off), and x = X + u, in one pass.
+void advance_positions(const NodeMat& rest, double omega, const NodeMat& r, const FlagMat& mask,
+                       const NodeMat& u_fixed, NodeMat& u, NodeMat& x) {
   for (int d = 0; d < 3; ++d) {
     const double* X = rest.col(d).data();
     const double* dr = r.col(d).data();
+    const std::uint8_t* mk = mask.col(d).data();
+    const double* fixed = u_fixed.col(d).data();
     double* ud = u.col(d).data();
     double* xd = x.col(d).data();
     for (Eigen::Index i = 0; i < u.rows(); ++i) {
-      ud[i] += omega * dr[i];
+      ud[i] = mk[i] ? fixed[i] : ud[i] + omega * dr[i];
       xd[i] = X[i] + ud[i];
     }
   }
@@ -534,7 +538,7 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
     st.relaxation = omega;
     st.nonlinear_change = du / m.size;
     if (it + 1 < max_it) w.residual_prev = w.u_new;
-    advance_positions(m.rest.positions, omega, w.u_new, s.u, s.x);
+    advance_positions(m.rest.positions, omega, w.u_new, w.mask, w.u_fixed, s.u, s.x);
     s.pressure += omega * (p_new - s.pressure);
     if (m.volume_constraint) {
       last_c += correct_volume(m, s, w, *solver, final_volume);
