@@ -54,17 +54,19 @@ void assemble_stiffness(const TissueModel& m, const NodeMat& A, const Vec& area_
     lap[i] += w;
     lap[j] += w;
   }
-  // Diagonal: the Laplacian's, then the bulk term per node and axis.
+  // Diagonal: the Laplacian's, then the bulk term per node and axis (one division by V_i
+  // per node for the three axes).
   const bool extra = extra_diagonal.size() == m.n;
   const double floor = m.axis_stiffness_floor;
-  for (int d = 0; d < 3; ++d) {
-    double* diag = K.diagonal.col(d).data();
-    const double* a = A.col(d).data();
-    const double* bulk = m.bulk.col(d).data();
-    for (int i = 0; i < m.n; ++i) {
-      const double a2 = floor * (norm[i] * norm[i]);
-      diag[i] = lap[i] + bulk[i] * std::max(a[i] * a[i], a2) / vol[i];
-      if (extra) diag[i] += extra_diagonal[i];
+  double* diag[3] = {K.diagonal.col(0).data(), K.diagonal.col(1).data(), K.diagonal.col(2).data()};
+  const double* a[3] = {A.col(0).data(), A.col(1).data(), A.col(2).data()};
+  const double* bulk[3] = {m.bulk.col(0).data(), m.bulk.col(1).data(), m.bulk.col(2).data()};
+  for (int i = 0; i < m.n; ++i) {
+    const double inv_v = 1.0 / vol[i];
+    const double a2 = floor * (norm[i] * norm[i]);
+    for (int d = 0; d < 3; ++d) {
+      diag[d][i] = lap[i] + bulk[d][i] * std::max(a[d][i] * a[d][i], a2) * inv_v;
+      if (extra) diag[d][i] += extra_diagonal[i];
     }
   }
 }
