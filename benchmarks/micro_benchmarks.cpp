@@ -314,7 +314,7 @@ void BM_ThreeAxisKernels(benchmark::State& st) {
   static vdm::AxisIncompleteCholesky ic;
   if (K.n != n) {
     K.analyze(am.m.pattern, vdm::reverse_cuthill_mckee(am.m.pattern.matrix));
-    K.gather(am.K3);
+    K.gather(am.edge_k, vdm::FlagMat::Zero(n, 3), nullptr);  // the matrices of am.K3
     ic.analyze(K);
   }
   ic.factorize(K);
