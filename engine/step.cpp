@@ -601,7 +601,7 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
     compute_strain_stress(m, s);
     st.stress_ms = ms_since(t_stress);
   }
-  s.velocity = (s.u - w.u_start) / m.dt;
+  s.velocity = (s.u - w.u_start) * (1.0 / m.dt);  // one division, not one per entry
   ++s.step;
   s.time += m.dt;
   st.step_ms = ms_since(t_step);
@@ -762,7 +762,7 @@ void step(const TissueModel& m, const StepInput& in, SimState& s) {
     // One step for the caller: counters, velocity and the rewind point are the whole step's.
     s.step = w.whole_step_start + 1;
     s.time = w.whole_time_start + m.dt;
-    s.velocity = (s.u - w.whole_u_start) / m.dt;
+    s.velocity = (s.u - w.whole_u_start) * (1.0 / m.dt);
     restore_whole_start(w, refreshed);
     remember_input(m, in, w);
     add_warning(s, kHalvedText[halvings]);
