@@ -95,10 +95,14 @@ void Framebuffer::blit_color_to(unsigned fbo) {
 }
 
 void Framebuffer::resolve_and_read(Image& out) {
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, draw_fbo_);
-  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, read_fbo_);
-  glBlitFramebuffer(0, 0, width_, height_, 0, 0, width_, height_, GL_COLOR_BUFFER_BIT, GL_NEAREST);
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, read_fbo_);
+  if (samples_ > 1) {
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, draw_fbo_);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, read_fbo_);
+    glBlitFramebuffer(0, 0, width_, height_, 0, 0, width_, height_, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, read_fbo_);
+  } else {
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, draw_fbo_);  // single-sample: read it directly
+  }
   if (out.width != width_ || out.height != height_) out = Image(width_, height_);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   glReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, out.rgba.data());
