@@ -2,14 +2,24 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <cstring>
 
 namespace render {
 namespace {
 
-// Largest difference of the R, G, B channels of two pixels.
-inline std::uint8_t channel_difference(const std::uint8_t* a, const std::uint8_t* b) {
-  const int d0 = std::abs(int(a[0]) - int(b[0])), d1 = std::abs(int(a[1]) - int(b[1])), d2 = std::abs(int(a[2]) - int(b[2]));
-  return static_cast<std::uint8_t>(std::max(d0, std::max(d1, d2)));
+// out[i] = |a[i] - b[i]| for n bytes (vectorised by the compiler).
+void absolute_differences(const std::uint8_t* a, const std::uint8_t* b, std::uint8_t* out, size_t n) {
+  for (size_t i = 0; i < n; ++i) out[i] = static_cast<std::uint8_t>(std::max(a[i], b[i]) - std::min(a[i], b[i]));
+}
+
+// out[p] = the largest of the R, G, B bytes of RGBA pixel p.
+void largest_rgb(const std::uint8_t* rgba, std::uint8_t* out, size_t pixels) {
+  for (size_t p = 0; p < pixels; ++p) {
+    std::uint32_t w;
+    std::memcpy(&w, rgba + 4 * p, 4);
+    const std::uint32_t r = w & 0xffu, g = (w >> 8) & 0xffu, b = (w >> 16) & 0xffu;
+    out[p] = static_cast<std::uint8_t>(std::max(r, std::max(g, b)));
+  }
 }
 
 // How a run ends: `toward` when the pixel next to the run's last one, in the pixel's own row,
@@ -40,28 +50,95 @@ EdgeAaStats EdgeSmoother::apply(Image& image) {
   if (W < 2 || H < 2) return stats;
   const size_t n = static_cast<size_t>(W) * static_cast<size_t>(H);
   const std::uint8_t* px = image.rgba.data();
-  across_x_.assign(n, 0);
-  across_y_.assign(n, 0);
+  // The largest channel difference of each pixel to its right and lower neighbours.
+  across_x_.resize(n);
+  across_y_.resize(n);
+  for (int y = 0; y < H; ++y) across_x_[static_cast<size_t>(y) * W + (W - 1)] = 0;  // no right neighbour
+  std::memset(across_y_.data() + (n - W), 0, static_cast<size_t>(W));                // no lower neighbour
+  row_bytes_.resize(static_cast<size_t>(W) * 4);
+  flags_.resize(static_cast<size_t>(W) + 8);
   for (int y = 0; y < H; ++y) {
     const size_t row = static_cast<size_t>(y) * W;
-    for (int x = 0; x + 1 < W; ++x) across_x_[row + x] = channel_difference(px + 4 * (row + x), px + 4 * (row + x + 1));
-    if (y + 1 < H)
-      for (int x = 0; x < W; ++x) across_y_[row + x] = channel_difference(px + 4 * (row + x), px + 4 * (row + x + W));
+    absolute_differences(px + 4 * row, px + 4 * row + 4, row_bytes_.data(), 4 * static_cast<size_t>(W - 1));
+    largest_rgb(row_bytes_.data(), across_x_.data() + row, static_cast<size_t>(W - 1));
+    if (y + 1 < H) {
+      absolute_differences(px + 4 * row, px + 4 * (row + W), row_bytes_.data(), 4 * static_cast<size_t>(W));
+      largest_rgb(row_bytes_.data(), across_y_.data() + row, static_cast<size_t>(W));
+    }
   }
 
   const int T = settings_.threshold, K = settings_.max_search;
   const std::uint8_t* ax = across_x_.data();
   const std::uint8_t* ay = across_y_.data();
   changes_.clear();
+  std::uint8_t* flag = flags_.data();
   for (int y = 0; y < H; ++y) {
+    // Candidates of this row: a pixel with an edge on any of its four sides.
+    const size_t row = static_cast<size_t>(y) * W;
+    const std::uint8_t* above = y > 0 ? ay + row - W : ay + row;  // row 0: its own lower edges again
     for (int x = 0; x < W; ++x) {
-      const size_t i = static_cast<size_t>(y) * W + x;
+      const std::uint8_t m = std::max(std::max(ax[row + x], ay[row + x]), above[x]);
+      flag[x] = m > T ? 1 : 0;
+    }
+    for (int x = 1; x < W; ++x) flag[x] = static_cast<std::uint8_t>(flag[x] | (ax[row + x - 1] > T ? 1 : 0));
+    std::memset(flag + W, 0, 8);
+    for (int x = 0; x < W; ++x) {
+      if ((x & 7) == 0) {  // skip eight pixels without an edge at once
+        std::uint64_t word;
+        std::memcpy(&word, flag + x, 8);
+        if (word == 0) {
+          x += 7;
+          continue;
+        }
+      }
+      if (!flag[x]) continue;
+      const size_t i = row + x;
       const int left = x > 0 ? ax[i - 1] : 0, right = ax[i];
       const int up = y > 0 ? ay[i - W] : 0, down = ay[i];
-      if (std::max(std::max(left, right), std::max(up, down)) <= T) continue;
       ++stats.candidates;
+      // The share of the pixel that the edge between it and its neighbour `across` (a row
+      // above or below: a horizontal edge; a column left or right: a vertical one) cuts off.
+      auto share_of = [&](bool horizontal, long across) -> double {
+        const long along = horizontal ? 1 : W;
+        const int pos = horizontal ? x : y, limit = horizontal ? W : H;
+        const std::uint8_t* cp = px + 4 * i;
+        const std::uint8_t* cq = px + 4 * (long(i) + across);
+        const int dq0 = int(cq[0]) - cp[0], dq1 = int(cq[1]) - cp[1], dq2 = int(cq[2]) - cp[2];
+        const int den = dq0 * dq0 + dq1 * dq1 + dq2 * dq2;
+        // Whether colour c is nearer q's than p's along the colour difference across the edge.
+        auto like_q = [&](const std::uint8_t* c) {
+          return 2 * ((int(c[0]) - cp[0]) * dq0 + (int(c[1]) - cp[1]) * dq1 + (int(c[2]) - cp[2]) * dq2) > den;
+        };
+        auto walk = [&](int dir) -> RunEnd {
+          for (int k = 1; k <= K; ++k) {
+            const int c = pos + dir * k;
+            if (c < 0 || c >= limit) return {k, EndKind::none};
+            const std::uint8_t* a = px + 4 * (long(i) + dir * k * along);
+            const bool a_q = like_q(a), b_q = like_q(a + 4 * across);
+            if (!a_q && b_q) continue;  // the edge goes on
+            if (!b_q) return {k, a_q ? EndKind::none : EndKind::away};  // a_q: the sides swap (a crossing)
+            // The other side's colour in this row: a step if the edge goes on one row farther
+            // from the other side, a corner (an edge turning across the run) if not.
+            const int beyond = (horizontal ? y : x) - (across > 0 ? 1 : -1);
+            if (beyond >= 0 && beyond < (horizontal ? H : W) && like_q(a - 4 * across)) return {k, EndKind::none};
+            return {k, EndKind::toward};
+          }
+          return {K + 1, EndKind::none};
+        };
+        const RunEnd ends[2] = {walk(-1), walk(+1)};
+        // The straight edge falls from half a pixel at a step to nothing at the run's middle
+        // (a run between two steps the same way) or to half a pixel the other way at its other
+        // end: either way by one pixel over the run's length.
+        const double slope = 1.0 / (ends[0].distance + ends[1].distance - 1);
+        double share = 0;
+        for (const RunEnd& e : ends)
+          if (e.kind == EndKind::toward) share = std::max(share, cut_share(e.distance - 1, slope));
+        return share;
+      };
       // The edge's direction: the stronger of the differences between rows (a horizontal
-      // edge) and between columns (a vertical one) over the 3 x 3 neighbourhood.
+      // edge) and between columns (a vertical one) over the 3 x 3 neighbourhood; the neighbour
+      // across it, the one that differs more. (Taking both directions at a diagonal staircase
+      // measured worse against supersampling.)
       int between_rows = 0, between_columns = 0;
       for (int d = -1; d <= 1; ++d) {
         if (x + d >= 0 && x + d < W) between_rows += (y > 0 ? ay[i - W + d] : 0) + ay[i + d];
@@ -71,52 +148,12 @@ EdgeAaStats EdgeSmoother::apply(Image& image) {
         }
       }
       const bool horizontal = between_rows >= between_columns;
-      // The neighbour across the edge (the larger difference), and the step along it.
-      long across, along;
-      int pos, limit;
-      if (horizontal) {
-        if (std::max(up, down) <= T) continue;
-        across = up > down ? -long(W) : long(W);
-        along = 1;
-        pos = x;
-        limit = W;
-      } else {
-        if (std::max(left, right) <= T) continue;
-        across = left > right ? -1 : 1;
-        along = W;
-        pos = y;
-        limit = H;
-      }
+      if (horizontal ? std::max(up, down) <= T : std::max(left, right) <= T) continue;
+      const long across = horizontal ? (up > down ? -long(W) : long(W)) : (left > right ? -1 : 1);
+      const int w = static_cast<int>(share_of(horizontal, across) * 256.0 + 0.5);
+      if (w <= 0) continue;
       const std::uint8_t* cp = px + 4 * i;
       const std::uint8_t* cq = px + 4 * (long(i) + across);
-      const int dq0 = int(cq[0]) - cp[0], dq1 = int(cq[1]) - cp[1], dq2 = int(cq[2]) - cp[2];
-      const int den = dq0 * dq0 + dq1 * dq1 + dq2 * dq2;
-      // Whether colour c is nearer q's than p's along the colour difference across the edge.
-      auto like_q = [&](const std::uint8_t* c) {
-        return 2 * ((int(c[0]) - cp[0]) * dq0 + (int(c[1]) - cp[1]) * dq1 + (int(c[2]) - cp[2]) * dq2) > den;
-      };
-      auto walk = [&](int dir) -> RunEnd {
-        for (int k = 1; k <= K; ++k) {
-          const int c = pos + dir * k;
-          if (c < 0 || c >= limit) return {k, EndKind::none};
-          const std::uint8_t* a = px + 4 * (long(i) + dir * k * along);
-          const bool a_q = like_q(a), b_q = like_q(a + 4 * across);
-          if (!a_q && b_q) continue;  // the edge goes on
-          return {k, a_q ? EndKind::toward : EndKind::away};
-        }
-        return {K + 1, EndKind::none};
-      };
-      const RunEnd ends[2] = {walk(-1), walk(+1)};
-      // The straight edge falls from half a pixel at a step to nothing at the run's middle (a
-      // run between two steps the same way) or to half a pixel the other way at its other end:
-      // either way by one pixel over the run's length.
-      const int length = ends[0].distance + ends[1].distance - 1;
-      const double slope = 1.0 / length;
-      double share = 0;
-      for (const RunEnd& e : ends)
-        if (e.kind == EndKind::toward) share = std::max(share, cut_share(e.distance - 1, slope));
-      const int w = static_cast<int>(share * 256.0 + 0.5);
-      if (w <= 0) continue;
       Change ch;
       ch.index = static_cast<std::uint32_t>(i);
       for (int k = 0; k < 3; ++k) ch.rgb[k] = static_cast<std::uint8_t>((cp[k] * (256 - w) + cq[k] * w + 128) >> 8);
