@@ -42,6 +42,23 @@ double cut_share(double t0, double slope) {
   return h0 * h0 / (2.0 * slope);
 }
 
+// A run between two steps the same way is the flattest part of a curved edge (the top of a
+// circle): the edge is taken as the parabola through both steps' midpoints (half a pixel into
+// the row whose colour steps in) that keeps the areas on either side as the staircase has
+// them, h(t) = 0.5 - 3 t (L - t) / L^2 for a run of length L: into that row near the ends,
+// a quarter of a pixel into the other row at the middle. The share of the pixel spanning
+// [t0, t0 + 1] that it cuts off on the side `sign` (+1: h > 0; -1: h < 0).
+double arc_share(double t0, double length, int sign) {
+  const int n = 8;  // midpoint rule: the parabola's curvature over one pixel is small
+  double sum = 0;
+  for (int k = 0; k < n; ++k) {
+    const double t = t0 + (k + 0.5) / n;
+    const double h = 0.5 - 3.0 * t * (length - t) / (length * length);
+    sum += std::min(1.0, std::max(0.0, sign * h));
+  }
+  return sum / n;
+}
+
 }  // namespace
 
 EdgeAaStats EdgeSmoother::apply(Image& image) {
@@ -116,7 +133,14 @@ EdgeAaStats EdgeSmoother::apply(Image& image) {
             const std::uint8_t* a = px + 4 * (long(i) + dir * k * along);
             const bool a_q = like_q(a), b_q = like_q(a + 4 * across);
             if (!a_q && b_q) continue;  // the edge goes on
-            if (!b_q) return {k, a_q ? EndKind::none : EndKind::away};  // a_q: the sides swap (a crossing)
+            if (!b_q) {
+            if (a_q) return {k, EndKind::none};  // the sides swap: a crossing
+            // This side's colour in the other row: a step if the edge goes on one row farther
+            // on, a corner of the other side's region if not.
+            const int farther = (horizontal ? y : x) + 2 * (across > 0 ? 1 : -1);
+            if (farther >= 0 && farther < (horizontal ? H : W) && !like_q(a + 8 * across)) return {k, EndKind::none};
+            return {k, EndKind::away};
+          }
             // The other side's colour in this row: a step if the edge goes on one row farther
             // from the other side, a corner (an edge turning across the run) if not.
             const int beyond = (horizontal ? y : x) - (across > 0 ? 1 : -1);
@@ -126,13 +150,14 @@ EdgeAaStats EdgeSmoother::apply(Image& image) {
           return {K + 1, EndKind::none};
         };
         const RunEnd ends[2] = {walk(-1), walk(+1)};
-        // The straight edge falls from half a pixel at a step to nothing at the run's middle
-        // (a run between two steps the same way) or to half a pixel the other way at its other
-        // end: either way by one pixel over the run's length.
-        const double slope = 1.0 / (ends[0].distance + ends[1].distance - 1);
+        const int length = ends[0].distance + ends[1].distance - 1;
+        if (ends[0].kind == ends[1].kind && ends[0].kind != EndKind::none)  // two steps the same way
+          return arc_share(ends[0].distance - 1, length, ends[0].kind == EndKind::toward ? 1 : -1);
+        // Otherwise a straight edge from half a pixel into this row at a step to half a pixel
+        // into the other row at the run's other end (or past the search).
         double share = 0;
         for (const RunEnd& e : ends)
-          if (e.kind == EndKind::toward) share = std::max(share, cut_share(e.distance - 1, slope));
+          if (e.kind == EndKind::toward) share = std::max(share, cut_share(e.distance - 1, 1.0 / length));
         return share;
       };
       // The edge's direction: the stronger of the differences between rows (a horizontal

@@ -59,13 +59,15 @@ Framebuffer::Framebuffer(int width, int height, int samples) : width_(width), he
   glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, draw_depth_);
   ok_ = glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
 
-  glGenFramebuffers(1, &read_fbo_);
-  glGenRenderbuffers(1, &read_color_);
-  glBindRenderbuffer(GL_RENDERBUFFER, read_color_);
-  glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, width, height);
-  glBindFramebuffer(GL_FRAMEBUFFER, read_fbo_);
-  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, read_color_);
-  ok_ = ok_ && glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
+  if (samples_ > 1) {  // the resolve target (a single-sample buffer is read directly)
+    glGenFramebuffers(1, &read_fbo_);
+    glGenRenderbuffers(1, &read_color_);
+    glBindRenderbuffer(GL_RENDERBUFFER, read_color_);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, width, height);
+    glBindFramebuffer(GL_FRAMEBUFFER, read_fbo_);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, read_color_);
+    ok_ = ok_ && glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
+  }
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 

@@ -210,9 +210,9 @@ TEST(EdgeAa, RenderedSphereComesCloseToSupersampling) {
   std::printf("against 16 samples, on %zu silhouette pixels: one sample %.1f, edge %.1f, 4x MSAA %.1f levels\n",
               silhouette.size(), e_none, e_edge, e_msaa);
   EXPECT_GT(silhouette.size(), 100u);
-  EXPECT_LT(e_edge, 0.6 * e_none);
-  EXPECT_LT(e_msaa, e_edge);  // multisampling measures what the smoothing estimates...
-  EXPECT_LT(e_edge, 2.0 * e_msaa);  // ...but not by much
+  EXPECT_LT(e_edge, 0.5 * e_none);
+  EXPECT_LT(e_msaa, e_edge);        // multisampling measures what the smoothing estimates...
+  EXPECT_LT(e_edge, 1.5 * e_msaa);  // ...but not by much (34, 12 and 10 levels when written)
 }
 
 }  // namespace
