@@ -42,7 +42,7 @@ class EdgeSmoother {
   };
   EdgeAaSettings settings_;
   std::vector<std::uint8_t> across_x_, across_y_;  // largest channel difference to the right / below
-  std::vector<std::uint8_t> row_bytes_, flags_;      // one row's byte differences, candidates
+  std::vector<std::uint8_t> flags_;                  // one row's candidates
   std::vector<Change> changes_;
 };
 
