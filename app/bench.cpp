@@ -241,14 +241,22 @@ Row bench_grasp(int repeats) {
   return r;
 }
 
+// The case's name for an anti-aliasing setting: the default (edge) unmarked, _msaa4x, _1x.
+std::string aa_case(const std::string& base, render::Antialias aa, int samples) {
+  if (aa == render::Antialias::edge) return base;
+  if (aa == render::Antialias::none) return base + "_1x";
+  return base + "_msaa" + std::to_string(samples) + "x";
+}
+
 // Rendering one 1280x720 frame with the HUD plus encoding it to PNG, serially.
-Row bench_render(const fs::path& dir, int frames, int samples) {
-  Row r{samples == 4 ? "render_720p" : "render_720p_" + std::to_string(samples) + "x", "pipeline"};
+Row bench_render(const fs::path& dir, int frames, render::Antialias aa, int samples) {
+  Row r{aa_case("render_720p", aa, samples), "pipeline"};
   std::string error;
   PreparedScene ps = probe_scene("liver_L5.obj", frames + 40, true);
   SceneSimulation sim(ps);
   for (int f = 0; f < 40; ++f) sim.advance(f);  // the probe in the tissue
   render::RenderSettings settings = ps.scene.render.settings;
+  settings.antialias = aa;
   settings.samples = samples;
   auto renderer = render::Renderer::create(settings, ps.model.rest, error);
   if (!renderer) throw std::runtime_error(error);
@@ -273,16 +281,18 @@ Row bench_render(const fs::path& dir, int frames, int samples) {
   return r;
 }
 
-// The whole pipeline as `vdmsim run` does it: simulate, render 1280x720 with the HUD (the
-// scene's 4x MSAA, or `samples`), encode PNGs on the writer thread. The figures are the
+// The whole pipeline as `vdmsim run` does it: simulate, render 1280x720 with the HUD (edge
+// anti-aliasing as by default, or `aa`), encode PNGs on the writer thread. The figures are the
 // steady frame interval: the wall time between consecutive frames done (the render and PNG
 // queues are bounded, so the loop runs at the pace of the slowest stage), the first
 // `warm_up` frames (renderer start, shader compilation, queues filling) left out. The wall
 // time per frame of the whole run (start and the final drain included) is printed.
-Row bench_pipeline(const fs::path& dir, const std::string& mesh, int frames, int samples, std::ostream& out) {
-  Row r{samples == 4 ? "pipeline_720p" : "pipeline_720p_" + std::to_string(samples) + "x", "pipeline"};
+Row bench_pipeline(const fs::path& dir, const std::string& mesh, int frames, render::Antialias aa, int samples,
+                   std::ostream& out) {
+  Row r{aa_case("pipeline_720p", aa, samples), "pipeline"};
   std::string error;
   PreparedScene ps = probe_scene(mesh, frames, true);
+  ps.scene.render.settings.antialias = aa;
   ps.scene.render.settings.samples = samples;
   RunOptions opt;
   opt.out_dir = (dir / "pipeline_run").string();
@@ -329,12 +339,17 @@ int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::os
   cases.push_back({"liver_probe 642", [&] { return bench_probe_level3(dir, repeats); }});
   cases.push_back({"liver_probe fem 642", [&] { return bench_fem(dir, quick ? 26 : 60); }});
   cases.push_back({"grasp_lift", [&] { return bench_grasp(repeats); }});
-  cases.push_back({"render_720p", [&] { return bench_render(dir, quick ? 6 : 20, 4); }});
-  cases.push_back({"render_720p_1x", [&] { return bench_render(dir, quick ? 6 : 20, 1); }});
-  cases.push_back({"pipeline_720p 10k", [&] { return bench_pipeline(dir, "liver_L5.obj", quick ? 30 : 90, 4, out); }});
-  cases.push_back({"pipeline_720p_1x 10k", [&] { return bench_pipeline(dir, "liver_L5.obj", quick ? 30 : 90, 1, out); }});
+  using render::Antialias;
+  const int render_frames = quick ? 6 : 20, pipeline_frames = quick ? 30 : 90;
+  cases.push_back({"render_720p", [&] { return bench_render(dir, render_frames, Antialias::edge, 1); }});
+  cases.push_back({"render_720p_msaa4x", [&] { return bench_render(dir, render_frames, Antialias::msaa, 4); }});
+  cases.push_back({"render_720p_1x", [&] { return bench_render(dir, render_frames, Antialias::none, 1); }});
+  cases.push_back({"pipeline_720p 10k", [&] { return bench_pipeline(dir, "liver_L5.obj", pipeline_frames, Antialias::edge, 1, out); }});
+  cases.push_back(
+      {"pipeline_720p_msaa4x 10k", [&] { return bench_pipeline(dir, "liver_L5.obj", pipeline_frames, Antialias::msaa, 4, out); }});
+  cases.push_back({"pipeline_720p_1x 10k", [&] { return bench_pipeline(dir, "liver_L5.obj", pipeline_frames, Antialias::none, 1, out); }});
   // 40k nodes with rendering: its peak memory (a few contact frames).
-  cases.push_back({"pipeline_720p 40k", [&] { return bench_pipeline(dir, "liver_L6.obj", 24, 4, out); }});
+  cases.push_back({"pipeline_720p 40k", [&] { return bench_pipeline(dir, "liver_L6.obj", 24, Antialias::edge, 1, out); }});
 
   if (case_fd >= 0) {  // the process of one case (run_isolated): its row to the pipe
     for (const auto& [label, body] : cases) {

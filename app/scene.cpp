@@ -638,18 +638,51 @@ void read_instruments(Reader& r, const YAML::Node& list, SceneDef& s, const std:
   }
 }
 
+// render.antialias (edge, msaa or none; default edge) and render.samples (MSAA samples per
+// pixel). A scene from before `antialias` existed gave `samples` alone: samples 2-16 still
+// mean multisampling, samples 1 no anti-aliasing.
+void read_antialias(Reader& r, const YAML::Node& n, render::RenderSettings& rs) {
+  const YAML::Node aa = n["antialias"], samples = n["samples"];
+  bool samples_ok = false;
+  if (samples) {
+    samples_ok = r.integer(samples, "render.samples", rs.samples, 1, 16);
+    if (samples_ok && (rs.samples & (rs.samples - 1))) {
+      r.error(samples, "render.samples", "expected 1, 2, 4, 8 or 16 (samples per pixel for anti-aliasing)");
+      samples_ok = false;
+    }
+  }
+  if (!aa) {
+    if (samples_ok) rs.antialias = rs.samples > 1 ? render::Antialias::msaa : render::Antialias::none;
+    return;
+  }
+  std::string t;
+  if (!r.text(aa, "render.antialias", t)) return;
+  if (t == "edge") {
+    rs.antialias = render::Antialias::edge;
+  } else if (t == "msaa") {
+    rs.antialias = render::Antialias::msaa;
+  } else if (t == "none") {
+    rs.antialias = render::Antialias::none;
+  } else {
+    r.error(aa, "render.antialias", "unknown method '" + t + "': expected edge (smoothed edges, the default), msaa (multisampling, with samples) or none");
+    return;
+  }
+  if (!samples_ok) return;
+  if (rs.antialias == render::Antialias::msaa && rs.samples < 2)
+    r.error(samples, "render.samples", "antialias: msaa needs 2, 4, 8 or 16 samples per pixel");
+  else if (rs.antialias != render::Antialias::msaa && rs.samples > 1)
+    r.error(samples, "render.samples", "samples are for antialias: msaa (antialias is " + t + ")");
+}
+
 void read_render(Reader& r, const YAML::Node& n, SceneDef& s) {
   RenderDef& d = s.render;
   if (!r.require_map(n, "render")) return;
   r.check_keys(n, "render",
-               {"width", "height", "samples", "camera", "views", "stress", "hud", "hud_step_time", "floor", "shadows", "png_compression",
-                "fps"});
+               {"width", "height", "antialias", "samples", "camera", "views", "stress", "hud", "hud_step_time", "floor", "shadows",
+                "png_compression", "fps"});
   if (const YAML::Node v = n["width"]) r.integer(v, "render.width", d.settings.width, 16, 8192);
   if (const YAML::Node v = n["height"]) r.integer(v, "render.height", d.settings.height, 16, 8192);
-  if (const YAML::Node v = n["samples"]) {
-    if (r.integer(v, "render.samples", d.settings.samples, 1, 16) && (d.settings.samples & (d.settings.samples - 1)))
-      r.error(v, "render.samples", "expected 1, 2, 4, 8 or 16 (samples per pixel for anti-aliasing)");
-  }
+  read_antialias(r, n, d.settings);
   if (const YAML::Node v = n["hud"]) r.boolean(v, "render.hud", d.hud);
   if (const YAML::Node v = n["hud_step_time"]) r.boolean(v, "render.hud_step_time", d.hud_step_time);
   if (const YAML::Node v = n["floor"]) r.boolean(v, "render.floor", d.settings.floor);

@@ -663,7 +663,8 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
   if (rendering) {
     const RenderDef& rd = s.render;
     js << "  \"render\": {\"width\": " << rd.settings.width << ", \"height\": " << rd.settings.height
-       << ", \"samples\": " << rd.settings.samples << ", \"views\": [" << (rd.shaded ? "\"shaded\"" : "")
+       << ", \"antialias\": \"" << render::to_string(rd.settings.antialias) << "\", \"samples\": "
+       << rd.settings.msaa_samples() << ", \"views\": [" << (rd.shaded ? "\"shaded\"" : "")
        << (rd.shaded && rd.stress ? ", " : "") << (rd.stress ? "\"stress\"" : "") << "], \"images_written\": "
        << output.images_written();
     if (rd.stress)

@@ -59,13 +59,15 @@ Framebuffer::Framebuffer(int width, int height, int samples) : width_(width), he
   glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, draw_depth_);
   ok_ = glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
 
-  glGenFramebuffers(1, &read_fbo_);
-  glGenRenderbuffers(1, &read_color_);
-  glBindRenderbuffer(GL_RENDERBUFFER, read_color_);
-  glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, width, height);
-  glBindFramebuffer(GL_FRAMEBUFFER, read_fbo_);
-  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, read_color_);
-  ok_ = ok_ && glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
+  if (samples_ > 1) {  // the resolve target (a single-sample buffer is read directly)
+    glGenFramebuffers(1, &read_fbo_);
+    glGenRenderbuffers(1, &read_color_);
+    glBindRenderbuffer(GL_RENDERBUFFER, read_color_);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, width, height);
+    glBindFramebuffer(GL_FRAMEBUFFER, read_fbo_);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, read_color_);
+    ok_ = ok_ && glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
+  }
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
@@ -95,10 +97,14 @@ void Framebuffer::blit_color_to(unsigned fbo) {
 }
 
 void Framebuffer::resolve_and_read(Image& out) {
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, draw_fbo_);
-  glBindFramebuffer(GL_DRAW_FRAMEBUFFER, read_fbo_);
-  glBlitFramebuffer(0, 0, width_, height_, 0, 0, width_, height_, GL_COLOR_BUFFER_BIT, GL_NEAREST);
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, read_fbo_);
+  if (samples_ > 1) {
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, draw_fbo_);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, read_fbo_);
+    glBlitFramebuffer(0, 0, width_, height_, 0, 0, width_, height_, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, read_fbo_);
+  } else {
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, draw_fbo_);  // single-sample: read it directly
+  }
   if (out.width != width_ || out.height != height_) out = Image(width_, height_);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   glReadPixels(0, 0, width_, height_, GL_RGBA, GL_UNSIGNED_BYTE, out.rgba.data());

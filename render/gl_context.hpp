@@ -28,7 +28,7 @@ class GlContext {
 };
 
 // An RGBA8 framebuffer with depth, multisampled (`samples` > 1) and resolved into a
-// single-sample colour buffer that is read back into an Image.
+// single-sample colour buffer that is read back into an Image (single-sample: read directly).
 class Framebuffer {
  public:
   Framebuffer(int width, int height, int samples);

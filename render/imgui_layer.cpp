@@ -4,6 +4,8 @@
 #include <GL/glext.h>
 #include <imgui_impl_opengl3.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 
 namespace render {
@@ -70,6 +72,27 @@ void ImGuiLayer::end() {
   ImGui::SetCurrentContext(context_);
   ImGui::Render();
   ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+}
+
+bool ImGuiLayer::drawn_bounds(int& x0, int& y0, int& x1, int& y1) const {
+  ImGui::SetCurrentContext(context_);
+  const ImDrawData* data = ImGui::GetDrawData();
+  if (!data || !data->Valid) return false;
+  float lo_x = 1e30f, lo_y = 1e30f, hi_x = -1e30f, hi_y = -1e30f;
+  for (int l = 0; l < data->CmdListsCount; ++l)
+    for (const ImDrawVert& v : data->CmdLists[l]->VtxBuffer) {
+      lo_x = std::min(lo_x, v.pos.x);
+      lo_y = std::min(lo_y, v.pos.y);
+      hi_x = std::max(hi_x, v.pos.x);
+      hi_y = std::max(hi_y, v.pos.y);
+    }
+  if (hi_x < lo_x) return false;
+  const ImVec2 size = data->DisplaySize;
+  x0 = std::max(0, int(std::floor(lo_x)) - 1);
+  y0 = std::max(0, int(std::floor(lo_y)) - 1);
+  x1 = std::min(int(size.x), int(std::ceil(hi_x)) + 1);
+  y1 = std::min(int(size.y), int(std::ceil(hi_y)) + 1);
+  return x1 > x0 && y1 > y0;
 }
 
 ImFont* ImGuiLayer::font(FontRole role) const { return fonts_[static_cast<int>(role)]; }

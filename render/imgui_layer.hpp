@@ -25,6 +25,9 @@ class ImGuiLayer {
   ImDrawList* begin(int width, int height);
   // Renders the frame's draw lists into the currently bound framebuffer.
   void end();
+  // The pixel rectangle [x0, x1) x [y0, y1) (y down, ImGui's) that the last frame's draw
+  // lists touch (with a pixel of margin), clipped to the frame; false when nothing was drawn.
+  bool drawn_bounds(int& x0, int& y0, int& x1, int& y1) const;
   ImFont* font(FontRole role) const;
   // Uploads `image` as a texture usable with ImDrawList::AddImage, valid until the next
   // clear_textures().

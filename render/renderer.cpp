@@ -10,6 +10,7 @@
 #include <map>
 #include <tuple>
 
+#include "render/edge_aa.hpp"
 #include "render/gl_context.hpp"
 #include "render/gl_program.hpp"
 #include "render/hud.hpp"
@@ -126,6 +127,11 @@ struct Renderer::Impl {
   // far less than shading the floor and the background again).
   GLuint backdrop_fbo = 0, backdrop_color = 0;
   std::map<ColorMapName, GLuint> colormaps;
+  // antialias: edge: the edge smoother, and the HUD's own layer (premultiplied RGBA, drawn
+  // after the smoothing and composited over the frame).
+  EdgeSmoother smoother;
+  GLuint hud_fbo = 0, hud_color = 0;
+  Image hud_layer;
   ImGuiLayer imgui;
   Camera camera;
   Eigen::Vector3d centre, lo, hi;
@@ -150,6 +156,8 @@ struct Renderer::Impl {
     shadow_quad.destroy();
     glDeleteFramebuffers(1, &backdrop_fbo);
     glDeleteRenderbuffers(1, &backdrop_color);
+    glDeleteFramebuffers(1, &hud_fbo);
+    glDeleteRenderbuffers(1, &hud_color);
     glDeleteVertexArrays(1, &organ_vao);
     glDeleteBuffers(1, &organ_vbo);
     glDeleteBuffers(1, &organ_ebo);
@@ -174,13 +182,15 @@ struct Renderer::Impl {
   bool make_backdrop(std::string& error);
   void set_view_proj();
   GlProgram& use(Material m);
+  bool make_hud_layer(std::string& error);
+  void draw_hud_layer(const RenderScene& scene, const StressView* view, Image& out);
   void draw(const RenderScene& scene, const StressView* view, bool hud, Image& out);
 };
 
 bool Renderer::Impl::init(const vdm::SurfaceMesh& rest, std::string& error) {
   gl = GlContext::create(error);
   if (!gl) return false;
-  fb = std::make_unique<Framebuffer>(settings.width, settings.height, settings.samples);
+  fb = std::make_unique<Framebuffer>(settings.width, settings.height, settings.msaa_samples());
   if (!fb->ok()) {
     error = "OpenGL framebuffer incomplete at " + std::to_string(settings.width) + "x" + std::to_string(settings.height);
     return false;
@@ -277,6 +287,7 @@ bool Renderer::Impl::init(const vdm::SurfaceMesh& rest, std::string& error) {
   glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(4 * 6 * sizeof(float)), nullptr, GL_STREAM_DRAW);
 
   if (!make_backdrop(error)) return false;
+  if (settings.antialias == Antialias::edge && !make_hud_layer(error)) return false;
   const float body_px = std::max(12.0f, settings.height / 40.0f);
   return imgui.init(body_px, error);
 }
@@ -632,6 +643,17 @@ void Renderer::Impl::draw(const RenderScene& scene, const StressView* view, bool
   }
   glBindVertexArray(0);
   timer.mark("floor shadow");
+  if (settings.antialias == Antialias::edge) {
+    fb->resolve_and_read(out);
+    timer.mark("read");
+    smoother.apply(out);
+    timer.mark("edge aa");
+    if (hud) {
+      draw_hud_layer(scene, view, out);
+      timer.mark("hud");
+    }
+    return;
+  }
   if (hud) {
     glDisable(GL_DEPTH_TEST);
     ImDrawList* dl = imgui.begin(settings.width, settings.height);
@@ -641,6 +663,52 @@ void Renderer::Impl::draw(const RenderScene& scene, const StressView* view, bool
   }
   fb->resolve_and_read(out);
   timer.mark("resolve+read");
+}
+
+bool Renderer::Impl::make_hud_layer(std::string& error) {
+  glGenRenderbuffers(1, &hud_color);
+  glBindRenderbuffer(GL_RENDERBUFFER, hud_color);
+  glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, settings.width, settings.height);
+  glGenFramebuffers(1, &hud_fbo);
+  glBindFramebuffer(GL_FRAMEBUFFER, hud_fbo);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, hud_color);
+  const bool ok = glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  if (!ok) error = "OpenGL HUD framebuffer incomplete";
+  return ok;
+}
+
+// The HUD on transparent black (ImGui blends colour by its alpha and alpha by ONE,
+// ONE_MINUS_SRC_ALPHA: the layer is premultiplied), read back where it was drawn and
+// composited over the smoothed frame: the same pixels as drawing it over the frame, to a
+// level of rounding, with its text and panel edges left as ImGui anti-aliased them.
+void Renderer::Impl::draw_hud_layer(const RenderScene& scene, const StressView* view, Image& out) {
+  glBindFramebuffer(GL_FRAMEBUFFER, hud_fbo);
+  glViewport(0, 0, settings.width, settings.height);
+  glClearColor(0, 0, 0, 0);
+  glClear(GL_COLOR_BUFFER_BIT);
+  glDisable(GL_DEPTH_TEST);
+  ImDrawList* dl = imgui.begin(settings.width, settings.height);
+  draw_hud(dl, imgui, scene.hud, settings.width, settings.height, view);
+  imgui.end();
+  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+  if (imgui.drawn_bounds(x0, y0, x1, y1)) {
+    if (hud_layer.width != x1 - x0 || hud_layer.height != y1 - y0) hud_layer = Image(x1 - x0, y1 - y0);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(x0, settings.height - y1, x1 - x0, y1 - y0, GL_RGBA, GL_UNSIGNED_BYTE, hud_layer.rgba.data());
+    flip_rows(hud_layer);
+    composite_over(out, hud_layer, x0, y0);
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+const char* to_string(Antialias a) {
+  switch (a) {
+    case Antialias::edge: return "edge";
+    case Antialias::msaa: return "msaa";
+    case Antialias::none: return "none";
+  }
+  return "edge";
 }
 
 std::unique_ptr<Renderer> Renderer::create(const RenderSettings& settings, const vdm::SurfaceMesh& rest, std::string& error) {

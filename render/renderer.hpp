@@ -3,7 +3,7 @@
 // image. Two views: `shaded` (tissue material, key and fill lights, soft specular, floor
 // shadow) and `stress` (the organ coloured by a quantity through a colour map with a fixed
 // range), each with an optional ImGui HUD (scene, frame, time, force, pressure, volume
-// error, step time; a colour bar with units in the stress view). Multisampled.
+// error, step time; a colour bar with units in the stress view). Anti-aliased (RenderSettings::antialias).
 #include <memory>
 #include <string>
 
@@ -15,9 +15,19 @@
 
 namespace render {
 
+// How edges are anti-aliased: `edge` draws one sample per pixel and smooths the edges'
+// staircases on the CPU (render/edge_aa.hpp; the HUD is drawn after it, untouched), `msaa`
+// multisamples with `samples` per pixel (llvmpipe's multisampling costs about twice the
+// single-sample drawing, plus the resolve), `none` draws one sample per pixel as it is.
+enum class Antialias { none, edge, msaa };
+
+const char* to_string(Antialias a);  // "edge", "msaa", "none"
+
 struct RenderSettings {
   int width = 1280, height = 720;
-  int samples = 4;           // MSAA samples (1 = off)
+  Antialias antialias = Antialias::edge;
+  int samples = 4;           // MSAA samples per pixel, used when antialias == msaa
+  int msaa_samples() const { return antialias == Antialias::msaa ? samples : 1; }
   bool auto_camera = true;   // frame the organ's rest bounding box
   Camera camera;             // used when !auto_camera
   bool floor = true;         // a floor under the organ, with the key light's shadow

@@ -144,6 +144,7 @@ TEST(BadInputCli, EveryBrokenSceneExitsWith2NamingFileAndProblem) {
        scene("", ok_sim, "instruments:\n  - type: probe\n    radius: 0\n    script: [{t: 0, tip: [0, 0, 0.1]}]\n"),
        "instruments[0].radius"},
       {"not_yaml.yaml", "organ: [unclosed\n", "not valid YAML"},
+      {"antialias.yaml", scene("", ok_sim, "render: {antialias: fxaa}\n"), "render.antialias"},
   };
   for (const SceneCase& c : cases) {
     const std::string p = write(c.name, c.text);

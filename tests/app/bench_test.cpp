@@ -50,7 +50,8 @@ TEST(Bench, QuickRunWritesTheContractCsvAndThePlot) {
     else EXPECT_TRUE(std::isfinite(std::stod(volume))) << line;
     EXPECT_GT(std::stod(peak), 1) << line;
   }
-  for (const char* c : {"liver_probe", "grasp_lift", "render_720p", "render_720p_1x", "pipeline_720p", "pipeline_720p_1x"})
+  for (const char* c : {"liver_probe", "grasp_lift", "render_720p", "render_720p_msaa4x", "render_720p_1x", "pipeline_720p",
+                        "pipeline_720p_msaa4x", "pipeline_720p_1x"})
     EXPECT_TRUE(cases.count(c)) << c;
   EXPECT_GT(largest_pipeline, 40000) << "the pipeline at 40k nodes (the peak-memory case)";
   EXPECT_EQ(models.count("fem"), 1u) << "the FEM reference side by side";

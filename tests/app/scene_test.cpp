@@ -227,6 +227,49 @@ TEST(SceneErrors, RegionSelectingNothing) {
                "organ.prescribed[0]: the region selects no node of the organ");
 }
 
+// render.antialias: edge by default; a scene that gives `samples` alone keeps the meaning
+// it had before `antialias` existed (2-16: multisampling, 1: none).
+TEST(SceneRender, AntialiasDefaultAndSamplesAlone) {
+  struct Case {
+    const char* file;
+    const char* render;
+    render::Antialias aa;
+    int msaa_samples;
+  };
+  const Case cases[] = {
+      {"aa_default.yaml", "render: {width: 64, height: 48}\n", render::Antialias::edge, 1},
+      {"aa_samples4.yaml", "render: {samples: 4}\n", render::Antialias::msaa, 4},
+      {"aa_samples1.yaml", "render: {samples: 1}\n", render::Antialias::none, 1},
+      {"aa_msaa.yaml", "render: {antialias: msaa}\n", render::Antialias::msaa, 4},
+      {"aa_msaa8.yaml", "render: {antialias: msaa, samples: 8}\n", render::Antialias::msaa, 8},
+      {"aa_none.yaml", "render: {antialias: none}\n", render::Antialias::none, 1},
+      {"aa_edge1.yaml", "render: {antialias: edge, samples: 1}\n", render::Antialias::edge, 1},
+  };
+  for (const Case& c : cases) {
+    const std::string path = write_scene(c.file, scene_text("", "", c.render));
+    int errors = 0;
+    const std::string msg = problems_of(path, errors);
+    EXPECT_EQ(errors, 0) << c.file << ": " << msg;
+    const SceneLoadResult loaded = load_scene(path);
+    ASSERT_TRUE(loaded.ok()) << c.file;
+    EXPECT_EQ(loaded.scene.render.settings.antialias, c.aa) << c.file;
+    EXPECT_EQ(loaded.scene.render.settings.msaa_samples(), c.msaa_samples) << c.file;
+  }
+}
+
+TEST(SceneErrors, AntialiasUnknownOrSamplesThatDoNotFit) {
+  expect_error("aa_unknown.yaml", scene_text("", "", "render:\n  antialias: fxaa\n"),
+               ":10:14: render.antialias: unknown method 'fxaa': expected edge (smoothed edges, the default), msaa "
+               "(multisampling, with samples) or none");
+  expect_error("aa_edge_samples.yaml", scene_text("", "", "render:\n  antialias: edge\n  samples: 4\n"),
+               ":11:12: render.samples: samples are for antialias: msaa (antialias is edge)");
+  expect_error("aa_msaa_one.yaml", scene_text("", "", "render:\n  antialias: msaa\n  samples: 1\n"),
+               ":11:12: render.samples: antialias: msaa needs 2, 4, 8 or 16 samples per pixel");
+  expect_error("aa_samples3.yaml", scene_text("", "", "render:\n  samples: 3\n"),
+               ":10:12: render.samples: expected 1, 2, 4, 8 or 16");
+  expect_error("aa_type.yaml", scene_text("", "", "render:\n  antialias: [edge]\n"), "render.antialias:");
+}
+
 TEST(SceneErrors, NotYaml) {
   expect_error("broken.yaml", "organ: {mesh: [unclosed\n", "scene: not valid YAML");
 }
