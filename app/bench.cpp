@@ -336,6 +336,8 @@ int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::os
   cases.push_back({"pipeline_720p_1x 10k", [&] { return bench_pipeline(dir, "liver_L5.obj", quick ? 30 : 90, 1, out); }});
   // 40k nodes with rendering: its peak memory (a few contact frames).
   cases.push_back({"pipeline_720p 40k", [&] { return bench_pipeline(dir, "liver_L6.obj", 24, 4, out); }});
+  if (!quick)  // the same without MSAA: where the memory case lands with 1x
+    cases.push_back({"pipeline_720p_1x 40k", [&] { return bench_pipeline(dir, "liver_L6.obj", 24, 1, out); }});
 
   if (case_fd >= 0) {  // the process of one case (run_isolated): its row to the pipe
     for (const auto& [label, body] : cases) {
