@@ -350,6 +350,9 @@ int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::os
   cases.push_back({"pipeline_720p_1x 10k", [&] { return bench_pipeline(dir, "liver_L5.obj", pipeline_frames, Antialias::none, 1, out); }});
   // 40k nodes with rendering: its peak memory (a few contact frames).
   cases.push_back({"pipeline_720p 40k", [&] { return bench_pipeline(dir, "liver_L6.obj", 24, Antialias::edge, 1, out); }});
+  if (!quick)  // the same with 4x MSAA (the default before edge AA): where the memory case lands with it
+    cases.push_back(
+        {"pipeline_720p_msaa4x 40k", [&] { return bench_pipeline(dir, "liver_L6.obj", 24, Antialias::msaa, 4, out); }});
 
   if (case_fd >= 0) {  // the process of one case (run_isolated): its row to the pipe
     for (const auto& [label, body] : cases) {

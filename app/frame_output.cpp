@@ -1,5 +1,6 @@
 #include "app/frame_output.hpp"
 
+#include <malloc.h>
 #include <pthread.h>
 
 #include <algorithm>
@@ -116,8 +117,22 @@ void FrameOutput::render_loop(std::string* start_error, bool* started) {
     busy_ = false;
     changed_.notify_all();
   }
+  const bool sheet = sheet_wanted_;
   lock.unlock();
   renderer_.reset();  // GL objects go with the context, on this thread
+  // The contact sheet (finish()), once every PNG is written, made here rather than by the
+  // thread that calls finish(), and after the freed memory went back to the system
+  // (malloc_trim: malloc keeps what a thread frees for that thread's arena): its own GL
+  // context, framebuffer and shaders came on top of the renderer's memory otherwise, the
+  // run's peak (+60 MB at 40k nodes without MSAA).
+  malloc_trim(0);
+  if (sheet && queue_->finish() && !thumbnails_.empty()) {
+    const std::string title = ps_->scene.name + " (" + std::string(ps_->scene.render.shaded ? "shaded" : "stress") + ")";
+    std::string error;
+    if (!render::write_contact_sheet(thumbnails_, title, (dir_ / "contact_sheet.png").string(),
+                                     ps_->scene.render.png_compression, error))
+      sheet_error_ = error;
+  }
 }
 
 void FrameOutput::draw(Job& job) {
@@ -198,16 +213,18 @@ bool FrameOutput::flush() {
 
 bool FrameOutput::finish(std::string& error) {
   if (!queue_) return true;
-  stop();  // draws what is pending, then ends the render thread
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    sheet_wanted_ = true;
+  }
+  stop();  // draws what is pending, then ends the render thread, which writes the contact sheet
   if (!queue_->finish()) {
     error = queue_->error();
     return false;
   }
-  if (!thumbnails_.empty()) {
-    const std::string title = ps_->scene.name + " (" + std::string(ps_->scene.render.shaded ? "shaded" : "stress") + ")";
-    if (!render::write_contact_sheet(thumbnails_, title, (dir_ / "contact_sheet.png").string(),
-                                     ps_->scene.render.png_compression, error))
-      return false;
+  if (!sheet_error_.empty()) {
+    error = sheet_error_;
+    return false;
   }
   return true;
 }

@@ -68,6 +68,8 @@ class FrameOutput {
   std::condition_variable changed_;
   std::deque<Job> jobs_;
   bool busy_ = false, stopping_ = false, starting_ = false;
+  bool sheet_wanted_ = false;  // finish(): the render thread writes the contact sheet as it ends
+  std::string sheet_error_;    // set by the render thread before it ends, read after the join
   std::vector<render::Thumbnail> thumbnails_;
   double render_ms_ = 0;
   std::thread thread_;

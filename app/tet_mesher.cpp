@@ -1,12 +1,83 @@
 #include "app/tet_mesher.hpp"
 
-#include <gmsh.h>
+#include <dlfcn.h>
+#include <gmshc.h>  // the C API's declarations only: the library is opened on first use
 
-#include <exception>
 #include <map>
 #include <vector>
 
 namespace vdmsim {
+namespace {
+
+// libgmsh is opened (dlopen) on the first tet mesh rather than linked: linked, it and the
+// libraries behind it (OpenCASCADE, FLTK, ...) were loaded into every vdmsim process, about
+// 36 MB resident from relocations alone, though only the FEM reference meshes with it.
+// VDMSIM_GMSH_LIBRARY (app/CMakeLists.txt) is the soname of the libgmsh found at build time.
+struct GmshApi {
+  decltype(&gmshInitialize) initialize = nullptr;
+  decltype(&gmshFinalize) finalize = nullptr;
+  decltype(&gmshOptionSetNumber) set_number = nullptr;
+  decltype(&gmshModelAdd) model_add = nullptr;
+  decltype(&gmshModelAddDiscreteEntity) add_discrete_entity = nullptr;
+  decltype(&gmshModelMeshAddNodes) add_nodes = nullptr;
+  decltype(&gmshModelMeshAddElementsByType) add_elements_by_type = nullptr;
+  decltype(&gmshModelGeoAddSurfaceLoop) add_surface_loop = nullptr;
+  decltype(&gmshModelGeoAddVolume) add_volume = nullptr;
+  decltype(&gmshModelGeoSynchronize) synchronize = nullptr;
+  decltype(&gmshModelMeshGenerate) generate = nullptr;
+  decltype(&gmshModelMeshGetNodes) get_nodes = nullptr;
+  decltype(&gmshModelMeshGetElementsByType) get_elements_by_type = nullptr;
+  decltype(&gmshLoggerGetLastError) last_error = nullptr;
+  decltype(&gmshFree) free = nullptr;
+  std::string error;  // why the library cannot be used (empty when it can)
+};
+
+template <typename F>
+void bind(void* lib, const char* name, F& f, std::string& error) {
+  f = reinterpret_cast<F>(dlsym(lib, name));
+  if (!f && error.empty()) error = std::string("gmsh: ") + VDMSIM_GMSH_LIBRARY + " has no " + name;
+}
+
+const GmshApi& gmsh_api() {
+  static const GmshApi api = [] {
+    GmshApi g;
+    void* lib = dlopen(VDMSIM_GMSH_LIBRARY, RTLD_NOW | RTLD_LOCAL);
+    if (!lib) {
+      const char* why = dlerror();
+      g.error = std::string("gmsh: cannot load ") + VDMSIM_GMSH_LIBRARY + (why ? std::string(" (") + why + ")" : "");
+      return g;
+    }
+    bind(lib, "gmshInitialize", g.initialize, g.error);
+    bind(lib, "gmshFinalize", g.finalize, g.error);
+    bind(lib, "gmshOptionSetNumber", g.set_number, g.error);
+    bind(lib, "gmshModelAdd", g.model_add, g.error);
+    bind(lib, "gmshModelAddDiscreteEntity", g.add_discrete_entity, g.error);
+    bind(lib, "gmshModelMeshAddNodes", g.add_nodes, g.error);
+    bind(lib, "gmshModelMeshAddElementsByType", g.add_elements_by_type, g.error);
+    bind(lib, "gmshModelGeoAddSurfaceLoop", g.add_surface_loop, g.error);
+    bind(lib, "gmshModelGeoAddVolume", g.add_volume, g.error);
+    bind(lib, "gmshModelGeoSynchronize", g.synchronize, g.error);
+    bind(lib, "gmshModelMeshGenerate", g.generate, g.error);
+    bind(lib, "gmshModelMeshGetNodes", g.get_nodes, g.error);
+    bind(lib, "gmshModelMeshGetElementsByType", g.get_elements_by_type, g.error);
+    bind(lib, "gmshLoggerGetLastError", g.last_error, g.error);
+    bind(lib, "gmshFree", g.free, g.error);
+    return g;  // the library stays loaded
+  }();
+  return api;
+}
+
+// gmsh's message for the call that set `ierr`.
+std::string gmsh_error(const GmshApi& g) {
+  char* text = nullptr;
+  int ierr = 0;
+  g.last_error(&text, &ierr);
+  std::string out = ierr == 0 && text && *text ? std::string("gmsh: ") + text : std::string();
+  if (text) g.free(text);
+  return out;
+}
+
+}  // namespace
 
 bool tetrahedralize(const vdm::SurfaceMesh& surface, double max_size, vdm::fem::TetMesh& out, std::string& error) {
   const int ns = surface.node_count();
@@ -20,35 +91,46 @@ bool tetrahedralize(const vdm::SurfaceMesh& surface, double max_size, vdm::fem::
   tri.reserve(3 * static_cast<size_t>(surface.triangle_count()));
   for (int t = 0; t < surface.triangle_count(); ++t)
     for (int c = 0; c < 3; ++c) tri.push_back(static_cast<std::size_t>(surface.triangles(t, c) + 1));
-  std::vector<std::size_t> node_tags, tet_tags, tet_nodes;
-  std::vector<double> node_xyz, param;
-  try {
-    gmsh::initialize();
-    gmsh::option::setNumber("General.Terminal", 0);
-    gmsh::option::setNumber("General.Verbosity", 0);
-    gmsh::model::add("organ");
-    const int s = gmsh::model::addDiscreteEntity(2);
-    gmsh::model::mesh::addNodes(2, s, tags, coords);
-    gmsh::model::mesh::addElementsByType(s, 2, {}, tri);  // 2 = 3-node triangle
-    const int loop = gmsh::model::geo::addSurfaceLoop({s});
-    gmsh::model::geo::addVolume({loop});
-    gmsh::model::geo::synchronize();
-    if (max_size > 0) gmsh::option::setNumber("Mesh.MeshSizeMax", max_size);
-    gmsh::option::setNumber("Mesh.Optimize", 1);
-    gmsh::model::mesh::generate(3);
-    gmsh::model::mesh::getNodes(node_tags, node_xyz, param, -1, -1, true, false);
-    std::vector<std::size_t> elem_tags;
-    gmsh::model::mesh::getElementsByType(4, elem_tags, tet_nodes);  // 4 = 4-node tetrahedron
-    gmsh::finalize();
-  } catch (const std::exception& e) {
-    error = std::string("gmsh: ") + e.what();
-    gmsh::finalize();
-    return false;
-  } catch (...) {
-    error = "gmsh failed to mesh the volume (is the surface closed and free of self-intersections?)";
-    gmsh::finalize();
-    return false;
+  const GmshApi& g = gmsh_api();
+  if (!g.error.empty()) return error = g.error, false;
+  std::vector<std::size_t> node_tags, tet_nodes;
+  std::vector<double> node_xyz;
+  int ierr = 0;  // each call sets it, nonzero on failure: no call after a failed one
+  g.initialize(0, nullptr, 1, &ierr);
+  if (!ierr) g.set_number("General.Terminal", 0, &ierr);
+  if (!ierr) g.set_number("General.Verbosity", 0, &ierr);
+  if (!ierr) g.model_add("organ", &ierr);
+  int s = ierr ? 0 : g.add_discrete_entity(2, -1, nullptr, 0, &ierr);
+  if (!ierr) g.add_nodes(2, s, tags.data(), tags.size(), coords.data(), coords.size(), nullptr, 0, &ierr);
+  if (!ierr) g.add_elements_by_type(s, 2, nullptr, 0, tri.data(), tri.size(), &ierr);  // 2 = 3-node triangle
+  int loop = ierr ? 0 : g.add_surface_loop(&s, 1, -1, &ierr);
+  if (!ierr) g.add_volume(&loop, 1, -1, &ierr);
+  if (!ierr) g.synchronize(&ierr);
+  if (!ierr && max_size > 0) g.set_number("Mesh.MeshSizeMax", max_size, &ierr);
+  if (!ierr) g.set_number("Mesh.Optimize", 1, &ierr);
+  if (!ierr) g.generate(3, &ierr);
+  if (!ierr) {
+    std::size_t *ntags = nullptr, *etags = nullptr, *enodes = nullptr;
+    double *xyz = nullptr, *param = nullptr;
+    std::size_t ntags_n = 0, xyz_n = 0, param_n = 0, etags_n = 0, enodes_n = 0;
+    g.get_nodes(&ntags, &ntags_n, &xyz, &xyz_n, &param, &param_n, -1, -1, 1, 0, &ierr);
+    if (!ierr) g.get_elements_by_type(4, &etags, &etags_n, &enodes, &enodes_n, -1, 0, 1, &ierr);  // 4 = 4-node tet
+    if (!ierr) {
+      node_tags.assign(ntags, ntags + ntags_n);
+      node_xyz.assign(xyz, xyz + xyz_n);
+      tet_nodes.assign(enodes, enodes + enodes_n);
+    }
+    for (void* p : {static_cast<void*>(ntags), static_cast<void*>(xyz), static_cast<void*>(param),
+                    static_cast<void*>(etags), static_cast<void*>(enodes)})
+      if (p) g.free(p);
   }
+  if (ierr) {
+    error = gmsh_error(g);
+    if (error.empty()) error = "gmsh failed to mesh the volume (is the surface closed and free of self-intersections?)";
+  }
+  int finalize_err = 0;
+  g.finalize(&finalize_err);
+  if (ierr) return false;
   if (tet_nodes.empty()) return error = "gmsh made no tetrahedra (is the surface closed?)", false;
   // Surface nodes keep their index; gmsh's new (interior) nodes follow.
   std::map<std::size_t, int> index;

@@ -36,7 +36,6 @@ void AxisIncompleteCholesky::analyze(const AxisMatrices& K) {
     }
   up_val_.assign(3 * lo_col_.size(), 0.0);
   inv_diag_.assign(3 * size_t(n_), 0.0);
-  work_lo_.assign(3 * lo_col_.size(), 0.0);
   work_diag_.assign(3 * size_t(n_), 0.0);
   // Where each update of the right-looking factorisation lands, in the order factorize()
   // makes them: entry (i, j) of L for rows i > j of column k, or -1 outside the pattern.
@@ -55,12 +54,13 @@ void AxisIncompleteCholesky::analyze(const AxisMatrices& K) {
 int AxisIncompleteCholesky::factorize(const AxisMatrices& K, double omega) {
   // Right-looking: column k of L, then its updates of the rows below; an update that falls
   // outside the pattern is dropped and, times omega, taken off both diagonals instead.
+  // In place: L holds K's lower values as the elimination updates them until column k
+  // scales its own (an entry's updates all come from columns before its own).
   int repaired = 0;
   double* L = lo_val_.data();
-  double* wl = work_lo_.data();
   double* wd = work_diag_.data();
   for (size_t p = 0; p < lo_src_.size(); ++p)
-    for (size_t d = 0; d < 3; ++d) wl[3 * p + d] = K.off[3 * size_t(lo_src_[p]) + d];
+    for (size_t d = 0; d < 3; ++d) L[3 * p + d] = K.off[3 * size_t(lo_src_[p]) + d];
   for (size_t k = 0; k < 3 * size_t(n_); ++k) wd[k] = K.diag[k];
   const int* target = update_target_.data();
   for (int k = 0; k < n_; ++k) {
@@ -76,7 +76,7 @@ int AxisIncompleteCholesky::factorize(const AxisMatrices& K, double omega) {
     const int qb = up_start_[size_t(k)], qe = up_start_[size_t(k) + 1];
     for (int q = qb; q < qe; ++q) {
       const size_t p = size_t(up_src_[size_t(q)]);
-      for (size_t d = 0; d < 3; ++d) L[3 * p + d] = wl[3 * p + d] * inv_diag_[3 * size_t(k) + d];
+      for (size_t d = 0; d < 3; ++d) L[3 * p + d] *= inv_diag_[3 * size_t(k) + d];
     }
     for (int q1 = qb; q1 < qe; ++q1) {
       const int i = up_col_[size_t(q1)];
@@ -87,7 +87,7 @@ int AxisIncompleteCholesky::factorize(const AxisMatrices& K, double omega) {
         const double* lj = &L[3 * size_t(up_src_[size_t(q2)])];
         const int m = *target++;
         if (m >= 0) {
-          for (size_t d = 0; d < 3; ++d) wl[3 * size_t(m) + d] -= li[d] * lj[d];
+          for (size_t d = 0; d < 3; ++d) L[3 * size_t(m) + d] -= li[d] * lj[d];
         } else {
           for (size_t d = 0; d < 3; ++d) {
             const double drop = omega * li[d] * lj[d];

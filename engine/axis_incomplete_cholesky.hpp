@@ -40,7 +40,7 @@ class AxisIncompleteCholesky {
   std::vector<int> up_start_, up_col_, up_src_;
   std::vector<double> up_val_;             // 3 per entry
   std::vector<double> inv_diag_;           // 3 per row: 1 / L_ii
-  std::vector<double> work_lo_, work_diag_;  // scratch: K's values as the elimination updates them
+  std::vector<double> work_diag_;           // scratch: K's diagonal as the elimination updates it
   std::vector<int> update_target_;           // factorize(): the L entry of each update, or -1
   void copy_to_upper();                      // up_val_ from lo_val_
 };

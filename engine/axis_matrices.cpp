@@ -70,6 +70,9 @@ void AxisMatrices::analyze(const StiffnessPattern& pattern, const std::vector<in
     off_edge[p] = slot_edge[size_t(off_src[p])];
     if (off_edge[p] < 0) throw std::invalid_argument("AxisMatrices: an off-diagonal entry without its edge");
   }
+  // The SpMat sources are not used with a StiffnessPattern (its gather() reads off_edge).
+  std::vector<int>().swap(off_src);
+  std::vector<int>().swap(diag_src);
 }
 
 void AxisMatrices::gather(const AxisStiffness& K, const FlagMat& mask, const NodeMat* springs) {

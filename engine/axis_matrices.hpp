@@ -23,6 +23,7 @@ struct AxisMatrices {
   std::vector<double> diag;    // 3 values per row
   std::vector<int> off_src;    // index of each off-diagonal entry in the source matrices' values
   std::vector<int> diag_src;   // index of each diagonal entry in the source matrices' values
+                               // (both empty when analysed from a StiffnessPattern)
   std::vector<int> off_edge;   // the edge of each off-diagonal entry (analysed from a StiffnessPattern)
   std::vector<int> row_of;     // row v of the source is row row_of[v] here
   std::vector<std::uint8_t> row_mask;  // gather(): 3 per row, the constrained entries
@@ -33,7 +34,7 @@ struct AxisMatrices {
   void analyze(const SpMat& pattern, const std::vector<int>& perm);
   // The same for the pattern of an AxisStiffness (gathered by the second gather()).
   void analyze(const StiffnessPattern& pattern, const std::vector<int>& perm);
-  // Values from K[0..2] (the pattern analysed; no allocation).
+  // Values from K[0..2] (the SpMat pattern analysed, not a StiffnessPattern; no allocation).
   void gather(const std::array<SpMat, 3>& K);
   // Values from K (the StiffnessPattern analysed; no allocation), with the entries
   // constrained by `mask` (N x 3, source numbering) eliminated: their rows and columns become

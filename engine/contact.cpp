@@ -228,9 +228,13 @@ ContactSolver::ContactSolver(const TissueModel& m, ContactSettings settings)
     for (const Vec3& p : f.points) extent = std::max(extent, p.cwiseAbs().maxCoeff());
     f.slack = T > 0 ? std::max(0.0, settings_.refit_slack) * edges / (3.0 * T) : 0.0;
     f.margin = 1e-9 * std::max(extent, 1.0);
+    std::vector<fcl::Vector3d>().swap(f.points);  // only refit() (not lazy) needs them again
   }
   fcl_->request = fcl::CollisionRequestd(static_cast<size_t>(m.rest.triangle_count()), false);
-  input_ = make_step_input(m);
+  // input_: the penalty method's copy of the scene's input, and the kinematic one's when it
+  // does not borrow the caller's (step_kinematic() makes it then, on its first step).
+  // SceneSimulation lends its input: none is made.
+  if (settings_.method == ContactSettings::Method::penalty) input_ = make_step_input(m);
   active_.assign(m.n, 0);
   mark_.assign(m.n, 0);
   target_ = NodeMat::Zero(m.n, 3);
@@ -255,8 +259,7 @@ ContactSolver::ContactSolver(const TissueModel& m, ContactSettings settings)
     input_.spring_u = NodeMat::Zero(m.n, 3);
   }
   x0_ = NodeMat::Zero(m.n, 3);
-  u0_ = NodeMat::Zero(m.n, 3);
-  v0_ = NodeMat::Zero(m.n, 3);
+  // u0_, v0_: with a reference model only (set_solver), sized by its first step.
 }
 
 ContactSolver::~ContactSolver() = default;
@@ -713,6 +716,7 @@ void ContactSolver::step_kinematic(const TissueModel& m, const StepInput& base, 
   const int max_it = std::max(1, settings_.max_active_set_iterations);
   StepInput& in = borrowed ? *borrowed : input_;
   if (!borrowed) {
+    if (input_.force.rows() != m.n) input_ = make_step_input(m);  // the first such step: allocates once
     input_.force = base.force;
     input_.pressure = base.pressure;
     copy_scene_constraints(m, base);

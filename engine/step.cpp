@@ -300,13 +300,7 @@ SimState make_sim_state(const TissueModel& m) {
   w->force_prev = NodeMat::Zero(n, 3);
   w->pressure_last = Vec::Zero(n);
   w->pressure_prev = Vec::Zero(n);
-  w->sub_input = make_step_input(m);
-  w->sub_input.pressure = Vec::Zero(n);
-  w->sub_input.spring_k = NodeMat::Zero(n, 3);
-  w->sub_input.spring_u = NodeMat::Zero(n, 3);
-  w->whole_u_start = NodeMat::Zero(n, 3);
-  w->whole_velocity_start = NodeMat::Zero(n, 3);
-  w->whole_x_refresh_start = m.rest.positions;
+  // sub_input and whole_*: made by the first step done in parts (make_halving_arrays).
   w->solver = make_linear_solver(m.solver);
   w->solver->analyze(m.pattern);
   s.work = std::move(w);
@@ -676,6 +670,20 @@ void interpolate_input(const TissueModel& m, const StepInput& in, double t, Step
   }
 }
 
+// The arrays only a step done in parts uses (sub_input, whole_*: 8 N x 3 arrays and an N
+// vector), made by the first such step rather than with the state: most runs never halve a
+// step. That step allocates once; later ones, and every step done whole, allocate nothing.
+void make_halving_arrays(const TissueModel& m, StepWorkspace& w) {
+  const int n = m.n;
+  w.sub_input = make_step_input(m);
+  w.sub_input.pressure = Vec::Zero(n);
+  w.sub_input.spring_k = NodeMat::Zero(n, 3);
+  w.sub_input.spring_u = NodeMat::Zero(n, 3);
+  w.whole_u_start = NodeMat::Zero(n, 3);
+  w.whole_velocity_start = NodeMat::Zero(n, 3);
+  w.whole_x_refresh_start = m.rest.positions;
+}
+
 // Makes the rewind point (rewind_step) that of the whole step again.
 void restore_whole_start(StepWorkspace& w, bool refreshed) {
   w.u_start = w.whole_u_start;
@@ -709,6 +717,7 @@ void step(const TissueModel& m, const StepInput& in, SimState& s) {
 
   // The whole step's start (the first attempt has been rewound to it).
   if (first != Attempt::failed) rewind_step(m, s);
+  if (w.whole_u_start.rows() != m.n) make_halving_arrays(m, w);
   w.whole_u_start = w.u_start;
   w.whole_velocity_start = w.velocity_start;
   w.whole_x_refresh_start = w.x_refresh;

@@ -1,6 +1,7 @@
 #pragma once
 // Engine-internal per-run scratch owned by SimState: matrices, constraint masks, loads and the
-// chosen linear solver. Sized once in make_sim_state(); step() allocates nothing after that.
+// chosen linear solver. Sized once in make_sim_state(); step() allocates nothing after that,
+// except once: the first step done in parts makes the arrays of halved steps (sub_input, whole_*).
 #include <array>
 #include <memory>
 #include <vector>
