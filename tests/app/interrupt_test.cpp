@@ -1,6 +1,8 @@
 // Ctrl-C during a run: the run stops after the current frame, exits 130, and everything
 // written so far is complete and valid (every PNG decodes, metrics.csv has one row per frame
-// that run.json counts), with run.json saying "interrupted".
+// that run.json counts), with run.json saying "interrupted". On a failure the program's own
+// output and run.json are printed, and the folder (one per test process, so that two runs of
+// the test at once do not share it) is kept.
 #include <gtest/gtest.h>
 
 #include <signal.h>
@@ -22,7 +24,7 @@
 namespace fs = std::filesystem;
 
 TEST(Interrupt, CtrlCStopsAfterTheCurrentFrameAndKeepsEverything) {
-  const fs::path out = fs::path(VDMSIM_BUILD_DIR) / "test-output" / "interrupt";
+  const fs::path out = fs::path(VDMSIM_BUILD_DIR) / "test-output" / "interrupt" / std::to_string(getpid());
   fs::remove_all(out);
   fs::create_directories(out);
   // A long scene (shaded view only, so no colour-range first pass) pushing the liver down.
@@ -34,26 +36,30 @@ TEST(Interrupt, CtrlCStopsAfterTheCurrentFrameAndKeepsEverything) {
                           "t: [0, 100]}]\n"
                           "simulation: {frames: 100000, dt: 0.01, effects: []}\n"
                           "render: {width: 160, height: 120, views: [shaded]}\n";
-  const pid_t pid = vdmsim::test::spawn_quiet({VDMSIM_BINARY, "run", scene, "--out", out.string()});
+  const fs::path log = out / "vdmsim.log";
+  const pid_t pid = vdmsim::test::spawn_quiet({VDMSIM_BINARY, "run", scene, "--out", out.string()}, log.string());
   ASSERT_NE(pid, 0);
   // Wait until a few frames exist, then interrupt.
   vdmsim::test::wait_for_file(out / "frames" / "frame_00003.png", 120);
   if (!fs::exists(out / "frames" / "frame_00003.png")) {
     kill(pid, SIGKILL);
     waitpid(pid, nullptr, 0);
-    FAIL() << "the run produced no frames";
+    std::stringstream said;
+    said << std::ifstream(log).rdbuf();
+    FAIL() << "the run produced no frames in " << out.string() << "; vdmsim said:\n" << said.str();
   }
   kill(pid, SIGINT);
   int status = 0;
   waitpid(pid, &status, 0);
-  ASSERT_TRUE(WIFEXITED(status));
+  std::stringstream said, text;
+  said << std::ifstream(log).rdbuf();
+  text << std::ifstream(out / "run.json").rdbuf();
+  const std::string js = text.str();
+  SCOPED_TRACE("in " + out.string() + "\nvdmsim said:\n" + said.str() + "run.json:\n" + js);
+  ASSERT_TRUE(WIFEXITED(status)) << "vdmsim ended by signal " << (WIFSIGNALED(status) ? WTERMSIG(status) : 0);
   EXPECT_EQ(WEXITSTATUS(status), 130);
 
-  std::ifstream json(out / "run.json");
-  std::stringstream text;
-  text << json.rdbuf();
-  const std::string js = text.str();
-  EXPECT_NE(js.find("\"status\": \"interrupted\""), std::string::npos) << js;
+  EXPECT_NE(js.find("\"status\": \"interrupted\""), std::string::npos);
   const size_t at = js.find("\"frames\": ");
   ASSERT_NE(at, std::string::npos);
   const int frames = std::stoi(js.substr(at + 10));
@@ -81,4 +87,5 @@ TEST(Interrupt, CtrlCStopsAfterTheCurrentFrameAndKeepsEverything) {
     ++images;
   }
   EXPECT_EQ(images, frames);
+  if (!HasFailure()) fs::remove_all(out);
 }
