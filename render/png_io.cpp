@@ -146,20 +146,15 @@ bool encode_fast(std::FILE* f, const Image& image, int level, bool alpha, std::s
 }
 #endif
 
-bool decode(std::FILE* f, Image& image, std::vector<png_bytep>& rows, std::string& msg) {
-  png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &msg, on_error, on_warning);
-  if (!png) return false;
-  png_infop info = png_create_info_struct(png);
-  if (!info || setjmp(png_jmpbuf(png))) {
-    png_destroy_read_struct(&png, &info, nullptr);
-    return false;
-  }
-  png_init_io(png, f);
+// What decode() reads after its setjmp: in a function of its own, so that no C++ object of
+// the function that called setjmp is created or changed between setjmp and a longjmp
+// (-Wclobbered). libpng's errors longjmp out of here only from its own calls, while no
+// object of this frame is alive.
+bool read_image(png_structp png, png_infop info, Image& image, std::vector<png_bytep>& rows, std::string& msg) {
   png_read_info(png, info);
   const png_uint_32 w = png_get_image_width(png, info), h = png_get_image_height(png, info);
   if (w == 0 || h == 0 || w > 16384 || h > 16384) {
     msg = "unsupported image size " + std::to_string(w) + "x" + std::to_string(h);
-    png_destroy_read_struct(&png, &info, nullptr);
     return false;
   }
   png_set_expand(png);
@@ -172,8 +167,21 @@ bool decode(std::FILE* f, Image& image, std::vector<png_bytep>& rows, std::strin
   for (png_uint_32 y = 0; y < h; ++y) rows[y] = &image.rgba[static_cast<size_t>(y) * w * 4];
   png_read_image(png, rows.data());
   png_read_end(png, nullptr);
-  png_destroy_read_struct(&png, &info, nullptr);
   return true;
+}
+
+bool decode(std::FILE* f, Image& image, std::vector<png_bytep>& rows, std::string& msg) {
+  png_structp png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &msg, on_error, on_warning);
+  if (!png) return false;
+  png_infop info = png_create_info_struct(png);
+  if (!info || setjmp(png_jmpbuf(png))) {
+    png_destroy_read_struct(&png, &info, nullptr);
+    return false;
+  }
+  png_init_io(png, f);
+  const bool ok = read_image(png, info, image, rows, msg);
+  png_destroy_read_struct(&png, &info, nullptr);
+  return ok;
 }
 
 }  // namespace
