@@ -140,8 +140,8 @@ void build_loads(const TissueModel& m, const StepInput& in, SimState& s, StepWor
     const double h = m.dt;
     for (int i = 0; i < m.n; ++i) {
       const double mass = m.density * s.node_volumes[i];
-      w.force.row(i) += (mass / (h * h)) * (w.u_start.row(i) + h * s.velocity.row(i)) +
-                        (m.damping * mass / h) * w.u_start.row(i);
+      w.force.row(i) += (mass / (h * h)) * (w.start.u.row(i) + h * s.velocity.row(i)) +
+                        (m.damping * mass / h) * w.start.u.row(i);
     }
   }
 }
@@ -285,13 +285,13 @@ SimState make_sim_state(const TissueModel& m) {
   w->a_free = NodeMat::Zero(n, 3);
   w->force = NodeMat::Zero(n, 3);
   w->rhs = NodeMat::Zero(n, 3);
-  w->u_start = NodeMat::Zero(n, 3);
+  w->start.u = NodeMat::Zero(n, 3);
   w->u_new = NodeMat::Zero(n, 3);
   w->area_now = NodeMat::Zero(n, 3);
   w->x_refresh = m.rest.positions;
-  w->x_refresh_start = m.rest.positions;
+  w->start.x_refresh = m.rest.positions;
   w->residual_prev = NodeMat::Zero(n, 3);
-  w->velocity_start = NodeMat::Zero(n, 3);
+  w->start.velocity = NodeMat::Zero(n, 3);
   if (m.use_inertia) w->extra_diagonal = Vec::Zero(n);
   w->scratch = Vec::Zero(n);
   w->area_norms = Vec::Zero(n);
@@ -352,24 +352,24 @@ void rebuild_matrices(const TissueModel& m, SimState& s) {
 void rewind_step(const TissueModel& m, SimState& s) {
   StepWorkspace& w = *s.work;
   w.rewound = true;
-  s.u = w.u_start;
+  s.u = w.start.u;
   s.x = m.rest.positions + s.u;
-  s.velocity = w.velocity_start;
-  s.pressure = w.pressure_start;
-  s.step = w.step_start;
-  s.time = w.time_start;
+  s.velocity = w.start.velocity;
+  s.pressure = w.start.pressure;
+  s.step = w.start.step;
+  s.time = w.start.time;
   if (w.refreshed_in_step) {
     // K, A_i, V_i were rebuilt during the step: bring back those of the step's start (the
     // next step refreshes anyway when the counter says so, or when there was no geometry).
-    if (!w.have_geometry_start) {
+    if (!w.start.have_geometry) {
       w.have_geometry = false;
-    } else if (w.since_refresh_start < m.solver.refresh_every) {
-      w.x_refresh = w.x_refresh_start;
+    } else if (w.start.since_refresh < m.solver.refresh_every) {
+      w.x_refresh = w.start.x_refresh;
       refresh_geometry(m, w.x_refresh, s, w);
     }
     w.refreshed_in_step = false;
   }
-  w.steps_since_refresh = w.since_refresh_start;
+  w.steps_since_refresh = w.start.since_refresh;
   if (w.input_remembered) {  // the step's loads are no longer the last ones
     w.force_last.swap(w.force_prev);
     w.pressure_last.swap(w.pressure_prev);
@@ -405,15 +405,15 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
   s.failed = false;
   s.failure.clear();
   // The start of the step, for rewind_step().
-  w.u_start = s.u;
-  w.velocity_start = s.velocity;
-  w.pressure_start = s.pressure;
-  w.step_start = s.step;
-  w.time_start = s.time;
-  w.since_refresh_start = w.steps_since_refresh;
-  w.have_geometry_start = w.have_geometry;
+  w.start.u = s.u;
+  w.start.velocity = s.velocity;
+  w.start.pressure = s.pressure;
+  w.start.step = s.step;
+  w.start.time = s.time;
+  w.start.since_refresh = w.steps_since_refresh;
+  w.start.have_geometry = w.have_geometry;
   w.refreshed_in_step = false;
-  if (m.solver.refresh_every > 1 && m.solver.nonlinear_iterations > 1) w.x_refresh_start = w.x_refresh;
+  if (m.solver.refresh_every > 1 && m.solver.nonlinear_iterations > 1) w.start.x_refresh = w.x_refresh;
   if (const char* bad = check_input(m, in)) {
     fail_step(m, s, bad);
     return Attempt::bad_input;
@@ -595,7 +595,7 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
     compute_strain_stress(m, s);
     st.stress_ms = ms_since(t_stress);
   }
-  s.velocity = (s.u - w.u_start) * (1.0 / m.dt);  // one division, not one per entry
+  s.velocity = (s.u - w.start.u) * (1.0 / m.dt);  // one division, not one per entry
   ++s.step;
   s.time += m.dt;
   st.step_ms = ms_since(t_step);
@@ -653,8 +653,8 @@ void interpolate_input(const TissueModel& m, const StepInput& in, double t, Step
     sub.prescribed = in.prescribed;
     for (int d = 0; d < 3; ++d)
       for (int i = 0; i < m.n; ++i)
-        sub.prescribed_u(i, d) = in.prescribed(i, d) ? w.whole_u_start(i, d) + t * (in.prescribed_u(i, d) -
-                                                                                     w.whole_u_start(i, d))
+        sub.prescribed_u(i, d) = in.prescribed(i, d) ? w.whole.u(i, d) + t * (in.prescribed_u(i, d) -
+                                                                              w.whole.u(i, d))
                                                      : 0.0;
   } else {
     sub.prescribed.setZero();
@@ -670,7 +670,7 @@ void interpolate_input(const TissueModel& m, const StepInput& in, double t, Step
   }
 }
 
-// The arrays only a step done in parts uses (sub_input, whole_*: 8 N x 3 arrays and an N
+// The arrays only a step done in parts uses (sub_input, whole: 8 N x 3 arrays and an N
 // vector), made by the first such step rather than with the state: most runs never halve a
 // step. That step allocates once; later ones, and every step done whole, allocate nothing.
 void make_halving_arrays(const TissueModel& m, StepWorkspace& w) {
@@ -679,21 +679,14 @@ void make_halving_arrays(const TissueModel& m, StepWorkspace& w) {
   w.sub_input.pressure = Vec::Zero(n);
   w.sub_input.spring_k = NodeMat::Zero(n, 3);
   w.sub_input.spring_u = NodeMat::Zero(n, 3);
-  w.whole_u_start = NodeMat::Zero(n, 3);
-  w.whole_velocity_start = NodeMat::Zero(n, 3);
-  w.whole_x_refresh_start = m.rest.positions;
+  w.whole.u = NodeMat::Zero(n, 3);
+  w.whole.velocity = NodeMat::Zero(n, 3);
+  w.whole.x_refresh = m.rest.positions;
 }
 
 // Makes the rewind point (rewind_step) that of the whole step again.
 void restore_whole_start(StepWorkspace& w, bool refreshed) {
-  w.u_start = w.whole_u_start;
-  w.velocity_start = w.whole_velocity_start;
-  w.x_refresh_start = w.whole_x_refresh_start;
-  w.pressure_start = w.whole_pressure_start;
-  w.step_start = w.whole_step_start;
-  w.time_start = w.whole_time_start;
-  w.since_refresh_start = w.whole_since_refresh_start;
-  w.have_geometry_start = w.whole_have_geometry_start;
+  w.start = w.whole;
   w.refreshed_in_step = refreshed;
 }
 
@@ -717,15 +710,9 @@ void step(const TissueModel& m, const StepInput& in, SimState& s) {
 
   // The whole step's start (the first attempt has been rewound to it).
   if (first != Attempt::failed) rewind_step(m, s);
-  if (w.whole_u_start.rows() != m.n) make_halving_arrays(m, w);
-  w.whole_u_start = w.u_start;
-  w.whole_velocity_start = w.velocity_start;
-  w.whole_x_refresh_start = w.x_refresh;
-  w.whole_pressure_start = w.pressure_start;
-  w.whole_step_start = w.step_start;
-  w.whole_time_start = w.time_start;
-  w.whole_since_refresh_start = w.since_refresh_start;
-  w.whole_have_geometry_start = w.have_geometry_start;
+  if (w.whole.u.rows() != m.n) make_halving_arrays(m, w);
+  w.whole = w.start;
+  w.whole.x_refresh = w.x_refresh;  // the geometry's positions now, not the step's kept ones
 
   // What every attempt cost, reported for the whole step.
   StepStats sum = st;
@@ -769,9 +756,9 @@ void step(const TissueModel& m, const StepInput& in, SimState& s) {
     add_warning(s, s.failure.c_str());
   } else {
     // One step for the caller: counters, velocity and the rewind point are the whole step's.
-    s.step = w.whole_step_start + 1;
-    s.time = w.whole_time_start + m.dt;
-    s.velocity = (s.u - w.whole_u_start) * (1.0 / m.dt);
+    s.step = w.whole.step + 1;
+    s.time = w.whole.time + m.dt;
+    s.velocity = (s.u - w.whole.u) * (1.0 / m.dt);
     restore_whole_start(w, refreshed);
     remember_input(m, in, w);
     add_warning(s, kHalvedText[halvings]);

@@ -11,6 +11,16 @@
 
 namespace vdm {
 
+// Where a step started: what rewind_step() brings back.
+struct StepStart {
+  NodeMat u, velocity;
+  NodeMat x_refresh;  // positions of the geometry then (kept when refresh_every > 1 and nonlinear_iterations > 1)
+  double pressure = 0, time = 0;
+  long step = 0;
+  int since_refresh = 0;  // steps_since_refresh then
+  bool have_geometry = false;
+};
+
 struct StepWorkspace {
   AxisStiffness K;                // per-axis K^d at the last refresh (unmasked)
   FlagMat mask, last_mask;        // constrained entries this step / when the solver was last told
@@ -21,17 +31,12 @@ struct StepWorkspace {
   NodeMat a_free;                 // area vectors, zero on constrained entries
   NodeMat force;                  // total load f this step (N)
   NodeMat rhs;                    // eliminated right-hand side
-  NodeMat u_start;                // u at the start of the step
   NodeMat u_new;                  // solver output
   NodeMat area_now;               // area vectors at the current iterate (volume corrections)
   NodeMat x_refresh;              // positions at the last refresh: the geometry of K, A, V_i, loads
   NodeMat residual_prev;          // previous fixed-point residual (Aitken relaxation)
-  // The start of the current step, for rewind_step().
-  NodeMat velocity_start, x_refresh_start;
-  double pressure_start = 0, time_start = 0;
-  long step_start = 0;
-  int since_refresh_start = 0;
-  bool have_geometry_start = false, refreshed_in_step = false;
+  StepStart start;                // the start of the current step, for rewind_step()
+  bool refreshed_in_step = false;
   bool rewound = false;           // rewind_step() since the last step (the next may find its geometry current)
   double volume_at_refresh = 0;   // enclosed volume at x_refresh
   // Halved load increments (step() in step.cpp): the loads of the last two completed steps,
@@ -40,11 +45,7 @@ struct StepWorkspace {
   Vec pressure_last, pressure_prev;
   bool input_remembered = false;  // force_last/pressure_last are the current step's (rewind swaps back)
   StepInput sub_input;
-  NodeMat whole_u_start, whole_velocity_start, whole_x_refresh_start;
-  double whole_pressure_start = 0, whole_time_start = 0;
-  long whole_step_start = 0;
-  int whole_since_refresh_start = 0;
-  bool whole_have_geometry_start = false;
+  StepStart whole;                // the whole step's start (x_refresh: the geometry's positions then)
   const char* failure_reason = nullptr;  // why the last attempt failed (static text)
   Vec extra_diagonal;             // inertia M/h^2 + D/h (empty without inertia)
   Vec scratch;                    // N
