@@ -584,10 +584,10 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
   }
   st.residual = rhs2 > 0 ? std::sqrt(res2 / rhs2) : std::sqrt(res2);
   // Only constrained entries carry a reaction.
-  const std::uint8_t* held[3] = {w.mask.col(0).data(), w.mask.col(1).data(), w.mask.col(2).data()};
+  const std::uint8_t* constrained[3] = {w.mask.col(0).data(), w.mask.col(1).data(), w.mask.col(2).data()};
   for (int i = 0; i < m.n; ++i) {
     const double a = w.area_norms[i];  // |A_i| of s.area_vectors (refresh_geometry)
-    const bool any = (held[0][i] | held[1][i] | held[2][i]) != 0;
+    const bool any = (constrained[0][i] | constrained[1][i] | constrained[2][i]) != 0;
     s.reaction_pressure[i] = any && a > 0 ? s.reaction.row(i).norm() / a : 0.0;
   }
   if (m.compute_stress) {

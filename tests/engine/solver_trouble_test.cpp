@@ -90,6 +90,18 @@ TEST(SolverTrouble, MalformedInputFailsTheStepWithAReason) {
   EXPECT_TRUE(s.failure.empty());
 }
 
+// Step k of the cube press twice side by side: `a` solves it once; `b` first tries another
+// input (a deeper press), rewinds, then solves the real one (what the contact's active set does).
+void step_once_and_after_a_rewind(const TissueModel& m, double L, int k, StepInput& in, StepInput& other, SimState& a,
+                                  SimState& b) {
+  scenario::press_top(m, L, -0.003 * k, in);
+  scenario::press_top(m, L, -0.02, other);
+  step(m, in, a);
+  step(m, other, b);  // a different attempt first...
+  rewind_step(m, b);
+  step(m, in, b);  // ...then the real one
+}
+
 TEST(Rewind, ResolvingAStepGivesTheSameStateAsSolvingItOnce) {
   // With a refresh period and nonlinear iterations, the geometry, matrices and refresh
   // counter are part of what a re-solve must restore (contact's active set re-solves).
@@ -102,12 +114,7 @@ TEST(Rewind, ResolvingAStepGivesTheSameStateAsSolvingItOnce) {
   SimState a = make_sim_state(m), b = make_sim_state(m);
   StepInput in = make_step_input(m), other = make_step_input(m);
   for (int k = 1; k <= 7; ++k) {
-    scenario::press_top(m, L, -0.003 * k, in);
-    scenario::press_top(m, L, -0.02, other);
-    step(m, in, a);
-    step(m, other, b);  // a different attempt first...
-    rewind_step(m, b);
-    step(m, in, b);     // ...then the real one
+    step_once_and_after_a_rewind(m, L, k, in, other, a, b);
     EXPECT_EQ(a.step, b.step);
     // Equal up to the iterative solver's tolerance (its warm starts differ).
     EXPECT_LT((a.u - b.u).cwiseAbs().maxCoeff(), 1e-9 * L) << "step " << k;
@@ -128,12 +135,7 @@ TEST(Rewind, ARedoAtTheStepsStartReusesItsGeometryExactly) {
   SimState a = make_sim_state(m), b = make_sim_state(m);
   StepInput in = make_step_input(m), other = make_step_input(m);
   for (int k = 1; k <= 5; ++k) {
-    scenario::press_top(m, L, -0.003 * k, in);
-    scenario::press_top(m, L, -0.02, other);
-    step(m, in, a);
-    step(m, other, b);
-    rewind_step(m, b);
-    step(m, in, b);
+    step_once_and_after_a_rewind(m, L, k, in, other, a, b);
     EXPECT_TRUE(b.stats.refreshed);
     // b's other attempts refreshed once a step; the first redo too (a first step's rewind
     // leaves no geometry), the later ones not.
