@@ -9,6 +9,7 @@
 #include "engine/step_workspace.hpp"
 #include "engine/stiffness.hpp"
 #include "engine/stress.hpp"
+#include "engine/volume_along.hpp"
 
 namespace vdm {
 namespace {
@@ -183,6 +184,9 @@ void advance_positions(const NodeMat& rest, double omega, const NodeMat& r, cons
 
 // Newton on the exact volume along the fluid's own response s (K s = a): u += dP' s and
 // dP += dP', with dV/d(dP') = A(x) . s. K u - dP a = f still holds exactly, and V -> V_0.
+// Each check measures the volume and its slope along s in one pass (engine/volume_along).
+// The constrained entries stay at their values (s is zero there only to the solver's
+// tolerance): they do not move, and do not count in the slope.
 // Returns the change of the volume row's right-hand side, sum dP' (a . s), so the reported
 // residual is that of the corrected system.
 // `volume` gets the enclosed volume at the final positions when the last check measured it
@@ -192,36 +196,28 @@ double correct_volume(const TissueModel& m, SimState& s, StepWorkspace& w, Linea
   double c_shift = 0.0;
   volume = std::numeric_limits<double>::quiet_NaN();
   if (max_corr <= 0) return c_shift;
-  const NodeMat* response = nullptr;
+  // With the volume constraint every solver has s from its solve: this costs nothing.
+  const NodeMat& response = solver.pressure_response(w.a_free);
+  if (!response.allFinite()) return c_shift;
+  double as = std::numeric_limits<double>::quiet_NaN();  // a . s, on the first correction
   for (int k = 0; k < max_corr; ++k) {
-    const double v = enclosed_volume(s.x, m.rest.triangles, m.origin);
-    const double err = m.rest_volume - v;
+    const VolumeAlong v = volume_along(s.x, response, &w.mask, m.rest.triangles, m.origin, w.packed);
+    const double err = m.rest_volume - v.volume;
     if (std::abs(err) <= m.solver.volume_tolerance * m.rest_volume) {
-      volume = v;
+      volume = v.volume;
       return c_shift;
     }
-    if (!response) response = &solver.pressure_response(w.a_free);
-    if (!response->allFinite()) return c_shift;
-    distributed_area_vectors(s.x, m.rest.triangles, w.area_now);
-    // The constrained entries stay at their values (s is zero there only to the solver's
-    // tolerance): the volume moves by dP' A(x).s over the free entries.
-    double slope = 0.0, as = 0.0;
-    for (int d = 0; d < 3; ++d) {
-      const std::uint8_t* mask = w.mask.col(d).data();
-      const double* area = w.area_now.col(d).data();
-      const double* a = w.a_free.col(d).data();
-      const double* r = response->col(d).data();
-      for (int i = 0; i < m.n; ++i) {
-        slope += mask[i] ? 0.0 : area[i] * r[i];
-        as += a[i] * r[i];
-      }
+    // A(x).s not positive: the surface is locally inverted (step() then splits the step).
+    if (!(v.slope > 0.0) || !std::isfinite(v.slope)) return c_shift;
+    const double dp = err / v.slope;
+    if (std::isnan(as)) {
+      as = 0.0;
+      for (int d = 0; d < 3; ++d) as += w.a_free.col(d).dot(response.col(d));
     }
-    if (!(slope > 0.0) || !std::isfinite(slope)) return c_shift;
-    const double dp = err / slope;
     c_shift += dp * as;
     for (int d = 0; d < 3; ++d) {
       const std::uint8_t* mask = w.mask.col(d).data();
-      const double* r = response->col(d).data();
+      const double* r = response.col(d).data();
       const double* rest = m.rest.positions.col(d).data();
       double* u = s.u.col(d).data();
       double* x = s.x.col(d).data();
@@ -287,7 +283,6 @@ SimState make_sim_state(const TissueModel& m) {
   w->rhs = NodeMat::Zero(n, 3);
   w->start.u = NodeMat::Zero(n, 3);
   w->u_new = NodeMat::Zero(n, 3);
-  w->area_now = NodeMat::Zero(n, 3);
   w->x_refresh = m.rest.positions;
   w->start.x_refresh = m.rest.positions;
   w->residual_prev = NodeMat::Zero(n, 3);

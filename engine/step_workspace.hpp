@@ -32,7 +32,6 @@ struct StepWorkspace {
   NodeMat force;                  // total load f this step (N)
   NodeMat rhs;                    // eliminated right-hand side
   NodeMat u_new;                  // solver output
-  NodeMat area_now;               // area vectors at the current iterate (volume corrections)
   NodeMat x_refresh;              // positions at the last refresh: the geometry of K, A, V_i, loads
   NodeMat residual_prev;          // previous fixed-point residual (Aitken relaxation)
   StepStart start;                // the start of the current step, for rewind_step()
@@ -50,7 +49,7 @@ struct StepWorkspace {
   Vec extra_diagonal;             // inertia M/h^2 + D/h (empty without inertia)
   Vec scratch;                    // N
   Vec area_norms;                 // |A_i| at the last refresh (N)
-  std::vector<double> packed;     // 6 N: area_vectors_and_volume()'s rows
+  std::vector<double> packed;     // 6 N: area_vectors_and_volume()'s and volume_along()'s rows
   std::unique_ptr<LinearSolver> solver;
   std::unique_ptr<LinearSolver> fallback;  // direct solver, made on the first failed solve
   bool fallback_stale = true;              // fallback not told of the current system

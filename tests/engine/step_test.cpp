@@ -173,6 +173,24 @@ TEST(Volume, BeamStretchOf20PercentKeepsVolume) {
   }
 }
 
+// The volume a step reports (measured by the volume correction's last check) is the volume
+// enclosed by the positions it leaves, bit for bit, and the corrections restored it.
+TEST_P(EverySolver, ReportedVolumeIsTheMeasuredOne) {
+  const double length = 0.1;
+  const TissueModel m = build(scenario::clamped_beam(length, 0.02, 10, 2, GetParam()));
+  SimState s = make_sim_state(m);
+  StepInput in = make_step_input(m);
+  for (int k = 1; k <= 5; ++k) {
+    scenario::move_end(m, length, Vec3(0.01 * k, 0.03 * k, 0), in);
+    step(m, in, s);
+    ASSERT_FALSE(s.failed) << s.failure;
+    const double measured = enclosed_volume(s.x, m.rest.triangles, m.origin);
+    EXPECT_EQ(s.volume, measured) << "step " << k;
+    EXPECT_LT(std::abs(measured - m.rest_volume), 1e-11 * m.rest_volume) << "step " << k;
+  }
+  EXPECT_GT(s.u.cwiseAbs().maxCoeff(), 0.02);  // a large bend, not a small poke
+}
+
 TEST(Constraints, InfiniteBulkAxisDoesNotMoveAndFixedNodesStay) {
   const double L = 0.1;
   TissueDef def = cube_on_table(L, 4);
