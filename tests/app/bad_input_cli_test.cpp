@@ -14,6 +14,7 @@
 #include <sys/wait.h>
 
 #include "support/binary.hpp"
+#include "support/scratch_dir.hpp"
 
 namespace {
 
@@ -22,9 +23,7 @@ namespace fs = std::filesystem;
 vdmsim::test::CliResult run(const std::string& args) { return vdmsim::test::run_cli(VDMSIM_BINARY, args); }
 
 fs::path dir() {
-  const fs::path d = fs::temp_directory_path() / "vdmsim_bad_input_cli";
-  fs::create_directories(d);
-  return d;
+  return vdmsim::test::scratch_dir("bad_input_cli");
 }
 
 std::string write(const std::string& name, const std::string& text) {

@@ -9,6 +9,7 @@
 #include <sys/wait.h>
 
 #include "support/binary.hpp"
+#include "support/scratch_dir.hpp"
 
 namespace {
 
@@ -32,7 +33,7 @@ TEST(Cli, MissingMeshExitsWith2AndNamesTheFile) {
 }
 
 TEST(Cli, OpenMeshIsReportedNotClosedWithExit2) {
-  const auto p = std::filesystem::temp_directory_path() / "vdmsim_cli_open.obj";
+  const auto p = vdmsim::test::scratch_dir("cli") / "open.obj";
   {
     FILE* f = fopen(p.c_str(), "w");
     fputs("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\n", f);

@@ -12,6 +12,7 @@
 #include "app/mesh_io.hpp"
 #include "engine/geometry.hpp"
 #include "engine/shapes.hpp"
+#include "support/scratch_dir.hpp"
 
 namespace vdmsim {
 namespace {
@@ -20,10 +21,7 @@ namespace fs = std::filesystem;
 using vdm::MeshProblem;
 
 fs::path temp_dir() {
-  const fs::path dir = fs::temp_directory_path() /
-                       ("vdmsim_mesh_io_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()));
-  fs::create_directories(dir);
-  return dir;
+  return vdmsim::test::scratch_dir("mesh_io");
 }
 
 fs::path write_text(const std::string& name, const std::string& text) {

@@ -13,6 +13,7 @@
 #include "app/tet_mesher.hpp"
 #include "engine/geometry.hpp"
 #include "engine/shapes.hpp"
+#include "support/scratch_dir.hpp"
 
 namespace vdmsim {
 namespace {
@@ -20,9 +21,7 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path dir() {
-  const fs::path d = fs::temp_directory_path() / "vdmsim_organ_models_test";
-  fs::create_directories(d);
-  return d;
+  return vdmsim::test::scratch_dir("organ_models");
 }
 
 // A small liver (162 nodes) saved once.

@@ -9,6 +9,7 @@
 
 #include "app/commands.hpp"
 #include "app/paper_beam.hpp"
+#include "support/scratch_dir.hpp"
 
 namespace vdmsim {
 namespace {
@@ -22,7 +23,7 @@ BeamConfig small_beam() {
 }
 
 TEST(PaperBeam, RunsEndToEndAndWritesTheCsv) {
-  const std::string out = (std::filesystem::temp_directory_path() / "vdmsim_paper_beam").string();
+  const std::string out = (vdmsim::test::scratch_dir("paper_beam") / "out").string();
   std::filesystem::remove_all(out);
   std::ostringstream o, e;
   std::string error;

@@ -12,6 +12,7 @@
 #include "app/scene_run.hpp"
 #include "engine/sim_state.hpp"
 #include "tools_scripted/grasp.hpp"
+#include "support/scratch_dir.hpp"
 
 namespace vdmsim {
 namespace {
@@ -19,9 +20,7 @@ namespace {
 namespace fs = std::filesystem;
 
 fs::path scene_dir() {
-  const fs::path d = fs::temp_directory_path() / "vdmsim_scene_test";
-  fs::create_directories(d);
-  return d;
+  return vdmsim::test::scratch_dir("scene");
 }
 
 // A valid scene around the project's small liver, with `organ_extra` / `sim_extra` lines.
