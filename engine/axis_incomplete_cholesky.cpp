@@ -36,6 +36,7 @@ void AxisIncompleteCholesky::analyze(const AxisMatrices& K) {
     }
   up_val_.assign(3 * lo_col_.size(), 0.0);
   inv_diag_.assign(3 * size_t(n_), 0.0);
+  mask_.assign(3 * size_t(n_), 0);
   work_diag_.assign(3 * size_t(n_), 0.0);
   // Where each update of the right-looking factorisation lands, in the order factorize()
   // makes them: entry (i, j) of L for rows i > j of column k, or -1 outside the pattern.
@@ -99,7 +100,33 @@ int AxisIncompleteCholesky::factorize(const AxisMatrices& K, double omega) {
     }
   }
   copy_to_upper();
+  if (K.row_mask.size() == mask_.size()) std::copy(K.row_mask.begin(), K.row_mask.end(), mask_.begin());
+  else std::fill(mask_.begin(), mask_.end(), std::uint8_t(0));
   return repaired;
+}
+
+int AxisIncompleteCholesky::fit_to_mask(const AxisMatrices& K) {
+  if (K.row_mask.size() != mask_.size()) return 0;
+  int changed = 0;
+  double* L = lo_val_.data();
+  for (int i = 0; i < n_; ++i)
+    for (size_t d = 0; d < 3; ++d) {
+      const size_t e = 3 * size_t(i) + d;
+      const std::uint8_t now = K.row_mask[e];
+      if (now == mask_[e]) continue;
+      ++changed;
+      mask_[e] = now;
+      if (now) {  // constrained since: row and column i of L^d zero, L_ii = 1 (K's row is e_i)
+        for (int p = lo_start_[size_t(i)]; p < lo_start_[size_t(i) + 1]; ++p) L[3 * size_t(p) + d] = 0.0;
+        for (int q = up_start_[size_t(i)]; q < up_start_[size_t(i) + 1]; ++q) L[3 * size_t(up_src_[size_t(q)]) + d] = 0.0;
+        inv_diag_[e] = 1.0;
+      } else {  // freed since: its row and column are zero already
+        const double kii = K.diag[e];
+        inv_diag_[e] = kii > 0.0 ? 1.0 / std::sqrt(kii) : 1.0;
+      }
+    }
+  if (changed) copy_to_upper();
+  return changed;
 }
 
 void AxisIncompleteCholesky::copy_to_upper() {
@@ -110,14 +137,16 @@ void AxisIncompleteCholesky::copy_to_upper() {
 void AxisIncompleteCholesky::save_values(std::vector<double>& out) const {
   out.insert(out.end(), lo_val_.begin(), lo_val_.end());
   out.insert(out.end(), inv_diag_.begin(), inv_diag_.end());
+  out.insert(out.end(), mask_.begin(), mask_.end());
 }
 
 bool AxisIncompleteCholesky::load_values(const std::vector<double>& in, size_t& pos) {
-  if (in.size() < pos || in.size() - pos < lo_val_.size() + inv_diag_.size()) return false;
+  if (in.size() < pos || in.size() - pos < lo_val_.size() + inv_diag_.size() + mask_.size()) return false;
   for (std::vector<double>* v : {&lo_val_, &inv_diag_}) {
     std::copy(in.begin() + std::ptrdiff_t(pos), in.begin() + std::ptrdiff_t(pos + v->size()), v->begin());
     pos += v->size();
   }
+  for (std::uint8_t& m : mask_) m = in[pos++] != 0.0 ? 1 : 0;
   copy_to_upper();
   return true;
 }

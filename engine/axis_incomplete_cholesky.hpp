@@ -20,12 +20,20 @@ class AxisIncompleteCholesky {
   // Laplacian plus a diagonal. Returns the number of pivots (over the three axes) that were
   // not positive and had to be replaced (0 for M-matrices at omega = 0).
   int factorize(const AxisMatrices& K, double omega = 0.0);
+  // The factors of the last factorize() fitted to the constrained set of K (its row_mask,
+  // from gather()) without factorising again: the entries constrained now but not then get
+  // the identity's row and column (as factorize() would give them), the entries freed since
+  // get K's diagonal alone (a Jacobi row; their row and column were the identity's). L stays
+  // lower triangular with a positive diagonal, so L L^T is SPD: a valid preconditioner, made
+  // from older matrices. Returns the number of entries changed.
+  int fit_to_mask(const AxisMatrices& K);
   // z = (L L^T)^{-1} r on a block of W vectors; also rz[c] = r_c . z_c.
   template <int W>
   void apply(const double* r, double* z, double* rz) const;
   int size() const { return n_; }
-  // The factors' values, for state snapshots: appended to `out`; read back from `in` at
-  // `pos` (advanced) after analyze() of the same pattern. False when `in` is too short.
+  // The factors' values and constrained set, for state snapshots: appended to `out`; read
+  // back from `in` at `pos` (advanced) after analyze() of the same pattern. False when `in`
+  // is too short.
   void save_values(std::vector<double>& out) const;
   bool load_values(const std::vector<double>& in, size_t& pos);
 
@@ -40,6 +48,7 @@ class AxisIncompleteCholesky {
   std::vector<int> up_start_, up_col_, up_src_;
   std::vector<double> up_val_;             // 3 per entry
   std::vector<double> inv_diag_;           // 3 per row: 1 / L_ii
+  std::vector<std::uint8_t> mask_;         // 3 per row: the constrained set the factors fit
   std::vector<double> work_diag_;           // scratch: K's diagonal as the elimination updates it
   std::vector<int> update_target_;           // factorize(): the L entry of each update, or -1
   void copy_to_upper();                      // up_val_ from lo_val_

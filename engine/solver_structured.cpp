@@ -37,6 +37,7 @@ constexpr double kMicOmega = 0.9;
 // frame; only when the constrained set changes or the iterations grow, 23 and 4.33.
 constexpr int kMaxStale = 16;          // matrix changes a factorisation may serve at most
 constexpr double kStaleGrowth = 1.5;   // refactorise once a solve needs this many times the first's (+2)
+constexpr double kMaxRefit = 0.02;     // entries (over the node count) a refit may change at most
 
 class StructuredSolver final : public LinearSolver {
  public:
@@ -74,15 +75,27 @@ class StructuredSolver final : public LinearSolver {
   void matrices_changed(const AxisSystem& system) override {
     K_.gather(*system.K, *system.mask, system.springs);
     s_valid_ = false;
-    const bool mask_changed = factor_mask_.rows() != system.mask->rows() || factor_mask_ != *system.mask;
+    const bool new_shape = factor_mask_.rows() != system.mask->rows();
+    const bool mask_changed = new_shape || factor_mask_ != *system.mask;
     // Springs (penalty contact) are stiff diagonal terms that change with every solve.
-    if (factor_due_ || mask_changed || system.springs || ++stale_ > kMaxStale) {
+    if (factor_due_ || new_shape || system.springs || ++stale_ > kMaxStale) {
       ic_.factorize(K_, kMicOmega);
       factor_mask_ = *system.mask;
       stale_ = 0;
       baseline_ = -1;
       factor_due_ = false;
       pending_factorizations_ = 3;
+    } else if (mask_changed) {
+      // A changed constrained set (the contact's nodes) refits the factors in place: a
+      // factorisation again only when many entries changed at once, or when the solves
+      // grow (kStaleGrowth).
+      if (ic_.fit_to_mask(K_) > kMaxRefit * n_) {
+        ic_.factorize(K_, kMicOmega);
+        stale_ = 0;
+        baseline_ = -1;
+        pending_factorizations_ = 3;
+      }
+      factor_mask_ = *system.mask;
     }
   }
 

@@ -9,7 +9,7 @@
 namespace vdm {
 namespace {
 
-constexpr char kMagic[8] = {'V', 'D', 'M', 'S', 'T', 'A', 'T', '1'};
+constexpr char kMagic[8] = {'V', 'D', 'M', 'S', 'T', 'A', 'T', '2'};  // 2: the preconditioner's constrained set
 
 // Raw bytes in this machine's order (a snapshot is read back by the same build).
 class Writer {

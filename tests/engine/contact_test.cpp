@@ -168,7 +168,9 @@ TEST(ShapeContact, EveryShapePressesABall) {
       if (pc.shape.kind != ToolShape::Kind::convex || k > 0) {
         EXPECT_EQ(rep.nodes, rep_fcl.nodes) << at;
       }
-      EXPECT_LE((s.x - s_fcl.x).cwiseAbs().maxCoeff(), 1e-12) << at;
+      // The same contacts; their prescribed positions agree to round-off, so the two solves
+      // (stopped at the solver's relative tolerance, 1e-8) agree far below it.
+      EXPECT_LE((s.x - s_fcl.x).cwiseAbs().maxCoeff(), 1e-9 * R) << at;
       EXPECT_LT(std::abs(s.volume_rel_error), 1e-4) << at;
       EXPECT_LE(rep.max_penetration, 0.02 * size) << at;
       // No node inside the instrument by more than 2 % of its size.

@@ -164,10 +164,11 @@ TEST(DirectSolver, FactorizationIsReusedWhileTheMatrixIsUnchanged) {
   EXPECT_EQ(factorizations, (std::vector<int>{3, 0, 0, 3, 0, 0}));
 }
 
-// The structured solver refreshes its matrices every step but keeps its MIC(0) factors while
-// the constrained set stays (a few steps old, they still precondition well): refactorised
-// when the constrained set changes; and its results still meet the direct solver's.
-TEST(StructuredSolver, ReusesItsPreconditionerWhileTheConstrainedSetStays) {
+// The structured solver refreshes its matrices every step but keeps its MIC(0) factors (a
+// few steps old, they still precondition well). The factors are made once and reused while the matrices drift (refreshed every step) and
+// across a small change of the constrained set (refitted: AxisIncompleteCholesky::
+// fit_to_mask), the result staying that of the direct solver.
+TEST(StructuredSolver, ReusesItsPreconditionerAcrossStepsAndSmallConstraintChanges) {
   TissueDef d = scenario::cube_on_table(0.1, 4, SolverMethod::structured);
   d.solver.tolerance = 1e-10;
   TissueDef dd = d;
@@ -191,7 +192,7 @@ TEST(StructuredSolver, ReusesItsPreconditionerWhileTheConstrainedSetStays) {
     factorizations.push_back(s.stats.factorizations);
     EXPECT_LT((s.u - sd.u).cwiseAbs().maxCoeff(), 1e-9 * 0.1) << "step " << k;
   }
-  EXPECT_EQ(factorizations, (std::vector<int>{3, 0, 0, 0, 3, 0}));
+  EXPECT_EQ(factorizations, (std::vector<int>{3, 0, 0, 0, 0, 0}));
 }
 
 }  // namespace
