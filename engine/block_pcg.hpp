@@ -14,14 +14,15 @@
 
 namespace vdm {
 
+// z (the preconditioned residual) and q (A p) share one array: q is dead once r is updated,
+// before z is made, and z once p is, before the next q.
 struct BlockPcgWorkspace {
-  std::vector<double> r, z, p, q;
+  std::vector<double> r, zq, p;
   void resize(size_t size) {
     if (r.size() != size) {
       r.assign(size, 0.0);
-      z.assign(size, 0.0);
+      zq.assign(size, 0.0);
       p.assign(size, 0.0);
-      q.assign(size, 0.0);
     }
   }
 };
@@ -36,9 +37,9 @@ void block_pcg(const Op& op, const Pre& pre, int n, const double* b, double* x, 
                int max_iter, BlockPcgWorkspace& w, std::array<KrylovResult, W>& result) {
   w.resize(size_t(n) * W);
   double* r = w.r.data();
-  double* z = w.z.data();
+  double* z = w.zq.data();
   double* p = w.p.data();
-  double* q = w.q.data();
+  double* q = w.zq.data();
   double bn[W] = {}, rn[W] = {}, dot[W], rz[W], alpha[W], beta[W], live[W];
   for (int i = 0; i < n; ++i)
     for (int c = 0; c < W; ++c) bn[c] += b[size_t(i) * W + c] * b[size_t(i) * W + c];
