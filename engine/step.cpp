@@ -88,20 +88,35 @@ const char* check_input(const TissueModel& m, const StepInput& in) {
 }
 
 // Constrained entries this step: held (fixed, infinite B) and prescribed by the input
-// (sizes checked by check_input). Returns whether they differ from last_mask.
-bool build_constraints(const TissueModel& m, const StepInput& in, StepWorkspace& w) {
+// (sizes checked by check_input). Returns whether they differ from last_mask. Also adds up
+// a . u over all entries minus a . u_fixed over the constrained ones (`a_u`): the volume
+// row's right-hand side needs it, and it is this pass's data.
+bool build_constraints(const TissueModel& m, const StepInput& in, const NodeMat& a, const NodeMat& u, StepWorkspace& w,
+                       double& a_u) {
   const bool has_prescribed = in.prescribed.rows() == m.n && in.prescribed_u.rows() == m.n;
-  bool changed = false;
-  for (int d = 0; d < 3; ++d)
-    for (int i = 0; i < m.n; ++i) {
-      const bool held = m.held(i, d) != 0;
-      const bool presc = has_prescribed && in.prescribed(i, d) != 0;
-      const std::uint8_t constrained = (held || presc) ? 1 : 0;
-      w.mask(i, d) = constrained;
-      changed = changed || constrained != w.last_mask(i, d);
-      w.u_fixed(i, d) = (!held && presc) ? in.prescribed_u(i, d) : 0.0;
+  std::uint8_t differ = 0;
+  a_u = 0.0;
+  for (int d = 0; d < 3; ++d) {
+    const std::uint8_t* held = m.held.col(d).data();
+    const std::uint8_t* presc = has_prescribed ? in.prescribed.col(d).data() : nullptr;
+    const double* pu = has_prescribed ? in.prescribed_u.col(d).data() : nullptr;
+    const std::uint8_t* last = w.last_mask.col(d).data();
+    const double* ad = a.col(d).data();
+    const double* ud = u.col(d).data();
+    std::uint8_t* mask = w.mask.col(d).data();
+    double* fixed = w.u_fixed.col(d).data();
+    double sum = 0.0;
+    for (int i = 0; i < m.n; ++i) {  // branch-free: held or prescribed, prescribed values unless held
+      const std::uint8_t h = held[i] != 0, p = presc ? presc[i] != 0 : 0;
+      const std::uint8_t c = h | p;
+      mask[i] = c;
+      differ |= std::uint8_t(c ^ last[i]);
+      fixed[i] = (p & !h) ? pu[i] : 0.0;
+      sum += ad[i] * (c ? ud[i] - fixed[i] : ud[i]);
     }
-  return changed;
+    a_u += sum;
+  }
+  return differ != 0;
 }
 
 // The system of K with the entries of last_mask constrained and last_springs on the free
@@ -455,7 +470,8 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
     }
     if (current_volume <= 0.0) current_volume = enclosed_volume(s.x, m.rest.triangles, m.origin);
 
-    const bool mask_changed = build_constraints(m, in, w);
+    double a_u = 0.0;
+    const bool mask_changed = build_constraints(m, in, s.area_vectors, s.u, w, a_u);
     const bool springs = in.spring_k.rows() == m.n;
     const bool springs_changed = springs ? in.spring_k != w.last_springs : w.last_springs_any;
     if (w.matrix_dirty || mask_changed || springs_changed) {
@@ -469,12 +485,7 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
     eliminate_rhs(m.pattern, w.K, w.mask, w.force, w.u_fixed, w.rhs);
     // Eq (11) as a Newton step on the exact volume: a.u^{n+1} = V_0 - V(x^n) + a.u^n,
     // with the constrained part moved to the right.
-    double c = m.rest_volume - current_volume;
-    for (int d = 0; d < 3; ++d) {
-      c += s.area_vectors.col(d).dot(s.u.col(d));
-      for (int i = 0; i < m.n; ++i)
-        if (w.mask(i, d)) c -= s.area_vectors(i, d) * w.u_fixed(i, d);
-    }
+    const double c = m.rest_volume - current_volume + a_u;
     last_c = c;
     st.assemble_ms += ms_since(t_asm);
 
@@ -561,15 +572,23 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
     const double* a = s.area_vectors.col(d).data();
     const double* k = w.last_springs_any ? w.last_springs.col(d).data() : nullptr;
     double* reaction = s.reaction.col(d).data();
-    for (int i = 0; i < m.n; ++i) {
-      if (mask[i]) {
-        reaction[i] = ku[i] - s.pressure * a[i] - f[i];
-      } else {
-        const double r = ku[i] + (k ? k[i] * u[i] : 0.0) - s.pressure * a[i] - f[i];
-        res2 += r * r;
-        reaction[i] = 0.0;
+    const double p = s.pressure;
+    double sum = 0.0;
+    if (k) {
+      for (int i = 0; i < m.n; ++i) {
+        const double base = ku[i] - p * a[i] - f[i];
+        const double r = base + k[i] * u[i];
+        reaction[i] = mask[i] ? base : 0.0;
+        sum += mask[i] ? 0.0 : r * r;
+      }
+    } else {
+      for (int i = 0; i < m.n; ++i) {  // branch-free selects
+        const double base = ku[i] - p * a[i] - f[i];
+        reaction[i] = mask[i] ? base : 0.0;
+        sum += mask[i] ? 0.0 : base * base;
       }
     }
+    res2 += sum;
     rhs2 += w.rhs.col(d).squaredNorm();
     vol_row += w.a_free.col(d).dot(s.u.col(d));
   }
