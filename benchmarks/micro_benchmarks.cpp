@@ -19,6 +19,7 @@
 #include "app/scene_simulation.hpp"
 #include "engine/contact.hpp"
 #include "engine/geometry.hpp"
+#include "engine/volume_along.hpp"
 #include "engine/axis_incomplete_cholesky.hpp"
 #include "engine/axis_matrices.hpp"
 #include "engine/incomplete_cholesky.hpp"
@@ -86,6 +87,30 @@ void BM_GeometryRefresh(benchmark::State& st) {
   }
 }
 BENCHMARK(BM_GeometryRefresh)->Unit(benchmark::kMicrosecond);
+
+// One check of the step's volume correction: the volume and its slope along a move, in one
+// pass over the triangles (engine/volume_along), against what it replaced: the volume and
+// the area vectors in two passes (enclosed_volume, distributed_area_vectors). Arg 0: new, 1: old.
+void BM_VolumeCheck(benchmark::State& st) {
+  const vdm::SurfaceMesh& mesh = liver();
+  const int n = mesh.node_count();
+  vdm::NodeMat d(n, 3), a(n, 3);
+  for (int i = 0; i < n; ++i) d.row(i) = 1e-3 * mesh.positions.row(i);
+  const vdm::FlagMat mask = vdm::FlagMat::Zero(n, 3);
+  std::vector<double> packed;
+  for (auto _ : st) {
+    if (st.range(0) == 0) {
+      const vdm::VolumeAlong v = vdm::volume_along(mesh.positions, d, &mask, mesh.triangles, vdm::Vec3::Zero(), packed);
+      benchmark::DoNotOptimize(v.slope);
+    } else {
+      const double v = vdm::enclosed_volume(mesh.positions, mesh.triangles, vdm::Vec3::Zero());
+      vdm::distributed_area_vectors(mesh.positions, mesh.triangles, a);
+      benchmark::DoNotOptimize(v);
+      benchmark::DoNotOptimize(a.data());
+    }
+  }
+}
+BENCHMARK(BM_VolumeCheck)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 
 // The step's assembly of K^x, K^y, K^z (edge weights and three diagonals).
 void BM_Assembly(benchmark::State& st) {

@@ -199,7 +199,7 @@ void advance_positions(const NodeMat& rest, double omega, const NodeMat& r, cons
 
 // Newton on the exact volume along the fluid's own response s (K s = a): u += dP' s and
 // dP += dP', with dV/d(dP') = A(x) . s. K u - dP a = f still holds exactly, and V -> V_0.
-// Each check measures the volume and its slope along s in one pass (engine/volume_along).
+// The first check measures the volume and its slope along s in one pass (engine/volume_along).
 // The constrained entries stay at their values (s is zero there only to the solver's
 // tolerance): they do not move, and do not count in the slope.
 // Returns the change of the volume row's right-hand side, sum dP' (a . s), so the reported
@@ -216,6 +216,15 @@ double correct_volume(const TissueModel& m, SimState& s, StepWorkspace& w, Linea
   if (!response.allFinite()) return c_shift;
   double as = std::numeric_limits<double>::quiet_NaN();  // a . s, on the first correction
   for (int k = 0; k < max_corr; ++k) {
+    // After a correction the volume is usually restored: checked first without the slope
+    // (half the pass's cost), which is measured only when another correction is due.
+    if (k > 0) {
+      const double v = enclosed_volume(s.x, m.rest.triangles, m.origin);
+      if (std::abs(m.rest_volume - v) <= m.solver.volume_tolerance * m.rest_volume) {
+        volume = v;
+        return c_shift;
+      }
+    }
     const VolumeAlong v = volume_along(s.x, response, &w.mask, m.rest.triangles, m.origin, w.packed);
     const double err = m.rest_volume - v.volume;
     if (std::abs(err) <= m.solver.volume_tolerance * m.rest_volume) {
