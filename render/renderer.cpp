@@ -130,7 +130,6 @@ struct Renderer::Impl {
   // antialias: edge: the edge smoother, and the HUD's own layer (premultiplied RGBA, drawn
   // after the smoothing and composited over the frame).
   EdgeSmoother smoother;
-  GLuint hud_fbo = 0, hud_color = 0;
   Image hud_layer;
   ImGuiLayer imgui;
   Camera camera;
@@ -156,8 +155,6 @@ struct Renderer::Impl {
     shadow_quad.destroy();
     glDeleteFramebuffers(1, &backdrop_fbo);
     glDeleteRenderbuffers(1, &backdrop_color);
-    glDeleteFramebuffers(1, &hud_fbo);
-    glDeleteRenderbuffers(1, &hud_color);
     glDeleteVertexArrays(1, &organ_vao);
     glDeleteBuffers(1, &organ_vbo);
     glDeleteBuffers(1, &organ_ebo);
@@ -182,7 +179,6 @@ struct Renderer::Impl {
   bool make_backdrop(std::string& error);
   void set_view_proj();
   GlProgram& use(Material m);
-  bool make_hud_layer(std::string& error);
   void draw_hud_layer(const RenderScene& scene, const StressView* view, Image& out);
   void draw(const RenderScene& scene, const StressView* view, bool hud, Image& out);
 };
@@ -287,7 +283,6 @@ bool Renderer::Impl::init(const vdm::SurfaceMesh& rest, std::string& error) {
   glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(4 * 6 * sizeof(float)), nullptr, GL_STREAM_DRAW);
 
   if (!make_backdrop(error)) return false;
-  if (settings.antialias == Antialias::edge && !make_hud_layer(error)) return false;
   const float body_px = std::max(12.0f, settings.height / 40.0f);
   return imgui.init(body_px, error);
 }
@@ -665,26 +660,14 @@ void Renderer::Impl::draw(const RenderScene& scene, const StressView* view, bool
   timer.mark("resolve+read");
 }
 
-bool Renderer::Impl::make_hud_layer(std::string& error) {
-  glGenRenderbuffers(1, &hud_color);
-  glBindRenderbuffer(GL_RENDERBUFFER, hud_color);
-  glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, settings.width, settings.height);
-  glGenFramebuffers(1, &hud_fbo);
-  glBindFramebuffer(GL_FRAMEBUFFER, hud_fbo);
-  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, hud_color);
-  const bool ok = glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
-  if (!ok) error = "OpenGL HUD framebuffer incomplete";
-  return ok;
-}
-
 // The HUD on transparent black (ImGui blends colour by its alpha and alpha by ONE,
 // ONE_MINUS_SRC_ALPHA: the layer is premultiplied), read back where it was drawn and
 // composited over the smoothed frame: the same pixels as drawing it over the frame, to a
-// level of rounding, with its text and panel edges left as ImGui anti-aliased them.
+// level of rounding, with its text and panel edges left as ImGui anti-aliased them. Drawn in
+// the frame's own (single-sample) target, whose picture has been read into `out` already and
+// is not needed again (the next frame starts from the backdrop): no buffer of its own.
 void Renderer::Impl::draw_hud_layer(const RenderScene& scene, const StressView* view, Image& out) {
-  glBindFramebuffer(GL_FRAMEBUFFER, hud_fbo);
-  glViewport(0, 0, settings.width, settings.height);
+  fb->bind_draw();
   glClearColor(0, 0, 0, 0);
   glClear(GL_COLOR_BUFFER_BIT);
   glDisable(GL_DEPTH_TEST);
