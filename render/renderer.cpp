@@ -107,9 +107,8 @@ struct Renderer::Impl {
   // The organ: topology fixed, positions, normals and the scalar streamed each frame.
   GLuint organ_vao = 0, organ_vbo = 0, organ_ebo = 0;
   GLsizei organ_count = 0;
-  vdm::TriMat triangles;
+  const vdm::TriMat* triangles = nullptr;  // the rest mesh's (Renderer::create: it outlives the renderer)
   std::vector<Eigen::Vector3f> normals;
-  std::vector<float> vertex_data;
   // Instruments (parametric, by dimensions) and skins (by address).
   std::map<std::tuple<int, double, double, double, int, double, double, double, double, const void*>, InstrumentMeshes>
       instruments;
@@ -203,18 +202,17 @@ bool Renderer::Impl::init(const vdm::SurfaceMesh& rest, std::string& error) {
   glGenVertexArrays(1, &empty_vao);
 
   // Organ buffers: positions, normals and the scalar per node, topology fixed.
-  triangles = rest.triangles;
+  triangles = &rest.triangles;
   const Eigen::Index n = rest.positions.rows();
   normals.resize(static_cast<size_t>(n));
-  vertex_data.resize(static_cast<size_t>(n) * 7);
   glGenVertexArrays(1, &organ_vao);
   glGenBuffers(1, &organ_vbo);
   glGenBuffers(1, &organ_ebo);
   glBindVertexArray(organ_vao);
   glBindBuffer(GL_ARRAY_BUFFER, organ_vbo);
-  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(vertex_data.size() * sizeof(float)), nullptr, GL_STREAM_DRAW);
-  std::vector<unsigned> idx(static_cast<size_t>(triangles.size()));
-  for (Eigen::Index i = 0; i < triangles.size(); ++i) idx[static_cast<size_t>(i)] = unsigned(triangles.data()[i]);
+  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(normals.size() * 7 * sizeof(float)), nullptr, GL_STREAM_DRAW);
+  std::vector<unsigned> idx(static_cast<size_t>(triangles->size()));
+  for (Eigen::Index i = 0; i < triangles->size(); ++i) idx[static_cast<size_t>(i)] = unsigned(triangles->data()[i]);
   glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, organ_ebo);
   glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(idx.size() * sizeof(unsigned)), idx.data(), GL_STATIC_DRAW);
   organ_count = GLsizei(idx.size());
@@ -326,18 +324,25 @@ bool Renderer::Impl::make_backdrop(std::string& error) {
 void Renderer::Impl::upload_organ(const vdm::NodeMat& x, const std::vector<float>* scalar) {
   const size_t n = normals.size();
   for (auto& v : normals) v.setZero();
-  for (Eigen::Index t = 0; t < triangles.rows(); ++t) {
-    const int a = triangles(t, 0), b = triangles(t, 1), c = triangles(t, 2);
+  const vdm::TriMat& tris = *triangles;
+  for (Eigen::Index t = 0; t < tris.rows(); ++t) {
+    const int a = tris(t, 0), b = tris(t, 1), c = tris(t, 2);
     const Eigen::Vector3d pa = x.row(a), pb = x.row(b), pc = x.row(c);
     const Eigen::Vector3f fn = (pb - pa).cross(pc - pa).cast<float>();  // area-weighted
     normals[size_t(a)] += fn;
     normals[size_t(b)] += fn;
     normals[size_t(c)] += fn;
   }
+  // Written straight into the buffer (llvmpipe maps its own storage: no staging copy). The
+  // last frame's drawing is done (it was read back), so the map does not wait.
+  glBindBuffer(GL_ARRAY_BUFFER, organ_vbo);
+  float* const data =
+      static_cast<float*>(glMapBufferRange(GL_ARRAY_BUFFER, 0, GLsizeiptr(n * 7 * sizeof(float)), GL_MAP_WRITE_BIT));
+  if (!data) return;
   for (size_t i = 0; i < n; ++i) {
     const float len = normals[i].norm();
     const Eigen::Vector3f nn = len > 0 ? Eigen::Vector3f(normals[i] / len) : Eigen::Vector3f::UnitZ();
-    float* d = &vertex_data[i * 7];
+    float* d = data + i * 7;
     d[0] = float(x(Eigen::Index(i), 0));
     d[1] = float(x(Eigen::Index(i), 1));
     d[2] = float(x(Eigen::Index(i), 2));
@@ -346,8 +351,7 @@ void Renderer::Impl::upload_organ(const vdm::NodeMat& x, const std::vector<float
     d[5] = nn.z();
     d[6] = (scalar && scalar->size() == n) ? (*scalar)[i] : 0.0f;
   }
-  glBindBuffer(GL_ARRAY_BUFFER, organ_vbo);
-  glBufferSubData(GL_ARRAY_BUFFER, 0, GLsizeiptr(vertex_data.size() * sizeof(float)), vertex_data.data());
+  glUnmapBuffer(GL_ARRAY_BUFFER);
 }
 
 InstrumentMeshes& Renderer::Impl::instrument_meshes(const InstrumentView& v) {
