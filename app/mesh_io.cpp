@@ -1,12 +1,10 @@
 #include "app/mesh_io.hpp"
 
+#include "app/assimp_import.hpp"
+
 #include "app/obj_reader.hpp"
 #include "app/ply_reader.hpp"
 
-#include <assimp/BaseImporter.h>
-#include <assimp/Importer.hpp>
-#include <assimp/postprocess.h>
-#include <assimp/scene.h>
 
 #include <array>
 #include <cctype>
@@ -21,36 +19,6 @@
 namespace vdmsim {
 namespace {
 
-// Collects every triangle of every mesh node, in world coordinates.
-void collect(const aiScene* scene, const aiNode* node, const aiMatrix4x4& parent,
-             std::vector<vdm::Vec3>& points, std::vector<std::array<int, 3>>& tris,
-             int& non_triangles) {
-  const aiMatrix4x4 world = parent * node->mTransformation;
-  for (unsigned m = 0; m < node->mNumMeshes; ++m) {
-    const aiMesh* mesh = scene->mMeshes[node->mMeshes[m]];
-    const int base = static_cast<int>(points.size());
-    for (unsigned v = 0; v < mesh->mNumVertices; ++v) {
-      const aiVector3D p = world * mesh->mVertices[v];
-      points.emplace_back(p.x, p.y, p.z);
-    }
-    for (unsigned f = 0; f < mesh->mNumFaces; ++f) {
-      const aiFace& face = mesh->mFaces[f];
-      if (face.mNumIndices < 3 || !face.mIndices) {
-        ++non_triangles;  // points and lines carry no surface
-        continue;
-      }
-      // Polygons as fans (0, k, k+1): assimp's own triangulation aborts on some malformed
-      // faces (found by fuzzing). An index past this mesh's vertices becomes -1 (rejected later).
-      auto index = [&](unsigned c) {
-        return face.mIndices[c] < mesh->mNumVertices ? base + static_cast<int>(face.mIndices[c]) : -1;
-      };
-      for (unsigned k = 1; k + 1 < face.mNumIndices; ++k) tris.push_back({index(0), index(k), index(k + 1)});
-    }
-  }
-  for (unsigned c = 0; c < node->mNumChildren; ++c)
-    collect(scene, node->mChildren[c], world, points, tris, non_triangles);
-}
-
 // Whether the file is read by our PLY reader: a .ply name, or "ply" (any case) as its first
 // line whatever the name (assimp would otherwise pick its own PLY importer by the content).
 bool is_ply(const std::string& path, const std::string& ext) {
@@ -59,13 +27,6 @@ bool is_ply(const std::string& path, const std::string& ext) {
   char head[5] = {};
   f.read(head, sizeof head);
   return looks_like_ply(std::string_view(head, static_cast<size_t>(f.gcount())));
-}
-
-// assimp never reads PLY here (our reader does): its PLY importer is taken out of the importer.
-void drop_assimp_ply(Assimp::Importer& importer) {
-  if (Assimp::BaseImporter* ply = importer.GetImporter("ply")) {
-    if (importer.UnregisterLoader(ply) == aiReturn_SUCCESS) delete ply;  // unregistering hands it back
-  }
 }
 
 }  // namespace
@@ -112,25 +73,8 @@ MeshLoadResult load_surface_mesh(const std::string& path, const MeshLoadOptions&
     if (!read_obj(path, raw, why)) return fail(why);
     take(raw);
   } else {
-    Assimp::Importer importer;
-    drop_assimp_ply(importer);
-    // Keep only positions and faces; weld identical vertices; do not let assimp "repair"
-    // degenerate triangles: the checks below name them instead.
-    importer.SetPropertyInteger(AI_CONFIG_PP_RVC_FLAGS,
-                                aiComponent_NORMALS | aiComponent_TANGENTS_AND_BITANGENTS |
-                                    aiComponent_COLORS | aiComponent_TEXCOORDS |
-                                    aiComponent_BONEWEIGHTS | aiComponent_ANIMATIONS |
-                                    aiComponent_TEXTURES | aiComponent_LIGHTS |
-                                    aiComponent_CAMERAS | aiComponent_MATERIALS);
-    const aiScene* scene = importer.ReadFile(
-        path, aiProcess_ValidateDataStructure | aiProcess_RemoveComponent | aiProcess_JoinIdenticalVertices);
-    if (!scene || !scene->mRootNode) {
-      std::string why = importer.GetErrorString();
-      if (why.empty()) why = "unknown reason";
-      return fail("could not read the mesh (" + why + ")");
-    }
-    int non_triangles = 0;
-    collect(scene, scene->mRootNode, aiMatrix4x4(), points, tris, non_triangles);
+    std::string why;
+    if (!read_with_assimp(path, points, tris, why)) return fail(why);
   }
   if (tris.empty()) return fail("the file holds no triangles");
   // Before welding (NaN cannot be a map key): finite coordinates and valid indices only.

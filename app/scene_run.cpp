@@ -1,5 +1,7 @@
 #include "app/scene_run.hpp"
 
+#include <malloc.h>
+
 #include <algorithm>
 #include <atomic>
 #include <csignal>
@@ -435,6 +437,10 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
   std::vector<std::uintmax_t> row_end;
   const std::uintmax_t rows_base = metrics_good_size;
   SceneSimulation sim(ps);
+  // What setting up the scene, the renderer and the simulation freed (the mesh as read,
+  // the model's and the solver's temporaries, FCL's tree once copied) goes back to the
+  // system now: malloc keeps freed pages inside its heaps otherwise.
+  malloc_trim(0);
   double io_ms = 0, sum_step = 0, max_step = 0, max_vol = 0;
   // The state snapshot (state.bin) goes with each checkpoint, written first: a resume loads
   // it when it is of the checkpoint's frame, and re-simulates otherwise. It only saves time:

@@ -73,6 +73,17 @@ struct ContactSolver::Fcl {
   };
   std::vector<Slot> slots;
 
+  // The lazy refit's own copy of FCL's tree (same nodes, same order), its boxes in float
+  // rounded outward: 28 bytes a node instead of FCL's 64, and FCL's model (its boxes,
+  // vertices and triangles) is dropped once copied (-8 MB at 40k nodes). A float box holds
+  // the double box it stands for, so the walk reaches every leaf it reached before, and the
+  // leaves themselves are still tested exactly (the corners' double positions, below).
+  struct Node {
+    float lo[3], hi[3];
+    int first_child;  // >= 0: the first of two adjacent children; < 0: -(triangle + 1)
+  };
+  std::vector<Node> nodes;
+
   // The lazy refit (ContactSettings::lazy_refit). FCL's refit fits each leaf to its
   // triangle's corners at the last two refits' positions (its `prev_vertices` and
   // `vertices`): `prev` and `last` here, so that the walk can keep exactly the leaves FCL's
@@ -160,12 +171,31 @@ inline bool may_overlap(const Vec3& c, const Eigen::Matrix3d& R, const Vec3& h, 
   return true;
 }
 
-// FCL's tree nodes (fcl/geometry/bvh/BV_node_base.h), read in place: `first_child` >= 0 is
-// the first of two adjacent children, < 0 is -(triangle + 1). (FCL's accessors are compiled
-// in its library: a call per node.)
+// FCL's tree nodes (fcl/geometry/bvh/BV_node_base.h) and the lazy tree's copies of them:
+// `first_child` >= 0 is the first of two adjacent children, < 0 is -(triangle + 1). (FCL's
+// accessors are compiled in its library: a call per node.)
 using BvNode = fcl::BVNode<fcl::AABBd>;
-inline bool is_leaf(const BvNode& n) { return n.first_child < 0; }
-inline int triangle_of(const BvNode& n) { return -(n.first_child + 1); }
+template <class N>
+inline bool is_leaf(const N& n) {
+  return n.first_child < 0;
+}
+template <class N>
+inline int triangle_of(const N& n) {
+  return -(n.first_child + 1);
+}
+
+// The float box [lo, hi] that holds the double box [a, b] (each bound rounded outward).
+float round_down(double v) {
+  float f = static_cast<float>(v);
+  if (static_cast<double>(f) > v) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+  return f;
+}
+float round_up(double v) {
+  float f = static_cast<float>(v);
+  if (static_cast<double>(f) < v) f = std::nextafter(f, std::numeric_limits<float>::infinity());
+  return f;
+}
+Vec3 to_vec3(const float* v) { return Vec3(double(v[0]), double(v[1]), double(v[2])); }
 
 }  // namespace
 
@@ -196,6 +226,8 @@ ContactSolver::ContactSolver(const TissueModel& m, ContactSettings settings)
     for (int k = 0; k < T; ++k)
       for (int c = 0; c < 3; ++c) f.node_triangles[fill[m.rest.triangles(k, c)]++] = k;
     const int nbv = f.bvh->getNumBVs();
+    f.nodes.resize(static_cast<size_t>(nbv));
+    for (int id = 0; id < nbv; ++id) f.nodes[static_cast<size_t>(id)].first_child = f.bvh->getBV(id).first_child;
     f.leaf.assign(static_cast<size_t>(T), -1);
     f.parent.assign(static_cast<size_t>(nbv), -1);
     f.post_order.clear();
@@ -229,6 +261,8 @@ ContactSolver::ContactSolver(const TissueModel& m, ContactSettings settings)
     f.slack = T > 0 ? std::max(0.0, settings_.refit_slack) * edges / (3.0 * T) : 0.0;
     f.margin = 1e-9 * std::max(extent, 1.0);
     std::vector<fcl::Vector3d>().swap(f.points);  // only refit() (not lazy) needs them again
+    f.organ.reset();  // the walk reads f.nodes: FCL's model is not needed
+    f.bvh.reset();
   }
   fcl_->request = fcl::CollisionRequestd(static_cast<size_t>(m.rest.triangle_count()), false);
   // input_: the penalty method's copy of the scene's input, and the kinematic one's when it
@@ -294,25 +328,34 @@ void ContactSolver::refit_lazy(const NodeMat& x) {
   if (refitted_ && same_positions(f.last, x)) return;
   f.prev.swap(f.last);
   if (!refitted_) f.last = x;  // (otherwise copied while checking the boxes)
-  BvNode* const bvs = &f.bvh->getBV(0);
-  auto merge = [&](const BvNode& node, Vec3& lo, Vec3& hi) {
-    const fcl::AABBd &l = bvs[node.first_child].bv, &r = bvs[node.first_child + 1].bv;
-    lo = l.min_.cwiseMin(r.min_);
-    hi = l.max_.cwiseMax(r.max_);
+  Fcl::Node* const bvs = f.nodes.data();
+  // A parent's box from its children's (min and max of floats: exact). True when it changed.
+  auto merge = [&](Fcl::Node& node) {
+    const Fcl::Node &l = bvs[node.first_child], &r = bvs[node.first_child + 1];
+    bool changed = false;
+    for (int k = 0; k < 3; ++k) {
+      const float lo = std::min(l.lo[k], r.lo[k]), hi = std::max(l.hi[k], r.hi[k]);
+      changed |= lo != node.lo[k] || hi != node.hi[k];
+      node.lo[k] = lo;
+      node.hi[k] = hi;
+    }
+    return changed;
   };
   auto fit_leaf = [&](int tri) {
-    fcl::AABBd& box = bvs[f.leaf[tri]].bv;
+    Fcl::Node& box = bvs[f.leaf[tri]];
     const int a = (*triangles_)(tri, 0), b = (*triangles_)(tri, 1), c = (*triangles_)(tri, 2);
-    box.min_ = f.lo.row(a).cwiseMin(f.lo.row(b)).cwiseMin(f.lo.row(c)).transpose();
-    box.max_ = f.hi.row(a).cwiseMax(f.hi.row(b)).cwiseMax(f.hi.row(c)).transpose();
+    for (int k = 0; k < 3; ++k) {
+      box.lo[k] = round_down(std::min({f.lo(a, k), f.lo(b, k), f.lo(c, k)}));
+      box.hi[k] = round_up(std::max({f.hi(a, k), f.hi(b, k), f.hi(c, k)}));
+    }
   };
   if (!refitted_) {  // every box, as FCL's first refit (the rest positions as the previous ones)
     f.lo = f.prev.cwiseMin(f.last);
     f.hi = f.prev.cwiseMax(f.last);
     for (int id : f.post_order) {
-      BvNode& node = bvs[id];
+      Fcl::Node& node = bvs[id];
       if (is_leaf(node)) fit_leaf(triangle_of(node));
-      else merge(node, node.bv.min_, node.bv.max_);
+      else merge(node);
     }
     f.box_updates += static_cast<long>(f.post_order.size());
     refitted_ = true;
@@ -360,13 +403,8 @@ void ContactSolver::refit_lazy(const NodeMat& x) {
     f.leaf_dirty[tri] = 0;
     fit_leaf(tri);
     for (int id = f.parent[f.leaf[tri]]; id >= 0; id = f.parent[id]) {
-      BvNode& node = bvs[id];
-      Vec3 lo, hi;
-      merge(node, lo, hi);
       ++f.box_updates;
-      if (lo == node.bv.min_ && hi == node.bv.max_) break;
-      node.bv.min_ = lo;
-      node.bv.max_ = hi;
+      if (!merge(bvs[id])) break;
     }
   }
 }
@@ -414,19 +452,27 @@ void ContactSolver::broad_phase(const ToolShape& t, size_t k, double pad, std::v
     Vec3 c, h;
     tool_box(t, pad, c, h);
     const Eigen::Matrix3d R = t.pose.linear();
-    const BvNode* const bvs = &static_cast<const fcl::BVHModel<fcl::AABBd>&>(*fcl_->bvh).getBV(0);
     const Fcl& f = *fcl_;
     const bool lazy_tree = lazy();
     const double grow = lazy_tree ? f.slack + f.margin : 0.0;
+    const BvNode* const bvs = lazy_tree ? nullptr : &static_cast<const fcl::BVHModel<fcl::AABBd>&>(*f.bvh).getBV(0);
     stack_.clear();
     stack_.push_back(0);
     while (!stack_.empty()) {
       const int id = stack_.back();
       stack_.pop_back();
-      const BvNode& node = bvs[id];
-      if (!may_overlap(c, R, h, node.bv.min_, node.bv.max_, grow)) continue;
-      if (is_leaf(node)) {
-        const int tri = triangle_of(node);
+      int first_child = 0;
+      if (lazy_tree) {
+        const Fcl::Node& node = f.nodes[static_cast<size_t>(id)];
+        if (!may_overlap(c, R, h, to_vec3(node.lo), to_vec3(node.hi), grow)) continue;
+        first_child = node.first_child;
+      } else {
+        const BvNode& node = bvs[id];
+        if (!may_overlap(c, R, h, node.bv.min_, node.bv.max_, grow)) continue;
+        first_child = node.first_child;
+      }
+      if (first_child < 0) {
+        const int tri = -(first_child + 1);
         if (lazy_tree) {  // FCL's refitted leaf: the corners at the last two refits
           Vec3 lo = Vec3::Constant(std::numeric_limits<double>::max()), hi = -lo;
           for (int corner = 0; corner < 3; ++corner) {
@@ -438,8 +484,8 @@ void ContactSolver::broad_phase(const ToolShape& t, size_t k, double pad, std::v
         }
         add_triangle(tri);
       } else {
-        stack_.push_back(node.first_child);
-        stack_.push_back(node.first_child + 1);
+        stack_.push_back(first_child);
+        stack_.push_back(first_child + 1);
       }
     }
     return;

@@ -18,10 +18,12 @@ Canvas::~Canvas() {
 
 ImDrawList* Canvas::begin(int width, int height, float r, float g, float b) {
   gl_->make_current();
-  if (!fb_ || fb_->width() != width || fb_->height() != height) fb_ = std::make_unique<Framebuffer>(width, height, 4);
+  // 4x MSAA, no depth buffer (2D drawing: a sheet of twelve 720p thumbnails saves 15 MB).
+  if (!fb_ || fb_->width() != width || fb_->height() != height)
+    fb_ = std::make_unique<Framebuffer>(width, height, 4, false);
   fb_->bind_draw();
   glClearColor(r, g, b, 1);
-  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  glClear(GL_COLOR_BUFFER_BIT);
   return imgui_.begin(width, height);
 }
 

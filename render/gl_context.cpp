@@ -42,21 +42,24 @@ std::string GlContext::renderer_name() const {
   return s ? reinterpret_cast<const char*>(s) : "unknown";
 }
 
-Framebuffer::Framebuffer(int width, int height, int samples) : width_(width), height_(height), samples_(samples) {
+Framebuffer::Framebuffer(int width, int height, int samples, bool depth)
+    : width_(width), height_(height), samples_(samples) {
   GLint max_samples = 1;
   glGetIntegerv(GL_MAX_SAMPLES, &max_samples);
   if (samples_ > max_samples) samples_ = max_samples;
   if (samples_ < 1) samples_ = 1;
   glGenFramebuffers(1, &draw_fbo_);
   glGenRenderbuffers(1, &draw_color_);
-  glGenRenderbuffers(1, &draw_depth_);
   glBindRenderbuffer(GL_RENDERBUFFER, draw_color_);
   glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples_ > 1 ? samples_ : 0, GL_RGBA8, width, height);
-  glBindRenderbuffer(GL_RENDERBUFFER, draw_depth_);
-  glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples_ > 1 ? samples_ : 0, GL_DEPTH_COMPONENT24, width, height);
   glBindFramebuffer(GL_FRAMEBUFFER, draw_fbo_);
   glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, draw_color_);
-  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, draw_depth_);
+  if (depth) {
+    glGenRenderbuffers(1, &draw_depth_);
+    glBindRenderbuffer(GL_RENDERBUFFER, draw_depth_);
+    glRenderbufferStorageMultisample(GL_RENDERBUFFER, samples_ > 1 ? samples_ : 0, GL_DEPTH_COMPONENT24, width, height);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, draw_depth_);
+  }
   ok_ = glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
 
   if (samples_ > 1) {  // the resolve target (a single-sample buffer is read directly)

@@ -31,7 +31,8 @@ class GlContext {
 // single-sample colour buffer that is read back into an Image (single-sample: read directly).
 class Framebuffer {
  public:
-  Framebuffer(int width, int height, int samples);
+  // `depth`: with a depth buffer (2D drawing such as a Canvas needs none).
+  Framebuffer(int width, int height, int samples, bool depth = true);
   ~Framebuffer();
   Framebuffer(const Framebuffer&) = delete;
   Framebuffer& operator=(const Framebuffer&) = delete;

@@ -44,6 +44,10 @@ bool GlProgram::build(const char* vertex_source, const char* fragment_source, st
   glAttachShader(id_, vs);
   glAttachShader(id_, fs);
   glLinkProgram(id_);
+  // Detached, the shader objects are deleted now rather than with the program: the linked
+  // program does not need them, and each kept its compiled form (about 1 MB) otherwise.
+  glDetachShader(id_, vs);
+  glDetachShader(id_, fs);
   glDeleteShader(vs);
   glDeleteShader(fs);
   GLint ok = 0;

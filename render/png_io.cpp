@@ -87,7 +87,29 @@ bool put_chunk(std::FILE* f, const char* type, const std::uint8_t* data, size_t 
          std::fwrite(tail, 1, 4, f) == 4;
 }
 
-bool encode_fast(std::FILE* f, const Image& image, int level, bool alpha, std::string& msg) {
+// The PNG rows (filter byte 0, then RGB) written over the image's own RGBA buffer, which is
+// large enough: row y starts at y (1 + 3 w) <= 4 w y, and within a row each pixel's three
+// bytes land before the next unread pixel; the filter byte goes in once its row is moved (in
+// row 0 it is pixel 0's red).
+void pack_rows_in_place(Image& image) {
+  const size_t w = static_cast<size_t>(image.width), h = static_cast<size_t>(image.height), stride = 1 + 3 * w;
+  std::uint8_t* const p = image.rgba.data();
+  for (size_t y = 0; y < h; ++y) {
+    std::uint8_t* d = p + y * stride + 1;
+    const std::uint8_t* s = p + y * w * 4;
+    for (size_t x = 0; x < w; ++x, d += 3, s += 4) {
+      const std::uint8_t r = s[0], g = s[1], b = s[2];
+      d[0] = r;
+      d[1] = g;
+      d[2] = b;
+    }
+    p[y * stride] = 0;  // filter: none
+  }
+}
+
+// `spend`: null, or the image itself when its buffer may be overwritten (RGB only: its rows
+// are packed in place).
+bool encode_fast(std::FILE* f, const Image& image, Image* spend, int level, bool alpha, std::string& msg) {
   struct Compressor {
     libdeflate_compressor* c = nullptr;
     int level = -1;
@@ -108,8 +130,15 @@ bool encode_fast(std::FILE* f, const Image& image, int level, bool alpha, std::s
   }
   const size_t w = static_cast<size_t>(image.width), h = static_cast<size_t>(image.height);
   const size_t channels = alpha ? 4 : 3, stride = 1 + channels * w;
-  raw.resize(stride * h);
-  for (size_t y = 0; y < h; ++y) {
+  const std::uint8_t* rows = nullptr;
+  if (spend && !alpha) {
+    pack_rows_in_place(*spend);
+    rows = spend->rgba.data();
+  } else {
+    raw.resize(stride * h);
+    rows = raw.data();
+  }
+  for (size_t y = 0; y < h && rows == raw.data(); ++y) {
     std::uint8_t* d = &raw[y * stride];
     const std::uint8_t* s = &image.rgba[y * w * 4];
     *d++ = 0;  // filter: none
@@ -125,11 +154,12 @@ bool encode_fast(std::FILE* f, const Image& image, int level, bool alpha, std::s
   }
   // Renders compress to well under a quarter of their raw size: a buffer of that size, and
   // the worst-case bound only for an image that does not fit (compressed again).
-  if (packed.size() < raw.size() / 4) packed.resize(raw.size() / 4);
-  size_t n = libdeflate_zlib_compress(compressor.c, raw.data(), raw.size(), packed.data(), packed.size());
+  const size_t size = stride * h;
+  if (packed.size() < size / 4) packed.resize(size / 4);
+  size_t n = libdeflate_zlib_compress(compressor.c, rows, size, packed.data(), packed.size());
   if (n == 0) {
-    packed.resize(libdeflate_zlib_compress_bound(compressor.c, raw.size()));
-    n = libdeflate_zlib_compress(compressor.c, raw.data(), raw.size(), packed.data(), packed.size());
+    packed.resize(libdeflate_zlib_compress_bound(compressor.c, size));
+    n = libdeflate_zlib_compress(compressor.c, rows, size, packed.data(), packed.size());
   }
   if (n == 0) {
     msg = "compression failed";
@@ -184,9 +214,7 @@ bool decode(std::FILE* f, Image& image, std::vector<png_bytep>& rows, std::strin
   return ok;
 }
 
-}  // namespace
-
-bool write_png(const std::string& path, const Image& image, int level, bool alpha, std::string& error) {
+bool write_file(const std::string& path, const Image& image, Image* spend, int level, bool alpha, std::string& error) {
   namespace fs = std::filesystem;
   const std::string tmp = path + ".tmp";
   std::string msg;
@@ -199,7 +227,7 @@ bool write_png(const std::string& path, const Image& image, int level, bool alph
     }
 #ifdef VDMSIM_HAVE_LIBDEFLATE
     if (level >= 1 && level <= 3) {
-      ok = encode_fast(f.get(), image, level, alpha, msg);
+      ok = encode_fast(f.get(), image, spend, level, alpha, msg);
     } else
 #endif
     {
@@ -222,6 +250,16 @@ bool write_png(const std::string& path, const Image& image, int level, bool alph
     return false;
   }
   return true;
+}
+
+}  // namespace
+
+bool write_png(const std::string& path, const Image& image, int level, bool alpha, std::string& error) {
+  return write_file(path, image, nullptr, level, alpha, error);
+}
+
+bool write_png_spending(const std::string& path, Image& image, int level, std::string& error) {
+  return write_file(path, image, &image, level, false, error);
 }
 
 bool read_png(const std::string& path, Image& image, std::string& error) {

@@ -64,7 +64,7 @@ void PngQueue::run() {
     changed_.notify_all();
     std::string err;
     const auto t0 = std::chrono::steady_clock::now();
-    const bool ok = failed_before || write_png(job.second, job.first, level_, false, err);
+    const bool ok = failed_before || write_png_spending(job.second, job.first, level_, err);
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     lock.lock();
     busy_ = false;

@@ -107,9 +107,8 @@ struct Renderer::Impl {
   // The organ: topology fixed, positions, normals and the scalar streamed each frame.
   GLuint organ_vao = 0, organ_vbo = 0, organ_ebo = 0;
   GLsizei organ_count = 0;
-  vdm::TriMat triangles;
+  const vdm::TriMat* triangles = nullptr;  // the rest mesh's (Renderer::create: it outlives the renderer)
   std::vector<Eigen::Vector3f> normals;
-  std::vector<float> vertex_data;
   // Instruments (parametric, by dimensions) and skins (by address).
   std::map<std::tuple<int, double, double, double, int, double, double, double, double, const void*>, InstrumentMeshes>
       instruments;
@@ -130,7 +129,6 @@ struct Renderer::Impl {
   // antialias: edge: the edge smoother, and the HUD's own layer (premultiplied RGBA, drawn
   // after the smoothing and composited over the frame).
   EdgeSmoother smoother;
-  GLuint hud_fbo = 0, hud_color = 0;
   Image hud_layer;
   ImGuiLayer imgui;
   Camera camera;
@@ -156,8 +154,6 @@ struct Renderer::Impl {
     shadow_quad.destroy();
     glDeleteFramebuffers(1, &backdrop_fbo);
     glDeleteRenderbuffers(1, &backdrop_color);
-    glDeleteFramebuffers(1, &hud_fbo);
-    glDeleteRenderbuffers(1, &hud_color);
     glDeleteVertexArrays(1, &organ_vao);
     glDeleteBuffers(1, &organ_vbo);
     glDeleteBuffers(1, &organ_ebo);
@@ -182,7 +178,6 @@ struct Renderer::Impl {
   bool make_backdrop(std::string& error);
   void set_view_proj();
   GlProgram& use(Material m);
-  bool make_hud_layer(std::string& error);
   void draw_hud_layer(const RenderScene& scene, const StressView* view, Image& out);
   void draw(const RenderScene& scene, const StressView* view, bool hud, Image& out);
 };
@@ -207,18 +202,17 @@ bool Renderer::Impl::init(const vdm::SurfaceMesh& rest, std::string& error) {
   glGenVertexArrays(1, &empty_vao);
 
   // Organ buffers: positions, normals and the scalar per node, topology fixed.
-  triangles = rest.triangles;
+  triangles = &rest.triangles;
   const Eigen::Index n = rest.positions.rows();
   normals.resize(static_cast<size_t>(n));
-  vertex_data.resize(static_cast<size_t>(n) * 7);
   glGenVertexArrays(1, &organ_vao);
   glGenBuffers(1, &organ_vbo);
   glGenBuffers(1, &organ_ebo);
   glBindVertexArray(organ_vao);
   glBindBuffer(GL_ARRAY_BUFFER, organ_vbo);
-  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(vertex_data.size() * sizeof(float)), nullptr, GL_STREAM_DRAW);
-  std::vector<unsigned> idx(static_cast<size_t>(triangles.size()));
-  for (Eigen::Index i = 0; i < triangles.size(); ++i) idx[static_cast<size_t>(i)] = unsigned(triangles.data()[i]);
+  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(normals.size() * 7 * sizeof(float)), nullptr, GL_STREAM_DRAW);
+  std::vector<unsigned> idx(static_cast<size_t>(triangles->size()));
+  for (Eigen::Index i = 0; i < triangles->size(); ++i) idx[static_cast<size_t>(i)] = unsigned(triangles->data()[i]);
   glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, organ_ebo);
   glBufferData(GL_ELEMENT_ARRAY_BUFFER, GLsizeiptr(idx.size() * sizeof(unsigned)), idx.data(), GL_STATIC_DRAW);
   organ_count = GLsizei(idx.size());
@@ -287,7 +281,6 @@ bool Renderer::Impl::init(const vdm::SurfaceMesh& rest, std::string& error) {
   glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(4 * 6 * sizeof(float)), nullptr, GL_STREAM_DRAW);
 
   if (!make_backdrop(error)) return false;
-  if (settings.antialias == Antialias::edge && !make_hud_layer(error)) return false;
   const float body_px = std::max(12.0f, settings.height / 40.0f);
   return imgui.init(body_px, error);
 }
@@ -331,18 +324,25 @@ bool Renderer::Impl::make_backdrop(std::string& error) {
 void Renderer::Impl::upload_organ(const vdm::NodeMat& x, const std::vector<float>* scalar) {
   const size_t n = normals.size();
   for (auto& v : normals) v.setZero();
-  for (Eigen::Index t = 0; t < triangles.rows(); ++t) {
-    const int a = triangles(t, 0), b = triangles(t, 1), c = triangles(t, 2);
+  const vdm::TriMat& tris = *triangles;
+  for (Eigen::Index t = 0; t < tris.rows(); ++t) {
+    const int a = tris(t, 0), b = tris(t, 1), c = tris(t, 2);
     const Eigen::Vector3d pa = x.row(a), pb = x.row(b), pc = x.row(c);
     const Eigen::Vector3f fn = (pb - pa).cross(pc - pa).cast<float>();  // area-weighted
     normals[size_t(a)] += fn;
     normals[size_t(b)] += fn;
     normals[size_t(c)] += fn;
   }
+  // Written straight into the buffer (llvmpipe maps its own storage: no staging copy). The
+  // last frame's drawing is done (it was read back), so the map does not wait.
+  glBindBuffer(GL_ARRAY_BUFFER, organ_vbo);
+  float* const data =
+      static_cast<float*>(glMapBufferRange(GL_ARRAY_BUFFER, 0, GLsizeiptr(n * 7 * sizeof(float)), GL_MAP_WRITE_BIT));
+  if (!data) return;
   for (size_t i = 0; i < n; ++i) {
     const float len = normals[i].norm();
     const Eigen::Vector3f nn = len > 0 ? Eigen::Vector3f(normals[i] / len) : Eigen::Vector3f::UnitZ();
-    float* d = &vertex_data[i * 7];
+    float* d = data + i * 7;
     d[0] = float(x(Eigen::Index(i), 0));
     d[1] = float(x(Eigen::Index(i), 1));
     d[2] = float(x(Eigen::Index(i), 2));
@@ -351,8 +351,7 @@ void Renderer::Impl::upload_organ(const vdm::NodeMat& x, const std::vector<float
     d[5] = nn.z();
     d[6] = (scalar && scalar->size() == n) ? (*scalar)[i] : 0.0f;
   }
-  glBindBuffer(GL_ARRAY_BUFFER, organ_vbo);
-  glBufferSubData(GL_ARRAY_BUFFER, 0, GLsizeiptr(vertex_data.size() * sizeof(float)), vertex_data.data());
+  glUnmapBuffer(GL_ARRAY_BUFFER);
 }
 
 InstrumentMeshes& Renderer::Impl::instrument_meshes(const InstrumentView& v) {
@@ -665,26 +664,14 @@ void Renderer::Impl::draw(const RenderScene& scene, const StressView* view, bool
   timer.mark("resolve+read");
 }
 
-bool Renderer::Impl::make_hud_layer(std::string& error) {
-  glGenRenderbuffers(1, &hud_color);
-  glBindRenderbuffer(GL_RENDERBUFFER, hud_color);
-  glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, settings.width, settings.height);
-  glGenFramebuffers(1, &hud_fbo);
-  glBindFramebuffer(GL_FRAMEBUFFER, hud_fbo);
-  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, hud_color);
-  const bool ok = glCheckFramebufferStatus(GL_FRAMEBUFFER) == GL_FRAMEBUFFER_COMPLETE;
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
-  if (!ok) error = "OpenGL HUD framebuffer incomplete";
-  return ok;
-}
-
 // The HUD on transparent black (ImGui blends colour by its alpha and alpha by ONE,
 // ONE_MINUS_SRC_ALPHA: the layer is premultiplied), read back where it was drawn and
 // composited over the smoothed frame: the same pixels as drawing it over the frame, to a
-// level of rounding, with its text and panel edges left as ImGui anti-aliased them.
+// level of rounding, with its text and panel edges left as ImGui anti-aliased them. Drawn in
+// the frame's own (single-sample) target, whose picture has been read into `out` already and
+// is not needed again (the next frame starts from the backdrop): no buffer of its own.
 void Renderer::Impl::draw_hud_layer(const RenderScene& scene, const StressView* view, Image& out) {
-  glBindFramebuffer(GL_FRAMEBUFFER, hud_fbo);
-  glViewport(0, 0, settings.width, settings.height);
+  fb->bind_draw();
   glClearColor(0, 0, 0, 0);
   glClear(GL_COLOR_BUFFER_BIT);
   glDisable(GL_DEPTH_TEST);

@@ -43,7 +43,8 @@ struct StressView {
 class Renderer {
  public:
   // Creates the GL context and resources for the organ's fixed topology. nullptr + error on
-  // failure (no OSMesa, shader compile error).
+  // failure (no OSMesa, shader compile error). `rest` must outlive the renderer: its
+  // triangles are read (not copied) for each frame's normals.
   static std::unique_ptr<Renderer> create(const RenderSettings& settings, const vdm::SurfaceMesh& rest,
                                           std::string& error);
   ~Renderer();

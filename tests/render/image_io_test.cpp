@@ -2,6 +2,8 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <utility>
 
 #include "render/contact_sheet.hpp"
 #include "render/number_format.hpp"
@@ -75,6 +77,29 @@ TEST(PngIo, NoiseThatDoesNotCompressRoundTripsAtTheFastLevel) {
   render::Image back;
   ASSERT_TRUE(render::read_png(p.string(), back, error)) << error;
   EXPECT_EQ(back.rgba, im.rgba);
+}
+
+// write_png_spending packs the rows over the image's own buffer: byte for byte the file
+// write_png makes, for narrow, odd and one-row images, at the fast and the libpng levels.
+TEST(PngIo, SpendingTheImageWritesTheSameFile) {
+  auto bytes = [](const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  for (const auto& [w, h] : {std::pair{1, 1}, {1, 9}, {2, 3}, {37, 23}, {64, 1}, {33, 40}})
+    for (int level : {1, 3, 6}) {
+      const render::Image im = pattern(w, h);
+      const std::string tag = std::to_string(w) + "x" + std::to_string(h) + "_" + std::to_string(level);
+      const fs::path a = scratch("kept_" + tag + ".png"), b = scratch("spent_" + tag + ".png");
+      std::string error;
+      ASSERT_TRUE(render::write_png(a.string(), im, level, false, error)) << error;
+      render::Image spent = im;
+      ASSERT_TRUE(render::write_png_spending(b.string(), spent, level, error)) << error;
+      EXPECT_EQ(bytes(a), bytes(b)) << tag;
+      render::Image back;
+      ASSERT_TRUE(render::read_png(b.string(), back, error)) << error;
+      EXPECT_EQ(back.rgba, im.rgba) << tag;
+    }
 }
 
 TEST(PngIo, ReadingGarbageOrAMissingFileFailsWithTheFileName) {
