@@ -187,7 +187,6 @@ void BM_LiverProbeFrames(benchmark::State& st) {
     ps = vdmsim::bench_probe_scene(mesh, 60, false);
     loaded = mesh;
   }
-  ps.model.solver.threads = int(st.range(1));  // the structured solver's threads
   std::vector<double> times, cpu_times;
   double solves = 0, iterations = 0;
   for (auto _ : st) {
@@ -214,17 +213,7 @@ void BM_LiverProbeFrames(benchmark::State& st) {
   st.counters["krylov_its_per_frame"] = iterations / frames;
   st.SetLabel(std::to_string(ps.model.n) + " nodes");
 }
-// Arg 0: mesh (2: 2.5k, 10k, 40k nodes), arg 1: the structured solver's threads.
-BENCHMARK(BM_LiverProbeFrames)
-    ->Args({2, 1})
-    ->Args({10, 1})
-    ->Args({40, 1})
-    ->Args({2, 2})
-    ->Args({10, 2})
-    ->Args({40, 2})
-    ->Iterations(3)
-    ->UseManualTime()
-    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_LiverProbeFrames)->Arg(2)->Arg(10)->Arg(40)->Iterations(3)->UseManualTime()->Unit(benchmark::kMillisecond);
 
 // The contact's own cost in the bench's probe case (kinematic contact) and the same probe
 // with penalty contact: the lazy refit (ContactSettings::lazy_refit, default) and FCL's

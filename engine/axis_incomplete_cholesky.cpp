@@ -151,10 +151,9 @@ bool AxisIncompleteCholesky::load_values(const std::vector<double>& in, size_t& 
   return true;
 }
 
-template <int First, int Count>
-void AxisIncompleteCholesky::apply_pairs(const double* r, double* z, double* rz) const {
-  static_assert(First >= 0 && Count >= 1 && First + Count <= 3, "axes of 0..2");
-  constexpr int W = 2 * Count;
+template <int W>
+void AxisIncompleteCholesky::apply(const double* r, double* z, double* rz) const {
+  static_assert(W == 3 || W == 6, "blocks of 3 or 6 vectors");
   using simd::V2;
   using simd::load2;
   using simd::splat;
@@ -166,64 +165,53 @@ void AxisIncompleteCholesky::apply_pairs(const double* r, double* z, double* rz)
   const int* up_col = up_col_.data();
   const double* up_val = up_val_.data();
   const double* inv_diag = inv_diag_.data();
-  // Lanes: the two vectors of an axis (axis_matrices.hpp) share the value of L^d.
-  // Forward: L y = r (y stored in z).
-  for (int i = 0; i < n_; ++i) {
-    const double* ri = r + size_t(i) * W;
-    V2 a[Count];
-    for (int k = 0; k < Count; ++k) a[k] = load2(ri + 2 * k);
-    for (int p = lo_start[i]; p < lo_start[i + 1]; ++p) {
-      const double* v = lo_val + 3 * size_t(p) + First;
-      const double* zj = z + size_t(lo_col[p]) * W;
-      for (int k = 0; k < Count; ++k) a[k] -= splat(v[k]) * load2(zj + 2 * k);
-    }
-    const double* id = inv_diag + 3 * size_t(i) + First;
-    double* zi = z + size_t(i) * W;
-    for (int k = 0; k < Count; ++k) store2(zi + 2 * k, a[k] * splat(id[k]));
-  }
-  // Backward: L^T z = y, by the rows of L^T (a gather like the forward solve).
-  V2 d[Count];
-  for (int k = 0; k < Count; ++k) d[k] = V2{0, 0};
-  for (int i = n_ - 1; i >= 0; --i) {
-    double* zi = z + size_t(i) * W;
-    V2 a[Count];
-    for (int k = 0; k < Count; ++k) a[k] = load2(zi + 2 * k);
-    for (int p = up_start[i]; p < up_start[i + 1]; ++p) {
-      const double* v = up_val + 3 * size_t(p) + First;
-      const double* zj = z + size_t(up_col[p]) * W;
-      for (int k = 0; k < Count; ++k) a[k] -= splat(v[k]) * load2(zj + 2 * k);
-    }
-    const double* id = inv_diag + 3 * size_t(i) + First;
-    const double* ri = r + size_t(i) * W;
-    for (int k = 0; k < Count; ++k) {
-      a[k] *= splat(id[k]);
-      store2(zi + 2 * k, a[k]);
-      d[k] += load2(ri + 2 * k) * a[k];
-    }
-  }
-  for (int k = 0; k < Count; ++k) store2(rz + 2 * k, d[k]);
-}
-
-template void AxisIncompleteCholesky::apply_pairs<0, 3>(const double*, double*, double*) const;
-template void AxisIncompleteCholesky::apply_pairs<0, 2>(const double*, double*, double*) const;
-template void AxisIncompleteCholesky::apply_pairs<2, 1>(const double*, double*, double*) const;
-
-template <int W>
-void AxisIncompleteCholesky::apply(const double* r, double* z, double* rz) const {
-  static_assert(W == 3 || W == 6, "blocks of 3 or 6 vectors");
   if constexpr (W == 6) {
-    apply_pairs<0, 3>(r, z, rz);
+    // Lanes: the two vectors of an axis (axis_matrices.hpp) share the value of L^d.
+    // Forward: L y = r (y stored in z).
+    for (int i = 0; i < n_; ++i) {
+      const double* ri = r + size_t(i) * 6;
+      V2 a0 = load2(ri), a1 = load2(ri + 2), a2 = load2(ri + 4);
+      for (int p = lo_start[i]; p < lo_start[i + 1]; ++p) {
+        const double* v = lo_val + 3 * size_t(p);
+        const double* zj = z + size_t(lo_col[p]) * 6;
+        a0 -= splat(v[0]) * load2(zj);
+        a1 -= splat(v[1]) * load2(zj + 2);
+        a2 -= splat(v[2]) * load2(zj + 4);
+      }
+      const double* id = inv_diag + 3 * size_t(i);
+      double* zi = z + size_t(i) * 6;
+      store2(zi, a0 * splat(id[0]));
+      store2(zi + 2, a1 * splat(id[1]));
+      store2(zi + 4, a2 * splat(id[2]));
+    }
+    // Backward: L^T z = y, by the rows of L^T (a gather like the forward solve).
+    V2 d0 = {0, 0}, d1 = {0, 0}, d2 = {0, 0};
+    for (int i = n_ - 1; i >= 0; --i) {
+      double* zi = z + size_t(i) * 6;
+      V2 a0 = load2(zi), a1 = load2(zi + 2), a2 = load2(zi + 4);
+      for (int p = up_start[i]; p < up_start[i + 1]; ++p) {
+        const double* v = up_val + 3 * size_t(p);
+        const double* zj = z + size_t(up_col[p]) * 6;
+        a0 -= splat(v[0]) * load2(zj);
+        a1 -= splat(v[1]) * load2(zj + 2);
+        a2 -= splat(v[2]) * load2(zj + 4);
+      }
+      const double* id = inv_diag + 3 * size_t(i);
+      a0 *= splat(id[0]);
+      a1 *= splat(id[1]);
+      a2 *= splat(id[2]);
+      store2(zi, a0);
+      store2(zi + 2, a1);
+      store2(zi + 4, a2);
+      const double* ri = r + size_t(i) * 6;
+      d0 += load2(ri) * a0;
+      d1 += load2(ri + 2) * a1;
+      d2 += load2(ri + 4) * a2;
+    }
+    store2(rz, d0);
+    store2(rz + 2, d1);
+    store2(rz + 4, d2);
   } else {
-    using simd::V2;
-    using simd::load2;
-    using simd::store2;
-    const int* lo_start = lo_start_.data();
-    const int* lo_col = lo_col_.data();
-    const double* lo_val = lo_val_.data();
-    const int* up_start = up_start_.data();
-    const int* up_col = up_col_.data();
-    const double* up_val = up_val_.data();
-    const double* inv_diag = inv_diag_.data();
     // Lanes: x and y together (their values are adjacent), z alone.
     for (int i = 0; i < n_; ++i) {
       const double* ri = r + size_t(i) * 3;

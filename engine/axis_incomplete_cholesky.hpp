@@ -30,10 +30,6 @@ class AxisIncompleteCholesky {
   // z = (L L^T)^{-1} r on a block of W vectors; also rz[c] = r_c . z_c.
   template <int W>
   void apply(const double* r, double* z, double* rz) const;
-  // The same for the pairs of vectors of the Count axes First, ... (multiply_pairs's
-  // layout): each vector's arithmetic is the one it has in apply<6> (apply_pairs<0, 3>).
-  template <int First, int Count>
-  void apply_pairs(const double* r, double* z, double* rz) const;
   int size() const { return n_; }
   // The factors' values and constrained set, for state snapshots: appended to `out`; read
   // back from `in` at `pos` (advanced) after analyze() of the same pattern. False when `in`

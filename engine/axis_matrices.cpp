@@ -118,10 +118,9 @@ void AxisMatrices::gather(const AxisStiffness& K, const FlagMat& mask, const Nod
   }
 }
 
-template <int First, int Count>
-void multiply_pairs(const AxisMatrices& K, const double* x, double* y, double* dot) {
-  static_assert(First >= 0 && Count >= 1 && First + Count <= 3, "axes of 0..2");
-  constexpr int W = 2 * Count;
+template <int W>
+void multiply_block(const AxisMatrices& K, const double* x, double* y, double* dot) {
+  static_assert(W == 3 || W == 6, "blocks of 3 or 6 vectors");
   using simd::V2;
   using simd::load2;
   using simd::splat;
@@ -129,44 +128,32 @@ void multiply_pairs(const AxisMatrices& K, const double* x, double* y, double* d
   const int* col = K.col.data();
   const double* off = K.off.data();
   const double* diag = K.diag.data();
-  // Lanes: the two vectors of an axis (r^d, s^d) share the value of K^d.
-  V2 d[Count];
-  for (int k = 0; k < Count; ++k) d[k] = V2{0, 0};
-  for (int i = 0; i < K.n; ++i) {
-    const double* xi = x + size_t(i) * W;
-    const double* di = diag + 3 * size_t(i) + First;
-    V2 a[Count];
-    for (int k = 0; k < Count; ++k) a[k] = splat(di[k]) * load2(xi + 2 * k);
-    for (int p = start[i]; p < start[i + 1]; ++p) {
-      const double* v = off + 3 * size_t(p) + First;
-      const double* xj = x + size_t(col[p]) * W;
-      for (int k = 0; k < Count; ++k) a[k] += splat(v[k]) * load2(xj + 2 * k);
-    }
-    double* yi = y + size_t(i) * W;
-    for (int k = 0; k < Count; ++k) {
-      simd::store2(yi + 2 * k, a[k]);
-      d[k] += load2(xi + 2 * k) * a[k];
-    }
-  }
-  for (int k = 0; k < Count; ++k) simd::store2(dot + 2 * k, d[k]);
-}
-
-template void multiply_pairs<0, 3>(const AxisMatrices&, const double*, double*, double*);
-template void multiply_pairs<0, 2>(const AxisMatrices&, const double*, double*, double*);
-template void multiply_pairs<2, 1>(const AxisMatrices&, const double*, double*, double*);
-
-template <int W>
-void multiply_block(const AxisMatrices& K, const double* x, double* y, double* dot) {
-  static_assert(W == 3 || W == 6, "blocks of 3 or 6 vectors");
   if constexpr (W == 6) {
-    multiply_pairs<0, 3>(K, x, y, dot);
+    // Lanes: the two vectors of an axis (r^d, s^d) share the value of K^d.
+    V2 d0 = {0, 0}, d1 = {0, 0}, d2 = {0, 0};
+    for (int i = 0; i < K.n; ++i) {
+      const double* xi = x + size_t(i) * 6;
+      const double* di = diag + 3 * size_t(i);
+      V2 a0 = splat(di[0]) * load2(xi), a1 = splat(di[1]) * load2(xi + 2), a2 = splat(di[2]) * load2(xi + 4);
+      for (int p = start[i]; p < start[i + 1]; ++p) {
+        const double* v = off + 3 * size_t(p);
+        const double* xj = x + size_t(col[p]) * 6;
+        a0 += splat(v[0]) * load2(xj);
+        a1 += splat(v[1]) * load2(xj + 2);
+        a2 += splat(v[2]) * load2(xj + 4);
+      }
+      double* yi = y + size_t(i) * 6;
+      simd::store2(yi, a0);
+      simd::store2(yi + 2, a1);
+      simd::store2(yi + 4, a2);
+      d0 += load2(xi) * a0;
+      d1 += load2(xi + 2) * a1;
+      d2 += load2(xi + 4) * a2;
+    }
+    simd::store2(dot, d0);
+    simd::store2(dot + 2, d1);
+    simd::store2(dot + 4, d2);
   } else {
-    using simd::V2;
-    using simd::load2;
-    const int* start = K.start.data();
-    const int* col = K.col.data();
-    const double* off = K.off.data();
-    const double* diag = K.diag.data();
     // Lanes: x and y together (their values are adjacent), z alone.
     V2 dxy = {0, 0};
     double dz = 0;

@@ -52,11 +52,4 @@ constexpr int axis_of(int c) {
 template <int W>
 void multiply_block(const AxisMatrices& K, const double* x, double* y, double* dot);
 
-// The same for the pairs of vectors (r^d, s^d) of the Count axes d = First, ...: a block of
-// 2 Count vectors, vector 2 k + g of axis First + k. Each vector's arithmetic is the one it
-// has in multiply_block<6> (multiply_pairs<0, 3> is that kernel), so the axes can be split
-// between threads with the same bits.
-template <int First, int Count>
-void multiply_pairs(const AxisMatrices& K, const double* x, double* y, double* dot);
-
 }  // namespace vdm

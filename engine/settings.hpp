@@ -26,9 +26,6 @@ struct SolverSettings {
   // error drops quadratically. 0 corrections = the paper's single linearised row.
   int volume_corrections = 6;
   double volume_tolerance = 1e-11;     // relative volume error that needs no correction
-  // Threads of the structured solver: 2 solves the x and y axes on a second thread while
-  // the calling thread solves z (the same bits as 1: the axes' solves are independent).
-  int threads = 1;
 };
 
 }  // namespace vdm

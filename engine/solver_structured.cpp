@@ -22,7 +22,6 @@
 #include "engine/block_pcg.hpp"
 #include "engine/linear_solver.hpp"
 #include "engine/node_ordering.hpp"
-#include "engine/worker_thread.hpp"
 
 namespace vdm {
 namespace {
@@ -61,14 +60,6 @@ class StructuredSolver final : public LinearSolver {
     b_.assign(6 * size_t(n_), 0.0);
     x_.assign(6 * size_t(n_), 0.0);
     work_.resize(6 * size_t(n_));
-    if (settings_.threads >= 2) {
-      for (Group& g : groups_) {
-        g.b.assign(2 * size_t(g.count) * size_t(n_), 0.0);
-        g.x.assign(2 * size_t(g.count) * size_t(n_), 0.0);
-        g.work.resize(2 * size_t(g.count) * size_t(n_));
-      }
-      if (!worker_) worker_ = std::make_unique<WorkerThread>();
-    }
   }
 
   const NodeMat& pressure_response(const NodeMat& a) override {
@@ -160,7 +151,7 @@ class StructuredSolver final : public LinearSolver {
     rep.factorizations = pending_factorizations_;
     pending_factorizations_ = 0;
     const bool new_s = volume_constraint && !s_valid_;
-    const BlockReport br = !new_s ? solve_block<3>(&rhs, nullptr) : worker_ ? solve_split(rhs, a) : solve_block<6>(&rhs, &a);
+    const BlockReport br = new_s ? solve_block<6>(&rhs, &a) : solve_block<3>(&rhs, nullptr);
     rep.iterations = br.iterations;
     rep.converged = br.converged;
     if (new_s) {  // the first solve on new matrices: the one that tells how well the factors fit
@@ -233,87 +224,6 @@ class StructuredSolver final : public LinearSolver {
     return rep;
   }
 
-  // The block of six (r and s on the three axes) as two groups of axes, x and y on the
-  // worker thread and z on this one, each its own block PCG: every column's arithmetic is
-  // that of solve_block<6> (multiply_pairs, apply_pairs), so the results are the same bits.
-  struct Group {
-    int first = 0, count = 0;  // axes [first, first + count)
-    std::vector<double> b, x;  // 2 count per row: r^d, s^d of each axis
-    BlockPcgWorkspace work;
-    BlockReport report;
-  };
-  struct SplitJob {
-    StructuredSolver* solver;
-    const NodeMat* rhs;
-    const NodeMat* a;
-  };
-
-  template <int First, int Count>
-  void solve_group(Group& g, const NodeMat& rhs, const NodeMat& a) {
-    constexpr int W = 2 * Count;
-    const NodeMat* src[2] = {&rhs, &a};
-    const std::vector<double>* warm[2] = {&rp_, &sp_};
-    double threshold[W];
-    for (int k = 0; k < 2; ++k) {
-      // Threshold of the whole right-hand side (all axes), as solve_block's.
-      const double t = settings_.tolerance * src[k]->norm() / std::sqrt(3.0);
-      for (int c = 0; c < Count; ++c) threshold[2 * c + k] = t;
-      for (int c = 0; c < Count; ++c) {
-        const double* bc = src[k]->col(First + c).data();
-        for (int node = 0; node < n_; ++node) g.b[size_t(iperm_[size_t(node)]) * W + size_t(2 * c + k)] = bc[node];
-      }
-      const double* x0 = warm[k]->data();
-      for (size_t i = 0; i < size_t(n_); ++i)
-        for (int c = 0; c < Count; ++c)
-          g.x[i * W + size_t(2 * c + k)] = settings_.warm_start ? x0[3 * i + size_t(First + c)] : 0.0;
-    }
-    const AxisMatrices& K = K_;
-    const AxisIncompleteCholesky& ic = ic_;
-    auto op = [&K](const double* in, double* res, double* dot) { multiply_pairs<First, Count>(K, in, res, dot); };
-    auto pre = [&ic](const double* in, double* res, double* dot) { ic.apply_pairs<First, Count>(in, res, dot); };
-    std::array<KrylovResult, W> kr;
-    block_pcg<W>(op, pre, n_, g.b.data(), g.x.data(), threshold, settings_.max_iterations, g.work, kr);
-    g.report = BlockReport();
-    for (const KrylovResult& k : kr) {
-      g.report.iterations += k.iterations;
-      g.report.converged = g.report.converged && k.converged;
-    }
-  }
-
-  static void run_xy(void* job) {
-    SplitJob& j = *static_cast<SplitJob*>(job);
-    j.solver->solve_group<0, 2>(j.solver->groups_[0], *j.rhs, *j.a);
-  }
-
-  BlockReport solve_split(const NodeMat& rhs, const NodeMat& a) {
-    SplitJob job{this, &rhs, &a};
-    worker_->run(&StructuredSolver::run_xy, &job);
-    solve_group<2, 1>(groups_[1], rhs, a);
-    worker_->wait();
-    // Out: warm starts (solver order, 3 per row) and r, s in node order.
-    BlockReport rep;
-    for (const Group& g : groups_) {
-      rep.iterations += g.report.iterations;
-      rep.converged = rep.converged && g.report.converged;
-      const size_t W = 2 * size_t(g.count);
-      for (int c = 0; c < g.count; ++c) {
-        const int d = g.first + c;
-        double* r_out = r_.col(d).data();
-        double* s_out = s_.col(d).data();
-        for (size_t i = 0; i < size_t(n_); ++i) {
-          rp_[3 * i + size_t(d)] = g.x[i * W + size_t(2 * c)];
-          sp_[3 * i + size_t(d)] = g.x[i * W + size_t(2 * c + 1)];
-        }
-        for (int node = 0; node < n_; ++node) {
-          const size_t i = size_t(iperm_[size_t(node)]);
-          r_out[node] = g.x[i * W + size_t(2 * c)];
-          s_out[node] = g.x[i * W + size_t(2 * c + 1)];
-        }
-      }
-    }
-    return rep;
-  }
-
   SolverSettings settings_;
   int n_ = 0;
   std::vector<int> perm_;        // solver index -> node (reverse Cuthill-McKee)
@@ -326,8 +236,6 @@ class StructuredSolver final : public LinearSolver {
   BlockPcgWorkspace work_;
   bool s_valid_ = false;
   int pending_factorizations_ = 0;
-  Group groups_[2] = {{0, 2, {}, {}, {}, {}}, {2, 1, {}, {}, {}, {}}};  // x and y (worker), z (caller)
-  std::unique_ptr<WorkerThread> worker_;  // settings_.threads >= 2
   // Preconditioner reuse: the constrained set of the factors, matrix changes since they were
   // made, the iterations of the first solve with them, whether to refactorise next time.
   FlagMat factor_mask_;

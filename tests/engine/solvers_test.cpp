@@ -195,31 +195,5 @@ TEST(StructuredSolver, ReusesItsPreconditionerAcrossStepsAndSmallConstraintChang
   EXPECT_EQ(factorizations, (std::vector<int>{3, 0, 0, 0, 0, 0}));
 }
 
-// With two threads the x and y axes are solved on a second thread while z is solved on the
-// calling one, each group its own block PCG with the kernels' per-vector arithmetic: the same
-// bits as one thread, step after step (pressing, then a change of the constrained set).
-TEST(StructuredSolver, TwoThreadsGiveTheSameBitsAsOne) {
-  TissueDef d = scenario::cube_on_table(0.1, 5, SolverMethod::structured);
-  d.solver.tolerance = 1e-6;
-  TissueDef d2 = d;
-  d2.solver.threads = 2;
-  const TissueModel m1 = build(d), m2 = build(d2);
-  SimState s1 = make_sim_state(m1), s2 = make_sim_state(m2);
-  StepInput in = make_step_input(m1);
-  for (int k = 1; k <= 8; ++k) {
-    scenario::press_top(m1, 0.1, -0.003 * k, in);
-    if (k == 6)
-      for (int i = 0; i < m1.n; i += 7) in.prescribed(i, 0) = 1;  // more entries held on x
-    step(m1, in, s1);
-    step(m2, in, s2);
-    ASSERT_FALSE(s1.failed) << s1.failure;
-    EXPECT_GT(s1.stats.iterations, 0) << "step " << k;
-    EXPECT_EQ(s1.stats.iterations, s2.stats.iterations) << "step " << k;
-    EXPECT_EQ(s1.pressure, s2.pressure) << "step " << k;
-    EXPECT_EQ((s1.u - s2.u).cwiseAbs().maxCoeff(), 0.0) << "step " << k;
-  }
-  EXPECT_GT(s1.u.cwiseAbs().maxCoeff(), 0.02);
-}
-
 }  // namespace
 }  // namespace vdm
