@@ -308,8 +308,11 @@ SimState make_sim_state(const TissueModel& m) {
   w->start.u = NodeMat::Zero(n, 3);
   w->u_new = NodeMat::Zero(n, 3);
   w->x_refresh = m.rest.positions;
-  w->start.x_refresh = m.rest.positions;
-  w->residual_prev = NodeMat::Zero(n, 3);
+  // Only what the settings use: the rewind point's geometry positions (kept when the step
+  // refreshes inside itself between periodic refreshes) and Aitken's last residual.
+  const bool nonlinear = m.solver.nonlinear_iterations > 1;
+  if (nonlinear && m.solver.refresh_every > 1) w->start.x_refresh = m.rest.positions;
+  if (nonlinear) w->residual_prev = NodeMat::Zero(n, 3);
   w->start.velocity = NodeMat::Zero(n, 3);
   if (m.use_inertia) w->extra_diagonal = Vec::Zero(n);
   w->scratch = Vec::Zero(n);

@@ -14,7 +14,7 @@ namespace vdm {
 // Where a step started: what rewind_step() brings back.
 struct StepStart {
   NodeMat u, velocity;
-  NodeMat x_refresh;  // positions of the geometry then (kept when refresh_every > 1 and nonlinear_iterations > 1)
+  NodeMat x_refresh;  // positions of the geometry then (kept, and sized, when refresh_every > 1 and nonlinear_iterations > 1)
   double pressure = 0, time = 0;
   long step = 0;
   int since_refresh = 0;  // steps_since_refresh then
@@ -33,7 +33,7 @@ struct StepWorkspace {
   NodeMat rhs;                    // eliminated right-hand side
   NodeMat u_new;                  // solver output
   NodeMat x_refresh;              // positions at the last refresh: the geometry of K, A, V_i, loads
-  NodeMat residual_prev;          // previous fixed-point residual (Aitken relaxation)
+  NodeMat residual_prev;          // previous fixed-point residual (Aitken relaxation; nonlinear_iterations > 1 only)
   StepStart start;                // the start of the current step, for rewind_step()
   bool refreshed_in_step = false;
   bool rewound = false;           // rewind_step() since the last step (the next may find its geometry current)
