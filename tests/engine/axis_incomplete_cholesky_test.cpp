@@ -93,13 +93,7 @@ TEST(AxisIncompleteCholesky, ModifiedFactorisationKeepsTheRowSums) {
 TEST(AxisIncompleteCholesky, FittedToAnotherConstrainedSetPreconditionsItsSystem) {
   const axis_test::System s = axis_test::make_system();
   const TissueModel& m = s.model;
-  NodeMat a(m.n, 3);
-  Vec v(m.n), norms(m.n), scratch(m.n);
-  distributed_area_vectors(m.rest.positions, m.rest.triangles, a);
-  distributed_volumes(a, enclosed_volume(m.rest.positions, m.rest.triangles, m.origin), v);
-  for (int i = 0; i < m.n; ++i) norms[i] = a.row(i).norm();
-  AxisStiffness k{Vec(Eigen::Index(m.edges.size())), NodeMat(m.n, 3)};
-  assemble_stiffness(m, a, norms, v, Vec(), k, scratch);
+  const AxisStiffness k = axis_test::edge_stiffness(m);
   // Before: the bottom cap held. After: part of it freed, a patch on top pressed (z only).
   FlagMat before(m.n, 3), after(m.n, 3);
   int differ = 0;

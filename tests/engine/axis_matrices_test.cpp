@@ -47,13 +47,7 @@ TEST(AxisMatrices, BlockProductMatchesEachAxisInThePermutedOrder) {
 TEST(AxisMatrices, GatherFromEdgeWeightsEliminatesTheConstrainedEntries) {
   const axis_test::System s = axis_test::make_system();
   const TissueModel& m = s.model;
-  NodeMat a(m.n, 3);
-  Vec v(m.n), norms(m.n), scratch(m.n);
-  distributed_area_vectors(m.rest.positions, m.rest.triangles, a);
-  distributed_volumes(a, enclosed_volume(m.rest.positions, m.rest.triangles, m.origin), v);
-  for (int i = 0; i < m.n; ++i) norms[i] = a.row(i).norm();
-  AxisStiffness k{Vec(Eigen::Index(m.edges.size())), NodeMat(m.n, 3)};
-  assemble_stiffness(m, a, norms, v, Vec(), k, scratch);
+  const AxisStiffness k = axis_test::edge_stiffness(m);
   std::array<SpMat, 3> full = {m.pattern.matrix, m.pattern.matrix, m.pattern.matrix};
   to_sparse(m.pattern, k, full);
   // The system's masks (bottom cap on every axis, a band on y), and another one to gather first.

@@ -61,4 +61,16 @@ inline SpMat permuted(const SpMat& K, const std::vector<int>& perm) {
   return P;
 }
 
+// The model's K^x, K^y, K^z at rest as the step keeps them: edge weights and diagonals.
+inline AxisStiffness edge_stiffness(const TissueModel& m) {
+  NodeMat a(m.n, 3);
+  Vec v(m.n), norms(m.n), scratch(m.n);
+  distributed_area_vectors(m.rest.positions, m.rest.triangles, a);
+  distributed_volumes(a, enclosed_volume(m.rest.positions, m.rest.triangles, m.origin), v);
+  for (int i = 0; i < m.n; ++i) norms[i] = a.row(i).norm();
+  AxisStiffness k{Vec(Eigen::Index(m.edges.size())), NodeMat(m.n, 3)};
+  assemble_stiffness(m, a, norms, v, Vec(), k, scratch);
+  return k;
+}
+
 }  // namespace vdm::axis_test
