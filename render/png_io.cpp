@@ -87,23 +87,27 @@ bool put_chunk(std::FILE* f, const char* type, const std::uint8_t* data, size_t 
          std::fwrite(tail, 1, 4, f) == 4;
 }
 
-// The PNG rows (filter byte 0, then RGB) written over the image's own RGBA buffer, which is
-// large enough: row y starts at y (1 + 3 w) <= 4 w y, and within a row each pixel's three
-// bytes land before the next unread pixel; the filter byte goes in once its row is moved (in
-// row 0 it is pixel 0's red).
-void pack_rows_in_place(Image& image) {
-  const size_t w = static_cast<size_t>(image.width), h = static_cast<size_t>(image.height), stride = 1 + 3 * w;
-  std::uint8_t* const p = image.rgba.data();
+// The PNG rows (filter byte 0, then RGB or RGBA) of the w x h RGBA pixels into `out`. RGB
+// may be written over the pixels themselves (out == rgba), whose buffer is large enough: row
+// y starts at y (1 + 3 w) <= 4 w y, and within a row each pixel's three bytes land before the
+// next unread pixel; the filter byte goes in once its row is moved (in row 0 it is pixel 0's
+// red).
+void pack_rows(const std::uint8_t* rgba, size_t w, size_t h, bool alpha, std::uint8_t* out) {
+  const size_t stride = 1 + (alpha ? 4 : 3) * w;
   for (size_t y = 0; y < h; ++y) {
-    std::uint8_t* d = p + y * stride + 1;
-    const std::uint8_t* s = p + y * w * 4;
-    for (size_t x = 0; x < w; ++x, d += 3, s += 4) {
-      const std::uint8_t r = s[0], g = s[1], b = s[2];
-      d[0] = r;
-      d[1] = g;
-      d[2] = b;
+    std::uint8_t* d = out + y * stride + 1;
+    const std::uint8_t* s = rgba + y * w * 4;
+    if (alpha) {
+      std::copy(s, s + 4 * w, d);
+    } else {
+      for (size_t x = 0; x < w; ++x, d += 3, s += 4) {
+        const std::uint8_t r = s[0], g = s[1], bl = s[2];
+        d[0] = r;
+        d[1] = g;
+        d[2] = bl;
+      }
     }
-    p[y * stride] = 0;  // filter: none
+    out[y * stride] = 0;  // filter: none
   }
 }
 
@@ -131,26 +135,13 @@ bool encode_fast(std::FILE* f, const Image& image, Image* spend, int level, bool
   const size_t w = static_cast<size_t>(image.width), h = static_cast<size_t>(image.height);
   const size_t channels = alpha ? 4 : 3, stride = 1 + channels * w;
   const std::uint8_t* rows = nullptr;
-  if (spend && !alpha) {
-    pack_rows_in_place(*spend);
+  if (spend && !alpha) {  // the rows over the image's own pixels
+    pack_rows(spend->rgba.data(), w, h, false, spend->rgba.data());
     rows = spend->rgba.data();
   } else {
     raw.resize(stride * h);
+    pack_rows(image.rgba.data(), w, h, alpha, raw.data());
     rows = raw.data();
-  }
-  for (size_t y = 0; y < h && rows == raw.data(); ++y) {
-    std::uint8_t* d = &raw[y * stride];
-    const std::uint8_t* s = &image.rgba[y * w * 4];
-    *d++ = 0;  // filter: none
-    if (alpha) {
-      std::copy(s, s + 4 * w, d);
-    } else {
-      for (size_t x = 0; x < w; ++x, d += 3, s += 4) {
-        d[0] = s[0];
-        d[1] = s[1];
-        d[2] = s[2];
-      }
-    }
   }
   // Renders compress to well under a quarter of their raw size: a buffer of that size, and
   // the worst-case bound only for an image that does not fit (compressed again).
