@@ -60,8 +60,15 @@ int AxisIncompleteCholesky::factorize(const AxisMatrices& K, double omega) {
   int repaired = 0;
   double* L = lo_val_.data();
   double* wd = work_diag_.data();
-  for (size_t p = 0; p < lo_src_.size(); ++p)
-    for (size_t d = 0; d < 3; ++d) L[3 * p + d] = K.off[3 * size_t(lo_src_[p]) + d];
+  // K's lower values, zero in the rows and columns of the constrained entries.
+  const std::uint8_t* rm = K.row_mask.data();
+  for (int i = 0; i < n_; ++i)
+    for (int p = lo_start_[size_t(i)]; p < lo_start_[size_t(i) + 1]; ++p) {
+      const double v = K.off[size_t(lo_src_[size_t(p)])];
+      const std::uint8_t* mi = rm + 3 * size_t(i);
+      const std::uint8_t* mj = rm + 3 * size_t(lo_col_[size_t(p)]);
+      for (size_t d = 0; d < 3; ++d) L[3 * size_t(p) + d] = (mi[d] | mj[d]) ? 0.0 : v;
+    }
   for (size_t k = 0; k < 3 * size_t(n_); ++k) wd[k] = K.diag[k];
   const int* target = update_target_.data();
   for (int k = 0; k < n_; ++k) {
@@ -100,13 +107,11 @@ int AxisIncompleteCholesky::factorize(const AxisMatrices& K, double omega) {
     }
   }
   copy_to_upper();
-  if (K.row_mask.size() == mask_.size()) std::copy(K.row_mask.begin(), K.row_mask.end(), mask_.begin());
-  else std::fill(mask_.begin(), mask_.end(), std::uint8_t(0));
+  std::copy(K.row_mask.begin(), K.row_mask.end(), mask_.begin());
   return repaired;
 }
 
 int AxisIncompleteCholesky::fit_to_mask(const AxisMatrices& K) {
-  if (K.row_mask.size() != mask_.size()) return 0;
   int changed = 0;
   double* L = lo_val_.data();
   for (int i = 0; i < n_; ++i)

@@ -1,6 +1,7 @@
 #pragma once
 // Zero-fill incomplete Cholesky of the three per-axis matrices at once (AxisMatrices: one
-// pattern, three values per entry), K^d ~ L^d (L^d)^T. With omega = 0 the same factorisation
+// pattern, one value per entry and a constrained set per axis), K^d ~ L^d (L^d)^T (three
+// values per entry of L). With omega = 0 the same factorisation
 // as IncompleteCholesky, per axis; with omega > 0 the modified one (see factorize()). The
 // index work is shared, and apply() solves a block of W vectors (vector c with axis
 // axis_of<W>(c)) in one forward and one backward sweep. analyze() allocates; factorize()

@@ -8,71 +8,48 @@
 
 namespace vdm {
 
-void AxisMatrices::analyze(const SpMat& pattern, const std::vector<int>& perm) {
-  n = static_cast<int>(pattern.cols());
+void AxisMatrices::analyze(const StiffnessPattern& pattern, const std::vector<int>& perm) {
+  const SpMat& m = pattern.matrix;
+  n = static_cast<int>(m.cols());
   std::vector<int> iperm(static_cast<size_t>(n));
   for (int i = 0; i < n; ++i) iperm[size_t(perm.empty() ? i : perm[size_t(i)])] = i;
-  const int* outer = pattern.outerIndexPtr();
-  const int* inner = pattern.innerIndexPtr();
+  // The edge of each of the pattern's value slots (-1: a diagonal).
+  std::vector<int> slot_edge(size_t(m.nonZeros()), -1);
+  for (size_t e = 0; e < pattern.edge_slot.size(); ++e)
+    slot_edge[size_t(pattern.edge_slot[e][0])] = slot_edge[size_t(pattern.edge_slot[e][1])] = int(e);
+  const int* outer = m.outerIndexPtr();
+  const int* inner = m.innerIndexPtr();
   start.assign(size_t(n) + 1, 0);
   col.clear();
-  off_src.clear();
-  diag_src.assign(size_t(n), -1);
-  std::vector<std::pair<int, int>> row;  // (column here, value index in the source)
+  off_edge.clear();
+  std::vector<std::pair<int, int>> row;  // (column here, edge)
   for (int i = 0; i < n; ++i) {
     const int node = perm.empty() ? i : perm[size_t(i)];
     row.clear();
+    bool has_diagonal = false;
     // K is symmetric: row `node` is column `node`.
     for (int k = outer[node]; k < outer[node + 1]; ++k) {
-      if (inner[k] == node) diag_src[size_t(i)] = k;
-      else row.emplace_back(iperm[size_t(inner[k])], k);
+      if (inner[k] == node) {
+        has_diagonal = true;
+        continue;
+      }
+      if (slot_edge[size_t(k)] < 0) throw std::invalid_argument("AxisMatrices: an off-diagonal entry without its edge");
+      row.emplace_back(iperm[size_t(inner[k])], slot_edge[size_t(k)]);
     }
-    if (diag_src[size_t(i)] < 0) throw std::invalid_argument("AxisMatrices: the pattern lacks a diagonal entry");
+    if (!has_diagonal) throw std::invalid_argument("AxisMatrices: the pattern lacks a diagonal entry");
     std::sort(row.begin(), row.end());
     for (const auto& e : row) {
       col.push_back(e.first);
-      off_src.push_back(e.second);
+      off_edge.push_back(e.second);
     }
     start[size_t(i) + 1] = static_cast<int>(col.size());
   }
-  off.assign(3 * col.size(), 0.0);
+  off.assign(col.size(), 0.0);
   diag.assign(3 * size_t(n), 0.0);
   row_of = iperm;
   row_mask.assign(3 * size_t(n), 0);
   held_rows.assign(size_t(n), 0);
-}
-
-void AxisMatrices::gather(const std::array<SpMat, 3>& K) {
-  const double* v0 = K[0].valuePtr();
-  const double* v1 = K[1].valuePtr();
-  const double* v2 = K[2].valuePtr();
-  for (size_t e = 0; e < off_src.size(); ++e) {
-    const int k = off_src[e];
-    off[3 * e] = v0[k];
-    off[3 * e + 1] = v1[k];
-    off[3 * e + 2] = v2[k];
-  }
-  for (size_t i = 0; i < diag_src.size(); ++i) {
-    const int k = diag_src[i];
-    diag[3 * i] = v0[k];
-    diag[3 * i + 1] = v1[k];
-    diag[3 * i + 2] = v2[k];
-  }
-}
-
-void AxisMatrices::analyze(const StiffnessPattern& pattern, const std::vector<int>& perm) {
-  analyze(pattern.matrix, perm);
-  std::vector<int> slot_edge(size_t(pattern.matrix.nonZeros()), -1);
-  for (size_t e = 0; e < pattern.edge_slot.size(); ++e)
-    slot_edge[size_t(pattern.edge_slot[e][0])] = slot_edge[size_t(pattern.edge_slot[e][1])] = int(e);
-  off_edge.resize(off_src.size());
-  for (size_t p = 0; p < off_src.size(); ++p) {
-    off_edge[p] = slot_edge[size_t(off_src[p])];
-    if (off_edge[p] < 0) throw std::invalid_argument("AxisMatrices: an off-diagonal entry without its edge");
-  }
-  // The SpMat sources are not used with a StiffnessPattern (its gather() reads off_edge).
-  std::vector<int>().swap(off_src);
-  std::vector<int>().swap(diag_src);
+  partial_count = 0;
 }
 
 void AxisMatrices::gather(const AxisStiffness& K, const FlagMat& mask, const NodeMat* springs) {
@@ -84,39 +61,74 @@ void AxisMatrices::gather(const AxisStiffness& K, const FlagMat& mask, const Nod
   const double* sd[3] = {nullptr, nullptr, nullptr};
   if (springs)
     for (int d = 0; d < 3; ++d) sd[d] = springs->col(d).data();
-  size_t held = 0;
+  int held = 0, partial = 0;  // rows constrained on all axes (from the end), on some
   for (int v = 0; v < n; ++v) {
     const size_t i = size_t(row_of[size_t(v)]);
-    std::uint8_t any = 0;
+    int count = 0;
     for (int d = 0; d < 3; ++d) {
       const std::uint8_t h = md[d][v] != 0;
       rm[3 * i + size_t(d)] = h;
       diag[3 * i + size_t(d)] = h ? 1.0 : kd[d][v] + (springs ? sd[d][v] : 0.0);
-      any |= h;
+      count += h;
     }
-    if (any) held_rows[held++] = int(i);
+    if (count == 3) held_rows[size_t(n - 1 - held++)] = int(i);
+    else if (count > 0) held_rows[size_t(partial++)] = int(i);
   }
-  // Every entry unmasked, then the rows and columns of the constrained entries (few: the
-  // held and prescribed nodes) zeroed on their axes.
+  partial_count = partial;
+  // One value per entry for the three axes; the rows and columns of the nodes constrained on
+  // every axis (most of the constrained ones: held and prescribed nodes) zeroed here, those
+  // of a node constrained on some axes only left to the kernels (multiply_block, the
+  // factorisation).
   const double* weight = K.weight.data();
-  for (size_t p = 0; p < off_edge.size(); ++p) {
-    const double v = -weight[off_edge[p]];
-    off[3 * p] = off[3 * p + 1] = off[3 * p + 2] = v;
-  }
-  for (size_t k = 0; k < held; ++k) {
-    const int i = held_rows[k];
-    const std::uint8_t* mi = rm + 3 * size_t(i);
+  const int* edge = off_edge.data();
+  double* o = off.data();
+  for (size_t p = 0; p < off.size(); ++p) o[p] = -weight[edge[p]];
+  for (int k = n - held; k < n; ++k) {
+    const int i = held_rows[size_t(k)];
     for (int p = start[size_t(i)]; p < start[size_t(i) + 1]; ++p) {
       const int j = col[size_t(p)];
+      o[p] = 0.0;
       for (int q = start[size_t(j)]; q < start[size_t(j) + 1]; ++q)
         if (col[size_t(q)] == i) {
-          for (int d = 0; d < 3; ++d)
-            if (mi[d]) off[3 * size_t(p) + size_t(d)] = off[3 * size_t(q) + size_t(d)] = 0.0;
+          o[q] = 0.0;
           break;
         }
     }
   }
 }
+
+namespace {
+
+// After the product with the stored values: the rows and columns of the entries constrained
+// on some axes only (rare) made the identity's on those axes. Row i of K^d keeps its diagonal
+// term alone; column i's terms leave the free rows' sums; dot follows.
+template <int W>
+void eliminate_constrained(const AxisMatrices& K, const double* x, double* y, double* dot) {
+  constexpr int G = W / 3;
+  for (int k = 0; k < K.partial_count; ++k) {
+    const int i = K.held_rows[size_t(k)];
+    for (int d = 0; d < 3; ++d) {
+      if (!K.constrained(i, d)) continue;
+      for (int g = 0; g < G; ++g) {
+        const size_t c = size_t(d * G + g);
+        const double xi = x[size_t(i) * W + c];
+        double& yi = y[size_t(i) * W + c];
+        const double now = K.diag[3 * size_t(i) + size_t(d)] * xi;
+        dot[c] += xi * (now - yi);
+        yi = now;
+        for (int p = K.start[size_t(i)]; p < K.start[size_t(i) + 1]; ++p) {
+          const int j = K.col[size_t(p)];
+          if (K.constrained(j, d)) continue;  // its own row is the identity's (or zeroed)
+          const double t = K.off[size_t(p)] * xi;
+          y[size_t(j) * W + c] -= t;
+          dot[c] -= x[size_t(j) * W + c] * t;
+        }
+      }
+    }
+  }
+}
+
+}  // namespace
 
 template <int W>
 void multiply_block(const AxisMatrices& K, const double* x, double* y, double* dot) {
@@ -129,18 +141,18 @@ void multiply_block(const AxisMatrices& K, const double* x, double* y, double* d
   const double* off = K.off.data();
   const double* diag = K.diag.data();
   if constexpr (W == 6) {
-    // Lanes: the two vectors of an axis (r^d, s^d) share the value of K^d.
+    // Lanes: the two vectors of an axis (r^d, s^d); one value for the six.
     V2 d0 = {0, 0}, d1 = {0, 0}, d2 = {0, 0};
     for (int i = 0; i < K.n; ++i) {
       const double* xi = x + size_t(i) * 6;
       const double* di = diag + 3 * size_t(i);
       V2 a0 = splat(di[0]) * load2(xi), a1 = splat(di[1]) * load2(xi + 2), a2 = splat(di[2]) * load2(xi + 4);
       for (int p = start[i]; p < start[i + 1]; ++p) {
-        const double* v = off + 3 * size_t(p);
+        const V2 v = splat(off[p]);
         const double* xj = x + size_t(col[p]) * 6;
-        a0 += splat(v[0]) * load2(xj);
-        a1 += splat(v[1]) * load2(xj + 2);
-        a2 += splat(v[2]) * load2(xj + 4);
+        a0 += v * load2(xj);
+        a1 += v * load2(xj + 2);
+        a2 += v * load2(xj + 4);
       }
       double* yi = y + size_t(i) * 6;
       simd::store2(yi, a0);
@@ -163,10 +175,10 @@ void multiply_block(const AxisMatrices& K, const double* x, double* y, double* d
       V2 axy = load2(di) * load2(xi);
       double az = di[2] * xi[2];
       for (int p = start[i]; p < start[i + 1]; ++p) {
-        const double* v = off + 3 * size_t(p);
+        const double v = off[p];
         const double* xj = x + size_t(col[p]) * 3;
-        axy += load2(v) * load2(xj);
-        az += v[2] * xj[2];
+        axy += splat(v) * load2(xj);
+        az += v * xj[2];
       }
       double* yi = y + size_t(i) * 3;
       simd::store2(yi, axy);
@@ -177,6 +189,7 @@ void multiply_block(const AxisMatrices& K, const double* x, double* y, double* d
     simd::store2(dot, dxy);
     dot[2] = dz;
   }
+  eliminate_constrained<W>(K, x, y, dot);
 }
 
 template void multiply_block<3>(const AxisMatrices&, const double*, double*, double*);

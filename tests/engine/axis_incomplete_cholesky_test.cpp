@@ -36,8 +36,7 @@ void check_apply(const axis_test::System& s, const AxisIncompleteCholesky& ic) {
 TEST(AxisIncompleteCholesky, EachAxisIsTheSingleAxisFactorisation) {
   const axis_test::System s = axis_test::make_system();
   AxisMatrices K;
-  K.analyze(s.model.pattern.matrix, s.perm);
-  K.gather(s.K);
+  axis_test::gather(s, K);
   AxisIncompleteCholesky ic;
   ic.analyze(K);
   EXPECT_EQ(ic.factorize(K), 0);  // M-matrices: no pivot repaired
@@ -49,10 +48,11 @@ TEST(AxisIncompleteCholesky, NonPositivePivotsAreRepairedAndCountedAsForOneAxis)
   axis_test::System s = axis_test::make_system();
   // One node's K^z diagonal made negative: that pivot and some after it are repaired.
   const int node = s.perm[5];
+  ASSERT_FALSE(s.mask(node, 2));
   s.K[2].coeffRef(node, node) = -1.0;
   AxisMatrices K;
-  K.analyze(s.model.pattern.matrix, s.perm);
-  K.gather(s.K);
+  axis_test::gather(s, K);
+  K.diag[3 * 5 + 2] = -1.0;  // row 5 here is that node
   AxisIncompleteCholesky ic;
   ic.analyze(K);
   const SpMat P = axis_test::permuted(s.K[2], s.perm);
@@ -69,8 +69,7 @@ TEST(AxisIncompleteCholesky, NonPositivePivotsAreRepairedAndCountedAsForOneAxis)
 TEST(AxisIncompleteCholesky, ModifiedFactorisationKeepsTheRowSums) {
   const axis_test::System s = axis_test::make_system();
   AxisMatrices K;
-  K.analyze(s.model.pattern.matrix, s.perm);
-  K.gather(s.K);
+  axis_test::gather(s, K);
   const int n = s.model.n;
   std::vector<double> ones(3 * size_t(n), 1.0), k1(3 * size_t(n)), z(3 * size_t(n));
   double dot[3];

@@ -16,8 +16,7 @@ struct Fixture {
   AxisMatrices K;
   AxisIncompleteCholesky ic;
   Fixture() {
-    K.analyze(s.model.pattern.matrix, s.perm);
-    K.gather(s.K);
+    axis_test::gather(s, K);
     ic.analyze(K);
     ic.factorize(K);
   }
@@ -110,8 +109,9 @@ TEST(BlockPcg, ZeroAndSolvedColumnsAreLeftAlone) {
 TEST(BlockPcg, AnIndefiniteColumnBreaksDownAloneAndTheOthersConverge) {
   Fixture f;
   const int n = f.s.model.n, W = 3;
-  // K^y made negative definite: PCG breaks down on it at once.
-  for (size_t e = 0; e < f.K.off.size() / 3; ++e) f.K.off[3 * e + 1] = -f.K.off[3 * e + 1];
+  // K^y's diagonal made negative (its off-diagonal values, shared with the other axes, are
+  // negative too): K^y is negative definite along the preconditioned residual of b = 1 (a
+  // positive vector, the factors being of an M-matrix), and PCG breaks down on it at once.
   for (int i = 0; i < n; ++i) f.K.diag[3 * size_t(i) + 1] = -f.K.diag[3 * size_t(i) + 1];
   std::vector<double> b(size_t(n) * W, 1.0), x(size_t(n) * W, 0.0);
   const double t = 1e-8 * std::sqrt(double(n));

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <vector>
 
+#include "engine/axis_matrices.hpp"
 #include "engine/geometry.hpp"
 #include "engine/shapes.hpp"
 #include "engine/stiffness.hpp"
@@ -13,9 +14,23 @@
 
 namespace vdm::axis_test {
 
+// The model's K^x, K^y, K^z at rest as the step keeps them: edge weights and diagonals.
+inline AxisStiffness edge_stiffness(const TissueModel& m) {
+  NodeMat a(m.n, 3);
+  Vec v(m.n), norms(m.n), scratch(m.n);
+  distributed_area_vectors(m.rest.positions, m.rest.triangles, a);
+  distributed_volumes(a, enclosed_volume(m.rest.positions, m.rest.triangles, m.origin), v);
+  for (int i = 0; i < m.n; ++i) norms[i] = a.row(i).norm();
+  AxisStiffness k{Vec(Eigen::Index(m.edges.size())), NodeMat(m.n, 3)};
+  assemble_stiffness(m, a, norms, v, Vec(), k, scratch);
+  return k;
+}
+
 struct System {
   TissueModel model;
   std::array<SpMat, 3> K;   // masked per axis
+  AxisStiffness k;          // the same unmasked, as edge weights and diagonals
+  FlagMat mask;             // the constrained entries (N x 3)
   std::vector<int> perm;    // solver index -> node
 };
 
@@ -32,13 +47,14 @@ inline System make_system() {
   distributed_volumes(a, enclosed_volume(m.rest.positions, m.rest.triangles, m.origin), v);
   std::array<SpMat, 3> full = {m.pattern.matrix, m.pattern.matrix, m.pattern.matrix};
   assemble_stiffness(m, a, v, Vec(), full);
+  s.k = edge_stiffness(m);
+  s.mask = FlagMat::Zero(m.n, 3);
   for (int d = 0; d < 3; ++d) {
-    std::vector<std::uint8_t> mask(size_t(m.n), 0);
     // The bottom cap held on every axis, a band held on y only.
     for (int i = 0; i < m.n; ++i)
-      mask[size_t(i)] = m.rest.positions(i, 2) < -0.025 || (d == 1 && std::abs(m.rest.positions(i, 0)) < 0.005);
+      s.mask(i, d) = m.rest.positions(i, 2) < -0.025 || (d == 1 && std::abs(m.rest.positions(i, 0)) < 0.005);
     s.K[size_t(d)] = m.pattern.matrix;
-    mask_constrained(full[size_t(d)], mask.data(), s.K[size_t(d)]);
+    mask_constrained(full[size_t(d)], s.mask.col(d).data(), s.K[size_t(d)]);
   }
   // A scrambled numbering (deterministic): i -> (i * 7919) mod n, a bijection for n not a
   // multiple of 7919.
@@ -61,16 +77,10 @@ inline SpMat permuted(const SpMat& K, const std::vector<int>& perm) {
   return P;
 }
 
-// The model's K^x, K^y, K^z at rest as the step keeps them: edge weights and diagonals.
-inline AxisStiffness edge_stiffness(const TissueModel& m) {
-  NodeMat a(m.n, 3);
-  Vec v(m.n), norms(m.n), scratch(m.n);
-  distributed_area_vectors(m.rest.positions, m.rest.triangles, a);
-  distributed_volumes(a, enclosed_volume(m.rest.positions, m.rest.triangles, m.origin), v);
-  for (int i = 0; i < m.n; ++i) norms[i] = a.row(i).norm();
-  AxisStiffness k{Vec(Eigen::Index(m.edges.size())), NodeMat(m.n, 3)};
-  assemble_stiffness(m, a, norms, v, Vec(), k, scratch);
-  return k;
+// K^x, K^y, K^z of `s` (its K) as the solver stores them, in the permuted order.
+inline void gather(const System& s, AxisMatrices& K) {
+  K.analyze(s.model.pattern, s.perm);
+  K.gather(s.k, s.mask, nullptr);
 }
 
 }  // namespace vdm::axis_test
