@@ -20,7 +20,7 @@ void AxisIncompleteCholesky::analyze(const AxisMatrices& K) {
       }
     lo_start_[size_t(i) + 1] = static_cast<int>(lo_col_.size());
   }
-  lo_val_.assign(3 * lo_col_.size(), 0.0);
+  lo_val_.assign(3 * lo_col_.size(), 0.0f);
   // Rows of L^T: entry (i, k) of L with k < i is entry (k, i) of L^T.
   up_start_.assign(size_t(n_) + 1, 0);
   for (size_t p = 0; p < lo_col_.size(); ++p) ++up_start_[size_t(lo_col_[p]) + 1];
@@ -34,7 +34,7 @@ void AxisIncompleteCholesky::analyze(const AxisMatrices& K) {
       up_col_[size_t(fill[size_t(k)])] = i;
       up_src_[size_t(fill[size_t(k)]++)] = p;
     }
-  up_val_.assign(3 * lo_col_.size(), 0.0);
+  up_val_.assign(3 * lo_col_.size(), 0.0f);
   inv_diag_.assign(3 * size_t(n_), 0.0);
   mask_.assign(3 * size_t(n_), 0);
   work_diag_.assign(3 * size_t(n_), 0.0);
@@ -58,7 +58,7 @@ int AxisIncompleteCholesky::factorize(const AxisMatrices& K, double omega) {
   // In place: L holds K's lower values as the elimination updates them until column k
   // scales its own (an entry's updates all come from columns before its own).
   int repaired = 0;
-  double* L = lo_val_.data();
+  float* L = lo_val_.data();
   double* wd = work_diag_.data();
   // K's lower values, zero in the rows and columns of the constrained entries.
   const std::uint8_t* rm = K.row_mask.data();
@@ -67,7 +67,7 @@ int AxisIncompleteCholesky::factorize(const AxisMatrices& K, double omega) {
       const double v = K.off[size_t(lo_src_[size_t(p)])];
       const std::uint8_t* mi = rm + 3 * size_t(i);
       const std::uint8_t* mj = rm + 3 * size_t(lo_col_[size_t(p)]);
-      for (size_t d = 0; d < 3; ++d) L[3 * size_t(p) + d] = (mi[d] | mj[d]) ? 0.0 : v;
+      for (size_t d = 0; d < 3; ++d) L[3 * size_t(p) + d] = (mi[d] | mj[d]) ? 0.0f : float(v);
     }
   for (size_t k = 0; k < 3 * size_t(n_); ++k) wd[k] = K.diag[k];
   const int* target = update_target_.data();
@@ -84,21 +84,21 @@ int AxisIncompleteCholesky::factorize(const AxisMatrices& K, double omega) {
     const int qb = up_start_[size_t(k)], qe = up_start_[size_t(k) + 1];
     for (int q = qb; q < qe; ++q) {
       const size_t p = size_t(up_src_[size_t(q)]);
-      for (size_t d = 0; d < 3; ++d) L[3 * p + d] *= inv_diag_[3 * size_t(k) + d];
+      for (size_t d = 0; d < 3; ++d) L[3 * p + d] = float(L[3 * p + d] * inv_diag_[3 * size_t(k) + d]);
     }
     for (int q1 = qb; q1 < qe; ++q1) {
       const int i = up_col_[size_t(q1)];
-      const double* li = &L[3 * size_t(up_src_[size_t(q1)])];
-      for (size_t d = 0; d < 3; ++d) wd[3 * size_t(i) + d] -= li[d] * li[d];
+      const float* li = &L[3 * size_t(up_src_[size_t(q1)])];
+      for (size_t d = 0; d < 3; ++d) wd[3 * size_t(i) + d] -= double(li[d]) * li[d];
       for (int q2 = qb; q2 < q1; ++q2) {
         const int j = up_col_[size_t(q2)];  // j < i
-        const double* lj = &L[3 * size_t(up_src_[size_t(q2)])];
+        const float* lj = &L[3 * size_t(up_src_[size_t(q2)])];
         const int m = *target++;
         if (m >= 0) {
-          for (size_t d = 0; d < 3; ++d) L[3 * size_t(m) + d] -= li[d] * lj[d];
+          for (size_t d = 0; d < 3; ++d) L[3 * size_t(m) + d] = float(L[3 * size_t(m) + d] - double(li[d]) * lj[d]);
         } else {
           for (size_t d = 0; d < 3; ++d) {
-            const double drop = omega * li[d] * lj[d];
+            const double drop = omega * li[d] * double(lj[d]);
             wd[3 * size_t(i) + d] -= drop;
             wd[3 * size_t(j) + d] -= drop;
           }
@@ -113,7 +113,7 @@ int AxisIncompleteCholesky::factorize(const AxisMatrices& K, double omega) {
 
 int AxisIncompleteCholesky::fit_to_mask(const AxisMatrices& K) {
   int changed = 0;
-  double* L = lo_val_.data();
+  float* L = lo_val_.data();
   for (int i = 0; i < n_; ++i)
     for (size_t d = 0; d < 3; ++d) {
       const size_t e = 3 * size_t(i) + d;
@@ -122,8 +122,8 @@ int AxisIncompleteCholesky::fit_to_mask(const AxisMatrices& K) {
       ++changed;
       mask_[e] = now;
       if (now) {  // constrained since: row and column i of L^d zero, L_ii = 1 (K's row is e_i)
-        for (int p = lo_start_[size_t(i)]; p < lo_start_[size_t(i) + 1]; ++p) L[3 * size_t(p) + d] = 0.0;
-        for (int q = up_start_[size_t(i)]; q < up_start_[size_t(i) + 1]; ++q) L[3 * size_t(up_src_[size_t(q)]) + d] = 0.0;
+        for (int p = lo_start_[size_t(i)]; p < lo_start_[size_t(i) + 1]; ++p) L[3 * size_t(p) + d] = 0.0f;
+        for (int q = up_start_[size_t(i)]; q < up_start_[size_t(i) + 1]; ++q) L[3 * size_t(up_src_[size_t(q)]) + d] = 0.0f;
         inv_diag_[e] = 1.0;
       } else {  // freed since: its row and column are zero already
         const double kii = K.diag[e];
@@ -140,17 +140,16 @@ void AxisIncompleteCholesky::copy_to_upper() {
 }
 
 void AxisIncompleteCholesky::save_values(std::vector<double>& out) const {
-  out.insert(out.end(), lo_val_.begin(), lo_val_.end());
+  out.insert(out.end(), lo_val_.begin(), lo_val_.end());  // floats: exact as doubles
   out.insert(out.end(), inv_diag_.begin(), inv_diag_.end());
   out.insert(out.end(), mask_.begin(), mask_.end());
 }
 
 bool AxisIncompleteCholesky::load_values(const std::vector<double>& in, size_t& pos) {
   if (in.size() < pos || in.size() - pos < lo_val_.size() + inv_diag_.size() + mask_.size()) return false;
-  for (std::vector<double>* v : {&lo_val_, &inv_diag_}) {
-    std::copy(in.begin() + std::ptrdiff_t(pos), in.begin() + std::ptrdiff_t(pos + v->size()), v->begin());
-    pos += v->size();
-  }
+  for (float& v : lo_val_) v = float(in[pos++]);
+  std::copy(in.begin() + std::ptrdiff_t(pos), in.begin() + std::ptrdiff_t(pos + inv_diag_.size()), inv_diag_.begin());
+  pos += inv_diag_.size();
   for (std::uint8_t& m : mask_) m = in[pos++] != 0.0 ? 1 : 0;
   copy_to_upper();
   return true;
@@ -165,10 +164,10 @@ void AxisIncompleteCholesky::apply(const double* r, double* z, double* rz) const
   using simd::store2;
   const int* lo_start = lo_start_.data();
   const int* lo_col = lo_col_.data();
-  const double* lo_val = lo_val_.data();
+  const float* lo_val = lo_val_.data();
   const int* up_start = up_start_.data();
   const int* up_col = up_col_.data();
-  const double* up_val = up_val_.data();
+  const float* up_val = up_val_.data();
   const double* inv_diag = inv_diag_.data();
   if constexpr (W == 6) {
     // Lanes: the two vectors of an axis (axis_matrices.hpp) share the value of L^d.
@@ -177,11 +176,11 @@ void AxisIncompleteCholesky::apply(const double* r, double* z, double* rz) const
       const double* ri = r + size_t(i) * 6;
       V2 a0 = load2(ri), a1 = load2(ri + 2), a2 = load2(ri + 4);
       for (int p = lo_start[i]; p < lo_start[i + 1]; ++p) {
-        const double* v = lo_val + 3 * size_t(p);
+        const float* v = lo_val + 3 * size_t(p);
         const double* zj = z + size_t(lo_col[p]) * 6;
-        a0 -= splat(v[0]) * load2(zj);
-        a1 -= splat(v[1]) * load2(zj + 2);
-        a2 -= splat(v[2]) * load2(zj + 4);
+        a0 -= splat(double(v[0])) * load2(zj);
+        a1 -= splat(double(v[1])) * load2(zj + 2);
+        a2 -= splat(double(v[2])) * load2(zj + 4);
       }
       const double* id = inv_diag + 3 * size_t(i);
       double* zi = z + size_t(i) * 6;
@@ -195,11 +194,11 @@ void AxisIncompleteCholesky::apply(const double* r, double* z, double* rz) const
       double* zi = z + size_t(i) * 6;
       V2 a0 = load2(zi), a1 = load2(zi + 2), a2 = load2(zi + 4);
       for (int p = up_start[i]; p < up_start[i + 1]; ++p) {
-        const double* v = up_val + 3 * size_t(p);
+        const float* v = up_val + 3 * size_t(p);
         const double* zj = z + size_t(up_col[p]) * 6;
-        a0 -= splat(v[0]) * load2(zj);
-        a1 -= splat(v[1]) * load2(zj + 2);
-        a2 -= splat(v[2]) * load2(zj + 4);
+        a0 -= splat(double(v[0])) * load2(zj);
+        a1 -= splat(double(v[1])) * load2(zj + 2);
+        a2 -= splat(double(v[2])) * load2(zj + 4);
       }
       const double* id = inv_diag + 3 * size_t(i);
       a0 *= splat(id[0]);
@@ -223,10 +222,10 @@ void AxisIncompleteCholesky::apply(const double* r, double* z, double* rz) const
       V2 axy = load2(ri);
       double az = ri[2];
       for (int p = lo_start[i]; p < lo_start[i + 1]; ++p) {
-        const double* v = lo_val + 3 * size_t(p);
+        const float* v = lo_val + 3 * size_t(p);
         const double* zj = z + size_t(lo_col[p]) * 3;
-        axy -= load2(v) * load2(zj);
-        az -= v[2] * zj[2];
+        axy -= V2{double(v[0]), double(v[1])} * load2(zj);
+        az -= double(v[2]) * zj[2];
       }
       const double* id = inv_diag + 3 * size_t(i);
       double* zi = z + size_t(i) * 3;
@@ -240,10 +239,10 @@ void AxisIncompleteCholesky::apply(const double* r, double* z, double* rz) const
       V2 axy = load2(zi);
       double az = zi[2];
       for (int p = up_start[i]; p < up_start[i + 1]; ++p) {
-        const double* v = up_val + 3 * size_t(p);
+        const float* v = up_val + 3 * size_t(p);
         const double* zj = z + size_t(up_col[p]) * 3;
-        axy -= load2(v) * load2(zj);
-        az -= v[2] * zj[2];
+        axy -= V2{double(v[0]), double(v[1])} * load2(zj);
+        az -= double(v[2]) * zj[2];
       }
       const double* id = inv_diag + 3 * size_t(i);
       axy *= load2(id);

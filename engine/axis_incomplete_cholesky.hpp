@@ -43,11 +43,11 @@ class AxisIncompleteCholesky {
   // Strictly lower part of L by rows (the columns of K's row i below i, ascending);
   // source: index of the entry among K's off-diagonal entries.
   std::vector<int> lo_start_, lo_col_, lo_src_;
-  std::vector<double> lo_val_;             // 3 per entry
+  std::vector<float> lo_val_;              // 3 per entry (float: a preconditioner; half the loads)
   // The same entries by rows of L^T (strictly upper), for a gathering backward solve;
   // up_src_: index into the lower entries.
   std::vector<int> up_start_, up_col_, up_src_;
-  std::vector<double> up_val_;             // 3 per entry
+  std::vector<float> up_val_;              // 3 per entry
   std::vector<double> inv_diag_;           // 3 per row: 1 / L_ii
   std::vector<std::uint8_t> mask_;         // 3 per row: the constrained set the factors fit
   std::vector<double> work_diag_;           // scratch: K's diagonal as the elimination updates it
