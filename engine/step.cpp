@@ -299,6 +299,7 @@ SimState make_sim_state(const TissueModel& m) {
   w->K.weight = Vec::Zero(Eigen::Index(m.edges.size()));
   w->K.diagonal = NodeMat::Zero(n, 3);
   w->mask = FlagMat::Zero(n, 3);
+  w->constrained_axes.assign(size_t(n), 0);
   w->last_springs = NodeMat::Zero(n, 3);
   w->last_mask = FlagMat::Constant(n, 3, 2);  // never equal: the first step tells the solver
   w->u_fixed = NodeMat::Zero(n, 3);
@@ -494,7 +495,7 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
       w.matrix_dirty = false;
     }
     build_loads(m, in, s, w);
-    eliminate_rhs(m.pattern, w.K, w.mask, w.force, w.u_fixed, w.rhs);
+    eliminate_rhs(m.pattern, w.K, w.mask, w.force, w.u_fixed, w.rhs, w.constrained_axes);
     // Eq (11) as a Newton step on the exact volume: a.u^{n+1} = V_0 - V(x^n) + a.u^n,
     // with the constrained part moved to the right.
     const double c = m.rest_volume - current_volume + a_u;

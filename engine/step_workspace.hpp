@@ -24,6 +24,7 @@ struct StepStart {
 struct StepWorkspace {
   AxisStiffness K;                // per-axis K^d at the last refresh (unmasked)
   FlagMat mask, last_mask;        // constrained entries this step / when the solver was last told
+  std::vector<std::uint8_t> constrained_axes;  // eliminate_rhs()'s scratch: mask's axes per node as bits
   NodeMat last_springs;           // StepInput::spring_k when the solver was last told (N x 3)
   bool last_springs_any = false;  // some of last_springs is not zero
   double mean_diagonal = 1.0;     // of the eliminated matrices (the residual's pressure scale)

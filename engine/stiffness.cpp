@@ -107,21 +107,28 @@ void multiply(const StiffnessPattern& p, const AxisStiffness& K, const NodeMat& 
 }
 
 void eliminate_rhs(const StiffnessPattern& p, const AxisStiffness& K, const FlagMat& mask, const NodeMat& f,
-                   const NodeMat& u_fixed, NodeMat& rhs) {
+                   const NodeMat& u_fixed, NodeMat& rhs, std::vector<std::uint8_t>& axes) {
   const Eigen::Index n = K.diagonal.rows();
   const std::uint8_t* mk[3] = {mask.col(0).data(), mask.col(1).data(), mask.col(2).data()};
   const double* uf[3] = {u_fixed.col(0).data(), u_fixed.col(1).data(), u_fixed.col(2).data()};
   double* r[3] = {rhs.col(0).data(), rhs.col(1).data(), rhs.col(2).data()};
+  axes.resize(size_t(n));
+  std::uint8_t* bits = axes.data();  // bit d: entry d constrained
+  for (Eigen::Index i = 0; i < n; ++i) bits[i] = std::uint8_t((mk[0][i] != 0) | (mk[1][i] != 0) << 1 | (mk[2][i] != 0) << 2);
   for (int d = 0; d < 3; ++d) {
     const double* fd = f.col(d).data();
     for (Eigen::Index i = 0; i < n; ++i) r[d][i] = mk[d][i] ? uf[d][i] : fd[i];
   }
+  // Only the edges between a free and a constrained entry move values (few: around the held
+  // and prescribed nodes), found by one comparison of the two nodes' bits.
   const double* w = K.weight.data();
   for (size_t e = 0; e < p.edges.size(); ++e) {
     const int i = p.edges[e][0], j = p.edges[e][1];
+    const std::uint8_t differ = bits[i] ^ bits[j];
+    if (!differ) continue;  // on every axis both free, or both constrained
     for (int d = 0; d < 3; ++d) {
-      if (mk[d][i] == mk[d][j]) continue;  // both free, or both constrained
-      if (mk[d][j]) r[d][i] += w[e] * uf[d][j];  // K_ij = -w
+      if (!(differ >> d & 1)) continue;
+      if (bits[j] >> d & 1) r[d][i] += w[e] * uf[d][j];  // K_ij = -w
       else r[d][j] += w[e] * uf[d][i];
     }
   }
