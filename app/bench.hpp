@@ -14,15 +14,22 @@ namespace vdmsim {
 // that error against a tolerance of 1e-10 on the same mesh (bench_tolerance.csv): about
 // 0.002 mm (2.5k nodes) and 0.004 mm (10k).
 constexpr double kBenchTolerance = 1e-3;
+// The relative volume error the probe cases accept without a correction of the pressure
+// (SolverSettings::volume_tolerance, 1e-11 by default): the issue asks for the volume within
+// 1e-4; 1e-6 keeps it 100 times tighter. A solve in contact then meets it uncorrected
+// (its error 1e-10 to 1e-8): the step measures the volume once instead of correcting it and
+// measuring again. bench_tolerance.csv's reference keeps the default.
+constexpr double kBenchVolumeTolerance = 1e-6;
 
 // The bench's probe scene (assets/scenes/probe_poke.yaml) on `mesh` (a file in assets/meshes)
 // with an 8 mm probe, so that it meets nodes on every mesh; `frames` frames; solver
-// tolerance `tolerance`.
-PreparedScene bench_probe_scene(const std::string& mesh, int frames, bool render, double tolerance = kBenchTolerance);
+// tolerance `tolerance`, volume tolerance `volume_tolerance`.
+PreparedScene bench_probe_scene(const std::string& mesh, int frames, bool render, double tolerance = kBenchTolerance,
+                                double volume_tolerance = kBenchVolumeTolerance);
 
 // The largest and the RMS difference (m) of the nodes' displacements, over every frame of
-// the bench's probe scene on `mesh`, between the solver tolerances `tolerance` and
-// `reference_tolerance`.
+// the bench's probe scene on `mesh`, between the solver tolerance `tolerance` (with the
+// bench's volume tolerance) and `reference_tolerance` (with the default volume tolerance).
 struct ToleranceError {
   long nodes = 0;
   double max_m = 0, rms_m = 0;

@@ -206,6 +206,8 @@ void advance_positions(const NodeMat& rest, double omega, const NodeMat& r, cons
 // residual is that of the corrected system.
 // `volume` gets the enclosed volume at the final positions when the last check measured it
 // there, NaN otherwise.
+// The checks cost the same whichever way they go (enclosed_volume and volume_along measure
+// the same volume, bit for bit): which is made first is a guess, from the last step.
 double correct_volume(const TissueModel& m, SimState& s, StepWorkspace& w, LinearSolver& solver, double& volume) {
   const int max_corr = m.solver.volume_corrections;
   double c_shift = 0.0;
@@ -214,21 +216,25 @@ double correct_volume(const TissueModel& m, SimState& s, StepWorkspace& w, Linea
   // With the volume constraint every solver has s from its solve: this costs nothing.
   const NodeMat& response = solver.pressure_response(w.a_free);
   if (!response.allFinite()) return c_shift;
+  const double tolerance = m.solver.volume_tolerance * m.rest_volume;
   double as = std::numeric_limits<double>::quiet_NaN();  // a . s, on the first correction
   for (int k = 0; k < max_corr; ++k) {
-    // After a correction the volume is usually restored: checked first without the slope
-    // (half the pass's cost), which is measured only when another correction is due.
-    if (k > 0) {
+    // After a correction the volume is usually restored, and a solve usually meets a loose
+    // tolerance when the last one did: checked first without the slope (a third of
+    // volume_along's cost), which is measured only when a correction is due.
+    if (k > 0 || w.volume_met) {
       const double v = enclosed_volume(s.x, m.rest.triangles, m.origin);
-      if (std::abs(m.rest_volume - v) <= m.solver.volume_tolerance * m.rest_volume) {
+      if (std::abs(m.rest_volume - v) <= tolerance) {
         volume = v;
         return c_shift;
       }
+      w.volume_met = false;
     }
     const VolumeAlong v = volume_along(s.x, response, &w.mask, m.rest.triangles, m.origin, w.packed);
     const double err = m.rest_volume - v.volume;
-    if (std::abs(err) <= m.solver.volume_tolerance * m.rest_volume) {
+    if (std::abs(err) <= tolerance) {
       volume = v.volume;
+      w.volume_met = k == 0;
       return c_shift;
     }
     // A(x).s not positive: the surface is locally inverted (step() then splits the step).

@@ -38,6 +38,7 @@ struct StepWorkspace {
   StepStart start;                // the start of the current step, for rewind_step()
   bool refreshed_in_step = false;
   bool rewound = false;           // rewind_step() since the last step (the next may find its geometry current)
+  bool volume_met = false;        // the last solve met the volume tolerance without a correction
   double volume_at_refresh = 0;   // enclosed volume at x_refresh
   // Halved load increments (step() in step.cpp): the loads of the last two completed steps,
   // the input of a part of a step, and the whole step's start while it is done in parts.

@@ -65,15 +65,19 @@ TEST(Bench, QuickRunWritesTheContractCsvAndThePlot) {
   // it keeps the displacements within 0.1 mm of a tightly solved run: measured, and checked.
   std::ifstream tc(out / "bench_tolerance.csv");
   ASSERT_TRUE(std::getline(tc, line));
-  EXPECT_EQ(line, "nodes,tolerance,reference_tolerance,max_error_mm,rms_error_mm");
+  EXPECT_EQ(line,
+            "nodes,tolerance,volume_tolerance,reference_tolerance,reference_volume_tolerance,max_error_mm,rms_error_mm");
   int sizes = 0;
   while (std::getline(tc, line)) {
     std::stringstream s(line);
-    std::string nodes, tolerance, reference, max_mm, rms_mm;
-    for (std::string* f : {&nodes, &tolerance, &reference, &max_mm, &rms_mm}) std::getline(s, *f, ',');
+    std::string nodes, tolerance, volume, reference, reference_volume, max_mm, rms_mm;
+    for (std::string* f : {&nodes, &tolerance, &volume, &reference, &reference_volume, &max_mm, &rms_mm})
+      std::getline(s, *f, ',');
     EXPECT_LT(std::stod(max_mm), 0.1) << line;
     EXPECT_LE(std::stod(rms_mm), std::stod(max_mm)) << line;
     EXPECT_LT(std::stod(reference), std::stod(tolerance)) << line;
+    EXPECT_LT(std::stod(reference_volume), std::stod(volume)) << line;
+    EXPECT_LE(std::stod(volume), 1e-4) << line;  // the volume bound
     ++sizes;
   }
   EXPECT_EQ(sizes, 2) << "2.5k and 10k nodes";
