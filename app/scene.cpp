@@ -405,7 +405,7 @@ void read_simulation(Reader& r, const YAML::Node& sim, SceneDef& s) {
     if (r.require_map(sol, "simulation.solver")) {
       r.check_keys(sol, "simulation.solver",
                    {"method", "tolerance", "max_iterations", "refresh_every", "nonlinear_iterations",
-                    "volume_corrections", "warm_start"});
+                    "volume_corrections", "volume_tolerance", "warm_start"});
       if (const YAML::Node n = sol["method"]) {
         std::string m;
         if (r.text(n, "simulation.solver.method", m) && !vdm::parse_solver_method(m, s.solver.method))
@@ -419,6 +419,9 @@ void read_simulation(Reader& r, const YAML::Node& sim, SceneDef& s) {
         r.integer(n, "simulation.solver.nonlinear_iterations", s.solver.nonlinear_iterations, 1, 1000);
       if (const YAML::Node n = sol["volume_corrections"])
         r.integer(n, "simulation.solver.volume_corrections", s.solver.volume_corrections, 0, 100);
+      if (const YAML::Node n = sol["volume_tolerance"])
+        r.number(n, "simulation.solver.volume_tolerance", s.solver.volume_tolerance, 0, 1e-2, "relative volume error",
+                 false, true);
       if (const YAML::Node n = sol["warm_start"]) r.boolean(n, "simulation.solver.warm_start", s.solver.warm_start);
     }
   }

@@ -91,6 +91,21 @@ TEST(SceneErrors, OutOfRangeAndNegativeModulus) {
   expect_error("negative.yaml", t, ":4:28: organ.material.bulk_modulus: value -5 is out of range: expected > 0 (or inf) (Pa)");
 }
 
+// The volume tolerance (relative error left uncorrected) is read, and bounded: above 1 %
+// the incompressible model would no longer be one.
+TEST(Scene, VolumeToleranceIsReadAndBounded) {
+  const std::string path = write_scene("volume_tolerance.yaml", scene_text("", "  solver: {volume_tolerance: 1.0e-6}\n"));
+  const SceneLoadResult loaded = load_scene(path);
+  ASSERT_TRUE(loaded.ok());
+  EXPECT_EQ(loaded.scene.solver.volume_tolerance, 1e-6);
+  EXPECT_EQ(load_scene(write_scene("volume_default.yaml", scene_text())).scene.solver.volume_tolerance,
+            vdm::SolverSettings().volume_tolerance);
+  expect_error("volume_range.yaml", scene_text("", "  solver: {volume_tolerance: 0.5}\n"),
+               "simulation.solver.volume_tolerance: value 0.5 is out of range");
+  expect_error("volume_zero.yaml", scene_text("", "  solver: {volume_tolerance: 0}\n"),
+               "simulation.solver.volume_tolerance: value 0 is out of range");
+}
+
 TEST(SceneErrors, NonPositiveTimeStep) {
   std::string t = scene_text();
   t.replace(t.find("dt: 0.04"), 8, "dt: 0");
