@@ -126,16 +126,32 @@ AxisSystem axis_system(const TissueModel& m, const StepWorkspace& w) {
 }
 
 // The solver told of the system (K, last_mask, last_springs); the free area vectors.
+// In the same pass, the eliminated matrices' mean diagonal (eliminated_mean_diagonal(), summed
+// in its order).
 void update_solver_system(const TissueModel& m, const SimState& s, StepWorkspace& w) {
-  w.last_springs_any = !w.last_springs.isZero(0.0);
   const AxisSystem system = axis_system(m, w);
+  double sum = 0.0;
   for (int d = 0; d < 3; ++d) {
     const std::uint8_t* mask = w.last_mask.col(d).data();
     const double* a = s.area_vectors.col(d).data();
+    const double* diag = w.K.diagonal.col(d).data();
+    const double* k = system.springs ? system.springs->col(d).data() : nullptr;
     double* a_free = w.a_free.col(d).data();
-    for (int i = 0; i < m.n; ++i) a_free[i] = mask[i] ? 0.0 : a[i];
+    double axis = 0.0;
+    if (k) {
+      for (int i = 0; i < m.n; ++i) {
+        a_free[i] = mask[i] ? 0.0 : a[i];
+        axis += mask[i] ? 1.0 : std::abs(diag[i] + k[i]);
+      }
+    } else {
+      for (int i = 0; i < m.n; ++i) {
+        a_free[i] = mask[i] ? 0.0 : a[i];
+        axis += mask[i] ? 1.0 : std::abs(diag[i] + 0.0);
+      }
+    }
+    sum += axis;
   }
-  w.mean_diagonal = eliminated_mean_diagonal(system);
+  w.mean_diagonal = m.n > 0 ? sum / double(3 * m.n) : 0.0;
   w.solver->matrices_changed(system);
   w.fallback_stale = true;
 }
@@ -495,8 +511,13 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
     const bool springs_changed = springs ? in.spring_k != w.last_springs : w.last_springs_any;
     if (w.matrix_dirty || mask_changed || springs_changed) {
       if (mask_changed) w.last_mask = w.mask;
-      if (springs) w.last_springs = in.spring_k;
-      else if (w.last_springs_any) w.last_springs.setZero();  // zero already otherwise
+      if (springs) {
+        w.last_springs = in.spring_k;
+        w.last_springs_any = !w.last_springs.isZero(0.0);
+      } else if (w.last_springs_any) {
+        w.last_springs.setZero();  // zero already otherwise
+        w.last_springs_any = false;
+      }
       update_solver_system(m, s, w);
       w.matrix_dirty = false;
     }
