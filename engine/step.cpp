@@ -195,6 +195,28 @@ double pin_and_difference(const FlagMat& mask, const NodeMat& u_fixed, const Nod
   return largest;
 }
 
+// pin_and_difference() and advance_positions() with omega = 1 (a step's first solve, taken
+// whole) in one pass: the same values, bit for bit.
+double pin_difference_and_advance(const NodeMat& rest, const FlagMat& mask, const NodeMat& u_fixed, NodeMat& u,
+                                  NodeMat& u_new, NodeMat& x) {
+  double largest = 0.0;
+  for (int d = 0; d < 3; ++d) {
+    const double* X = rest.col(d).data();
+    const std::uint8_t* mk = mask.col(d).data();
+    const double* fixed = u_fixed.col(d).data();
+    double* ud = u.col(d).data();
+    double* r = u_new.col(d).data();
+    double* xd = x.col(d).data();
+    for (Eigen::Index i = 0; i < u.rows(); ++i) {
+      r[i] = (mk[i] ? fixed[i] : r[i]) - ud[i];
+      largest = std::max(largest, std::abs(r[i]));
+      ud[i] = mk[i] ? fixed[i] : ud[i] + r[i];
+      xd[i] = X[i] + ud[i];
+    }
+  }
+  return largest;
+}
+
 // u += omega r on the free entries, u = u_fixed exactly on the constrained ones (u + (u_fixed
 // - u) may be an ulp off), and x = X + u, in one pass.
 void advance_positions(const NodeMat& rest, double omega, const NodeMat& r, const FlagMat& mask,
@@ -562,7 +584,9 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
     // (the first solve, the load increment, is taken whole): u += omega (G(u) - u), omega
     // from the last two residuals; it saves iterations where the plain iteration converges.
     // u_new becomes the fixed-point residual r = G(u) - u (G(u) pinned), du = max |r|.
-    const double du = pin_and_difference(w.mask, w.u_fixed, s.u, w.u_new);
+    // The first solve is taken whole (omega = 1): u and x move in the same pass.
+    const double du = it == 0 ? pin_difference_and_advance(m.rest.positions, w.mask, w.u_fixed, s.u, w.u_new, s.x)
+                              : pin_and_difference(w.mask, w.u_fixed, s.u, w.u_new);
     if (it >= 2 && du > last_du && du > 10.0 * m.solver.nonlinear_tolerance * m.size) {
       // Diverging: past some deformation the geometric fixed point loses stability (its
       // contraction factor passes 1). Keep the current iterate, the best so far.
@@ -578,7 +602,7 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
     st.relaxation = omega;
     st.nonlinear_change = du / m.size;
     if (it + 1 < max_it) w.residual_prev = w.u_new;
-    advance_positions(m.rest.positions, omega, w.u_new, w.mask, w.u_fixed, s.u, s.x);
+    if (it > 0) advance_positions(m.rest.positions, omega, w.u_new, w.mask, w.u_fixed, s.u, s.x);
     s.pressure += omega * (p_new - s.pressure);
     if (m.volume_constraint) {
       last_c += correct_volume(m, s, w, *solver, final_volume);
