@@ -55,8 +55,6 @@ class StructuredSolver final : public LinearSolver {
     ic_.analyze(K_);
     r_ = NodeMat::Zero(n_, 3);
     s_ = NodeMat::Zero(n_, 3);
-    rp_.assign(3 * size_t(n_), 0.0);
-    sp_.assign(3 * size_t(n_), 0.0);
     b_.assign(6 * size_t(n_), 0.0);
     x_.assign(6 * size_t(n_), 0.0);
     work_.resize(6 * size_t(n_));
@@ -106,8 +104,9 @@ class StructuredSolver final : public LinearSolver {
   void save_warm_state(std::vector<double>& out) const override {
     put_warm(out, r_);
     put_warm(out, s_);
-    out.insert(out.end(), rp_.begin(), rp_.end());
-    out.insert(out.end(), sp_.begin(), sp_.end());
+    for (int g = 0; g < 2; ++g)  // the last solutions in solver order, r's then s's, 3 per row
+      for (size_t i = 0; i < size_t(n_); ++i)
+        for (size_t d = 0; d < 3; ++d) out.push_back(x_[6 * i + 2 * d + size_t(g)]);
     out.push_back(s_valid_ ? 1.0 : 0.0);
     out.push_back(pending_factorizations_);
     // The preconditioner in use may be older than the matrices: its values and reuse state.
@@ -124,12 +123,10 @@ class StructuredSolver final : public LinearSolver {
   bool load_warm_state(const std::vector<double>& in) override {
     size_t pos = 0;
     if (!take_warm(in, pos, r_) || !take_warm(in, pos, s_)) return false;
-    if (in.size() < pos + rp_.size() + sp_.size() + 2) return false;
-    for (std::vector<double>* v : {&rp_, &sp_}) {
-      std::copy(in.begin() + static_cast<std::ptrdiff_t>(pos), in.begin() + static_cast<std::ptrdiff_t>(pos + v->size()),
-                v->begin());
-      pos += v->size();
-    }
+    if (in.size() < pos + x_.size() + 2) return false;
+    for (int g = 0; g < 2; ++g)
+      for (size_t i = 0; i < size_t(n_); ++i)
+        for (size_t d = 0; d < 3; ++d) x_[6 * i + 2 * d + size_t(g)] = in[pos++];
     s_valid_ = in[pos] != 0.0;
     pending_factorizations_ = static_cast<int>(in[pos + 1]);
     pos += 2;
@@ -171,19 +168,21 @@ class StructuredSolver final : public LinearSolver {
   };
 
   // K^d r^d = rhs^d (rhs given) and K^d s^d = a^d (a given) by block PCG with IC(0) in the
-  // permuted order, warm-started from the last solutions (rp_, sp_), each axis until
+  // permuted order, warm-started from the last solutions (x_), each axis until
   // |b - K x| <= tolerance |b_all| / sqrt(3) (b_all: that right-hand side on all axes). The
   // results go to r_ and s_ in node order. W = 3 for one of them, 6 for both.
   template <int W>
   BlockReport solve_block(const NodeMat* rhs, const NodeMat* a) {
     constexpr int G = W / 3;  // systems per axis: column d G + g is axis d of system g
     const NodeMat* src[2] = {rhs ? rhs : a, rhs ? a : nullptr};
-    std::vector<double>* warm[2] = {rhs ? &rp_ : &sp_, &sp_};
+    const size_t lane[2] = {rhs ? 0u : 1u, 1u};  // the system's lane in x_ (0: r, 1: s)
     NodeMat* out[2] = {rhs ? &r_ : &s_, &s_};
+    // The block of both systems is x_ itself; one system alone iterates in b_'s upper half.
+    double* x = W == 6 ? x_.data() : b_.data() + 3 * size_t(n_);
+    if (W == 6 && !settings_.warm_start) std::fill(x_.begin(), x_.end(), 0.0);
     double threshold[W];
     for (int g = 0; g < G; ++g) {
       const NodeMat& b = *src[g];
-      const std::vector<double>& x0 = *warm[g];
       // b in node order, each node's entries to its row of the block (reading the three
       // columns of b in solver order missed on every load).
       const double* bc[3] = {b.col(0).data(), b.col(1).data(), b.col(2).data()};
@@ -191,9 +190,9 @@ class StructuredSolver final : public LinearSolver {
         double* row = b_.data() + size_t(iperm_[size_t(node)]) * W + size_t(g);
         for (int d = 0; d < 3; ++d) row[d * G] = bc[d][node];
       }
-      for (size_t i = 0; i < size_t(n_); ++i)
-        for (size_t d = 0; d < 3; ++d)
-          x_[i * W + d * G + size_t(g)] = settings_.warm_start ? x0[3 * i + d] : 0.0;
+      if (W == 3)
+        for (size_t i = 0; i < size_t(n_); ++i)
+          for (size_t d = 0; d < 3; ++d) x[i * 3 + d] = settings_.warm_start ? x_[6 * i + 2 * d + lane[g]] : 0.0;
       // sqrt(3): the three axes together then meet the tolerance on the whole system.
       const double t = settings_.tolerance * b.norm() / std::sqrt(3.0);
       for (int d = 0; d < 3; ++d) threshold[d * G + g] = t;
@@ -203,23 +202,24 @@ class StructuredSolver final : public LinearSolver {
     auto op = [&K](const double* in, double* res, double* dot) { multiply_block<W>(K, in, res, dot); };
     auto pre = [&ic](const double* in, double* res, double* dot) { ic.apply<W>(in, res, dot); };
     std::array<KrylovResult, W> kr;
-    block_pcg<W>(op, pre, n_, b_.data(), x_.data(), threshold, settings_.max_iterations, work_, kr);
+    block_pcg<W>(op, pre, n_, b_.data(), x, threshold, settings_.max_iterations, work_, kr);
     BlockReport rep;
     for (const KrylovResult& k : kr) {
       rep.iterations += k.iterations;
       rep.converged = rep.converged && k.converged;
     }
+    if (W == 3)
+      for (size_t i = 0; i < size_t(n_); ++i)
+        for (size_t d = 0; d < 3; ++d) x_[6 * i + 2 * d + lane[0]] = x[i * 3 + d];
     // Out in node order (gathering rows of the block: one cache line each, where scattering
     // into the three columns of `out` missed on every store).
-    for (int g = 0; g < G; ++g) {
-      double* x0 = warm[g]->data();
-      for (size_t i = 0; i < size_t(n_); ++i)
-        for (size_t d = 0; d < 3; ++d) x0[3 * i + d] = x_[i * W + d * G + size_t(g)];
-      double* o[3] = {out[g]->col(0).data(), out[g]->col(1).data(), out[g]->col(2).data()};
-      for (int node = 0; node < n_; ++node) {
-        const double* xi = x0 + 3 * size_t(iperm_[size_t(node)]);
-        for (int d = 0; d < 3; ++d) o[d][node] = xi[d];
-      }
+    double* o[2][3];
+    for (int g = 0; g < G; ++g)
+      for (int d = 0; d < 3; ++d) o[g][d] = out[g]->col(d).data();
+    for (int node = 0; node < n_; ++node) {
+      const double* row = x + size_t(iperm_[size_t(node)]) * W;
+      for (int g = 0; g < G; ++g)
+        for (int d = 0; d < 3; ++d) o[g][d][node] = row[d * G + g];
     }
     return rep;
   }
@@ -231,8 +231,9 @@ class StructuredSolver final : public LinearSolver {
   AxisMatrices K_;               // permuted K^x, K^y, K^z
   AxisIncompleteCholesky ic_;
   NodeMat r_, s_;                // node order
-  std::vector<double> rp_, sp_;  // solver order, 3 per row: the last solutions (warm starts)
-  std::vector<double> b_, x_;    // the block's right-hand sides and iterates
+  std::vector<double> b_;        // the block's right-hand sides (W = 3: iterates in its upper half)
+  std::vector<double> x_;        // solver order, 6 per row (r^x s^x r^y s^y r^z s^z): the last
+                                 // solutions, the warm starts, and the block of a W = 6 solve
   BlockPcgWorkspace work_;
   bool s_valid_ = false;
   int pending_factorizations_ = 0;
