@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 
+#include "engine/all_finite.hpp"
 #include "engine/geometry.hpp"
 #include "engine/loads.hpp"
 #include "engine/sim_state.hpp"
@@ -37,7 +38,7 @@ void node_volumes(const TissueModel& m, double v, SimState& s, StepWorkspace& w)
 // valid geometry is kept (returns -1 after restoring it) and the caller says so.
 double refresh_geometry(const TissueModel& m, const NodeMat& x, SimState& s, StepWorkspace& w) {
   const double v = area_vectors_and_volume(x, m.rest.triangles, m.origin, s.area_vectors, w.packed);
-  if (!(v > 0.0) || !std::isfinite(v) || !s.area_vectors.allFinite()) {
+  if (!(v > 0.0) || !std::isfinite(v) || !all_finite(s.area_vectors)) {
     if (w.have_geometry)  // back to the geometry K was built from
       node_volumes(m, area_vectors_and_volume(w.x_refresh, m.rest.triangles, m.origin, s.area_vectors, w.packed), s, w);
     return -1.0;
@@ -68,8 +69,8 @@ const char* check_input(const TissueModel& m, const StepInput& in) {
     return "StepInput.prescribed_u has the wrong number of rows";
   if (in.force.rows() != 0 && in.force.rows() != m.n) return "StepInput.force has the wrong number of rows";
   if (in.pressure.size() != 0 && in.pressure.size() != m.n) return "StepInput.pressure has the wrong size";
-  if (in.force.rows() == m.n && !in.force.allFinite()) return "StepInput.force is not finite";
-  if (in.pressure.size() == m.n && !in.pressure.allFinite()) return "StepInput.pressure is not finite";
+  if (in.force.rows() == m.n && !all_finite(in.force)) return "StepInput.force is not finite";
+  if (in.pressure.size() == m.n && !all_finite(in.pressure.data(), size_t(in.pressure.size()))) return "StepInput.pressure is not finite";
   if (has_prescribed)
     for (int d = 0; d < 3; ++d)
       for (int i = 0; i < m.n; ++i)
@@ -78,7 +79,7 @@ const char* check_input(const TissueModel& m, const StepInput& in) {
   if (in.spring_k.rows() != 0) {
     if (in.spring_k.rows() != m.n || in.spring_u.rows() != m.n)
       return "StepInput.spring_k and spring_u must both have one row per node";
-    if (!in.spring_u.allFinite()) return "StepInput.spring_u is not finite";
+    if (!all_finite(in.spring_u)) return "StepInput.spring_u is not finite";
     for (int d = 0; d < 3; ++d)
       for (int i = 0; i < m.n; ++i)
         if (!(in.spring_k(i, d) >= 0.0) || !std::isfinite(in.spring_k(i, d)))
@@ -253,7 +254,7 @@ double correct_volume(const TissueModel& m, SimState& s, StepWorkspace& w, Linea
   if (max_corr <= 0) return c_shift;
   // With the volume constraint every solver has s from its solve: this costs nothing.
   const NodeMat& response = solver.pressure_response(w.a_free);
-  if (!response.allFinite()) return c_shift;
+  if (!all_finite(response)) return c_shift;
   const double tolerance = m.solver.volume_tolerance * m.rest_volume;
   double as = std::numeric_limits<double>::quiet_NaN();  // a . s, on the first correction
   for (int k = 0; k < max_corr; ++k) {
@@ -558,7 +559,7 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
     SolveReport rep = solver->solve(w.rhs, w.a_free, c, m.volume_constraint, w.u_new, p_new);
     st.iterations += rep.iterations;
     st.factorizations += rep.factorizations;
-    bool ok = rep.converged && w.u_new.allFinite() && std::isfinite(p_new);
+    bool ok = rep.converged && all_finite(w.u_new) && std::isfinite(p_new);
     if (!ok && m.solver.method != SolverMethod::direct) {
       // Fallback: the same system by the direct solver (exact up to round-off).
       st.fallback = rep.converged ? "iterative solve gave a non-finite result: redone by the direct solver"
@@ -570,7 +571,7 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
       p_new = s.pressure;
       rep = solver->solve(w.rhs, w.a_free, c, m.volume_constraint, w.u_new, p_new);
       st.factorizations += rep.factorizations;
-      ok = rep.converged && w.u_new.allFinite() && std::isfinite(p_new);
+      ok = rep.converged && all_finite(w.u_new) && std::isfinite(p_new);
     }
     st.solve_ms += ms_since(t_solve);
     ++st.nonlinear_iterations;
@@ -701,7 +702,7 @@ const char* const kHalvedText[kMaxHalvings + 1] = {
 const char* trouble_with(const TissueModel& m, const SimState& s, Attempt a) {
   if (a == Attempt::failed || a == Attempt::bad_input) return s.work->failure_reason;
   if (a == Attempt::inverted) return "the deformed surface turned inside out (no positive enclosed volume)";
-  if (!s.u.allFinite() || !std::isfinite(s.pressure)) return "the step's result is not finite";
+  if (!all_finite(s.u) || !std::isfinite(s.pressure)) return "the step's result is not finite";
   if (m.volume_constraint && m.solver.volume_corrections > 0 && !(std::abs(s.volume_rel_error) <= kVolumeDrift))
     return "the volume drifted by more than 1e-4 (the surface turned inside out locally)";
   return nullptr;
