@@ -175,6 +175,7 @@ struct Renderer::Impl {
   void find_shadow_rect(const RenderScene& scene);
   void draw_floor(const GpuMesh& quad, bool shadowed);
   void draw_background();
+  bool build_material(Material m, std::string& error);
   bool make_backdrop(std::string& error);
   void set_view_proj();
   GlProgram& use(Material m);
@@ -190,11 +191,11 @@ bool Renderer::Impl::init(const vdm::SurfaceMesh& rest, std::string& error) {
     error = "OpenGL framebuffer incomplete at " + std::to_string(settings.width) + "x" + std::to_string(settings.height);
     return false;
   }
-  const char* defines[3] = {"MODE_TISSUE", "MODE_COLORMAP", "MODE_METAL"};
-  for (int k = 0; k < 3; ++k) {
-    const std::string fragment = std::string("#version 450 core\n#define ") + defines[k] + "\n" + shaders::kMeshFragment;
-    if (!materials[k].build(shaders::kMeshVertex, fragment.c_str(), error)) return false;
-  }
+  for (int k = 0; k < 3; ++k)
+    if (!build_material(Material(k), error)) return false;
+  // The colour-map material (stress views) is checked here and built again by its first use:
+  // each linked program keeps about 1 MB of driver memory, for nothing in a shaded-only run.
+  materials[kColormap].reset();
   if (!mask_program.build(shaders::kShadowMaskVertex, shaders::kShadowMaskFragment, error) ||
       !floor_program.build(shaders::kMeshVertex, shaders::kFloorFragment, error) ||
       !background.build(shaders::kBackgroundVertex, shaders::kBackgroundFragment, error))
@@ -281,6 +282,7 @@ bool Renderer::Impl::init(const vdm::SurfaceMesh& rest, std::string& error) {
   glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(4 * 6 * sizeof(float)), nullptr, GL_STREAM_DRAW);
 
   if (!make_backdrop(error)) return false;
+  background.reset();  // only the backdrop uses it
   const float body_px = std::max(12.0f, settings.height / 40.0f);
   return imgui.init(body_px, error);
 }
@@ -565,8 +567,18 @@ void Renderer::Impl::draw_background() {
   glBindVertexArray(0);
 }
 
+bool Renderer::Impl::build_material(Material m, std::string& error) {
+  const char* defines[3] = {"MODE_TISSUE", "MODE_COLORMAP", "MODE_METAL"};
+  const std::string fragment = std::string("#version 450 core\n#define ") + defines[m] + "\n" + shaders::kMeshFragment;
+  return materials[m].build(shaders::kMeshVertex, fragment.c_str(), error);
+}
+
 GlProgram& Renderer::Impl::use(Material m) {
   GlProgram& p = materials[m];
+  if (!p.id()) {  // the colour-map material, dropped after init's check: built again from the same source
+    std::string error;
+    build_material(m, error);
+  }
   glUseProgram(p.id());
   glUniformMatrix4fv(p.uniform("u_view_proj"), 1, GL_FALSE, view_proj.data());
   glUniform3fv(p.uniform("u_eye"), 1, f3(camera.eye).data());
