@@ -284,7 +284,11 @@ bool Renderer::Impl::init(const vdm::SurfaceMesh& rest, std::string& error) {
   if (!make_backdrop(error)) return false;
   background.reset();  // only the backdrop uses it
   const float body_px = std::max(12.0f, settings.height / 40.0f);
-  return imgui.init(body_px, error);
+  if (!imgui.init(body_px, error)) return false;
+  // Every program is linked: Mesa's GLSL compiler keeps its library of built-in functions
+  // (about 5 MB) until told it is not needed; a later compile builds it again.
+  glReleaseShaderCompiler();
+  return true;
 }
 
 // The camera's projection, with near and far planes around the organ (radius `radius`).
@@ -578,6 +582,7 @@ GlProgram& Renderer::Impl::use(Material m) {
   if (!p.id()) {  // the colour-map material, dropped after init's check: built again from the same source
     std::string error;
     build_material(m, error);
+    glReleaseShaderCompiler();
   }
   glUseProgram(p.id());
   glUniformMatrix4fv(p.uniform("u_view_proj"), 1, GL_FALSE, view_proj.data());
