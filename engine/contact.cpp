@@ -93,7 +93,8 @@ struct ContactSolver::Fcl {
   NodeMat prev, last, lo, hi;
   std::vector<long long> outside;  // per node: left its box by more than the slack (0 = no)
   std::vector<int> node_triangles_start, node_triangles;  // triangles of each node (CSR)
-  std::vector<int> leaf, parent, post_order;             // leaf of each triangle, parent of each BV node
+  std::vector<int> leaf, parent, post_order;             // leaf of each triangle, parent of each BV node,
+                                                          // the tree's nodes children first (the first refit's order; freed after it)
   std::vector<char> leaf_dirty;                           // per triangle
   std::vector<int> dirty;
   double slack = 0.0, margin = 0.0;  // margin: far above rounding, keeps the grown test conservative
@@ -358,6 +359,7 @@ void ContactSolver::refit_lazy(const NodeMat& x) {
       else merge(node);
     }
     f.box_updates += static_cast<long>(f.post_order.size());
+    std::vector<int>().swap(f.post_order);  // only the first refit walks the whole tree (-0.6 MB at 40k)
     refitted_ = true;
     return;
   }
