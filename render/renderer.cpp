@@ -165,7 +165,8 @@ struct Renderer::Impl {
   }
 
   bool init(const vdm::SurfaceMesh& rest, std::string& error);
-  void upload_organ(const vdm::NodeMat& x, const std::vector<float>* scalar);
+  void upload_positions(const vdm::NodeMat& x);
+  void upload_normals(const vdm::NodeMat& x, const std::vector<float>* scalar, GLsync mask_done);
   InstrumentMeshes& instrument_meshes(const InstrumentView& v);
   GpuMesh& skin_mesh(const SkinMesh* s);
   GLuint colormap_texture(ColorMapName name);
@@ -327,7 +328,31 @@ bool Renderer::Impl::make_backdrop(std::string& error) {
   return true;
 }
 
-void Renderer::Impl::upload_organ(const vdm::NodeMat& x, const std::vector<float>* scalar) {
+// The organ's positions into its buffer (llvmpipe maps its own storage: no staging copy; the
+// last frame's drawing is done, so the map does not wait). Its normals and scalar follow in
+// upload_normals(), after the shadow mask, which needs the positions only.
+void Renderer::Impl::upload_positions(const vdm::NodeMat& x) {
+  const size_t n = normals.size();
+  glBindBuffer(GL_ARRAY_BUFFER, organ_vbo);
+  float* const data =
+      static_cast<float*>(glMapBufferRange(GL_ARRAY_BUFFER, 0, GLsizeiptr(n * 7 * sizeof(float)), GL_MAP_WRITE_BIT));
+  if (!data) return;
+  for (size_t i = 0; i < n; ++i) {
+    float* d = data + i * 7;
+    d[0] = float(x(Eigen::Index(i), 0));
+    d[1] = float(x(Eigen::Index(i), 1));
+    d[2] = float(x(Eigen::Index(i), 2));
+  }
+  glUnmapBuffer(GL_ARRAY_BUFFER);
+}
+
+// Area-weighted vertex normals and the scalar into the organ's buffer. `mask_done` (or null):
+// a fence after the shadow mask's pass, waited for once the normals are computed (the mask
+// is rasterized meanwhile), before the main pass is binned. llvmpipe keeps a drawn scene's
+// memory until it reuses the scene for a later one: a main pass begun while the mask was
+// still being rasterized took another scene, and both scenes' memory stayed (8 MB at 40k
+// nodes, measured); once the mask is done the main pass reuses its scene.
+void Renderer::Impl::upload_normals(const vdm::NodeMat& x, const std::vector<float>* scalar, GLsync mask_done) {
   const size_t n = normals.size();
   for (auto& v : normals) v.setZero();
   const vdm::TriMat& tris = *triangles;
@@ -339,8 +364,10 @@ void Renderer::Impl::upload_organ(const vdm::NodeMat& x, const std::vector<float
     normals[size_t(b)] += fn;
     normals[size_t(c)] += fn;
   }
-  // Written straight into the buffer (llvmpipe maps its own storage: no staging copy). The
-  // last frame's drawing is done (it was read back), so the map does not wait.
+  if (mask_done) {
+    glClientWaitSync(mask_done, GL_SYNC_FLUSH_COMMANDS_BIT, GL_TIMEOUT_IGNORED);
+    glDeleteSync(mask_done);
+  }
   glBindBuffer(GL_ARRAY_BUFFER, organ_vbo);
   float* const data =
       static_cast<float*>(glMapBufferRange(GL_ARRAY_BUFFER, 0, GLsizeiptr(n * 7 * sizeof(float)), GL_MAP_WRITE_BIT));
@@ -349,9 +376,6 @@ void Renderer::Impl::upload_organ(const vdm::NodeMat& x, const std::vector<float
     const float len = normals[i].norm();
     const Eigen::Vector3f nn = len > 0 ? Eigen::Vector3f(normals[i] / len) : Eigen::Vector3f::UnitZ();
     float* d = data + i * 7;
-    d[0] = float(x(Eigen::Index(i), 0));
-    d[1] = float(x(Eigen::Index(i), 1));
-    d[2] = float(x(Eigen::Index(i), 2));
     d[3] = nn.x();
     d[4] = nn.y();
     d[5] = nn.z();
@@ -607,11 +631,17 @@ GlProgram& Renderer::Impl::use(Material m) {
 void Renderer::Impl::draw(const RenderScene& scene, const StressView* view, bool hud, Image& out) {
   gl->make_current();
   PassTimer timer;
-  upload_organ(*scene.positions, view ? &scene.scalar : nullptr);
+  upload_positions(*scene.positions);
   set_capsules(scene);
   timer.mark("upload");
-  if (settings.floor && settings.shadows) shadow_mask_pass(scene);
+  GLsync mask_done = nullptr;
+  if (settings.floor && settings.shadows) {
+    shadow_mask_pass(scene);
+    mask_done = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+  }
   timer.mark("shadow mask");
+  upload_normals(*scene.positions, view ? &scene.scalar : nullptr, mask_done);
+  timer.mark("normals");
 
   fb->copy_color_from(backdrop_fbo);
   fb->bind_draw();
