@@ -11,6 +11,7 @@
 #include <fstream>
 #include <iomanip>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 #include "app/checkpoint.hpp"
@@ -436,7 +437,8 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
   // to the frames whose images are on disk if an image write fails.
   std::vector<std::uintmax_t> row_end;
   const std::uintmax_t rows_base = metrics_good_size;
-  SceneSimulation sim(ps);
+  std::optional<SceneSimulation> simulation(std::in_place, ps);  // (freed before the contact sheet)
+  SceneSimulation& sim = *simulation;
   // What setting up the scene, the renderer and the simulation freed (the mesh as read,
   // the model's and the solver's temporaries, FCL's tree once copied) goes back to the
   // system now: malloc keeps freed pages inside its heaps otherwise.
@@ -571,6 +573,12 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
   }
   if (terminal) err << "\n";
   if (metrics.is_open()) metrics.flush();
+  // What run.json needs from the simulation. A completed run needs no more of it (no state
+  // snapshot): its memory goes before finish() draws the contact sheet, whose GL context and
+  // shaders would otherwise come on top of the engine's.
+  const StageTimes times = sim.stage_times();
+  const std::vector<std::string> warnings = sim.state().warnings;
+  if (status == "completed") simulation.reset();
   if (rendering && !output.finish(error) && status == "completed") {
     status = "failed";
     reason = "writing images failed: " + error;
@@ -594,7 +602,8 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
     if (!(rendering && s.render.stress && s.render.range_auto)) cp.range_lo = cp.range_hi = 0;
     // A snapshot only of a state that is that frame's (not after a failed or cut-back frame,
     // whose grasps or state moved on); without one a resume re-simulates.
-    const bool snapshot = done < frames && done - 1 == state_frame && (status == "completed" || status == "interrupted");
+    const bool snapshot = simulation && done < frames && done - 1 == state_frame &&
+                          (status == "completed" || status == "interrupted");
     std::error_code ec;
     if (snapshot) save_snapshot(done - 1);
     else fs::remove(state_path, ec);
@@ -636,7 +645,6 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
   std::vector<double> sorted = step_times;
   std::sort(sorted.begin(), sorted.end());
   const double median = sorted.empty() ? 0.0 : sorted[sorted.size() / 2];
-  const StageTimes& times = sim.stage_times();
   std::ostringstream js;
   js << std::setprecision(9);
   js << "{\n  \"scene\": \"" << json_escape(s.name) << "\",\n  \"scene_file\": \"" << json_escape(s.file)
@@ -682,8 +690,7 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
     js << "  \"render\": null,\n";
   }
   js << "  \"warnings\": [";
-  const vdm::SimState& state = sim.state();
-  for (size_t i = 0; i < state.warnings.size(); ++i) js << (i ? ", " : "") << '"' << json_escape(state.warnings[i]) << '"';
+  for (size_t i = 0; i < warnings.size(); ++i) js << (i ? ", " : "") << '"' << json_escape(warnings[i]) << '"';
   js << "]\n}\n";
   if (!write_run_json(dir / "run.json", js.str(), error)) {
     err << "vdmsim: error: " << error << "\n";

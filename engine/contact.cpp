@@ -93,7 +93,8 @@ struct ContactSolver::Fcl {
   NodeMat prev, last, lo, hi;
   std::vector<long long> outside;  // per node: left its box by more than the slack (0 = no)
   std::vector<int> node_triangles_start, node_triangles;  // triangles of each node (CSR)
-  std::vector<int> leaf, parent, post_order;             // leaf of each triangle, parent of each BV node
+  std::vector<int> leaf, parent, post_order;             // leaf of each triangle, parent of each BV node,
+                                                          // the tree's nodes children first (the first refit's order; freed after it)
   std::vector<char> leaf_dirty;                           // per triangle
   std::vector<int> dirty;
   double slack = 0.0, margin = 0.0;  // margin: far above rounding, keeps the grown test conservative
@@ -271,8 +272,8 @@ ContactSolver::ContactSolver(const TissueModel& m, ContactSettings settings)
   if (settings_.method == ContactSettings::Method::penalty) input_ = make_step_input(m);
   active_.assign(m.n, 0);
   mark_.assign(m.n, 0);
-  target_ = NodeMat::Zero(m.n, 3);
-  normal_ = NodeMat::Zero(m.n, 3);
+  held_target_.reserve(static_cast<size_t>(m.n));  // (reserved, not touched: no memory until used)
+  held_normal_.reserve(static_cast<size_t>(m.n));
   candidates_.reserve(static_cast<size_t>(m.n));
   held_.reserve(static_cast<size_t>(m.n));
   saved_flags_.reserve(static_cast<size_t>(m.n));
@@ -358,6 +359,7 @@ void ContactSolver::refit_lazy(const NodeMat& x) {
       else merge(node);
     }
     f.box_updates += static_cast<long>(f.post_order.size());
+    std::vector<int>().swap(f.post_order);  // only the first refit walks the whole tree (-0.6 MB at 40k)
     refitted_ = true;
     return;
   }
@@ -717,6 +719,8 @@ void ContactSolver::step_kinematic(const TissueModel& m, const StepInput& base, 
   // Contacts at the start: nodes inside (or touching) an instrument at its new pose.
   for (int i : held_) active_[i] = 0;
   held_.clear();
+  held_target_.clear();
+  held_normal_.clear();
   close_d_.resize(tools.size());
   close_p_.resize(tools.size());
   close_n_.resize(tools.size());
@@ -740,8 +744,8 @@ void ContactSolver::step_kinematic(const TissueModel& m, const StepInput& base, 
         if (dist >= 0.0) dir = nrm;  // touching: held where it is; the tool pushes it along its normal
         active_[i] = 1;  // (classify only sees free nodes)
         held_.push_back(i);
-        target_.row(i) = target.transpose();
-        normal_.row(i) = dir.transpose();
+        held_target_.push_back(target.transpose());
+        held_normal_.push_back(dir.transpose());
         return true;
       }
     }
@@ -762,8 +766,8 @@ void ContactSolver::step_kinematic(const TissueModel& m, const StepInput& base, 
   const int max_it = std::max(1, settings_.max_active_set_iterations);
   StepInput& in = borrowed ? *borrowed : input_;
   if (!borrowed) {
-    if (input_.force.rows() != m.n) input_ = make_step_input(m);  // the first such step: allocates once
-    input_.force = base.force;
+    if (input_.prescribed.rows() != m.n) input_ = make_step_input(m);  // the first such step: allocates once
+    input_.force = base.force;  // (0 rows: none)
     input_.pressure = base.pressure;
     copy_scene_constraints(m, base);
   }
@@ -775,7 +779,7 @@ void ContactSolver::step_kinematic(const TissueModel& m, const StepInput& base, 
       saved_flags_[k] = in.prescribed.row(i);
       saved_u_[k] = in.prescribed_u.row(i);
       in.prescribed.row(i).setOnes();
-      in.prescribed_u.row(i) = target_.row(i) - m.rest.positions.row(i);
+      in.prescribed_u.row(i) = held_target_[k] - m.rest.positions.row(i);
     }
     if (it > 0) {  // solve the same step again from its start
       if (solver_) {
@@ -803,15 +807,21 @@ void ContactSolver::step_kinematic(const TissueModel& m, const StepInput& base, 
     // Release nodes the instrument would have to pull (adhesion).
     if (it < max_it) {
       size_t kept = 0;
-      for (int i : held_) {
-        if (s.reaction.row(i).dot(normal_.row(i)) < 0.0) {
+      for (size_t k = 0; k < held_.size(); ++k) {
+        const int i = held_[k];
+        if (s.reaction.row(i).dot(held_normal_[k]) < 0.0) {
           active_[i] = 0;
           changed = true;
         } else {
-          held_[kept++] = i;
+          held_[kept] = i;
+          held_target_[kept] = held_target_[k];
+          held_normal_[kept] = held_normal_[k];
+          ++kept;
         }
       }
       held_.resize(kept);
+      held_target_.resize(kept);
+      held_normal_.resize(kept);
     }
     // Catch free nodes that the step pushed into an instrument.
     refit(s.x);

@@ -152,8 +152,9 @@ class ContactSolver {
   std::vector<Eigen::RowVector3d> saved_u_;
   std::vector<double> close_d_;  // a node's distance to each tool, closest points and normals
   std::vector<Vec3> close_p_, close_n_;
-  NodeMat target_;                 // held position of active nodes (m)
-  NodeMat normal_;                 // contact normal of active nodes
+  // Per held node (in held_'s order): its held position (m) and contact normal. Kept with
+  // held_ rather than as N x 3 arrays: a handful of nodes are held at a time (-2 MB at 40k).
+  std::vector<Eigen::RowVector3d> held_target_, held_normal_;
   std::vector<int> candidates_;
   std::vector<int> stack_;                // BVH walk
   std::vector<char> triangle_mark_;       // penalty: triangles already found

@@ -69,6 +69,9 @@ static std::vector<std::array<int, 2>> sorted_edge_uses(const TriMat& tris) {
 std::vector<std::array<int, 2>> unique_edges(const TriMat& tris) {
   std::vector<std::array<int, 2>> edges = sorted_edge_uses(tris);
   edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  // Each edge of a closed surface is used twice: without this the model would keep twice the
+  // memory its edges need (1 MB more at 40k nodes).
+  edges.shrink_to_fit();
   return edges;
 }
 

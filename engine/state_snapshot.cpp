@@ -58,6 +58,17 @@ class Reader {
     if (!i64(r) || !i64(c) || r != x.rows() || c != x.cols()) return false;
     return bytes(x.data(), sizeof(typename M::Scalar) * static_cast<size_t>(x.size()));
   }
+  // An array that may be saved with 0 rows (all zero; see StepWorkspace) or with n: sized
+  // here when it has rows. `zero`: it had none (the array is then left as it is).
+  template <class M>
+  bool lazy_matrix(M& x, Eigen::Index n, bool& zero) {
+    std::int64_t r = 0, c = 0;
+    if (!i64(r) || !i64(c) || (r != 0 && r != n) || c != x.cols()) return false;
+    zero = r == 0;
+    if (zero) return true;
+    x.resize(n, x.cols());
+    return bytes(x.data(), sizeof(typename M::Scalar) * static_cast<size_t>(x.size()));
+  }
   bool text(std::string& s) {
     std::int64_t n = 0;
     if (!i64(n) || n < 0 || static_cast<std::uint64_t>(n) > in_.size() - pos_) return false;
@@ -98,11 +109,14 @@ void save_state(const TissueModel& m, const SimState& s, std::string& out) {
   o.i64(w.matrix_dirty);
   o.i64(w.steps_since_refresh);
   o.matrix(w.last_mask);
+  // Zero ones with 0 rows (as StepWorkspace keeps them).
+  const NodeMat no_rows(0, 3);
+  const Vec no_entries;
   o.matrix(w.last_springs);
-  o.matrix(w.force_last);
-  o.matrix(w.force_prev);
-  o.matrix(w.pressure_last);
-  o.matrix(w.pressure_prev);
+  o.matrix(w.force_last_zero ? no_rows : w.force_last);
+  o.matrix(w.force_prev_zero ? no_rows : w.force_prev);
+  o.matrix(w.pressure_last_zero ? no_entries : w.pressure_last);
+  o.matrix(w.pressure_prev_zero ? no_entries : w.pressure_prev);
   std::vector<double> warm;
   w.solver->save_warm_state(warm);
   o.i64(static_cast<std::int64_t>(warm.size()));
@@ -140,9 +154,14 @@ bool load_state(const TissueModel& m, std::string_view in, size_t& pos, SimState
     s.warnings.push_back(std::move(t));
   }
   if (!r.matrix(w.x_refresh) || !r.integer(w.have_geometry) || !r.integer(w.matrix_dirty) ||
-      !r.integer(w.steps_since_refresh) || !r.matrix(w.last_mask) || !r.matrix(w.last_springs) || !r.matrix(w.force_last) ||
-      !r.matrix(w.force_prev) || !r.matrix(w.pressure_last) || !r.matrix(w.pressure_prev))
+      !r.integer(w.steps_since_refresh) || !r.matrix(w.last_mask))
     return fail("truncated or of another model");
+  bool springs_zero = false;
+  if (!r.lazy_matrix(w.last_springs, m.n, springs_zero) || !r.lazy_matrix(w.force_last, m.n, w.force_last_zero) ||
+      !r.lazy_matrix(w.force_prev, m.n, w.force_prev_zero) || !r.lazy_matrix(w.pressure_last, m.n, w.pressure_last_zero) ||
+      !r.lazy_matrix(w.pressure_prev, m.n, w.pressure_prev_zero))
+    return fail("truncated or of another model");
+  if (springs_zero) w.last_springs.setZero();  // (sized or not: zero)
   std::int64_t count = 0;
   if (!r.i64(count) || count < 0 || static_cast<std::uint64_t>(count) > (in.size() - pos) / sizeof(double))
     return fail("truncated");

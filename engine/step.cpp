@@ -345,7 +345,6 @@ SimState make_sim_state(const TissueModel& m) {
   w->K.diagonal = NodeMat::Zero(n, 3);
   w->mask = FlagMat::Zero(n, 3);
   w->constrained_axes.assign(size_t(n), 0);
-  w->last_springs = NodeMat::Zero(n, 3);
   w->last_mask = FlagMat::Constant(n, 3, 2);  // never equal: the first step tells the solver
   w->u_fixed = NodeMat::Zero(n, 3);
   w->a_free = NodeMat::Zero(n, 3);
@@ -364,11 +363,8 @@ SimState make_sim_state(const TissueModel& m) {
   w->scratch = Vec::Zero(n);
   w->area_norms = Vec::Zero(n);
   w->packed.assign(6 * size_t(n), 0.0);
-  w->force_last = NodeMat::Zero(n, 3);
-  w->force_prev = NodeMat::Zero(n, 3);
-  w->pressure_last = Vec::Zero(n);
-  w->pressure_prev = Vec::Zero(n);
-  // sub_input and whole_*: made by the first step done in parts (make_halving_arrays).
+  // sub_input and whole_*: made by the first step done in parts (make_halving_arrays);
+  // last_springs, force_* and pressure_*: by the first step that has them.
   w->solver = make_linear_solver(m.solver);
   w->solver->analyze(m.pattern);
   s.work = std::move(w);
@@ -441,6 +437,8 @@ void rewind_step(const TissueModel& m, SimState& s) {
   if (w.input_remembered) {  // the step's loads are no longer the last ones
     w.force_last.swap(w.force_prev);
     w.pressure_last.swap(w.pressure_prev);
+    std::swap(w.force_last_zero, w.force_prev_zero);
+    std::swap(w.pressure_last_zero, w.pressure_prev_zero);
     w.input_remembered = false;
   }
 }
@@ -531,6 +529,7 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
     double a_u = 0.0;
     const bool mask_changed = build_constraints(m, in, s.area_vectors, s.u, w, a_u);
     const bool springs = in.spring_k.rows() == m.n;
+    if (springs && w.last_springs.rows() != m.n) w.last_springs = NodeMat::Zero(m.n, 3);  // the first step with springs
     const bool springs_changed = springs ? in.spring_k != w.last_springs : w.last_springs_any;
     if (w.matrix_dirty || mask_changed || springs_changed) {
       if (mask_changed) w.last_mask = w.mask;
@@ -713,10 +712,13 @@ const char* trouble_with(const TissueModel& m, const SimState& s, Attempt a) {
 void remember_input(const TissueModel& m, const StepInput& in, StepWorkspace& w) {
   w.force_prev.swap(w.force_last);  // pointer swaps, no allocation
   w.pressure_prev.swap(w.pressure_last);
-  if (in.force.rows() == m.n) w.force_last = in.force;
-  else w.force_last.setZero();
-  if (in.pressure.size() == m.n) w.pressure_last = in.pressure;
-  else w.pressure_last.setZero();
+  std::swap(w.force_prev_zero, w.force_last_zero);
+  std::swap(w.pressure_prev_zero, w.pressure_last_zero);
+  // Zero loads are only flagged (the first nonzero one sizes its array: allocates once).
+  w.force_last_zero = in.force.rows() != m.n || in.force.isZero(0.0);
+  if (!w.force_last_zero) w.force_last = in.force;
+  w.pressure_last_zero = in.pressure.size() != m.n || in.pressure.isZero(0.0);
+  if (!w.pressure_last_zero) w.pressure_last = in.pressure;
   w.input_remembered = true;
 }
 
@@ -724,9 +726,11 @@ void remember_input(const TissueModel& m, const StepInput& in, StepWorkspace& w)
 // pressures interpolated, prescribed entries from where they are at the step's start.
 void interpolate_input(const TissueModel& m, const StepInput& in, double t, StepWorkspace& w) {
   StepInput& sub = w.sub_input;
-  sub.force = (1.0 - t) * w.force_last;
+  if (w.force_last_zero) sub.force.setZero();
+  else sub.force = (1.0 - t) * w.force_last;
   if (in.force.rows() == m.n) sub.force.noalias() += t * in.force;
-  sub.pressure = (1.0 - t) * w.pressure_last;
+  if (w.pressure_last_zero) sub.pressure.setZero();
+  else sub.pressure = (1.0 - t) * w.pressure_last;
   if (in.pressure.size() == m.n) sub.pressure.noalias() += t * in.pressure;
   if (in.prescribed.rows() == m.n) {
     sub.prescribed = in.prescribed;

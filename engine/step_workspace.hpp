@@ -1,7 +1,8 @@
 #pragma once
 // Engine-internal per-run scratch owned by SimState: matrices, constraint masks, loads and the
 // chosen linear solver. Sized once in make_sim_state(); step() allocates nothing after that,
-// except once: the first step done in parts makes the arrays of halved steps (sub_input, whole_*).
+// except once: the first step done in parts makes the arrays of halved steps (sub_input, whole_*),
+// and the first step with springs, a force or a pressure sizes the array that keeps it.
 #include <array>
 #include <memory>
 #include <vector>
@@ -25,7 +26,8 @@ struct StepWorkspace {
   AxisStiffness K;                // per-axis K^d at the last refresh (unmasked)
   FlagMat mask, last_mask;        // constrained entries this step / when the solver was last told
   std::vector<std::uint8_t> constrained_axes;  // eliminate_rhs()'s scratch: mask's axes per node as bits
-  NodeMat last_springs;           // StepInput::spring_k when the solver was last told (N x 3)
+  NodeMat last_springs;           // StepInput::spring_k when the solver was last told (N x 3; 0 rows, all
+                                  // zero, until the first step with springs: most runs have none)
   bool last_springs_any = false;  // some of last_springs is not zero
   double mean_diagonal = 1.0;     // of the eliminated matrices (the residual's pressure scale)
   NodeMat u_fixed;                // values of constrained entries (m)
@@ -42,8 +44,11 @@ struct StepWorkspace {
   double volume_at_refresh = 0;   // enclosed volume at x_refresh
   // Halved load increments (step() in step.cpp): the loads of the last two completed steps,
   // the input of a part of a step, and the whole step's start while it is done in parts.
+  // A load that is zero is not copied: its *_zero flag says so, and its array (sized by the
+  // first step with such a load) is not read. Runs without forces or pressures have none.
   NodeMat force_last, force_prev;
   Vec pressure_last, pressure_prev;
+  bool force_last_zero = true, force_prev_zero = true, pressure_last_zero = true, pressure_prev_zero = true;
   bool input_remembered = false;  // force_last/pressure_last are the current step's (rewind swaps back)
   StepInput sub_input;
   StepStart whole;                // the whole step's start (x_refresh: the geometry's positions then)

@@ -28,8 +28,11 @@ unsigned compile(GLenum type, const char* source, std::string& error) {
 
 }  // namespace
 
-GlProgram::~GlProgram() {
+GlProgram::~GlProgram() { reset(); }
+
+void GlProgram::reset() {
   if (id_) glDeleteProgram(id_);
+  id_ = 0;
 }
 
 bool GlProgram::build(const char* vertex_source, const char* fragment_source, std::string& error) {

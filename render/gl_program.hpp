@@ -13,6 +13,8 @@ class GlProgram {
   // Compiles and links; false with the driver's log in `error`.
   bool build(const char* vertex_source, const char* fragment_source, std::string& error);
   unsigned id() const { return id_; }
+  // Deletes the program (its driver memory goes with it); id() is 0 until built again.
+  void reset();
   int uniform(const char* name) const;  // location, -1 when absent
 
  private:

@@ -165,7 +165,8 @@ struct Renderer::Impl {
   }
 
   bool init(const vdm::SurfaceMesh& rest, std::string& error);
-  void upload_organ(const vdm::NodeMat& x, const std::vector<float>* scalar);
+  void upload_positions(const vdm::NodeMat& x);
+  void upload_normals(const vdm::NodeMat& x, const std::vector<float>* scalar, GLsync mask_done);
   InstrumentMeshes& instrument_meshes(const InstrumentView& v);
   GpuMesh& skin_mesh(const SkinMesh* s);
   GLuint colormap_texture(ColorMapName name);
@@ -175,6 +176,7 @@ struct Renderer::Impl {
   void find_shadow_rect(const RenderScene& scene);
   void draw_floor(const GpuMesh& quad, bool shadowed);
   void draw_background();
+  bool build_material(Material m, std::string& error);
   bool make_backdrop(std::string& error);
   void set_view_proj();
   GlProgram& use(Material m);
@@ -190,11 +192,11 @@ bool Renderer::Impl::init(const vdm::SurfaceMesh& rest, std::string& error) {
     error = "OpenGL framebuffer incomplete at " + std::to_string(settings.width) + "x" + std::to_string(settings.height);
     return false;
   }
-  const char* defines[3] = {"MODE_TISSUE", "MODE_COLORMAP", "MODE_METAL"};
-  for (int k = 0; k < 3; ++k) {
-    const std::string fragment = std::string("#version 450 core\n#define ") + defines[k] + "\n" + shaders::kMeshFragment;
-    if (!materials[k].build(shaders::kMeshVertex, fragment.c_str(), error)) return false;
-  }
+  for (int k = 0; k < 3; ++k)
+    if (!build_material(Material(k), error)) return false;
+  // The colour-map material (stress views) is checked here and built again by its first use:
+  // each linked program keeps about 1 MB of driver memory, for nothing in a shaded-only run.
+  materials[kColormap].reset();
   if (!mask_program.build(shaders::kShadowMaskVertex, shaders::kShadowMaskFragment, error) ||
       !floor_program.build(shaders::kMeshVertex, shaders::kFloorFragment, error) ||
       !background.build(shaders::kBackgroundVertex, shaders::kBackgroundFragment, error))
@@ -281,8 +283,13 @@ bool Renderer::Impl::init(const vdm::SurfaceMesh& rest, std::string& error) {
   glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(4 * 6 * sizeof(float)), nullptr, GL_STREAM_DRAW);
 
   if (!make_backdrop(error)) return false;
+  background.reset();  // only the backdrop uses it
   const float body_px = std::max(12.0f, settings.height / 40.0f);
-  return imgui.init(body_px, error);
+  if (!imgui.init(body_px, error)) return false;
+  // Every program is linked: Mesa's GLSL compiler keeps its library of built-in functions
+  // (about 5 MB) until told it is not needed; a later compile builds it again.
+  glReleaseShaderCompiler();
+  return true;
 }
 
 // The camera's projection, with near and far planes around the organ (radius `radius`).
@@ -321,7 +328,31 @@ bool Renderer::Impl::make_backdrop(std::string& error) {
   return true;
 }
 
-void Renderer::Impl::upload_organ(const vdm::NodeMat& x, const std::vector<float>* scalar) {
+// The organ's positions into its buffer (llvmpipe maps its own storage: no staging copy; the
+// last frame's drawing is done, so the map does not wait). Its normals and scalar follow in
+// upload_normals(), after the shadow mask, which needs the positions only.
+void Renderer::Impl::upload_positions(const vdm::NodeMat& x) {
+  const size_t n = normals.size();
+  glBindBuffer(GL_ARRAY_BUFFER, organ_vbo);
+  float* const data =
+      static_cast<float*>(glMapBufferRange(GL_ARRAY_BUFFER, 0, GLsizeiptr(n * 7 * sizeof(float)), GL_MAP_WRITE_BIT));
+  if (!data) return;
+  for (size_t i = 0; i < n; ++i) {
+    float* d = data + i * 7;
+    d[0] = float(x(Eigen::Index(i), 0));
+    d[1] = float(x(Eigen::Index(i), 1));
+    d[2] = float(x(Eigen::Index(i), 2));
+  }
+  glUnmapBuffer(GL_ARRAY_BUFFER);
+}
+
+// Area-weighted vertex normals and the scalar into the organ's buffer. `mask_done` (or null):
+// a fence after the shadow mask's pass, waited for once the normals are computed (the mask
+// is rasterized meanwhile), before the main pass is binned. llvmpipe keeps a drawn scene's
+// memory until it reuses the scene for a later one: a main pass begun while the mask was
+// still being rasterized took another scene, and both scenes' memory stayed (8 MB at 40k
+// nodes, measured); once the mask is done the main pass reuses its scene.
+void Renderer::Impl::upload_normals(const vdm::NodeMat& x, const std::vector<float>* scalar, GLsync mask_done) {
   const size_t n = normals.size();
   for (auto& v : normals) v.setZero();
   const vdm::TriMat& tris = *triangles;
@@ -333,8 +364,10 @@ void Renderer::Impl::upload_organ(const vdm::NodeMat& x, const std::vector<float
     normals[size_t(b)] += fn;
     normals[size_t(c)] += fn;
   }
-  // Written straight into the buffer (llvmpipe maps its own storage: no staging copy). The
-  // last frame's drawing is done (it was read back), so the map does not wait.
+  if (mask_done) {
+    glClientWaitSync(mask_done, GL_SYNC_FLUSH_COMMANDS_BIT, GL_TIMEOUT_IGNORED);
+    glDeleteSync(mask_done);
+  }
   glBindBuffer(GL_ARRAY_BUFFER, organ_vbo);
   float* const data =
       static_cast<float*>(glMapBufferRange(GL_ARRAY_BUFFER, 0, GLsizeiptr(n * 7 * sizeof(float)), GL_MAP_WRITE_BIT));
@@ -343,9 +376,6 @@ void Renderer::Impl::upload_organ(const vdm::NodeMat& x, const std::vector<float
     const float len = normals[i].norm();
     const Eigen::Vector3f nn = len > 0 ? Eigen::Vector3f(normals[i] / len) : Eigen::Vector3f::UnitZ();
     float* d = data + i * 7;
-    d[0] = float(x(Eigen::Index(i), 0));
-    d[1] = float(x(Eigen::Index(i), 1));
-    d[2] = float(x(Eigen::Index(i), 2));
     d[3] = nn.x();
     d[4] = nn.y();
     d[5] = nn.z();
@@ -565,8 +595,19 @@ void Renderer::Impl::draw_background() {
   glBindVertexArray(0);
 }
 
+bool Renderer::Impl::build_material(Material m, std::string& error) {
+  const char* defines[3] = {"MODE_TISSUE", "MODE_COLORMAP", "MODE_METAL"};
+  const std::string fragment = std::string("#version 450 core\n#define ") + defines[m] + "\n" + shaders::kMeshFragment;
+  return materials[m].build(shaders::kMeshVertex, fragment.c_str(), error);
+}
+
 GlProgram& Renderer::Impl::use(Material m) {
   GlProgram& p = materials[m];
+  if (!p.id()) {  // the colour-map material, dropped after init's check: built again from the same source
+    std::string error;
+    build_material(m, error);
+    glReleaseShaderCompiler();
+  }
   glUseProgram(p.id());
   glUniformMatrix4fv(p.uniform("u_view_proj"), 1, GL_FALSE, view_proj.data());
   glUniform3fv(p.uniform("u_eye"), 1, f3(camera.eye).data());
@@ -590,11 +631,17 @@ GlProgram& Renderer::Impl::use(Material m) {
 void Renderer::Impl::draw(const RenderScene& scene, const StressView* view, bool hud, Image& out) {
   gl->make_current();
   PassTimer timer;
-  upload_organ(*scene.positions, view ? &scene.scalar : nullptr);
+  upload_positions(*scene.positions);
   set_capsules(scene);
   timer.mark("upload");
-  if (settings.floor && settings.shadows) shadow_mask_pass(scene);
+  GLsync mask_done = nullptr;
+  if (settings.floor && settings.shadows) {
+    shadow_mask_pass(scene);
+    mask_done = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
+  }
   timer.mark("shadow mask");
+  upload_normals(*scene.positions, view ? &scene.scalar : nullptr, mask_done);
+  timer.mark("normals");
 
   fb->copy_color_from(backdrop_fbo);
   fb->bind_draw();
