@@ -31,7 +31,8 @@ struct BlockPcgWorkspace {
 // threshold[c] (absolute), or max_iter iterations. `op(in, out, dot)`: out = A in on the
 // block and dot[c] = in_c . out_c; `pre(in, out, dot)`: out = P^{-1} in and dot[c] = in_c .
 // out_c. A column with b_c = 0 gets x_c = 0. result[c]: iterations and convergence per
-// column (breakdown: A_c not SPD along the direction, or not finite).
+// column (breakdown: A_c not SPD along the direction, or not finite). b may be w.r itself
+// (sized n W beforehand): each entry is read before the residual overwrites it.
 template <int W, class Op, class Pre>
 void block_pcg(const Op& op, const Pre& pre, int n, const double* b, double* x, const double* threshold,
                int max_iter, BlockPcgWorkspace& w, std::array<KrylovResult, W>& result) {

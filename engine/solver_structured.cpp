@@ -53,16 +53,15 @@ class StructuredSolver final : public LinearSolver {
     for (int i = 0; i < n_; ++i) iperm_[size_t(perm_[size_t(i)])] = i;
     K_.analyze(pattern, perm_);
     ic_.analyze(K_);
-    r_ = NodeMat::Zero(n_, 3);
     s_ = NodeMat::Zero(n_, 3);
-    b_.assign(6 * size_t(n_), 0.0);
     x_.assign(6 * size_t(n_), 0.0);
+    x3_.assign(3 * size_t(n_), 0.0);
     work_.resize(6 * size_t(n_));
   }
 
   const NodeMat& pressure_response(const NodeMat& a) override {
     if (!s_valid_) {
-      solve_block<3>(nullptr, &a);
+      solve_block<3>(nullptr, &a, nullptr);
       s_valid_ = true;
     }
     return s_;
@@ -102,7 +101,9 @@ class StructuredSolver final : public LinearSolver {
   }
 
   void save_warm_state(std::vector<double>& out) const override {
-    put_warm(out, r_);
+    // r in node order (as put_warm() writes a NodeMat: column by column), from the block.
+    for (size_t d = 0; d < 3; ++d)
+      for (int node = 0; node < n_; ++node) out.push_back(x_[6 * size_t(iperm_[size_t(node)]) + 2 * d]);
     put_warm(out, s_);
     for (int g = 0; g < 2; ++g)  // the last solutions in solver order, r's then s's, 3 per row
       for (size_t i = 0; i < size_t(n_); ++i)
@@ -122,7 +123,10 @@ class StructuredSolver final : public LinearSolver {
   // factors replace those).
   bool load_warm_state(const std::vector<double>& in) override {
     size_t pos = 0;
-    if (!take_warm(in, pos, r_) || !take_warm(in, pos, s_)) return false;
+    // r in node order: the block's r lanes below hold it (in solver order).
+    if (in.size() < pos + 3 * size_t(n_)) return false;
+    pos += 3 * size_t(n_);
+    if (!take_warm(in, pos, s_)) return false;
     if (in.size() < pos + x_.size() + 2) return false;
     for (int g = 0; g < 2; ++g)
       for (size_t i = 0; i < size_t(n_); ++i)
@@ -148,7 +152,8 @@ class StructuredSolver final : public LinearSolver {
     rep.factorizations = pending_factorizations_;
     pending_factorizations_ = 0;
     const bool new_s = volume_constraint && !s_valid_;
-    const BlockReport br = new_s ? solve_block<6>(&rhs, &a) : solve_block<3>(&rhs, nullptr);
+    // r straight into u, then u = r + dP s.
+    const BlockReport br = new_s ? solve_block<6>(&rhs, &a, &u) : solve_block<3>(&rhs, nullptr, &u);
     rep.iterations = br.iterations;
     rep.converged = br.converged;
     if (new_s) {  // the first solve on new matrices: the one that tells how well the factors fit
@@ -156,8 +161,8 @@ class StructuredSolver final : public LinearSolver {
       else if (br.iterations > kStaleGrowth * baseline_ + 2) factor_due_ = true;
     }
     if (volume_constraint) s_valid_ = true;
-    dP = volume_constraint ? pressure_for_volume(a, r_, s_, c) : 0.0;
-    u.noalias() = r_ + dP * s_;
+    dP = volume_constraint ? pressure_for_volume(a, u, s_, c) : 0.0;
+    u += dP * s_;
     return rep;
   }
 
@@ -170,15 +175,19 @@ class StructuredSolver final : public LinearSolver {
   // K^d r^d = rhs^d (rhs given) and K^d s^d = a^d (a given) by block PCG with IC(0) in the
   // permuted order, warm-started from the last solutions (x_), each axis until
   // |b - K x| <= tolerance |b_all| / sqrt(3) (b_all: that right-hand side on all axes). The
-  // results go to r_ and s_ in node order. W = 3 for one of them, 6 for both.
+  // results go to *r (the caller's) and s_ in node order. W = 3 for one of them, 6 for both.
   template <int W>
-  BlockReport solve_block(const NodeMat* rhs, const NodeMat* a) {
+  BlockReport solve_block(const NodeMat* rhs, const NodeMat* a, NodeMat* r) {
     constexpr int G = W / 3;  // systems per axis: column d G + g is axis d of system g
     const NodeMat* src[2] = {rhs ? rhs : a, rhs ? a : nullptr};
     const size_t lane[2] = {rhs ? 0u : 1u, 1u};  // the system's lane in x_ (0: r, 1: s)
-    NodeMat* out[2] = {rhs ? &r_ : &s_, &s_};
-    // The block of both systems is x_ itself; one system alone iterates in b_'s upper half.
-    double* x = W == 6 ? x_.data() : b_.data() + 3 * size_t(n_);
+    NodeMat* out[2] = {rhs ? r : &s_, &s_};
+    // The block of both systems is x_ itself; one system alone iterates in x3_.
+    double* x = W == 6 ? x_.data() : x3_.data();
+    // The right-hand sides go into the block PCG's residual array, which block_pcg() reads
+    // as b before it writes the residual there (sized first: resizing would clear them).
+    work_.resize(size_t(n_) * W);
+    double* const bw = work_.r.data();
     if (W == 6 && !settings_.warm_start) std::fill(x_.begin(), x_.end(), 0.0);
     double threshold[W];
     for (int g = 0; g < G; ++g) {
@@ -187,7 +196,7 @@ class StructuredSolver final : public LinearSolver {
       // columns of b in solver order missed on every load).
       const double* bc[3] = {b.col(0).data(), b.col(1).data(), b.col(2).data()};
       for (int node = 0; node < n_; ++node) {
-        double* row = b_.data() + size_t(iperm_[size_t(node)]) * W + size_t(g);
+        double* row = bw + size_t(iperm_[size_t(node)]) * W + size_t(g);
         for (int d = 0; d < 3; ++d) row[d * G] = bc[d][node];
       }
       if (W == 3)
@@ -202,7 +211,7 @@ class StructuredSolver final : public LinearSolver {
     auto op = [&K](const double* in, double* res, double* dot) { multiply_block<W>(K, in, res, dot); };
     auto pre = [&ic](const double* in, double* res, double* dot) { ic.apply<W>(in, res, dot); };
     std::array<KrylovResult, W> kr;
-    block_pcg<W>(op, pre, n_, b_.data(), x, threshold, settings_.max_iterations, work_, kr);
+    block_pcg<W>(op, pre, n_, bw, x, threshold, settings_.max_iterations, work_, kr);
     BlockReport rep;
     for (const KrylovResult& k : kr) {
       rep.iterations += k.iterations;
@@ -230,10 +239,10 @@ class StructuredSolver final : public LinearSolver {
   std::vector<int> iperm_;       // node -> solver index
   AxisMatrices K_;               // permuted K^x, K^y, K^z
   AxisIncompleteCholesky ic_;
-  NodeMat r_, s_;                // node order
-  std::vector<double> b_;        // the block's right-hand sides (W = 3: iterates in its upper half)
+  NodeMat s_;                    // node order (r goes to the caller's u)
   std::vector<double> x_;        // solver order, 6 per row (r^x s^x r^y s^y r^z s^z): the last
                                  // solutions, the warm starts, and the block of a W = 6 solve
+  std::vector<double> x3_;       // the block of a W = 3 solve (one system)
   BlockPcgWorkspace work_;
   bool s_valid_ = false;
   int pending_factorizations_ = 0;
