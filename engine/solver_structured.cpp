@@ -15,6 +15,7 @@
 // solves took 50 iterations of one vector each with plain IC(0).
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <vector>
 
 #include "engine/axis_incomplete_cholesky.hpp"
@@ -77,7 +78,7 @@ class StructuredSolver final : public LinearSolver {
     K_.gather(*system.K, *system.mask, system.springs);
     s_valid_ = false;
     const bool new_shape = factor_mask_.rows() != system.mask->rows();
-    const bool mask_changed = new_shape || factor_mask_ != *system.mask;
+    const bool mask_changed = new_shape || std::memcmp(factor_mask_.data(), system.mask->data(), size_t(factor_mask_.size())) != 0;
     // Springs (penalty contact) are stiff diagonal terms that change with every solve.
     if (factor_due_ || new_shape || system.springs || ++stale_ > kMaxStale) {
       ic_.factorize(K_, kMicOmega);
