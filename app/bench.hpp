@@ -12,7 +12,7 @@ namespace vdmsim {
 // The solver tolerance of the bench's probe cases: the performance issue times the step "at
 // the solver tolerance that gives under 0.1 mm displacement error". `vdmsim bench` measures
 // that error against a tolerance of 1e-10 on the same mesh (bench_tolerance.csv): about
-// 0.002 mm (2.5k nodes) and 0.004 mm (10k).
+// 0.002 mm (2.5k nodes) and 0.003 mm (10k), with the volume tolerance below.
 constexpr double kBenchTolerance = 1e-3;
 // The relative volume error the probe cases accept without a correction of the pressure
 // (SolverSettings::volume_tolerance, 1e-11 by default): the issue asks for the volume within
