@@ -23,7 +23,7 @@ void eliminate_constraints(const AxisSystem& system, std::array<SpMat, 3>& K_mas
   }
 }
 
-double eliminated_mean_diagonal(const AxisSystem& system) {
+double eliminated_mean_diagonal(const AxisSystem& system, const NodeMat* a, NodeMat* a_free) {
   double sum = 0.0;
   const Eigen::Index n = system.K->diagonal.rows();
   for (int d = 0; d < 3; ++d) {
@@ -31,7 +31,12 @@ double eliminated_mean_diagonal(const AxisSystem& system) {
     const std::uint8_t* mask = system.mask->col(d).data();
     const double* k = system.springs ? system.springs->col(d).data() : nullptr;
     double axis = 0.0;  // per axis, then summed: as the solvers have always added it up
-    for (Eigen::Index i = 0; i < n; ++i) axis += mask[i] ? 1.0 : std::abs(diag[i] + (k ? k[i] : 0.0));
+    const double* ad = a_free ? a->col(d).data() : nullptr;
+    double* fd = a_free ? a_free->col(d).data() : nullptr;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      if (fd) fd[i] = mask[i] ? 0.0 : ad[i];
+      axis += mask[i] ? 1.0 : std::abs(diag[i] + (k ? k[i] : 0.0));
+    }
     sum += axis;
   }
   return n > 0 ? sum / double(3 * n) : 0.0;

@@ -85,8 +85,9 @@ inline bool take_response(const std::vector<double>& in, NodeMat& s, bool& valid
 double pressure_for_volume(const NodeMat& a, const NodeMat& r, const NodeMat& s, double c);
 
 // The mean diagonal entry of the eliminated matrices of `system` (identity rows: 1; free
-// rows: K plus springs).
-double eliminated_mean_diagonal(const AxisSystem& system);
+// rows: K plus springs). With `a` and `a_free` (N x 3) also, in the same pass, a_free = a
+// with the constrained entries zeroed (the step's free area vectors).
+double eliminated_mean_diagonal(const AxisSystem& system, const NodeMat* a = nullptr, NodeMat* a_free = nullptr);
 
 // The scale that makes the pressure column comparable with the stiffness blocks: the mean
 // diagonal of the eliminated K over mean |a| (the reference solver's unknown is dP / scale).

@@ -126,33 +126,11 @@ AxisSystem axis_system(const TissueModel& m, const StepWorkspace& w) {
   return {&w.K, &m.pattern, &w.last_mask, w.last_springs_any ? &w.last_springs : nullptr};
 }
 
-// The solver told of the system (K, last_mask, last_springs); the free area vectors.
-// In the same pass, the eliminated matrices' mean diagonal (eliminated_mean_diagonal(), summed
-// in its order).
+// The solver told of the system (K, last_mask, last_springs); the free area vectors and the
+// eliminated matrices' mean diagonal, in one pass.
 void update_solver_system(const TissueModel& m, const SimState& s, StepWorkspace& w) {
   const AxisSystem system = axis_system(m, w);
-  double sum = 0.0;
-  for (int d = 0; d < 3; ++d) {
-    const std::uint8_t* mask = w.last_mask.col(d).data();
-    const double* a = s.area_vectors.col(d).data();
-    const double* diag = w.K.diagonal.col(d).data();
-    const double* k = system.springs ? system.springs->col(d).data() : nullptr;
-    double* a_free = w.a_free.col(d).data();
-    double axis = 0.0;
-    if (k) {
-      for (int i = 0; i < m.n; ++i) {
-        a_free[i] = mask[i] ? 0.0 : a[i];
-        axis += mask[i] ? 1.0 : std::abs(diag[i] + k[i]);
-      }
-    } else {
-      for (int i = 0; i < m.n; ++i) {
-        a_free[i] = mask[i] ? 0.0 : a[i];
-        axis += mask[i] ? 1.0 : std::abs(diag[i] + 0.0);
-      }
-    }
-    sum += axis;
-  }
-  w.mean_diagonal = m.n > 0 ? sum / double(3 * m.n) : 0.0;
+  w.mean_diagonal = eliminated_mean_diagonal(system, &s.area_vectors, &w.a_free);
   w.solver->matrices_changed(system);
   w.fallback_stale = true;
 }
@@ -180,39 +158,26 @@ void build_loads(const TissueModel& m, const StepInput& in, SimState& s, StepWor
 }
 
 // The solve's result `u_new` with the constrained entries set to their values, minus u: the
-// fixed-point residual, in place. Returns its largest magnitude.
-double pin_and_difference(const FlagMat& mask, const NodeMat& u_fixed, const NodeMat& u, NodeMat& u_new) {
+// fixed-point residual, in place. Returns its largest magnitude. With `x` (a step's first
+// solve, taken whole: omega = 1) also advance_positions() in the same pass: u += r on the
+// free entries, u_fixed on the constrained ones, x = rest + u (the same values, bit for bit).
+double pin_and_difference(const FlagMat& mask, const NodeMat& u_fixed, NodeMat& u, NodeMat& u_new,
+                          const NodeMat& rest, NodeMat* x) {
   double largest = 0.0;
   for (int d = 0; d < 3; ++d) {
-    const std::uint8_t* mk = mask.col(d).data();
-    const double* fixed = u_fixed.col(d).data();
-    const double* now = u.col(d).data();
-    double* r = u_new.col(d).data();
-    for (Eigen::Index i = 0; i < u.rows(); ++i) {
-      r[i] = (mk[i] ? fixed[i] : r[i]) - now[i];
-      largest = std::max(largest, std::abs(r[i]));
-    }
-  }
-  return largest;
-}
-
-// pin_and_difference() and advance_positions() with omega = 1 (a step's first solve, taken
-// whole) in one pass: the same values, bit for bit.
-double pin_difference_and_advance(const NodeMat& rest, const FlagMat& mask, const NodeMat& u_fixed, NodeMat& u,
-                                  NodeMat& u_new, NodeMat& x) {
-  double largest = 0.0;
-  for (int d = 0; d < 3; ++d) {
-    const double* X = rest.col(d).data();
     const std::uint8_t* mk = mask.col(d).data();
     const double* fixed = u_fixed.col(d).data();
     double* ud = u.col(d).data();
     double* r = u_new.col(d).data();
-    double* xd = x.col(d).data();
+    const double* X = rest.col(d).data();
+    double* xd = x ? x->col(d).data() : nullptr;
     for (Eigen::Index i = 0; i < u.rows(); ++i) {
       r[i] = (mk[i] ? fixed[i] : r[i]) - ud[i];
       largest = std::max(largest, std::abs(r[i]));
-      ud[i] = mk[i] ? fixed[i] : ud[i] + r[i];
-      xd[i] = X[i] + ud[i];
+      if (xd) {
+        ud[i] = mk[i] ? fixed[i] : ud[i] + r[i];
+        xd[i] = X[i] + ud[i];
+      }
     }
   }
   return largest;
@@ -585,8 +550,7 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
     // from the last two residuals; it saves iterations where the plain iteration converges.
     // u_new becomes the fixed-point residual r = G(u) - u (G(u) pinned), du = max |r|.
     // The first solve is taken whole (omega = 1): u and x move in the same pass.
-    const double du = it == 0 ? pin_difference_and_advance(m.rest.positions, w.mask, w.u_fixed, s.u, w.u_new, s.x)
-                              : pin_and_difference(w.mask, w.u_fixed, s.u, w.u_new);
+    const double du = pin_and_difference(w.mask, w.u_fixed, s.u, w.u_new, m.rest.positions, it == 0 ? &s.x : nullptr);
     if (it >= 2 && du > last_du && du > 10.0 * m.solver.nonlinear_tolerance * m.size) {
       // Diverging: past some deformation the geometric fixed point loses stability (its
       // contraction factor passes 1). Keep the current iterate, the best so far.
