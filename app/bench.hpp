@@ -11,9 +11,11 @@ namespace vdmsim {
 
 // The solver tolerance of the bench's probe cases: the performance issue times the step "at
 // the solver tolerance that gives under 0.1 mm displacement error". `vdmsim bench` measures
-// that error against a tolerance of 1e-10 on the same mesh (bench_tolerance.csv): about
-// 0.002 mm (2.5k nodes) and 0.003 mm (10k), with the volume tolerance below.
-constexpr double kBenchTolerance = 1e-3;
+// that error against a tolerance of 1e-10 on every mesh it times (bench_tolerance.csv). Session
+// 9, 60 frames, max over all nodes and frames: 0.008 mm (2.5k nodes), 0.010 (10k), 0.029 (40k)
+// at 5e-3; 0.002 / 0.003 / 0.018 at 1e-3 (the tolerance before); 0.011 / 0.027 / 0.177 at 1e-2
+// (over the bound at 40k: not used).
+constexpr double kBenchTolerance = 5e-3;
 // The relative volume error the probe cases accept without a correction of the pressure
 // (SolverSettings::volume_tolerance, 1e-11 by default): the issue asks for the volume within
 // 1e-4; 1e-6 keeps it 100 times tighter. A solve in contact then meets it uncorrected
