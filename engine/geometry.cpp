@@ -50,8 +50,8 @@ void distributed_area_vectors(const NodeMat& x, const TriMat& tris, NodeMat& are
   area_vectors *= kSixth;
 }
 
-double area_vectors_and_volume(const NodeMat& x, const TriMat& tris, const Vec3& origin, NodeMat& area_vectors,
-                               std::vector<double>& packed) {
+double packed_area_sums_and_volume(const NodeMat& x, const TriMat& tris, const Vec3& origin,
+                                   std::vector<double>& packed) {
   const size_t n = size_t(x.rows());
   packed.resize(6 * n);
   double* px = packed.data();
@@ -72,11 +72,34 @@ double area_vectors_and_volume(const NodeMat& x, const TriMat& tris, const Vec3&
       for (size_t d = 0; d < 3; ++d) pa[3 * node + d] += s[Eigen::Index(d)];
     six_v += (a - origin).dot(s);
   }
+  return six_v / 6.0;
+}
+
+void unpack_area_vectors(const std::vector<double>& packed, NodeMat& area_vectors) {
+  const size_t n = size_t(area_vectors.rows());
+  const double* pa = packed.data() + 3 * n;
   for (size_t d = 0; d < 3; ++d) {
     double* col = area_vectors.col(Eigen::Index(d)).data();
     for (size_t i = 0; i < n; ++i) col[i] = pa[3 * i + d] * kSixth;
   }
-  return six_v / 6.0;
+}
+
+bool packed_positions_equal(const NodeMat& x, const std::vector<double>& packed) {
+  const size_t n = size_t(x.rows());
+  if (packed.size() != 6 * n) return false;
+  bool same = true;
+  for (size_t d = 0; d < 3; ++d) {
+    const double* col = x.col(Eigen::Index(d)).data();
+    for (size_t i = 0; i < n; ++i) same &= packed[3 * i + d] == col[i];
+  }
+  return same;
+}
+
+double area_vectors_and_volume(const NodeMat& x, const TriMat& tris, const Vec3& origin, NodeMat& area_vectors,
+                               std::vector<double>& packed) {
+  const double v = packed_area_sums_and_volume(x, tris, origin, packed);
+  unpack_area_vectors(packed, area_vectors);
+  return v;
 }
 
 void distributed_volumes(const NodeMat& area_vectors, double volume, Vec& volumes,

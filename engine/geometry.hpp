@@ -23,6 +23,16 @@ void distributed_area_vectors(const NodeMat& x, const TriMat& tris, NodeMat& are
 // one cache line, not three.
 double area_vectors_and_volume(const NodeMat& x, const TriMat& tris, const Vec3& origin, NodeMat& area_vectors,
                                std::vector<double>& packed);
+// The pass of area_vectors_and_volume() without its last step: `packed` gets x (3 N, row by
+// row) and the sums of the cross products at each node (3 N, 6 A_i row by row); returns the
+// enclosed volume, bit for bit that of area_vectors_and_volume() and enclosed_volume().
+double packed_area_sums_and_volume(const NodeMat& x, const TriMat& tris, const Vec3& origin,
+                                   std::vector<double>& packed);
+// A_i from a `packed` of packed_area_sums_and_volume(): the area vectors it sums, N x 3.
+void unpack_area_vectors(const std::vector<double>& packed, NodeMat& area_vectors);
+// Whether `packed` holds exactly the positions x (bit for bit), as packed_area_sums_and_volume()
+// wrote them.
+bool packed_positions_equal(const NodeMat& x, const std::vector<double>& packed);
 
 // Eq (2) with the normalisation choice of vdm-model.md: V_i = V |A_i| / sum_j |A_j|,
 // so that sum_i V_i = V exactly. `volumes` must have N entries. A node whose distributed

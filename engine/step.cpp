@@ -33,14 +33,29 @@ void node_volumes(const TissueModel& m, double v, SimState& s, StepWorkspace& w)
   distributed_volumes_from_norms(w.area_norms, v, s.node_volumes);
 }
 
+// The volume enclosed at x, with x and its area sums left in w.packed: a volume check at the
+// end of a step leaves them, and the next step's refresh at the same positions (bit for bit)
+// only unpacks them instead of going over the triangles again.
+double packed_geometry(const TissueModel& m, const NodeMat& x, StepWorkspace& w) {
+  if (!(w.packed_valid && packed_positions_equal(x, w.packed))) {
+    w.packed_volume = packed_area_sums_and_volume(x, m.rest.triangles, m.origin, w.packed);
+    w.packed_valid = true;
+  }
+  return w.packed_volume;
+}
+
 // Step 1 of section 4: A_i, V_i, V and every K^d at the positions `x`. Returns V. A geometry
 // that encloses no positive volume (inverted mid-run) would make K indefinite: then the last
 // valid geometry is kept (returns -1 after restoring it) and the caller says so.
 double refresh_geometry(const TissueModel& m, const NodeMat& x, SimState& s, StepWorkspace& w) {
-  const double v = area_vectors_and_volume(x, m.rest.triangles, m.origin, s.area_vectors, w.packed);
+  const double v = packed_geometry(m, x, w);
+  unpack_area_vectors(w.packed, s.area_vectors);
   if (!(v > 0.0) || !std::isfinite(v) || !all_finite(s.area_vectors)) {
-    if (w.have_geometry)  // back to the geometry K was built from
-      node_volumes(m, area_vectors_and_volume(w.x_refresh, m.rest.triangles, m.origin, s.area_vectors, w.packed), s, w);
+    if (w.have_geometry) {  // back to the geometry K was built from
+      const double v_refresh = packed_geometry(m, w.x_refresh, w);
+      unpack_area_vectors(w.packed, s.area_vectors);
+      node_volumes(m, v_refresh, s, w);
+    }
     return -1.0;
   }
   node_volumes(m, v, s, w);
@@ -210,8 +225,9 @@ void advance_positions(const NodeMat& rest, double omega, const NodeMat& r, cons
 // residual is that of the corrected system.
 // `volume` gets the enclosed volume at the final positions when the last check measured it
 // there, NaN otherwise.
-// The checks cost the same whichever way they go (enclosed_volume and volume_along measure
-// the same volume, bit for bit): which is made first is a guess, from the last step.
+// Which check is made first is a guess, from the last step: volume_along when a correction
+// is likely, else the plain volume (packed_geometry, whose triangle pass the next step's
+// refresh reuses when it passes). Both measure the same volume, bit for bit.
 double correct_volume(const TissueModel& m, SimState& s, StepWorkspace& w, LinearSolver& solver, double& volume) {
   const int max_corr = m.solver.volume_corrections;
   double c_shift = 0.0;
@@ -227,13 +243,14 @@ double correct_volume(const TissueModel& m, SimState& s, StepWorkspace& w, Linea
     // tolerance when the last one did: checked first without the slope (a third of
     // volume_along's cost), which is measured only when a correction is due.
     if (k > 0 || w.volume_met) {
-      const double v = enclosed_volume(s.x, m.rest.triangles, m.origin);
+      const double v = packed_geometry(m, s.x, w);  // the next refresh's triangle pass, if it passes
       if (std::abs(m.rest_volume - v) <= tolerance) {
         volume = v;
         return c_shift;
       }
       w.volume_met = false;
     }
+    w.packed_valid = false;  // volume_along's rows go there
     const VolumeAlong v = volume_along(s.x, response, &w.mask, m.rest.triangles, m.origin, w.packed);
     const double err = m.rest_volume - v.volume;
     if (std::abs(err) <= tolerance) {
@@ -489,7 +506,7 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
         st.fallback = "inverted geometry: kept the last valid one";
       }
     }
-    if (current_volume <= 0.0) current_volume = enclosed_volume(s.x, m.rest.triangles, m.origin);
+    if (current_volume <= 0.0) current_volume = packed_geometry(m, s.x, w);
 
     double a_u = 0.0;
     const bool mask_changed = build_constraints(m, in, s.area_vectors, s.u, w, a_u);
@@ -581,7 +598,7 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
 
   // Results: volume (measured at these positions by the last volume check, if any),
   // reactions at constrained entries, contact pressure, strain and stress.
-  s.volume = std::isnan(final_volume) ? enclosed_volume(s.x, m.rest.triangles, m.origin) : final_volume;
+  s.volume = std::isnan(final_volume) ? packed_geometry(m, s.x, w) : final_volume;
   s.volume_rel_error = (s.volume - m.rest_volume) / m.rest_volume;
   // True residual of the last solve's eliminated 3N+1 system (volume row scaled like the
   // reference solver's), and the reactions, from one product with the unmasked K per axis:

@@ -56,7 +56,11 @@ struct StepWorkspace {
   Vec extra_diagonal;             // inertia M/h^2 + D/h (empty without inertia)
   Vec scratch;                    // N
   Vec area_norms;                 // |A_i| at the last refresh (N)
-  std::vector<double> packed;     // 6 N: area_vectors_and_volume()'s and volume_along()'s rows
+  std::vector<double> packed;     // 6 N: packed_area_sums_and_volume()'s and volume_along()'s rows
+  // packed holds positions and their area sums (packed_area_sums_and_volume) enclosing
+  // packed_volume: the step's last volume check leaves them for the next refresh.
+  bool packed_valid = false;
+  double packed_volume = 0;
   std::unique_ptr<LinearSolver> solver;
   std::unique_ptr<LinearSolver> fallback;  // direct solver, made on the first failed solve
   bool fallback_stale = true;              // fallback not told of the current system
