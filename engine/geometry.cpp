@@ -1,9 +1,10 @@
 #include "engine/geometry.hpp"
 
-#include <limits>
-
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
 
 namespace vdm {
 
@@ -87,12 +88,24 @@ void unpack_area_vectors(const std::vector<double>& packed, NodeMat& area_vector
 bool packed_positions_equal(const NodeMat& x, const std::vector<double>& packed) {
   const size_t n = size_t(x.rows());
   if (packed.size() != 6 * n) return false;
-  bool same = true;
-  for (size_t d = 0; d < 3; ++d) {
-    const double* col = x.col(Eigen::Index(d)).data();
-    for (size_t i = 0; i < n; ++i) same &= packed[3 * i + d] == col[i];
+  // Bits, not values (-0 and 0, NaNs): the same bits give the same sums. Node-major, the
+  // differences OR-ed over a block of nodes before the branch.
+  const double* c[3] = {x.col(0).data(), x.col(1).data(), x.col(2).data()};
+  const double* p = packed.data();
+  auto bits = [](double v) {
+    std::uint64_t b;
+    std::memcpy(&b, &v, sizeof b);
+    return b;
+  };
+  constexpr size_t kBlock = 64;
+  for (size_t i0 = 0; i0 < n; i0 += kBlock) {
+    std::uint64_t diff = 0;
+    const size_t end = std::min(n, i0 + kBlock);
+    for (size_t i = i0; i < end; ++i)
+      diff |= (bits(p[3 * i]) ^ bits(c[0][i])) | (bits(p[3 * i + 1]) ^ bits(c[1][i])) | (bits(p[3 * i + 2]) ^ bits(c[2][i]));
+    if (diff != 0) return false;
   }
-  return same;
+  return true;
 }
 
 double area_vectors_and_volume(const NodeMat& x, const TriMat& tris, const Vec3& origin, NodeMat& area_vectors,

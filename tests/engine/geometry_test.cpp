@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "engine/geometry.hpp"
 #include "engine/shapes.hpp"
 
@@ -47,6 +49,37 @@ TEST(Geometry, OnePassAreaVectorsAndVolumeEqualTheSeparatePasses) {
   EXPECT_EQ(v, enclosed_volume(s.positions, s.triangles, origin));
   EXPECT_EQ(A, B);
   EXPECT_EQ(packed.size(), 6u * size_t(s.node_count()));
+}
+
+// The step keeps a volume check's pass for the next refresh (packed_area_sums_and_volume,
+// unpack_area_vectors) when the positions are still those bits (packed_positions_equal).
+TEST(Geometry, PackedSumsAreTheOnePassResultAndKnowTheirPositions) {
+  SurfaceMesh s = make_icosphere(0.05, 3);  // 642 nodes: more than one block of the comparison
+  for (int i = 0; i < s.node_count(); ++i) s.positions.row(i) += Vec3(0.2, -0.1, 0.05 * s.positions(i, 0)).transpose();
+  const Vec3 origin(0.2, -0.1, 0.0);
+  NodeMat A(s.node_count(), 3), B(s.node_count(), 3);
+  std::vector<double> packed, scratch;
+  const double v = packed_area_sums_and_volume(s.positions, s.triangles, origin, packed);
+  unpack_area_vectors(packed, A);
+  EXPECT_EQ(v, area_vectors_and_volume(s.positions, s.triangles, origin, B, scratch));
+  EXPECT_EQ(v, enclosed_volume(s.positions, s.triangles, origin));
+  EXPECT_EQ(A, B);
+  EXPECT_TRUE(packed_positions_equal(s.positions, packed));
+  // Any one coordinate changed, on any axis, in the first, a middle or the last node.
+  for (int node : {0, 300, s.node_count() - 1})
+    for (int d = 0; d < 3; ++d) {
+      NodeMat moved = s.positions;
+      moved(node, d) = std::nextafter(moved(node, d), 1.0);
+      EXPECT_FALSE(packed_positions_equal(moved, packed)) << "node " << node << " axis " << d;
+    }
+  // Bits, not values: -0 is not 0.
+  NodeMat zero = s.positions;
+  zero(5, 1) = 0.0;
+  packed_area_sums_and_volume(zero, s.triangles, origin, packed);
+  zero(5, 1) = -0.0;
+  EXPECT_FALSE(packed_positions_equal(zero, packed));
+  // Another node count.
+  EXPECT_FALSE(packed_positions_equal(s.positions.topRows(s.node_count() - 1), packed));
 }
 
 TEST(Geometry, DistributedVolumesSumToVolume) {

@@ -301,6 +301,32 @@ TEST(Refresh, ReusedMatrixStaysCloseAndKeepsVolume) {
   EXPECT_LT(err5, 0.2 * umax);
 }
 
+// A step's geometry is that of its start positions, bit for bit, whether the last step's
+// volume check measured those positions (the refresh then reuses that pass) or the caller
+// moved the nodes since.
+TEST(Refresh, GeometryIsThatOfTheStartPositionsWhetherReusedOrMoved) {
+  const double length = 0.1;
+  for (double volume_tolerance : {1e-11, 1e-6}) {
+    TissueDef def = scenario::clamped_beam(length, 0.02, 10, 2);
+    def.solver.volume_tolerance = volume_tolerance;
+    const TissueModel m = build(def);
+    SimState s = make_sim_state(m);
+    StepInput in = make_step_input(m);
+    NodeMat expected(m.n, 3);
+    for (int k = 1; k <= 6; ++k) {
+      if (k == 4) {  // the caller sets another deformation
+        s.u.col(2) += 0.002 * (m.rest.positions.col(0).array() / length).matrix();
+        s.x = m.rest.positions + s.u;
+      }
+      distributed_area_vectors(s.x, m.rest.triangles, expected);
+      scenario::move_end(m, length, Vec3(0.0, 0.002 * k, 0.001 * k), in);
+      step(m, in, s);
+      ASSERT_FALSE(s.failed) << s.failure;
+      EXPECT_EQ(s.area_vectors, expected) << "volume tolerance " << volume_tolerance << ", step " << k;
+    }
+  }
+}
+
 TEST(Gravity, HydrostaticLoadsSumToTheWeight) {
   TissueDef def = default_tissue(make_uv_sphere(0.05, 12, 20));
   def.use_gravity = true;
