@@ -33,8 +33,9 @@ std::string frame_file_name(const std::string& prefix, int f) {
 }
 
 bool FrameOutput::open(const PreparedScene& ps, const std::filesystem::path& dir, int frames, std::string& error,
-                       int resume_from) {
+                       int resume_from, int fail_frame) {
   ps_ = &ps;
+  fail_frame_ = fail_frame;
   dir_ = dir;
   const RenderDef& rd = ps.scene.render;
   view_ = rd.stress_view;
@@ -148,14 +149,31 @@ void FrameOutput::draw(Job& job) {
     }
     return queue_->push(image_, (dir_ / sub / frame_file_name(prefix, job.frame)).string());
   };
+  // A frame the renderer cannot draw stops the output there: no image of it is written, nor
+  // of the frames after it (the run stops on write()'s false).
+  auto failed = [&] {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (render_error_.empty())
+      render_error_ = "rendering frame " + std::to_string(job.frame) + " failed: " + renderer_->error();
+  };
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!render_error_.empty()) return;
+  }
+  if (job.frame == fail_frame_) renderer_->fail_next_map_for_testing();
   if (rd.shaded) {
-    renderer_->draw_shaded(job.scene, rd.hud, image_);
+    if (!renderer_->draw_shaded(job.scene, rd.hud, image_)) return failed();
     if (!queue("frames", "frame")) return;
   }
   if (rd.stress) {
-    renderer_->draw_stress(job.scene, view_, rd.hud, image_);
+    if (!renderer_->draw_stress(job.scene, view_, rd.hud, image_)) return failed();
     queue("stress", "stress");
   }
+}
+
+std::string FrameOutput::render_error() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return render_error_;
 }
 
 void FrameOutput::set_stress_range(double lo, double hi) {
@@ -199,7 +217,7 @@ bool FrameOutput::write(int f, int frames, const SceneSimulation& sim) {
     jobs_.push_back(std::move(job));
   }
   changed_.notify_all();
-  return queue_->error().empty();
+  return queue_->error().empty() && render_error().empty();
 }
 
 bool FrameOutput::flush() {
@@ -208,7 +226,7 @@ bool FrameOutput::flush() {
     std::unique_lock<std::mutex> lock(mutex_);
     changed_.wait(lock, [&] { return (jobs_.empty() && !busy_) || !thread_.joinable(); });
   }
-  return queue_->finish();
+  return queue_->finish() && render_error().empty();
 }
 
 bool FrameOutput::finish(std::string& error) {
@@ -218,18 +236,27 @@ bool FrameOutput::finish(std::string& error) {
     sheet_wanted_ = true;
   }
   stop();  // draws what is pending, then ends the render thread, which writes the contact sheet
+  if (!render_error_.empty()) {  // the thread has ended
+    error = render_error_;
+    return false;
+  }
   if (!queue_->finish()) {
-    error = queue_->error();
+    error = "writing images failed: " + queue_->error();
     return false;
   }
   if (!sheet_error_.empty()) {
-    error = sheet_error_;
+    error = "writing images failed: " + sheet_error_;
     return false;
   }
   return true;
 }
 
-std::string FrameOutput::error() const { return queue_ ? queue_->error() : std::string(); }
+std::string FrameOutput::error() const {
+  const std::string rendering = render_error();
+  if (!rendering.empty()) return rendering;
+  const std::string writing = queue_ ? queue_->error() : std::string();
+  return writing.empty() ? writing : "writing images failed: " + writing;
+}
 double FrameOutput::render_ms() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return render_ms_;

@@ -30,18 +30,22 @@ class FrameOutput {
   // run there). False with `error` when rendering cannot start.
   // With `resume_from` > 0 the frames before it are kept, and their contact-sheet thumbnails
   // are read back from disk.
+  // `fail_frame` (testing): the renderer is made to fail on that frame (Renderer::
+  // fail_next_map_for_testing), as if OpenGL had refused it.
   bool open(const PreparedScene& prepared, const std::filesystem::path& dir, int frames, std::string& error,
-            int resume_from = 0);
+            int resume_from = 0, int fail_frame = -1);
   void set_stress_range(double lo, double hi);
   const render::StressView& stress_view() const { return view_; }
   // Hands frame f of `sim` to the render thread (waits while two frames are pending). False
-  // once a PNG write has failed (error()).
+  // once a frame could not be drawn or a PNG write has failed (error()); the frames after it
+  // are not drawn.
   bool write(int f, int frames, const SceneSimulation& sim);
   // Waits until every frame handed over is drawn and its PNGs are on disk. False once a
-  // write has failed.
+  // frame could not be drawn or a write has failed.
   bool flush();
-  // Waits for every PNG, then writes the contact sheet. False + error on a write failure.
+  // Waits for every PNG, then writes the contact sheet. False + error on a failure.
   bool finish(std::string& error);
+  // The first failure, as a sentence: a frame the renderer could not draw, else a PNG write.
   std::string error() const;
   double render_ms() const;                         // drawing and reading back, on the render thread
   double encode_ms() const;                        // PNG encoding and writing, on the writer thread
@@ -55,6 +59,7 @@ class FrameOutput {
     bool keep_thumbnail = false;
   };
   void render_loop(std::string* start_error, bool* started);
+  std::string render_error() const;
   void draw(Job& job);
   void stop();
 
@@ -70,6 +75,8 @@ class FrameOutput {
   bool busy_ = false, stopping_ = false, starting_ = false;
   bool sheet_wanted_ = false;  // finish(): the render thread writes the contact sheet as it ends
   std::string sheet_error_;    // set by the render thread before it ends, read after the join
+  std::string render_error_;   // the first frame the renderer could not draw, and why
+  int fail_frame_ = -1;        // testing: the frame made to fail (open())
   std::vector<render::Thumbnail> thumbnails_;
   double render_ms_ = 0;
   std::thread thread_;

@@ -335,7 +335,7 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
   }
   const StopSignals signals;
   FrameOutput output;
-  if (rendering && !output.open(ps, dir, frames, error, start)) {
+  if (rendering && !output.open(ps, dir, frames, error, start, opt.fail_render_at_frame)) {
     err << "vdmsim: error: " << error << "\n";
     return 1;
   }
@@ -548,7 +548,7 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
     io_ms += ms_since(t_io);
     if (rendering && !output.write(f, frames, sim)) {
       status = "failed";
-      reason = "writing images failed: " + output.error();
+      reason = output.error();
       break;
     }
     done = f + 1;
@@ -561,7 +561,7 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
       metrics.flush();
       if (rendering && !output.flush()) {
         status = "failed";
-        reason = "writing images failed: " + output.error();
+        reason = output.error();
         break;
       }
       if (!checkpoint(f)) {
@@ -581,7 +581,7 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
   if (status == "completed") simulation.reset();
   if (rendering && !output.finish(error) && status == "completed") {
     status = "failed";
-    reason = "writing images failed: " + error;
+    reason = error;
   }
   // After an image write failure, only the frames whose images all reached the disk count:
   // metrics.csv is cut back to them (the writer reports a failure a frame or more late).

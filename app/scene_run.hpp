@@ -54,6 +54,8 @@ struct RunOptions {
   // done (simulated and, when rendering, handed to the render thread). `vdmsim bench` takes
   // the pipeline's frame interval from it.
   std::vector<double>* frame_done_ms = nullptr;
+  // Testing: the renderer fails to draw this frame, as if OpenGL had refused it.
+  int fail_render_at_frame = -1;
 };
 
 // Runs a prepared scene; returns the exit code (0, or 1 on a runtime failure). `progress`

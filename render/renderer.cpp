@@ -181,7 +181,12 @@ struct Renderer::Impl {
   void set_view_proj();
   GlProgram& use(Material m);
   void draw_hud_layer(const RenderScene& scene, const StressView* view, Image& out);
-  void draw(const RenderScene& scene, const StressView* view, bool hud, Image& out);
+  void draw_frame(const RenderScene& scene, const StressView* view, bool hud, Image& out);
+  bool draw(const RenderScene& scene, const StressView* view, bool hud, Image& out);
+  float* map_organ_buffer();
+
+  std::string frame_error;  // why the frame being drawn failed (the first reason)
+  bool fail_next_map = false;
 };
 
 bool Renderer::Impl::init(const vdm::SurfaceMesh& rest, std::string& error) {
@@ -333,9 +338,7 @@ bool Renderer::Impl::make_backdrop(std::string& error) {
 // upload_normals(), after the shadow mask, which needs the positions only.
 void Renderer::Impl::upload_positions(const vdm::NodeMat& x) {
   const size_t n = normals.size();
-  glBindBuffer(GL_ARRAY_BUFFER, organ_vbo);
-  float* const data =
-      static_cast<float*>(glMapBufferRange(GL_ARRAY_BUFFER, 0, GLsizeiptr(n * 7 * sizeof(float)), GL_MAP_WRITE_BIT));
+  float* const data = map_organ_buffer();
   if (!data) return;
   for (size_t i = 0; i < n; ++i) {
     float* d = data + i * 7;
@@ -344,6 +347,17 @@ void Renderer::Impl::upload_positions(const vdm::NodeMat& x) {
     d[2] = float(x(Eigen::Index(i), 2));
   }
   glUnmapBuffer(GL_ARRAY_BUFFER);
+}
+
+// The organ's vertex buffer bound and mapped for writing, or null with the frame's error set.
+float* Renderer::Impl::map_organ_buffer() {
+  glBindBuffer(GL_ARRAY_BUFFER, organ_vbo);
+  float* data = nullptr;
+  if (fail_next_map) fail_next_map = false;
+  else data = static_cast<float*>(glMapBufferRange(GL_ARRAY_BUFFER, 0, GLsizeiptr(normals.size() * 7 * sizeof(float)),
+                                                   GL_MAP_WRITE_BIT));
+  if (!data && frame_error.empty()) frame_error = "OpenGL could not map the organ's vertex buffer (out of memory?)";
+  return data;
 }
 
 // Area-weighted vertex normals and the scalar into the organ's buffer. `mask_done` (or null):
@@ -368,9 +382,7 @@ void Renderer::Impl::upload_normals(const vdm::NodeMat& x, const std::vector<flo
     glClientWaitSync(mask_done, GL_SYNC_FLUSH_COMMANDS_BIT, GL_TIMEOUT_IGNORED);
     glDeleteSync(mask_done);
   }
-  glBindBuffer(GL_ARRAY_BUFFER, organ_vbo);
-  float* const data =
-      static_cast<float*>(glMapBufferRange(GL_ARRAY_BUFFER, 0, GLsizeiptr(n * 7 * sizeof(float)), GL_MAP_WRITE_BIT));
+  float* const data = map_organ_buffer();
   if (!data) return;
   for (size_t i = 0; i < n; ++i) {
     const float len = normals[i].norm();
@@ -605,7 +617,8 @@ GlProgram& Renderer::Impl::use(Material m) {
   GlProgram& p = materials[m];
   if (!p.id()) {  // the colour-map material, dropped after init's check: built again from the same source
     std::string error;
-    build_material(m, error);
+    if (!build_material(m, error) && frame_error.empty())
+      frame_error = "the colour-map shader could not be built again: " + error;
     glReleaseShaderCompiler();
   }
   glUseProgram(p.id());
@@ -628,8 +641,26 @@ GlProgram& Renderer::Impl::use(Material m) {
   return p;
 }
 
-void Renderer::Impl::draw(const RenderScene& scene, const StressView* view, bool hud, Image& out) {
+// A frame, and whether it could be drawn: its own failures (frame_error) and any OpenGL
+// error it raised. Errors left from before the frame are cleared first (at most a few: each
+// call returns one).
+bool Renderer::Impl::draw(const RenderScene& scene, const StressView* view, bool hud, Image& out) {
   gl->make_current();
+  frame_error.clear();
+  for (int k = 0; k < 16; ++k)
+    if (glGetError() == GL_NO_ERROR) break;
+  draw_frame(scene, view, hud, out);
+  const GLenum e = glGetError();
+  if (e != GL_NO_ERROR && frame_error.empty()) {
+    char text[80];
+    std::snprintf(text, sizeof text, "OpenGL error 0x%04x while drawing the frame%s", unsigned(e),
+                  e == GL_OUT_OF_MEMORY ? " (out of memory)" : "");
+    frame_error = text;
+  }
+  return frame_error.empty();
+}
+
+void Renderer::Impl::draw_frame(const RenderScene& scene, const StressView* view, bool hud, Image& out) {
   PassTimer timer;
   upload_positions(*scene.positions);
   set_capsules(scene);
@@ -760,11 +791,14 @@ std::unique_ptr<Renderer> Renderer::create(const RenderSettings& settings, const
 
 Renderer::~Renderer() = default;
 
-void Renderer::draw_shaded(const RenderScene& scene, bool hud, Image& out) { impl_->draw(scene, nullptr, hud, out); }
+bool Renderer::draw_shaded(const RenderScene& scene, bool hud, Image& out) { return impl_->draw(scene, nullptr, hud, out); }
 
-void Renderer::draw_stress(const RenderScene& scene, const StressView& view, bool hud, Image& out) {
-  impl_->draw(scene, &view, hud, out);
+bool Renderer::draw_stress(const RenderScene& scene, const StressView& view, bool hud, Image& out) {
+  return impl_->draw(scene, &view, hud, out);
 }
+
+const std::string& Renderer::error() const { return impl_->frame_error; }
+void Renderer::fail_next_map_for_testing() { impl_->fail_next_map = true; }
 
 const Camera& Renderer::camera() const { return impl_->camera; }
 std::string Renderer::gl_renderer() const { return impl_->gl->renderer_name(); }

@@ -51,8 +51,15 @@ class Renderer {
   Renderer(const Renderer&) = delete;
   Renderer& operator=(const Renderer&) = delete;
 
-  void draw_shaded(const RenderScene& scene, bool hud, Image& out);
-  void draw_stress(const RenderScene& scene, const StressView& view, bool hud, Image& out);
+  // One frame into `out`. False when OpenGL could not draw it (the organ's buffer could not
+  // be mapped, a shader could not be built again, an OpenGL error was raised): `out` is then
+  // not a picture of the scene, and error() says why. The next frame is drawn afresh.
+  bool draw_shaded(const RenderScene& scene, bool hud, Image& out);
+  bool draw_stress(const RenderScene& scene, const StressView& view, bool hud, Image& out);
+  // Why the last frame could not be drawn (empty after a frame that was).
+  const std::string& error() const;
+  // Testing: the next frame's mapping of the organ's buffer fails as if OpenGL had refused it.
+  void fail_next_map_for_testing();
   const Camera& camera() const;
   std::string gl_renderer() const;
 

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -84,6 +85,45 @@ TEST(RunRobust, AStepTheEngineCannotDoStopsTheRunWithTheReason) {
   // metrics.csv is complete: its header, no half row.
   const std::string csv = read(out / "metrics.csv");
   EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 1) << csv;
+}
+
+// A frame the renderer cannot draw (OpenGL refusing to map the organ's buffer, made to
+// happen at frame 3): the run stops there with the reason, and the frames before it stay,
+// every image whole and one metrics row each.
+TEST(RunRobust, AFrameTheRendererCannotDrawStopsTheRunAndKeepsTheFramesBefore) {
+  const fs::path p = dir() / "render.yaml";
+  std::ofstream(p) << std::ifstream(scene("{method: structured}")).rdbuf()
+                   << "  effects: [stress]\nrender: {width: 96, height: 64, views: [shaded, stress], hud: false}\n";
+  PreparedScene ps;
+  std::vector<SceneProblem> problems;
+  ASSERT_TRUE(prepare_scene((dir() / "render.yaml").string(), ps, problems))
+      << (problems.empty() ? std::string() : problems.front().text());
+  ps.scene.frames = 8;
+  const fs::path out = dir() / "render_out";
+  fs::remove_all(out);
+  RunOptions opt;
+  opt.out_dir = out.string();
+  opt.fail_render_at_frame = 3;
+  std::ostringstream o, e;
+  EXPECT_EQ(run_scene(ps, opt, o, e, false), 1);
+  const std::string json = read(out / "run.json");
+  EXPECT_NE(json.find("\"status\": \"failed\""), std::string::npos) << json;
+  EXPECT_NE(json.find("rendering frame 3 failed: OpenGL could not map the organ's vertex buffer"), std::string::npos)
+      << json;
+  EXPECT_NE(json.find("\"frames\": 3"), std::string::npos) << json;
+  const std::string csv = read(out / "metrics.csv");
+  EXPECT_EQ(std::count(csv.begin(), csv.end(), '\n'), 4) << csv;  // the header and frames 0-2
+  for (int f = 0; f < 8; ++f) {
+    char name[32];
+    std::snprintf(name, sizeof name, "%05d.png", f);
+    for (const char* view : {"frames/frame_", "stress/stress_"}) {
+      const fs::path image = out / (std::string(view) + name);
+      EXPECT_EQ(fs::exists(image), f < 3) << image;
+      if (f < 3) {
+        EXPECT_GT(fs::file_size(image), 100u) << image;
+      }
+    }
+  }
 }
 
 }  // namespace
