@@ -258,7 +258,33 @@ void AxisIncompleteCholesky::apply(const double* r, double* z, double* rz) const
   }
 }
 
+template <int W>
+double AxisIncompleteCholesky::apply_column(int c, const double* r, double* z) const {
+  static_assert(W == 3 || W == 6, "blocks of 3 or 6 vectors");
+  const size_t d = size_t(axis_of<W>(c));
+  const double* rc = r + c;
+  double* zc = z + c;
+  for (int i = 0; i < n_; ++i) {  // forward: L y = r
+    double a = rc[size_t(i) * W];
+    for (int p = lo_start_[size_t(i)]; p < lo_start_[size_t(i) + 1]; ++p)
+      a -= double(lo_val_[3 * size_t(p) + d]) * zc[size_t(lo_col_[size_t(p)]) * W];
+    zc[size_t(i) * W] = a * inv_diag_[3 * size_t(i) + d];
+  }
+  double rz = 0.0;
+  for (int i = n_ - 1; i >= 0; --i) {  // backward: L^T z = y
+    double a = zc[size_t(i) * W];
+    for (int p = up_start_[size_t(i)]; p < up_start_[size_t(i) + 1]; ++p)
+      a -= double(up_val_[3 * size_t(p) + d]) * zc[size_t(up_col_[size_t(p)]) * W];
+    a *= inv_diag_[3 * size_t(i) + d];
+    zc[size_t(i) * W] = a;
+    rz += rc[size_t(i) * W] * a;
+  }
+  return rz;
+}
+
 template void AxisIncompleteCholesky::apply<3>(const double*, double*, double*) const;
+template double AxisIncompleteCholesky::apply_column<3>(int, const double*, double*) const;
+template double AxisIncompleteCholesky::apply_column<6>(int, const double*, double*) const;
 template void AxisIncompleteCholesky::apply<6>(const double*, double*, double*) const;
 
 }  // namespace vdm

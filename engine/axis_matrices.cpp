@@ -100,32 +100,34 @@ void AxisMatrices::gather(const AxisStiffness& K, const FlagMat& mask, const Nod
 namespace {
 
 // After the product with the stored values: the rows and columns of the entries constrained
-// on some axes only (rare) made the identity's on those axes. Row i of K^d keeps its diagonal
-// term alone; column i's terms leave the free rows' sums; dot follows.
+// on some axes only (rare) made the identity's on those axes, for column c of the block. Row i
+// of K^d keeps its diagonal term alone; column i's terms leave the free rows' sums; dot
+// follows.
 template <int W>
-void eliminate_constrained(const AxisMatrices& K, const double* x, double* y, double* dot) {
-  constexpr int G = W / 3;
+void eliminate_constrained_column(const AxisMatrices& K, int c, const double* x, double* y, double& dot) {
+  const int d = axis_of<W>(c);
   for (int k = 0; k < K.partial_count; ++k) {
     const int i = K.held_rows[size_t(k)];
-    for (int d = 0; d < 3; ++d) {
-      if (!K.constrained(i, d)) continue;
-      for (int g = 0; g < G; ++g) {
-        const size_t c = size_t(d * G + g);
-        const double xi = x[size_t(i) * W + c];
-        double& yi = y[size_t(i) * W + c];
-        const double now = K.diag[3 * size_t(i) + size_t(d)] * xi;
-        dot[c] += xi * (now - yi);
-        yi = now;
-        for (int p = K.start[size_t(i)]; p < K.start[size_t(i) + 1]; ++p) {
-          const int j = K.col[size_t(p)];
-          if (K.constrained(j, d)) continue;  // its own row is the identity's (or zeroed)
-          const double t = K.off[size_t(p)] * xi;
-          y[size_t(j) * W + c] -= t;
-          dot[c] -= x[size_t(j) * W + c] * t;
-        }
-      }
+    if (!K.constrained(i, d)) continue;
+    const double xi = x[size_t(i) * W + size_t(c)];
+    double& yi = y[size_t(i) * W + size_t(c)];
+    const double now = K.diag[3 * size_t(i) + size_t(d)] * xi;
+    dot += xi * (now - yi);
+    yi = now;
+    for (int p = K.start[size_t(i)]; p < K.start[size_t(i) + 1]; ++p) {
+      const int j = K.col[size_t(p)];
+      if (K.constrained(j, d)) continue;  // its own row is the identity's (or zeroed)
+      const double t = K.off[size_t(p)] * xi;
+      y[size_t(j) * W + size_t(c)] -= t;
+      dot -= x[size_t(j) * W + size_t(c)] * t;
     }
   }
+}
+
+template <int W>
+void eliminate_constrained(const AxisMatrices& K, const double* x, double* y, double* dot) {
+  if (K.partial_count == 0) return;
+  for (int c = 0; c < W; ++c) eliminate_constrained_column<W>(K, c, x, y, dot[c]);
 }
 
 }  // namespace
@@ -192,7 +194,31 @@ void multiply_block(const AxisMatrices& K, const double* x, double* y, double* d
   eliminate_constrained<W>(K, x, y, dot);
 }
 
+template <int W>
+double multiply_column(const AxisMatrices& K, int c, const double* x, double* y) {
+  static_assert(W == 3 || W == 6, "blocks of 3 or 6 vectors");
+  const int d = axis_of<W>(c);
+  const int* start = K.start.data();
+  const int* col = K.col.data();
+  const double* off = K.off.data();
+  const double* diag = K.diag.data();
+  const double* xc = x + c;
+  double* yc = y + c;
+  double dot = 0.0;
+  for (int i = 0; i < K.n; ++i) {  // multiply_block's operations on lane c, in its order
+    const double xi = xc[size_t(i) * W];
+    double a = diag[3 * size_t(i) + size_t(d)] * xi;
+    for (int p = start[i]; p < start[i + 1]; ++p) a += off[p] * xc[size_t(col[p]) * W];
+    yc[size_t(i) * W] = a;
+    dot += xi * a;
+  }
+  eliminate_constrained_column<W>(K, c, x, y, dot);
+  return dot;
+}
+
 template void multiply_block<3>(const AxisMatrices&, const double*, double*, double*);
+template double multiply_column<3>(const AxisMatrices&, int, const double*, double*);
+template double multiply_column<6>(const AxisMatrices&, int, const double*, double*);
 template void multiply_block<6>(const AxisMatrices&, const double*, double*, double*);
 
 }  // namespace vdm

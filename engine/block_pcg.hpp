@@ -8,6 +8,7 @@
 #include <array>
 #include <cmath>
 #include <initializer_list>
+#include <type_traits>
 #include <vector>
 
 #include "engine/krylov.hpp"
@@ -27,15 +28,69 @@ struct BlockPcgWorkspace {
   }
 };
 
+// Optional column kernels for block_pcg(): `multiply(c, in, out)` writes column c of A in
+// into out and returns in_c . out_c, `apply(c, in, out)` the same for P^{-1}, each touching
+// column c only, with the block kernels' operations on that column (the same values bit for
+// bit). Once a single column is still iterating, its iterations run on it alone: the same
+// iterates, without the work on the stopped columns. NoColumnKernels: never.
+struct NoColumnKernels {};
+
+namespace detail {
+
+// The rest of column c's PCG, alone, from the point where its residual r_c is to be
+// preconditioned: p_c = z_c the first time (`first`), else z_c + (r.z / rz_old) p_c; the
+// iteration counter at `it` (the iterations done). The same recurrence as block_pcg's.
+template <int W, class Col>
+void column_pcg(const Col& col, int c, int n, double* x, double threshold, double bn, int max_iter, int it, bool first,
+                double rz_old, BlockPcgWorkspace& w, KrylovResult& result) {
+  double* r = w.r.data();
+  double* z = w.zq.data();
+  double* p = w.p.data();
+  double* q = w.zq.data();
+  for (;;) {
+    const double rz = col.apply(c, r, z);
+    const double beta = first ? 0.0 : rz / rz_old;
+    for (int i = 0; i < n; ++i) {
+      const size_t k = size_t(i) * W + size_t(c);
+      p[k] = first ? z[k] : z[k] + beta * p[k];
+    }
+    first = false;
+    rz_old = rz;
+    if (++it > max_iter) {
+      result.converged = false;
+      return;
+    }
+    const double dot = col.multiply(c, p, q);
+    if (!(dot > 0.0) || !std::isfinite(dot)) {  // breakdown: A not SPD along p, or NaN
+      result.iterations = it;
+      result.converged = false;
+      return;
+    }
+    const double alpha = rz / dot;
+    double rn = 0.0;
+    for (int i = 0; i < n; ++i) {
+      const size_t k = size_t(i) * W + size_t(c);
+      x[k] += alpha * p[k];
+      r[k] -= alpha * q[k];
+      rn += r[k] * r[k];
+    }
+    result.iterations = it;
+    result.relative_residual = std::sqrt(rn / bn);
+    if (std::sqrt(rn) <= threshold) return;
+  }
+}
+
+}  // namespace detail
+
 // Solves A_c x_c = b_c for c < W from the guesses in x, column c until |b_c - A_c x_c| <=
 // threshold[c] (absolute), or max_iter iterations. `op(in, out, dot)`: out = A in on the
 // block and dot[c] = in_c . out_c; `pre(in, out, dot)`: out = P^{-1} in and dot[c] = in_c .
 // out_c. A column with b_c = 0 gets x_c = 0. result[c]: iterations and convergence per
 // column (breakdown: A_c not SPD along the direction, or not finite). b may be w.r itself
 // (sized n W beforehand): each entry is read before the residual overwrites it.
-template <int W, class Op, class Pre>
+template <int W, class Op, class Pre, class Col = NoColumnKernels>
 void block_pcg(const Op& op, const Pre& pre, int n, const double* b, double* x, const double* threshold,
-               int max_iter, BlockPcgWorkspace& w, std::array<KrylovResult, W>& result) {
+               int max_iter, BlockPcgWorkspace& w, std::array<KrylovResult, W>& result, const Col& col = Col()) {
   w.resize(size_t(n) * W);
   double* r = w.r.data();
   double* z = w.zq.data();
@@ -65,6 +120,22 @@ void block_pcg(const Op& op, const Pre& pre, int n, const double* b, double* x, 
     result[size_t(c)].relative_residual = bnorm > 0 ? std::sqrt(rn[c]) / bnorm : 0.0;
   }
   if (active == 0) return;
+  // The one column still iterating, when the column kernels can take it alone (-1: none).
+  auto alone = [&]() -> int {
+    if constexpr (std::is_same_v<Col, NoColumnKernels>) {
+      return -1;
+    } else {
+      if (active != 1) return -1;
+      for (int c = 0; c < W; ++c)
+        if (live[c] != 0.0) return c;
+      return -1;
+    }
+  };
+  if (const int c = alone(); c >= 0) {
+    if constexpr (!std::is_same_v<Col, NoColumnKernels>)
+      detail::column_pcg<W>(col, c, n, x, threshold[c], bn[c], max_iter, 0, true, 0.0, w, result[size_t(c)]);
+    return;
+  }
   // A stopped column has r = p = q = 0 (then z = 0 and nothing changes it), unless the
   // preconditioner is not finite there: its direction is zeroed again after each update.
   // Columns are zeroed together, in one pass over the block (a pass per column and vector
@@ -121,6 +192,11 @@ void block_pcg(const Op& op, const Pre& pre, int n, const double* b, double* x, 
       if (std::sqrt(rn[c]) <= threshold[c]) freeze(c);
     }
     if (active == 0) return;
+    if (const int c = alone(); c >= 0) {
+      if constexpr (!std::is_same_v<Col, NoColumnKernels>)
+        detail::column_pcg<W>(col, c, n, x, threshold[c], bn[c], max_iter, it, false, rz[c], w, result[size_t(c)]);
+      return;
+    }
     zero({r, p, q});
     double rz_new[W];
     pre(r, z, rz_new);

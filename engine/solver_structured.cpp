@@ -211,8 +211,16 @@ class StructuredSolver final : public LinearSolver {
     const AxisIncompleteCholesky& ic = ic_;
     auto op = [&K](const double* in, double* res, double* dot) { multiply_block<W>(K, in, res, dot); };
     auto pre = [&ic](const double* in, double* res, double* dot) { ic.apply<W>(in, res, dot); };
+    // A column left iterating alone (usually r^z under a vertical probe) runs on the column
+    // kernels: the same iterates, bit for bit.
+    struct Columns {
+      const AxisMatrices& K;
+      const AxisIncompleteCholesky& ic;
+      double multiply(int c, const double* in, double* out) const { return multiply_column<W>(K, c, in, out); }
+      double apply(int c, const double* in, double* out) const { return ic.apply_column<W>(c, in, out); }
+    };
     std::array<KrylovResult, W> kr;
-    block_pcg<W>(op, pre, n_, bw, x, threshold, settings_.max_iterations, work_, kr);
+    block_pcg<W>(op, pre, n_, bw, x, threshold, settings_.max_iterations, work_, kr, Columns{K, ic});
     BlockReport rep;
     for (const KrylovResult& k : kr) {
       rep.iterations += k.iterations;

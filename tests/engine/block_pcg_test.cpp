@@ -2,6 +2,9 @@
 // solution to round-off), with its own stop; zero and already-solved columns stay put.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+
 #include "engine/axis_incomplete_cholesky.hpp"
 #include "engine/block_pcg.hpp"
 #include "engine/incomplete_cholesky.hpp"
@@ -29,6 +32,98 @@ void solve_block(const Fixture& f, const std::vector<double>& b, std::vector<dou
   auto op = [&f](const double* in, double* out, double* dot) { multiply_block<W>(f.K, in, out, dot); };
   auto pre = [&f](const double* in, double* out, double* dot) { f.ic.apply<W>(in, out, dot); };
   block_pcg<W>(op, pre, f.s.model.n, b.data(), x.data(), thr, max_iter, w, res);
+}
+
+// The column kernels (multiply_column, apply_column), counting their calls.
+template <int W>
+struct CountedColumns {
+  const Fixture& f;
+  int* calls;
+  double multiply(int c, const double* in, double* out) const {
+    ++*calls;
+    return multiply_column<W>(f.K, c, in, out);
+  }
+  double apply(int c, const double* in, double* out) const { return f.ic.apply_column<W>(c, in, out); }
+};
+
+template <int W>
+void solve_with_columns(const Fixture& f, const std::vector<double>& b, std::vector<double>& x, const double* thr,
+                        std::array<KrylovResult, W>& res, int* calls) {
+  BlockPcgWorkspace w;
+  auto op = [&f](const double* in, double* out, double* dot) { multiply_block<W>(f.K, in, out, dot); };
+  auto pre = [&f](const double* in, double* out, double* dot) { f.ic.apply<W>(in, out, dot); };
+  block_pcg<W>(op, pre, f.s.model.n, b.data(), x.data(), thr, 500, w, res, CountedColumns<W>{f, calls});
+}
+
+// Column c of the block kernels' results, alone: the same bits, the other columns untouched
+// (the fixture has entries constrained on one axis only: the partial rows' fix-up too).
+template <int W>
+void expect_column_kernels_match(const Fixture& f) {
+  const int n = f.s.model.n;
+  std::vector<double> in(size_t(n) * W), wide(size_t(n) * W), narrow(size_t(n) * W);
+  for (size_t k = 0; k < in.size(); ++k) in[k] = std::sin(0.37 * double(k)) + 0.2;
+  double dot[W];
+  multiply_block<W>(f.K, in.data(), wide.data(), dot);
+  for (int c = 0; c < W; ++c) {
+    std::fill(narrow.begin(), narrow.end(), -7.0);
+    const double d = multiply_column<W>(f.K, c, in.data(), narrow.data());
+    EXPECT_EQ(d, dot[c]) << "W " << W << " column " << c;
+    for (int i = 0; i < n; ++i)
+      for (int e = 0; e < W; ++e)
+        ASSERT_EQ(narrow[size_t(i) * W + size_t(e)], e == c ? wide[size_t(i) * W + size_t(e)] : -7.0)
+            << "product, W " << W << " column " << c << " row " << i;
+  }
+  f.ic.apply<W>(in.data(), wide.data(), dot);
+  for (int c = 0; c < W; ++c) {
+    std::fill(narrow.begin(), narrow.end(), -7.0);
+    const double d = f.ic.apply_column<W>(c, in.data(), narrow.data());
+    EXPECT_EQ(d, dot[c]) << "W " << W << " column " << c;
+    for (int i = 0; i < n; ++i)
+      for (int e = 0; e < W; ++e)
+        ASSERT_EQ(narrow[size_t(i) * W + size_t(e)], e == c ? wide[size_t(i) * W + size_t(e)] : -7.0)
+            << "MIC(0), W " << W << " column " << c << " row " << i;
+  }
+}
+
+TEST(BlockPcg, ColumnKernelsAreTheBlockKernelsColumnByColumn) {
+  Fixture f;
+  f.ic.factorize(f.K, 0.9);  // the solver's modified factors
+  expect_column_kernels_match<3>(f);
+  expect_column_kernels_match<6>(f);
+}
+
+// Once one column is left iterating it runs on the column kernels: the same iterates bit for
+// bit, whether it is alone from the start or the last of several to stop.
+TEST(BlockPcg, AColumnLeftAloneRunsTheSameIteratesOnTheColumnKernels) {
+  const Fixture f;
+  const int n = f.s.model.n, W = 6;
+  for (bool alone_from_start : {false, true}) {
+    std::vector<double> b(size_t(n) * W, 0.0), x(size_t(n) * W, 0.0);
+    double thr[W];
+    for (int c = 0; c < W; ++c) {
+      double bn = 0;
+      for (int i = 0; i < n; ++i) {
+        const double v = alone_from_start && c != 3 ? 0.0 : std::cos(0.07 * i * (c + 2)) + 0.5;
+        b[size_t(i) * W + c] = v;
+        bn += v * v;
+      }
+      thr[c] = (c == 3 ? 1e-10 : 1e-3) * std::sqrt(bn);  // column 3 the last to stop
+    }
+    std::vector<double> x_wide = x, x_narrow = x;
+    std::array<KrylovResult, W> wide, narrow;
+    int calls = 0;
+    solve_block<W>(f, b, x_wide, thr, wide);
+    solve_with_columns<W>(f, b, x_narrow, thr, narrow, &calls);
+    EXPECT_GT(calls, 3) << "the column kernels took over (alone from the start: " << alone_from_start << ")";
+    EXPECT_EQ(x_narrow, x_wide) << "alone from the start: " << alone_from_start;
+    for (int c = 0; c < W; ++c) {
+      EXPECT_EQ(narrow[size_t(c)].iterations, wide[size_t(c)].iterations) << c;
+      EXPECT_EQ(narrow[size_t(c)].converged, wide[size_t(c)].converged) << c;
+      EXPECT_EQ(narrow[size_t(c)].relative_residual, wide[size_t(c)].relative_residual) << c;
+    }
+    EXPECT_TRUE(wide[3].converged);
+    EXPECT_GT(wide[3].iterations, wide[0].iterations);
+  }
 }
 
 TEST(BlockPcg, EveryColumnIsItsOwnPcg) {
