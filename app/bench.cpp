@@ -233,6 +233,53 @@ Row bench_bullet(const std::string& mesh, int repeats) {
   return r;
 }
 
+// VDM and Bullet on the same mesh and probe script in one process, run after run in turn
+// (`pairs` pairs of 60-frame runs, VDM's then Bullet's; timed: the frames in contact after the
+// 20th), so that each ratio compares two runs made within a second of each other rather than
+// two processes started minutes apart (the isolated rows of bench.csv).
+struct SideBySide {
+  long nodes = 0;
+  int pairs = 0;
+  double vdm_ms = 0, bullet_ms = 0;                 // medians of all timed frames
+  double ratio = 0;                                 // bullet_ms / vdm_ms
+  double pair_ratio_median = 0, pair_ratio_min = 0;  // of each pair's medians, Bullet's over VDM's
+};
+
+SideBySide bench_side_by_side(const std::string& mesh, int pairs) {
+  const PreparedScene ps = probe_scene(mesh, 60, false);
+  std::vector<double> vdm_all, bullet_all, ratios;
+  for (int k = 0; k < pairs; ++k) {
+    std::vector<double> vdm_ms, bullet_ms;
+    {
+      SceneSimulation sim(ps);
+      for (int f = 0; f < 60; ++f) {
+        sim.advance(f);
+        if (sim.contact_report().nodes > 0 && f > 20) vdm_ms.push_back(sim.frame_step_ms());
+      }
+    }
+    {
+      BulletProbe bullet(ps, BulletSettings{});
+      for (int f = 0; f < 60; ++f) {
+        const double ms = bullet.advance(f);
+        if (bullet.touching() && f > 20) bullet_ms.push_back(ms);
+      }
+    }
+    const double v = quantile(vdm_ms, 0.5), b = quantile(bullet_ms, 0.5);
+    if (v > 0) ratios.push_back(b / v);
+    vdm_all.insert(vdm_all.end(), vdm_ms.begin(), vdm_ms.end());
+    bullet_all.insert(bullet_all.end(), bullet_ms.begin(), bullet_ms.end());
+  }
+  SideBySide r;
+  r.nodes = ps.model.n;
+  r.pairs = int(ratios.size());
+  r.vdm_ms = quantile(vdm_all, 0.5);
+  r.bullet_ms = quantile(bullet_all, 0.5);
+  r.ratio = r.vdm_ms > 0 ? r.bullet_ms / r.vdm_ms : 0;
+  r.pair_ratio_median = quantile(ratios, 0.5);
+  r.pair_ratio_min = ratios.empty() ? 0 : *std::min_element(ratios.begin(), ratios.end());
+  return r;
+}
+
 Row bench_grasp(int repeats) {
   Row r{"grasp_lift", "vdm"};
   PreparedScene ps;
@@ -406,6 +453,25 @@ int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::os
           v.median_ms > 0)
         out << "bench: liver_probe " << r.nodes << " nodes: " << r.model << " takes " << std::setprecision(3)
             << r.median_ms / v.median_ms << "x VDM's time per step\n";
+  // Bullet and VDM run after run in turn (after the isolated cases: its memory is not theirs).
+  if (bullet && (only.empty() || std::string("liver_probe side by side").find(only) != std::string::npos)) {
+    std::ofstream sc(dir / "bench_side_by_side.csv");
+    sc << "nodes,pairs,vdm_median_ms,bullet_median_ms,ratio,pair_ratio_median,pair_ratio_min\n";
+    for (const char* mesh : {"liver_L4.obj", "liver_L5.obj"}) {
+      out << "bench: liver_probe side by side " << mesh << " ..." << std::flush;
+      const SideBySide r = bench_side_by_side(mesh, quick ? 2 : 6);
+      sc << r.nodes << ',' << r.pairs << ',' << std::setprecision(6) << r.vdm_ms << ',' << r.bullet_ms << ',' << r.ratio
+         << ',' << r.pair_ratio_median << ',' << r.pair_ratio_min << '\n';
+      out << " " << r.nodes << " nodes, runs in turn: bullet " << std::setprecision(3) << r.bullet_ms << " ms, vdm "
+          << r.vdm_ms << " ms: bullet takes " << r.ratio << "x VDM's time per step (pair by pair: median "
+          << r.pair_ratio_median << "x, lowest " << r.pair_ratio_min << "x, " << r.pairs << " pairs)\n";
+    }
+    sc.flush();
+    if (!sc) {
+      err << "vdmsim: error: " << (dir / "bench_side_by_side.csv").string() << ": write failed\n";
+      return 1;
+    }
+  }
   // The displacement error of the bench's solver tolerance, against a tight one.
   if (only.empty() || std::string("liver_probe tolerance").find(only) != std::string::npos) {
     constexpr double kReference = 1e-10;

@@ -3,6 +3,7 @@
 // closed surface as a VDM case, with pressure (kPR) and volume conservation (kVC) on, fixed
 // where the scene fixes the organ, pushed by a kinematic capsule that follows the scene's
 // probe script frame by frame. Built only when CMake finds Bullet (VDMSIM_HAVE_BULLET).
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -42,6 +43,28 @@ struct BulletRun {
 
 // True when this build links Bullet.
 bool bullet_available();
+
+// Bullet's soft body on a probe scene, advanced one scene frame at a time, so that the bench
+// can interleave its frames with VDM's (both then see the same machine load, frame by frame).
+// Throws std::runtime_error when Bullet is not built in, or when the scene has no probe.
+class BulletProbe {
+ public:
+  BulletProbe(const PreparedScene& ps, const BulletSettings& settings);
+  ~BulletProbe();
+  BulletProbe(const BulletProbe&) = delete;
+  BulletProbe& operator=(const BulletProbe&) = delete;
+  // Scene frame f (its substeps, the probe moved along its script): the wall time of the
+  // Bullet steps alone (ms). Then, untimed: the deformed surface's volume and the contact.
+  double advance(int f);
+  bool touching() const;                 // the probe touched the surface in the last frame
+  double volume_rel_error() const;       // |V - V_0| / V_0 after the last frame
+  double max_displacement() const;       // the largest node displacement from rest so far (m)
+  long nodes() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 // Runs `ps` (a probe scene) for `frames` frames with Bullet. Frames are timed when the probe
 // touches the organ and `f > warmup`. Throws std::runtime_error when Bullet is not built in.

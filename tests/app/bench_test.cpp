@@ -81,4 +81,24 @@ TEST(Bench, QuickRunWritesTheContractCsvAndThePlot) {
     ++sizes;
   }
   EXPECT_EQ(sizes, 2) << "2.5k and 10k nodes (--quick: 40k only in the full bench)";
+#ifdef VDMSIM_HAVE_BULLET
+  // Bullet and VDM run after run in turn: both medians and their ratios, per mesh.
+  std::ifstream sc(out / "bench_side_by_side.csv");
+  ASSERT_TRUE(std::getline(sc, line));
+  EXPECT_EQ(line, "nodes,pairs,vdm_median_ms,bullet_median_ms,ratio,pair_ratio_median,pair_ratio_min");
+  std::set<long> meshes;
+  while (std::getline(sc, line)) {
+    std::stringstream s(line);
+    std::string nodes, pairs, vdm, bullet, ratio, median, lowest;
+    for (std::string* f : {&nodes, &pairs, &vdm, &bullet, &ratio, &median, &lowest}) std::getline(s, *f, ',');
+    meshes.insert(std::stol(nodes));
+    EXPECT_EQ(std::stol(pairs), 2) << line;  // --quick: two pairs of runs
+    EXPECT_GT(std::stod(vdm), 0) << line;
+    EXPECT_GT(std::stod(bullet), 0) << line;
+    EXPECT_NEAR(std::stod(ratio), std::stod(bullet) / std::stod(vdm), 1e-3 * std::stod(ratio)) << line;
+    EXPECT_GT(std::stod(lowest), 0) << line;
+    EXPECT_LE(std::stod(lowest), std::stod(median)) << line;
+  }
+  EXPECT_EQ(meshes.size(), 2u) << "2.5k and 10k nodes side by side";
+#endif
 }
