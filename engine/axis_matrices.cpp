@@ -235,6 +235,87 @@ void multiply_block(const AxisMatrices& K, const double* x, double* y, double* d
 }
 
 template <int W>
+bool residual_block(const AxisMatrices& K, const double* b, const double* x, double* r, double* bn, double* rn) {
+  static_assert(W == 3 || W == 6, "blocks of 3 or 6 vectors");
+  if (K.partial_count != 0) return false;
+  using simd::V2;
+  using simd::load2;
+  using simd::splat;
+  using simd::store2;
+  const int* start = K.start.data();
+  const int* col = K.col.data();
+  const double* off = K.off.data();
+  const double* diag = K.diag.data();
+  if constexpr (W == 6) {
+    // multiply_block's row, then the row's residual (lanes as there).
+    V2 b0 = {0, 0}, b1 = {0, 0}, b2 = {0, 0}, r0 = {0, 0}, r1 = {0, 0}, r2 = {0, 0};
+    for (int i = 0; i < K.n; ++i) {
+      const double* xi = x + size_t(i) * 6;
+      const double* di = diag + 3 * size_t(i);
+      V2 a0 = splat(di[0]) * load2(xi), a1 = splat(di[1]) * load2(xi + 2), a2 = splat(di[2]) * load2(xi + 4);
+      for (int p = start[i]; p < start[i + 1]; ++p) {
+        const V2 v = splat(off[p]);
+        const double* xj = x + size_t(col[p]) * 6;
+        a0 += v * load2(xj);
+        a1 += v * load2(xj + 2);
+        a2 += v * load2(xj + 4);
+      }
+      const double* bi = b + size_t(i) * 6;
+      const V2 c0 = load2(bi), c1 = load2(bi + 2), c2 = load2(bi + 4);
+      b0 += c0 * c0;
+      b1 += c1 * c1;
+      b2 += c2 * c2;
+      const V2 e0 = c0 - a0, e1 = c1 - a1, e2 = c2 - a2;
+      double* ri = r + size_t(i) * 6;
+      store2(ri, e0);
+      store2(ri + 2, e1);
+      store2(ri + 4, e2);
+      r0 += e0 * e0;
+      r1 += e1 * e1;
+      r2 += e2 * e2;
+    }
+    store2(bn, b0);
+    store2(bn + 2, b1);
+    store2(bn + 4, b2);
+    store2(rn, r0);
+    store2(rn + 2, r1);
+    store2(rn + 4, r2);
+  } else {
+    V2 bxy = {0, 0}, rxy = {0, 0};
+    double bz = 0, rz = 0;
+    for (int i = 0; i < K.n; ++i) {
+      const double* xi = x + size_t(i) * 3;
+      const double* di = diag + 3 * size_t(i);
+      V2 axy = load2(di) * load2(xi);
+      double az = di[2] * xi[2];
+      for (int p = start[i]; p < start[i + 1]; ++p) {
+        const double v = off[p];
+        const double* xj = x + size_t(col[p]) * 3;
+        axy += splat(v) * load2(xj);
+        az += v * xj[2];
+      }
+      const double* bi = b + size_t(i) * 3;
+      const V2 cxy = load2(bi);
+      const double cz = bi[2];
+      bxy += cxy * cxy;
+      bz += cz * cz;
+      const V2 exy = cxy - axy;
+      const double ez = cz - az;
+      double* ri = r + size_t(i) * 3;
+      store2(ri, exy);
+      ri[2] = ez;
+      rxy += exy * exy;
+      rz += ez * ez;
+    }
+    store2(bn, bxy);
+    bn[2] = bz;
+    store2(rn, rxy);
+    rn[2] = rz;
+  }
+  return true;
+}
+
+template <int W>
 double multiply_column(const AxisMatrices& K, int c, const double* x, double* y) {
   static_assert(W == 3 || W == 6, "blocks of 3 or 6 vectors");
   const int d = axis_of<W>(c);
@@ -256,6 +337,8 @@ double multiply_column(const AxisMatrices& K, int c, const double* x, double* y)
   return dot;
 }
 
+template bool residual_block<3>(const AxisMatrices&, const double*, const double*, double*, double*, double*);
+template bool residual_block<6>(const AxisMatrices&, const double*, const double*, double*, double*, double*);
 template void multiply_block<3>(const AxisMatrices&, const double*, double*, double*);
 template double multiply_column<3>(const AxisMatrices&, int, const double*, double*);
 template double multiply_column<6>(const AxisMatrices&, int, const double*, double*);

@@ -212,12 +212,15 @@ class StructuredSolver final : public LinearSolver {
     auto op = [&K](const double* in, double* res, double* dot) { multiply_block<W>(K, in, res, dot); };
     auto pre = [&ic](const double* in, double* res, double* dot) { ic.apply<W>(in, res, dot); };
     // A column left iterating alone (usually r^z under a vertical probe) runs on the column
-    // kernels: the same iterates, bit for bit.
+    // kernels: the same iterates, bit for bit. The start's residual and norms in one pass.
     struct Columns {
       const AxisMatrices& K;
       const AxisIncompleteCholesky& ic;
       double multiply(int c, const double* in, double* out) const { return multiply_column<W>(K, c, in, out); }
       double apply(int c, const double* in, double* out) const { return ic.apply_column<W>(c, in, out); }
+      bool residual(const double* b, const double* in, double* r, double* bn, double* rn) const {
+        return residual_block<W>(K, b, in, r, bn, rn);
+      }
     };
     std::array<KrylovResult, W> kr;
     block_pcg<W>(op, pre, n_, bw, x, threshold, settings_.max_iterations, work_, kr, Columns{K, ic});
