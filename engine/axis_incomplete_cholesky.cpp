@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 
 #include "engine/simd2.hpp"
 
@@ -112,25 +114,47 @@ int AxisIncompleteCholesky::factorize(const AxisMatrices& K, double omega) {
 }
 
 int AxisIncompleteCholesky::fit_to_mask(const AxisMatrices& K) {
+  // The masks compared eight bytes at a time (a contact step changes a few entries); L and
+  // its copy by rows of L^T changed together where an entry is newly constrained.
   int changed = 0;
   float* L = lo_val_.data();
-  for (int i = 0; i < n_; ++i)
-    for (size_t d = 0; d < 3; ++d) {
-      const size_t e = 3 * size_t(i) + d;
-      const std::uint8_t now = K.row_mask[e];
-      if (now == mask_[e]) continue;
+  float* U = up_val_.data();
+  const std::uint8_t* now_mask = K.row_mask.data();
+  std::uint8_t* fit = mask_.data();
+  const size_t entries = 3 * size_t(n_);
+  for (size_t w = 0; w < entries; w += 8) {
+    const size_t len = std::min<size_t>(8, entries - w);
+    std::uint64_t a = 0, b = 0;
+    std::memcpy(&a, now_mask + w, len);
+    std::memcpy(&b, fit + w, len);
+    if (a == b) continue;
+    for (size_t e = w; e < w + len; ++e) {
+      const std::uint8_t now = now_mask[e];
+      if (now == fit[e]) continue;
       ++changed;
-      mask_[e] = now;
+      fit[e] = now;
+      const size_t i = e / 3, d = e % 3;
       if (now) {  // constrained since: row and column i of L^d zero, L_ii = 1 (K's row is e_i)
-        for (int p = lo_start_[size_t(i)]; p < lo_start_[size_t(i) + 1]; ++p) L[3 * size_t(p) + d] = 0.0f;
-        for (int q = up_start_[size_t(i)]; q < up_start_[size_t(i) + 1]; ++q) L[3 * size_t(up_src_[size_t(q)]) + d] = 0.0f;
+        for (int p = lo_start_[i]; p < lo_start_[i + 1]; ++p) {  // L_ik, k < i: entry (k, i) of L^T
+          L[3 * size_t(p) + d] = 0.0f;
+          const int k = lo_col_[size_t(p)];
+          for (int q = up_start_[size_t(k)]; q < up_start_[size_t(k) + 1]; ++q)
+            if (up_src_[size_t(q)] == p) {
+              U[3 * size_t(q) + d] = 0.0f;
+              break;
+            }
+        }
+        for (int q = up_start_[i]; q < up_start_[i + 1]; ++q) {  // L_ji, j > i: row i of L^T
+          L[3 * size_t(up_src_[size_t(q)]) + d] = 0.0f;
+          U[3 * size_t(q) + d] = 0.0f;
+        }
         inv_diag_[e] = 1.0;
       } else {  // freed since: its row and column are zero already
         const double kii = K.diag[e];
         inv_diag_[e] = kii > 0.0 ? 1.0 / std::sqrt(kii) : 1.0;
       }
     }
-  if (changed) copy_to_upper();
+  }
   return changed;
 }
 
