@@ -286,20 +286,25 @@ template <int W>
 double AxisIncompleteCholesky::apply_column(int c, const double* r, double* z) const {
   static_assert(W == 3 || W == 6, "blocks of 3 or 6 vectors");
   const size_t d = size_t(axis_of<W>(c));
+  const int* lo_start = lo_start_.data();
+  const int* lo_col = lo_col_.data();
+  const float* lo_val = lo_val_.data() + d;
+  const int* up_start = up_start_.data();
+  const int* up_col = up_col_.data();
+  const float* up_val = up_val_.data() + d;
+  const double* inv_diag = inv_diag_.data() + d;
   const double* rc = r + c;
   double* zc = z + c;
   for (int i = 0; i < n_; ++i) {  // forward: L y = r
     double a = rc[size_t(i) * W];
-    for (int p = lo_start_[size_t(i)]; p < lo_start_[size_t(i) + 1]; ++p)
-      a -= double(lo_val_[3 * size_t(p) + d]) * zc[size_t(lo_col_[size_t(p)]) * W];
-    zc[size_t(i) * W] = a * inv_diag_[3 * size_t(i) + d];
+    for (int p = lo_start[i]; p < lo_start[i + 1]; ++p) a -= double(lo_val[3 * size_t(p)]) * zc[size_t(lo_col[p]) * W];
+    zc[size_t(i) * W] = a * inv_diag[3 * size_t(i)];
   }
   double rz = 0.0;
   for (int i = n_ - 1; i >= 0; --i) {  // backward: L^T z = y
     double a = zc[size_t(i) * W];
-    for (int p = up_start_[size_t(i)]; p < up_start_[size_t(i) + 1]; ++p)
-      a -= double(up_val_[3 * size_t(p) + d]) * zc[size_t(up_col_[size_t(p)]) * W];
-    a *= inv_diag_[3 * size_t(i) + d];
+    for (int p = up_start[i]; p < up_start[i + 1]; ++p) a -= double(up_val[3 * size_t(p)]) * zc[size_t(up_col[p]) * W];
+    a *= inv_diag[3 * size_t(i)];
     zc[size_t(i) * W] = a;
     rz += rc[size_t(i) * W] * a;
   }
