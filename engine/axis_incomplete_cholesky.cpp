@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 
 #include "engine/simd2.hpp"
 
@@ -112,25 +114,47 @@ int AxisIncompleteCholesky::factorize(const AxisMatrices& K, double omega) {
 }
 
 int AxisIncompleteCholesky::fit_to_mask(const AxisMatrices& K) {
+  // The masks compared eight bytes at a time (a contact step changes a few entries); L and
+  // its copy by rows of L^T changed together where an entry is newly constrained.
   int changed = 0;
   float* L = lo_val_.data();
-  for (int i = 0; i < n_; ++i)
-    for (size_t d = 0; d < 3; ++d) {
-      const size_t e = 3 * size_t(i) + d;
-      const std::uint8_t now = K.row_mask[e];
-      if (now == mask_[e]) continue;
+  float* U = up_val_.data();
+  const std::uint8_t* now_mask = K.row_mask.data();
+  std::uint8_t* fit = mask_.data();
+  const size_t entries = 3 * size_t(n_);
+  for (size_t w = 0; w < entries; w += 8) {
+    const size_t len = std::min<size_t>(8, entries - w);
+    std::uint64_t a = 0, b = 0;
+    std::memcpy(&a, now_mask + w, len);
+    std::memcpy(&b, fit + w, len);
+    if (a == b) continue;
+    for (size_t e = w; e < w + len; ++e) {
+      const std::uint8_t now = now_mask[e];
+      if (now == fit[e]) continue;
       ++changed;
-      mask_[e] = now;
+      fit[e] = now;
+      const size_t i = e / 3, d = e % 3;
       if (now) {  // constrained since: row and column i of L^d zero, L_ii = 1 (K's row is e_i)
-        for (int p = lo_start_[size_t(i)]; p < lo_start_[size_t(i) + 1]; ++p) L[3 * size_t(p) + d] = 0.0f;
-        for (int q = up_start_[size_t(i)]; q < up_start_[size_t(i) + 1]; ++q) L[3 * size_t(up_src_[size_t(q)]) + d] = 0.0f;
+        for (int p = lo_start_[i]; p < lo_start_[i + 1]; ++p) {  // L_ik, k < i: entry (k, i) of L^T
+          L[3 * size_t(p) + d] = 0.0f;
+          const int k = lo_col_[size_t(p)];
+          for (int q = up_start_[size_t(k)]; q < up_start_[size_t(k) + 1]; ++q)
+            if (up_src_[size_t(q)] == p) {
+              U[3 * size_t(q) + d] = 0.0f;
+              break;
+            }
+        }
+        for (int q = up_start_[i]; q < up_start_[i + 1]; ++q) {  // L_ji, j > i: row i of L^T
+          L[3 * size_t(up_src_[size_t(q)]) + d] = 0.0f;
+          U[3 * size_t(q) + d] = 0.0f;
+        }
         inv_diag_[e] = 1.0;
       } else {  // freed since: its row and column are zero already
         const double kii = K.diag[e];
         inv_diag_[e] = kii > 0.0 ? 1.0 / std::sqrt(kii) : 1.0;
       }
     }
-  if (changed) copy_to_upper();
+  }
   return changed;
 }
 
@@ -262,20 +286,25 @@ template <int W>
 double AxisIncompleteCholesky::apply_column(int c, const double* r, double* z) const {
   static_assert(W == 3 || W == 6, "blocks of 3 or 6 vectors");
   const size_t d = size_t(axis_of<W>(c));
+  const int* lo_start = lo_start_.data();
+  const int* lo_col = lo_col_.data();
+  const float* lo_val = lo_val_.data() + d;
+  const int* up_start = up_start_.data();
+  const int* up_col = up_col_.data();
+  const float* up_val = up_val_.data() + d;
+  const double* inv_diag = inv_diag_.data() + d;
   const double* rc = r + c;
   double* zc = z + c;
   for (int i = 0; i < n_; ++i) {  // forward: L y = r
     double a = rc[size_t(i) * W];
-    for (int p = lo_start_[size_t(i)]; p < lo_start_[size_t(i) + 1]; ++p)
-      a -= double(lo_val_[3 * size_t(p) + d]) * zc[size_t(lo_col_[size_t(p)]) * W];
-    zc[size_t(i) * W] = a * inv_diag_[3 * size_t(i) + d];
+    for (int p = lo_start[i]; p < lo_start[i + 1]; ++p) a -= double(lo_val[3 * size_t(p)]) * zc[size_t(lo_col[p]) * W];
+    zc[size_t(i) * W] = a * inv_diag[3 * size_t(i)];
   }
   double rz = 0.0;
   for (int i = n_ - 1; i >= 0; --i) {  // backward: L^T z = y
     double a = zc[size_t(i) * W];
-    for (int p = up_start_[size_t(i)]; p < up_start_[size_t(i) + 1]; ++p)
-      a -= double(up_val_[3 * size_t(p) + d]) * zc[size_t(up_col_[size_t(p)]) * W];
-    a *= inv_diag_[3 * size_t(i) + d];
+    for (int p = up_start[i]; p < up_start[i + 1]; ++p) a -= double(up_val[3 * size_t(p)]) * zc[size_t(up_col[p]) * W];
+    a *= inv_diag[3 * size_t(i)];
     zc[size_t(i) * W] = a;
     rz += rc[size_t(i) * W] * a;
   }

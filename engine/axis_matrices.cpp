@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <type_traits>
 #include <utility>
 
 #include "engine/simd2.hpp"
@@ -54,43 +55,82 @@ void AxisMatrices::analyze(const StiffnessPattern& pattern, const std::vector<in
 
 void AxisMatrices::gather(const AxisStiffness& K, const FlagMat& mask, const NodeMat* springs) {
   // The per-node values in node order (sequential reads of the three columns; each row here
-  // written whole), then the entries row by row.
+  // written whole), then the entries row by row. Through local pointers: the byte stores of
+  // the mask would otherwise make the compiler reload every member's data pointer.
+  const int* ro = row_of.data();
   std::uint8_t* rm = row_mask.data();
-  const double* kd[3] = {K.diagonal.col(0).data(), K.diagonal.col(1).data(), K.diagonal.col(2).data()};
-  const std::uint8_t* md[3] = {mask.col(0).data(), mask.col(1).data(), mask.col(2).data()};
-  const double* sd[3] = {nullptr, nullptr, nullptr};
-  if (springs)
-    for (int d = 0; d < 3; ++d) sd[d] = springs->col(d).data();
+  double* dg = diag.data();
+  int* hr = held_rows.data();
+  const double* kd0 = K.diagonal.col(0).data();
+  const double* kd1 = K.diagonal.col(1).data();
+  const double* kd2 = K.diagonal.col(2).data();
+  const std::uint8_t* md0 = mask.col(0).data();
+  const std::uint8_t* md1 = mask.col(1).data();
+  const std::uint8_t* md2 = mask.col(2).data();
+  const int rows = n;
   int held = 0, partial = 0;  // rows constrained on all axes (from the end), on some
-  for (int v = 0; v < n; ++v) {
-    const size_t i = size_t(row_of[size_t(v)]);
-    int count = 0;
-    for (int d = 0; d < 3; ++d) {
-      const std::uint8_t h = md[d][v] != 0;
-      rm[3 * i + size_t(d)] = h;
-      diag[3 * i + size_t(d)] = h ? 1.0 : kd[d][v] + (springs ? sd[d][v] : 0.0);
-      count += h;
+  auto per_node = [&](auto with_springs, const double* sd0, const double* sd1, const double* sd2) {
+    for (int v = 0; v < rows; ++v) {
+      const size_t i = size_t(ro[v]);
+      // The free diagonal values (with the springs when there are: a `+ 0.0` otherwise, as
+      // before, so a -0 would still read +0).
+      double k0 = kd0[v], k1 = kd1[v], k2 = kd2[v];
+      if constexpr (decltype(with_springs)::value) {
+        k0 += sd0[v];
+        k1 += sd1[v];
+        k2 += sd2[v];
+      } else {
+        k0 += 0.0;
+        k1 += 0.0;
+        k2 += 0.0;
+      }
+      std::uint8_t* mi = rm + 3 * i;
+      double* di = dg + 3 * i;
+      if ((md0[v] | md1[v] | md2[v]) == 0) {  // most rows: free on every axis
+        mi[0] = mi[1] = mi[2] = 0;
+        di[0] = k0;
+        di[1] = k1;
+        di[2] = k2;
+        continue;
+      }
+      const std::uint8_t h0 = md0[v] != 0, h1 = md1[v] != 0, h2 = md2[v] != 0;
+      mi[0] = h0;
+      mi[1] = h1;
+      mi[2] = h2;
+      di[0] = h0 ? 1.0 : k0;
+      di[1] = h1 ? 1.0 : k1;
+      di[2] = h2 ? 1.0 : k2;
+      if (h0 & h1 & h2) hr[size_t(rows - 1 - held++)] = int(i);
+      else hr[size_t(partial++)] = int(i);
     }
-    if (count == 3) held_rows[size_t(n - 1 - held++)] = int(i);
-    else if (count > 0) held_rows[size_t(partial++)] = int(i);
-  }
+  };
+  if (springs)
+    per_node(std::true_type(), springs->col(0).data(), springs->col(1).data(), springs->col(2).data());
+  else
+    per_node(std::false_type(), nullptr, nullptr, nullptr);
   partial_count = partial;
-  // One value per entry for the three axes; the rows and columns of the nodes constrained on
-  // every axis (most of the constrained ones: held and prescribed nodes) zeroed here, those
-  // of a node constrained on some axes only left to the kernels (multiply_block, the
-  // factorisation).
+  // One value per entry for the three axes (two at a time); the rows and columns of the
+  // nodes constrained on every axis (most of the constrained ones: held and prescribed nodes)
+  // zeroed here, those of a node constrained on some axes only left to the kernels
+  // (multiply_block, the factorisation).
   const double* weight = K.weight.data();
   const int* edge = off_edge.data();
+  const int* cp = col.data();
+  const int* st = start.data();
   double* o = off.data();
-  for (size_t p = 0; p < off.size(); ++p) o[p] = -weight[edge[p]];
-  for (int k = n - held; k < n; ++k) {
-    const int i = held_rows[size_t(k)];
-    for (int p = start[size_t(i)]; p < start[size_t(i) + 1]; ++p) {
-      const int j = col[size_t(p)];
-      o[p] = 0.0;
-      for (int q = start[size_t(j)]; q < start[size_t(j) + 1]; ++q)
-        if (col[size_t(q)] == i) {
-          o[q] = 0.0;
+  const size_t m = off.size();
+  size_t p = 0;
+  for (; p + 2 <= m; p += 2) simd::store2(o + p, -simd::V2{weight[edge[p]], weight[edge[p + 1]]});
+  if (p < m) o[p] = -weight[edge[p]];
+  for (int k = rows - held; k < rows; ++k) {
+    const int i = hr[k];
+    for (int q = st[i]; q < st[i + 1]; ++q) {
+      const int j = cp[q];
+      o[q] = 0.0;
+      if (rm[3 * j] & rm[3 * j + 1] & rm[3 * j + 2]) continue;  // row j is zeroed in its own turn
+      for (int t = st[j]; t < st[j + 1]; ++t)
+        if (cp[t] == i) {
+          o[t] = 0.0;
           break;
         }
     }
@@ -195,6 +235,87 @@ void multiply_block(const AxisMatrices& K, const double* x, double* y, double* d
 }
 
 template <int W>
+bool residual_block(const AxisMatrices& K, const double* b, const double* x, double* r, double* bn, double* rn) {
+  static_assert(W == 3 || W == 6, "blocks of 3 or 6 vectors");
+  if (K.partial_count != 0) return false;
+  using simd::V2;
+  using simd::load2;
+  using simd::splat;
+  using simd::store2;
+  const int* start = K.start.data();
+  const int* col = K.col.data();
+  const double* off = K.off.data();
+  const double* diag = K.diag.data();
+  if constexpr (W == 6) {
+    // multiply_block's row, then the row's residual (lanes as there).
+    V2 b0 = {0, 0}, b1 = {0, 0}, b2 = {0, 0}, r0 = {0, 0}, r1 = {0, 0}, r2 = {0, 0};
+    for (int i = 0; i < K.n; ++i) {
+      const double* xi = x + size_t(i) * 6;
+      const double* di = diag + 3 * size_t(i);
+      V2 a0 = splat(di[0]) * load2(xi), a1 = splat(di[1]) * load2(xi + 2), a2 = splat(di[2]) * load2(xi + 4);
+      for (int p = start[i]; p < start[i + 1]; ++p) {
+        const V2 v = splat(off[p]);
+        const double* xj = x + size_t(col[p]) * 6;
+        a0 += v * load2(xj);
+        a1 += v * load2(xj + 2);
+        a2 += v * load2(xj + 4);
+      }
+      const double* bi = b + size_t(i) * 6;
+      const V2 c0 = load2(bi), c1 = load2(bi + 2), c2 = load2(bi + 4);
+      b0 += c0 * c0;
+      b1 += c1 * c1;
+      b2 += c2 * c2;
+      const V2 e0 = c0 - a0, e1 = c1 - a1, e2 = c2 - a2;
+      double* ri = r + size_t(i) * 6;
+      store2(ri, e0);
+      store2(ri + 2, e1);
+      store2(ri + 4, e2);
+      r0 += e0 * e0;
+      r1 += e1 * e1;
+      r2 += e2 * e2;
+    }
+    store2(bn, b0);
+    store2(bn + 2, b1);
+    store2(bn + 4, b2);
+    store2(rn, r0);
+    store2(rn + 2, r1);
+    store2(rn + 4, r2);
+  } else {
+    V2 bxy = {0, 0}, rxy = {0, 0};
+    double bz = 0, rz = 0;
+    for (int i = 0; i < K.n; ++i) {
+      const double* xi = x + size_t(i) * 3;
+      const double* di = diag + 3 * size_t(i);
+      V2 axy = load2(di) * load2(xi);
+      double az = di[2] * xi[2];
+      for (int p = start[i]; p < start[i + 1]; ++p) {
+        const double v = off[p];
+        const double* xj = x + size_t(col[p]) * 3;
+        axy += splat(v) * load2(xj);
+        az += v * xj[2];
+      }
+      const double* bi = b + size_t(i) * 3;
+      const V2 cxy = load2(bi);
+      const double cz = bi[2];
+      bxy += cxy * cxy;
+      bz += cz * cz;
+      const V2 exy = cxy - axy;
+      const double ez = cz - az;
+      double* ri = r + size_t(i) * 3;
+      store2(ri, exy);
+      ri[2] = ez;
+      rxy += exy * exy;
+      rz += ez * ez;
+    }
+    store2(bn, bxy);
+    bn[2] = bz;
+    store2(rn, rxy);
+    rn[2] = rz;
+  }
+  return true;
+}
+
+template <int W>
 double multiply_column(const AxisMatrices& K, int c, const double* x, double* y) {
   static_assert(W == 3 || W == 6, "blocks of 3 or 6 vectors");
   const int d = axis_of<W>(c);
@@ -216,6 +337,8 @@ double multiply_column(const AxisMatrices& K, int c, const double* x, double* y)
   return dot;
 }
 
+template bool residual_block<3>(const AxisMatrices&, const double*, const double*, double*, double*, double*);
+template bool residual_block<6>(const AxisMatrices&, const double*, const double*, double*, double*, double*);
 template void multiply_block<3>(const AxisMatrices&, const double*, double*, double*);
 template double multiply_column<3>(const AxisMatrices&, int, const double*, double*);
 template double multiply_column<6>(const AxisMatrices&, int, const double*, double*);

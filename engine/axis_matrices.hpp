@@ -52,6 +52,13 @@ constexpr int axis_of(int c) {
 // dot[c] = x_c . y_c.
 template <int W>
 void multiply_block(const AxisMatrices& K, const double* x, double* y, double* dot);
+// The residual of a block at the start of a solve, in one pass: r = b - K x (r may be b
+// itself: each row of b is read before that row of r is written), bn[c] = |b_c|^2 and
+// rn[c] = |r_c|^2, each sum taken row by row from 0 (block_pcg's own passes: the same bits as
+// multiply_block followed by those passes). False, and nothing written, when some row is
+// constrained on some axes only: the product's fix-up of those rows comes after the pass.
+template <int W>
+bool residual_block(const AxisMatrices& K, const double* b, const double* x, double* r, double* bn, double* rn);
 // Column c of that product alone (y's other columns untouched): the operations of
 // multiply_block's column c, in its order, so the same values bit for bit, at a fraction of
 // the block's cost. Returns x_c . y_c.

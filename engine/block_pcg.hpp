@@ -9,6 +9,7 @@
 #include <cmath>
 #include <initializer_list>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "engine/krylov.hpp"
@@ -33,9 +34,20 @@ struct BlockPcgWorkspace {
 // column c only, with the block kernels' operations on that column (the same values bit for
 // bit). Once a single column is still iterating, its iterations run on it alone: the same
 // iterates, without the work on the stopped columns. NoColumnKernels: never.
+// The same object may also have `residual(b, x, r, bn, rn)`: r = b - A x on the whole block
+// (r may be b) with bn[c] = |b_c|^2 and rn[c] = |r_c|^2 summed row by row from 0, in one
+// pass (block_pcg's own passes, the product and its dot in three passes otherwise: the same
+// bits); it returns false, having written nothing, when it cannot.
 struct NoColumnKernels {};
 
 namespace detail {
+
+template <class Col, class = void>
+struct HasResidual : std::false_type {};
+template <class Col>
+struct HasResidual<Col, std::void_t<decltype(std::declval<const Col&>().residual(
+                            std::declval<const double*>(), std::declval<const double*>(), std::declval<double*>(),
+                            std::declval<double*>(), std::declval<double*>()))>> : std::true_type {};
 
 // The rest of column c's PCG, alone, from the point where its residual r_c is to be
 // preconditioned: p_c = z_c the first time (`first`), else z_c + (r.z / rz_old) p_c; the
@@ -97,15 +109,30 @@ void block_pcg(const Op& op, const Pre& pre, int n, const double* b, double* x, 
   double* p = w.p.data();
   double* q = w.zq.data();
   double bn[W] = {}, rn[W] = {}, dot[W], rz[W], alpha[W], beta[W], live[W];
-  for (int i = 0; i < n; ++i)
-    for (int c = 0; c < W; ++c) bn[c] += b[size_t(i) * W + c] * b[size_t(i) * W + c];
-  op(x, q, dot);
-  for (int i = 0; i < n; ++i)
-    for (int c = 0; c < W; ++c) {
-      const double v = b[size_t(i) * W + c] - q[size_t(i) * W + c];
-      r[size_t(i) * W + c] = v;
-      rn[c] += v * v;
-    }
+  bool fused = false;
+  if constexpr (detail::HasResidual<Col>::value) {
+    // Through copies: rn and bn themselves stay local (a pointer given away would let the
+    // compiler keep them in memory through every later pass, stores to x and r possibly
+    // aliasing them).
+    double bn0[W], rn0[W];
+    fused = col.residual(b, x, r, bn0, rn0);
+    if (fused)
+      for (int c = 0; c < W; ++c) {
+        bn[c] = bn0[c];
+        rn[c] = rn0[c];
+      }
+  }
+  if (!fused) {
+    for (int i = 0; i < n; ++i)
+      for (int c = 0; c < W; ++c) bn[c] += b[size_t(i) * W + c] * b[size_t(i) * W + c];
+    op(x, q, dot);
+    for (int i = 0; i < n; ++i)
+      for (int c = 0; c < W; ++c) {
+        const double v = b[size_t(i) * W + c] - q[size_t(i) * W + c];
+        r[size_t(i) * W + c] = v;
+        rn[c] += v * v;
+      }
+  }
   int active = 0;
   for (int c = 0; c < W; ++c) {
     result[size_t(c)] = KrylovResult();
@@ -157,8 +184,7 @@ void block_pcg(const Op& op, const Pre& pre, int n, const double* b, double* x, 
   };
   for (int c = 0; c < W; ++c) cut[c] = live[c] == 0.0;
   zero({r});
-  pre(r, z, rz);
-  for (size_t k = 0; k < size_t(n) * W; ++k) p[k] = z[k];
+  pre(r, p, rz);  // p = z the first time: made in place (z is not needed before the next one)
   for (int c = 0; c < W; ++c) cut[c] = live[c] == 0.0 && rz[c] != 0.0;  // rz = 0 . z: not 0 only when z is not finite
   zero({p});
   for (int it = 1; it <= max_iter; ++it) {

@@ -191,20 +191,23 @@ class StructuredSolver final : public LinearSolver {
     double* const bw = work_.r.data();
     if (W == 6 && !settings_.warm_start) std::fill(x_.begin(), x_.end(), 0.0);
     double threshold[W];
+    // b in node order, each node's entries (both systems' for W = 6) to its row of the block
+    // (reading the columns of b in solver order missed on every load).
+    const double* bc[G][3];
+    for (int g = 0; g < G; ++g)
+      for (int d = 0; d < 3; ++d) bc[g][d] = src[g]->col(d).data();
+    const int* iperm = iperm_.data();
+    for (int node = 0; node < n_; ++node) {
+      double* row = bw + size_t(iperm[node]) * W;
+      for (int g = 0; g < G; ++g)
+        for (int d = 0; d < 3; ++d) row[d * G + g] = bc[g][d][node];
+    }
     for (int g = 0; g < G; ++g) {
-      const NodeMat& b = *src[g];
-      // b in node order, each node's entries to its row of the block (reading the three
-      // columns of b in solver order missed on every load).
-      const double* bc[3] = {b.col(0).data(), b.col(1).data(), b.col(2).data()};
-      for (int node = 0; node < n_; ++node) {
-        double* row = bw + size_t(iperm_[size_t(node)]) * W + size_t(g);
-        for (int d = 0; d < 3; ++d) row[d * G] = bc[d][node];
-      }
       if (W == 3)
         for (size_t i = 0; i < size_t(n_); ++i)
           for (size_t d = 0; d < 3; ++d) x[i * 3 + d] = settings_.warm_start ? x_[6 * i + 2 * d + lane[g]] : 0.0;
       // sqrt(3): the three axes together then meet the tolerance on the whole system.
-      const double t = settings_.tolerance * b.norm() / std::sqrt(3.0);
+      const double t = settings_.tolerance * src[g]->norm() / std::sqrt(3.0);
       for (int d = 0; d < 3; ++d) threshold[d * G + g] = t;
     }
     const AxisMatrices& K = K_;
@@ -212,12 +215,15 @@ class StructuredSolver final : public LinearSolver {
     auto op = [&K](const double* in, double* res, double* dot) { multiply_block<W>(K, in, res, dot); };
     auto pre = [&ic](const double* in, double* res, double* dot) { ic.apply<W>(in, res, dot); };
     // A column left iterating alone (usually r^z under a vertical probe) runs on the column
-    // kernels: the same iterates, bit for bit.
+    // kernels: the same iterates, bit for bit. The start's residual and norms in one pass.
     struct Columns {
       const AxisMatrices& K;
       const AxisIncompleteCholesky& ic;
       double multiply(int c, const double* in, double* out) const { return multiply_column<W>(K, c, in, out); }
       double apply(int c, const double* in, double* out) const { return ic.apply_column<W>(c, in, out); }
+      bool residual(const double* b, const double* in, double* r, double* bn, double* rn) const {
+        return residual_block<W>(K, b, in, r, bn, rn);
+      }
     };
     std::array<KrylovResult, W> kr;
     block_pcg<W>(op, pre, n_, bw, x, threshold, settings_.max_iterations, work_, kr, Columns{K, ic});

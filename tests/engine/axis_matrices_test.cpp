@@ -2,6 +2,8 @@
 // axis's matrix multiplies its own vector.
 #include <gtest/gtest.h>
 
+#include <cstring>
+
 #include "engine/axis_matrices.hpp"
 #include "engine/geometry.hpp"
 #include "engine/stiffness.hpp"
@@ -77,6 +79,52 @@ TEST(AxisMatrices, GatherFromEdgeWeightsEliminatesTheConstrainedEntries) {
   K.gather(k, mask, &springs);
   check_block_product<3>(s, ref, K);
   check_block_product<6>(s, ref, K);
+}
+
+// The gathered values bit for bit: each entry -w_e of its edge, +0 in the rows and columns of
+// the nodes constrained on every axis; the diagonal K's (plus the spring) on a free entry, 1
+// on a constrained one; the rows constrained on some axes only listed first. With a mask
+// whose held region touches itself (rows and columns of neighbouring held nodes) and
+// springs, then without springs.
+TEST(AxisMatrices, GatheredValuesAreExactlyTheEliminatedOnes) {
+  const axis_test::System s = axis_test::make_system();
+  const TissueModel& m = s.model;
+  const AxisStiffness k = axis_test::edge_stiffness(m);
+  FlagMat mask(m.n, 3);
+  NodeMat springs(m.n, 3);
+  for (int i = 0; i < m.n; ++i)
+    for (int d = 0; d < 3; ++d) {
+      mask(i, d) = m.rest.positions(i, 2) < -0.02 || (d == 2 && m.rest.positions(i, 0) > 0.03);
+      springs(i, d) = 10.0 * (1.0 + std::cos(0.7 * i + d));
+    }
+  AxisMatrices K;
+  K.analyze(m.pattern, s.perm);
+  for (const NodeMat* sp : {static_cast<const NodeMat*>(&springs), static_cast<const NodeMat*>(nullptr)}) {
+    K.gather(k, mask, sp);
+    auto full = [&](int row) { return mask.row(s.perm[size_t(row)]).minCoeff() != 0; };
+    int partial = 0;
+    for (int i = 0; i < K.n; ++i) {
+      const int node = s.perm[size_t(i)];
+      const int count = mask(node, 0) + mask(node, 1) + mask(node, 2);
+      partial += count > 0 && count < 3;
+      for (int d = 0; d < 3; ++d) {
+        const double want = mask(node, d) ? 1.0 : k.diagonal(node, d) + (sp ? springs(node, d) : 0.0);
+        EXPECT_EQ(std::memcmp(&K.diag[3 * size_t(i) + size_t(d)], &want, sizeof want), 0) << i << " " << d;
+        EXPECT_EQ(K.constrained(i, d), mask(node, d) != 0);
+      }
+      for (int p = K.start[size_t(i)]; p < K.start[size_t(i) + 1]; ++p) {
+        const double want = full(i) || full(K.col[size_t(p)]) ? 0.0 : -k.weight[K.off_edge[size_t(p)]];
+        EXPECT_EQ(std::memcmp(&K.off[size_t(p)], &want, sizeof want), 0) << "entry " << p;
+      }
+    }
+    ASSERT_GT(partial, 0);
+    EXPECT_EQ(K.partial_count, partial);
+    for (int t = 0; t < K.partial_count; ++t) {
+      const int node = s.perm[size_t(K.held_rows[size_t(t)])];
+      const int count = mask(node, 0) + mask(node, 1) + mask(node, 2);
+      EXPECT_TRUE(count > 0 && count < 3);
+    }
+  }
 }
 
 TEST(AxisMatrices, RowsHoldTheOffDiagonalEntriesInAscendingColumns) {

@@ -126,6 +126,114 @@ TEST(BlockPcg, AColumnLeftAloneRunsTheSameIteratesOnTheColumnKernels) {
   }
 }
 
+// The start's residual in one pass (residual_block) against the product and block_pcg's own
+// passes: the same bits, in place (r = b) or not; and nothing written when some row is
+// constrained on some axes only (the fixture's y band).
+template <int W>
+void expect_residual_matches(const AxisMatrices& K, int n) {
+  std::vector<double> b(size_t(n) * W), x(size_t(n) * W), q(size_t(n) * W), r(size_t(n) * W);
+  for (size_t k = 0; k < b.size(); ++k) {
+    b[k] = std::cos(0.11 * double(k)) - 0.3;
+    x[k] = std::sin(0.37 * double(k)) + 0.2;
+  }
+  double dot[W], bn[W] = {}, rn[W] = {};
+  multiply_block<W>(K, x.data(), q.data(), dot);
+  for (int i = 0; i < n; ++i)
+    for (int c = 0; c < W; ++c) {
+      const size_t k = size_t(i) * W + size_t(c);
+      bn[c] += b[k] * b[k];
+      r[k] = b[k] - q[k];
+      rn[c] += r[k] * r[k];
+    }
+  std::vector<double> out(b.size(), -7.0), inplace = b;
+  double bn2[W], rn2[W], bn3[W], rn3[W];
+  ASSERT_TRUE(residual_block<W>(K, b.data(), x.data(), out.data(), bn2, rn2));
+  ASSERT_TRUE(residual_block<W>(K, inplace.data(), x.data(), inplace.data(), bn3, rn3));
+  EXPECT_EQ(out, r) << "W " << W;
+  EXPECT_EQ(inplace, r) << "W " << W << ", in place";
+  for (int c = 0; c < W; ++c) {
+    EXPECT_EQ(bn2[c], bn[c]) << "W " << W << " column " << c;
+    EXPECT_EQ(rn2[c], rn[c]) << "W " << W << " column " << c;
+    EXPECT_EQ(bn3[c], bn[c]) << "W " << W << " column " << c;
+    EXPECT_EQ(rn3[c], rn[c]) << "W " << W << " column " << c;
+  }
+}
+
+// A fixture whose constrained rows are all constrained on every axis (the bottom cap).
+struct FullRowsFixture : Fixture {
+  FullRowsFixture() {
+    for (int i = 0; i < s.model.n; ++i) {
+      const bool cap = s.mask.row(i).minCoeff() != 0;
+      for (int d = 0; d < 3; ++d) s.mask(i, d) = cap;
+    }
+    K.gather(s.k, s.mask, nullptr);
+    ic.factorize(K, 0.9);
+  }
+};
+
+TEST(BlockPcg, TheStartsResidualInOnePassIsTheProductAndTheNormsPasses) {
+  const FullRowsFixture f;
+  ASSERT_EQ(f.K.partial_count, 0);
+  expect_residual_matches<3>(f.K, f.s.model.n);
+  expect_residual_matches<6>(f.K, f.s.model.n);
+  const Fixture g;  // rows constrained on y only: not in one pass
+  ASSERT_GT(g.K.partial_count, 0);
+  const int n = g.s.model.n;
+  std::vector<double> b(size_t(n) * 6, 1.0), x(size_t(n) * 6, 2.0), r(size_t(n) * 6, -7.0);
+  double bn[6] = {-1, -1, -1, -1, -1, -1}, rn[6] = {-1, -1, -1, -1, -1, -1};
+  EXPECT_FALSE(residual_block<6>(g.K, b.data(), x.data(), r.data(), bn, rn));
+  EXPECT_EQ(r, std::vector<double>(size_t(n) * 6, -7.0));
+  EXPECT_EQ(bn[0], -1.0);
+  EXPECT_EQ(rn[5], -1.0);
+}
+
+// The column kernels with the one-pass residual: block_pcg's iterates are those it makes
+// without them, bit for bit (b given in the residual array itself, as the solver does).
+template <int W>
+struct ResidualColumns : CountedColumns<W> {
+  int* residuals;
+  bool residual(const double* b, const double* x, double* r, double* bn, double* rn) const {
+    const bool done = residual_block<W>(this->f.K, b, x, r, bn, rn);
+    *residuals += done;
+    return done;
+  }
+};
+
+TEST(BlockPcg, TheOnePassResidualGivesTheSameIterates) {
+  const FullRowsFixture f;
+  const int n = f.s.model.n, W = 6;
+  std::vector<double> b(size_t(n) * W), x(size_t(n) * W);
+  double thr[W];
+  for (int c = 0; c < W; ++c) {
+    double bn = 0;
+    for (int i = 0; i < n; ++i) {
+      const double v = std::cos(0.07 * i * (c + 2)) + 0.5;
+      b[size_t(i) * W + c] = v;
+      x[size_t(i) * W + c] = 0.1 * std::sin(0.3 * i + c);
+      bn += v * v;
+    }
+    thr[c] = (c == 3 ? 1e-10 : 1e-4) * std::sqrt(bn);
+  }
+  std::vector<double> x_plain = x, x_fused = x;
+  std::array<KrylovResult, W> plain, fused;
+  solve_block<W>(f, b, x_plain, thr, plain);
+  BlockPcgWorkspace w;
+  w.resize(size_t(n) * W);
+  std::copy(b.begin(), b.end(), w.r.begin());
+  auto op = [&f](const double* in, double* out, double* dot) { multiply_block<W>(f.K, in, out, dot); };
+  auto pre = [&f](const double* in, double* out, double* dot) { f.ic.apply<W>(in, out, dot); };
+  int calls = 0, residuals = 0;
+  block_pcg<W>(op, pre, n, w.r.data(), x_fused.data(), thr, 500, w, fused,
+               ResidualColumns<W>{{f, &calls}, &residuals});
+  EXPECT_EQ(residuals, 1);
+  EXPECT_EQ(x_fused, x_plain);
+  for (int c = 0; c < W; ++c) {
+    EXPECT_EQ(fused[size_t(c)].iterations, plain[size_t(c)].iterations) << c;
+    EXPECT_EQ(fused[size_t(c)].converged, plain[size_t(c)].converged) << c;
+    EXPECT_EQ(fused[size_t(c)].relative_residual, plain[size_t(c)].relative_residual) << c;
+  }
+}
+
 TEST(BlockPcg, EveryColumnIsItsOwnPcg) {
   const Fixture f;
   const int n = f.s.model.n, W = 6;
