@@ -651,7 +651,7 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
   }
   if (m.compute_stress) {
     const auto t_stress = Clock::now();
-    compute_strain_stress(m, s);
+    compute_strain_stress(m, s, w.u_new.data());  // (u_new: 3 N, free after the residual)
     st.stress_ms = ms_since(t_stress);
   }
   s.velocity = (s.u - w.start.u) * (1.0 / m.dt);  // one division, not one per entry
