@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <type_traits>
 
 #include "engine/all_finite.hpp"
 #include "engine/geometry.hpp"
@@ -653,17 +654,28 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
     const double* norms = w.area_norms.data();  // |A_i| of s.area_vectors (refresh_geometry)
     const double p = s.pressure;
     double sum[3] = {0.0, 0.0, 0.0};
-    for (int i = 0; i < m.n; ++i) {  // branch-free selects
-      for (int d = 0; d < 3; ++d) {
-        const double base = loads ? ku[d][i] - p * a[d][i] - f[d][i] : ku[d][i] - p * a[d][i];  // (x - +0 = x)
-        const double free_r = springs ? base + k[d][i] * u[d][i] : base;
-        reaction[d][i] = mask[d][i] ? base : 0.0;
-        sum[d] += mask[d][i] ? 0.0 : free_r * free_r;
+    // One loop per case (loads, springs), each with branch-free selects.
+    auto residual_loop = [&](auto with_loads, auto with_springs) {
+      for (int i = 0; i < m.n; ++i) {
+        for (int d = 0; d < 3; ++d) {
+          double base = ku[d][i] - p * a[d][i];
+          if (with_loads) base -= f[d][i];  // (none: x - +0 is x)
+          double free_r = base;
+          if (with_springs) free_r += k[d][i] * u[d][i];
+          reaction[d][i] = mask[d][i] ? base : 0.0;
+          sum[d] += mask[d][i] ? 0.0 : free_r * free_r;
+        }
+        const bool any = (mask[0][i] | mask[1][i] | mask[2][i]) != 0;
+        const double an = norms[i];
+        pressure[i] = any && an > 0 ? s.reaction.row(i).norm() / an : 0.0;  // (Eigen's order of the sum)
       }
-      const bool any = (mask[0][i] | mask[1][i] | mask[2][i]) != 0;
-      const double an = norms[i];
-      pressure[i] = any && an > 0 ? s.reaction.row(i).norm() / an : 0.0;  // (Eigen's order of the sum)
-    }
+    };
+    using yes = std::true_type;
+    using no = std::false_type;
+    if (loads && springs) residual_loop(yes(), yes());
+    else if (loads) residual_loop(yes(), no());
+    else if (springs) residual_loop(no(), yes());
+    else residual_loop(no(), no());
     for (int d = 0; d < 3; ++d) {
       res2 += sum[d];
       rhs2 += w.rhs.col(d).squaredNorm();
