@@ -363,28 +363,34 @@ void ContactSolver::refit_lazy(const NodeMat& x) {
     refitted_ = true;
     return;
   }
-  // Nodes that left their box by more than the slack (flagged axis by axis, without
+  // Nodes that left their box by more than the slack (flagged two nodes at a time, without
   // branches): the box is reset to their last two positions (the earlier one was within
   // the slack of the old box).
   const double d = f.slack;
   long long* const out = f.outside.data();
   const simd::V2 d2 = simd::splat(d);
-  for (int c = 0; c < 3; ++c) {
-    const double *p = x.col(c).data(), *lo = f.lo.col(c).data(), *hi = f.hi.col(c).data();
-    double* const last = f.last.col(c).data();
-    Eigen::Index i = 0;
-    for (; i + 2 <= n; i += 2) {
-      const simd::V2 v = simd::load2(p + i);
-      simd::store2(last + i, v);
-      Mask2 m = (v - simd::load2(hi + i) > d2) | (simd::load2(lo + i) - v > d2);
-      if (c > 0) m |= Mask2{out[i], out[i + 1]};
-      out[i] = m[0];
-      out[i + 1] = m[1];
+  const double* p[3] = {x.col(0).data(), x.col(1).data(), x.col(2).data()};
+  const double* lo[3] = {f.lo.col(0).data(), f.lo.col(1).data(), f.lo.col(2).data()};
+  const double* hi[3] = {f.hi.col(0).data(), f.hi.col(1).data(), f.hi.col(2).data()};
+  double* const last[3] = {f.last.col(0).data(), f.last.col(1).data(), f.last.col(2).data()};
+  Eigen::Index i = 0;
+  for (; i + 2 <= n; i += 2) {  // their three axes in one pass: each flag written once
+    Mask2 m = {0, 0};
+    for (int c = 0; c < 3; ++c) {
+      const simd::V2 v = simd::load2(p[c] + i);
+      simd::store2(last[c] + i, v);
+      m |= (v - simd::load2(hi[c] + i) > d2) | (simd::load2(lo[c] + i) - v > d2);
     }
-    for (; i < n; ++i) {
-      last[i] = p[i];
-      out[i] = (c > 0 && out[i]) || (p[i] - hi[i] > d) || (lo[i] - p[i] > d);
+    out[i] = m[0];
+    out[i + 1] = m[1];
+  }
+  for (; i < n; ++i) {
+    bool o = false;
+    for (int c = 0; c < 3; ++c) {
+      last[c][i] = p[c][i];
+      o = o || (p[c][i] - hi[c][i] > d) || (lo[c][i] - p[c][i] > d);
     }
+    out[i] = o;
   }
   f.dirty.clear();
   for (Eigen::Index i = 0; i < n; ++i) {

@@ -41,9 +41,12 @@ class LinearSolver {
   // Solves  K^d u^d - dP a^d = rhs^d (d = x, y, z),  a . u = c, for the system last given to
   // matrices_changed(), where `a` is zero on constrained entries (whose rows are identities
   // carrying their prescribed values in rhs). Without the volume constraint dP = 0 and the
-  // last row is dropped. `u` holds the previous solution on entry (warm start).
+  // last row is dropped. `u` holds the previous solution on entry when warm_starts_from_u()
+  // (the caller copies it there only then); otherwise it is only written.
   virtual SolveReport solve(const NodeMat& rhs, const NodeMat& a, double c, bool volume_constraint, NodeMat& u,
                             double& dP) = 0;
+  // Whether solve() reads `u` as its warm start (the others keep their own, or need none).
+  virtual bool warm_starts_from_u() const { return false; }
   // s with K^d s^d = a^d on every axis (zero on constrained entries): the displacement per
   // unit of fluid pressure. Valid until the matrices change.
   virtual const NodeMat& pressure_response(const NodeMat& a) = 0;

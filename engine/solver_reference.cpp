@@ -86,6 +86,8 @@ class ReferenceSolver final : public LinearSolver {
     return take_response(in, s_, s_valid_, pending_factorizations_);
   }
 
+  bool warm_starts_from_u() const override { return settings_.warm_start; }
+
   SolveReport solve(const NodeMat& rhs, const NodeMat& a, double c, bool volume_constraint, NodeMat& u,
                     double& dP) override {
     SolveReport rep;

@@ -1,7 +1,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
+#include <type_traits>
 
 #include "engine/all_finite.hpp"
 #include "engine/geometry.hpp"
@@ -75,6 +78,25 @@ double refresh_geometry(const TissueModel& m, const NodeMat& x, SimState& s, Ste
   return v;
 }
 
+// Whether prescribed_u is finite wherever prescribed is set. The flags are read 8 at a time:
+// most are zero (a few held or driven nodes), and a zero word needs no look at its values.
+bool prescribed_finite(const StepInput& in) {
+  const size_t count = size_t(in.prescribed.size());
+  const std::uint8_t* flags = in.prescribed.data();
+  const double* values = in.prescribed_u.data();  // the same N x 3 column-major layout
+  size_t k = 0;
+  for (; k + 8 <= count; k += 8) {
+    std::uint64_t word;
+    std::memcpy(&word, flags + k, sizeof word);
+    if (word == 0) continue;
+    for (size_t j = k; j < k + 8; ++j)
+      if (flags[j] && !std::isfinite(values[j])) return false;
+  }
+  for (; k < count; ++k)
+    if (flags[k] && !std::isfinite(values[k])) return false;
+  return true;
+}
+
 // The input's arrays must be sized for the model and finite where used. Returns the reason
 // when not (static text), null when the input is fine.
 const char* check_input(const TissueModel& m, const StepInput& in) {
@@ -86,11 +108,7 @@ const char* check_input(const TissueModel& m, const StepInput& in) {
   if (in.pressure.size() != 0 && in.pressure.size() != m.n) return "StepInput.pressure has the wrong size";
   if (in.force.rows() == m.n && !all_finite(in.force)) return "StepInput.force is not finite";
   if (in.pressure.size() == m.n && !all_finite(in.pressure.data(), size_t(in.pressure.size()))) return "StepInput.pressure is not finite";
-  if (has_prescribed)
-    for (int d = 0; d < 3; ++d)
-      for (int i = 0; i < m.n; ++i)
-        if (in.prescribed(i, d) && !std::isfinite(in.prescribed_u(i, d)))
-          return "StepInput.prescribed_u is not finite at a prescribed entry";
+  if (has_prescribed && !prescribed_finite(in)) return "StepInput.prescribed_u is not finite at a prescribed entry";
   if (in.spring_k.rows() != 0) {
     if (in.spring_k.rows() != m.n || in.spring_u.rows() != m.n)
       return "StepInput.spring_k and spring_u must both have one row per node";
@@ -151,7 +169,12 @@ void update_solver_system(const TissueModel& m, const SimState& s, StepWorkspace
 }
 
 // Loads f (section 3): external forces and pressures, hydrostatic gravity (eq 9), inertia.
-void build_loads(const TissueModel& m, const StepInput& in, SimState& s, StepWorkspace& w) {
+// Returns false, and leaves w.force as it was, when there are none (f = 0: most contact
+// steps), so that no pass zeroes it and none reads it.
+bool build_loads(const TissueModel& m, const StepInput& in, SimState& s, StepWorkspace& w) {
+  const bool any = in.force.rows() == m.n || in.pressure.size() == m.n || in.spring_k.rows() == m.n ||
+                   m.use_gravity || m.use_inertia;
+  if (!any) return false;
   const NodeMat& A = s.area_vectors;
   if (in.force.rows() == m.n) w.force = in.force;
   else w.force.setZero();
@@ -166,10 +189,11 @@ void build_loads(const TissueModel& m, const StepInput& in, SimState& s, StepWor
     const double h = m.dt;
     for (int i = 0; i < m.n; ++i) {
       const double mass = m.density * s.node_volumes[i];
-      w.force.row(i) += (mass / (h * h)) * (w.start.u.row(i) + h * s.velocity.row(i)) +
+      w.force.row(i) += (mass / (h * h)) * (w.start.u.row(i) + h * w.start.velocity.row(i)) +
                         (m.damping * mass / h) * w.start.u.row(i);
     }
   }
+  return true;
 }
 
 // The solve's result `u_new` with the constrained entries set to their values, minus u: the
@@ -452,9 +476,11 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
   st.assemble_ms = st.solve_ms = st.stress_ms = 0;
   s.failed = false;
   s.failure.clear();
-  // The start of the step, for rewind_step().
+  // The start of the step, for rewind_step(). The velocity is swapped, not copied: the step
+  // reads the start's (w.start.velocity) and writes s.velocity whole at its end; an attempt
+  // that fails is rewound, which copies it back.
   w.start.u = s.u;
-  w.start.velocity = s.velocity;
+  w.start.velocity.swap(s.velocity);
   w.start.pressure = s.pressure;
   w.start.step = s.step;
   w.start.time = s.time;
@@ -472,6 +498,7 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
   double last_du = 0.0;
   double omega = 1.0;  // Aitken relaxation of the nonlinear (fixed-point) iteration
   double final_volume = std::numeric_limits<double>::quiet_NaN();  // at s.x, when known
+  bool loads = false;  // w.force holds this step's loads (false: f = 0)
 
   const int max_it = m.solver.nonlinear_iterations;
   for (int it = 0; it < max_it; ++it) {
@@ -525,8 +552,8 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
       update_solver_system(m, s, w);
       w.matrix_dirty = false;
     }
-    build_loads(m, in, s, w);
-    eliminate_rhs(m.pattern, w.K, w.mask, w.force, w.u_fixed, w.rhs, w.constrained_axes);
+    loads = build_loads(m, in, s, w);
+    eliminate_rhs(m.pattern, w.K, w.mask, loads ? &w.force : nullptr, w.u_fixed, w.rhs, w.constrained_axes);
     // Eq (11) as a Newton step on the exact volume: a.u^{n+1} = V_0 - V(x^n) + a.u^n,
     // with the constrained part moved to the right.
     const double c = m.rest_volume - current_volume + a_u;
@@ -535,7 +562,7 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
 
     const auto t_solve = Clock::now();
     LinearSolver* solver = w.solver.get();
-    w.u_new = s.u;
+    if (w.solver->warm_starts_from_u()) w.u_new = s.u;
     double p_new = s.pressure;
     SolveReport rep = solver->solve(w.rhs, w.a_free, c, m.volume_constraint, w.u_new, p_new);
     st.iterations += rep.iterations;
@@ -548,7 +575,7 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
       ++st.fallbacks;
       add_warning(s, st.fallback);
       solver = &fallback_solver(m, w);
-      w.u_new = s.u;
+      if (solver->warm_starts_from_u()) w.u_new = s.u;
       p_new = s.pressure;
       rep = solver->solve(w.rhs, w.a_free, c, m.volume_constraint, w.u_new, p_new);
       st.factorizations += rep.factorizations;
@@ -609,49 +636,60 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
   double res2 = 0.0, rhs2 = 0.0, vol_row = -last_c;
   NodeMat& Ku = w.u_new;  // free after the iterations
   multiply(m.pattern, w.K, s.u, Ku);
-  for (int d = 0; d < 3; ++d) {
-    const std::uint8_t* mask = w.mask.col(d).data();
-    const double* ku = Ku.col(d).data();
-    const double* u = s.u.col(d).data();
-    const double* f = w.force.col(d).data();
-    const double* a = s.area_vectors.col(d).data();
-    const double* k = w.last_springs_any ? w.last_springs.col(d).data() : nullptr;
-    double* reaction = s.reaction.col(d).data();
+  {
+    // Node by node, the three axes' sums of squares each in node order (three chains, not
+    // one: the same sums), and the contact pressure |r_i| / |A_i| from the node's reaction
+    // row in the same pass (only constrained entries carry a reaction).
+    const std::uint8_t* mask[3] = {w.mask.col(0).data(), w.mask.col(1).data(), w.mask.col(2).data()};
+    const double* ku[3] = {Ku.col(0).data(), Ku.col(1).data(), Ku.col(2).data()};
+    const double* u[3] = {s.u.col(0).data(), s.u.col(1).data(), s.u.col(2).data()};
+    const double* f[3] = {w.force.col(0).data(), w.force.col(1).data(), w.force.col(2).data()};  // (if loads)
+    const double* a[3] = {s.area_vectors.col(0).data(), s.area_vectors.col(1).data(), s.area_vectors.col(2).data()};
+    const bool springs = w.last_springs_any;
+    const double* k[3] = {nullptr, nullptr, nullptr};
+    if (springs)
+      for (int d = 0; d < 3; ++d) k[d] = w.last_springs.col(d).data();
+    double* reaction[3] = {s.reaction.col(0).data(), s.reaction.col(1).data(), s.reaction.col(2).data()};
+    double* pressure = s.reaction_pressure.data();
+    const double* norms = w.area_norms.data();  // |A_i| of s.area_vectors (refresh_geometry)
     const double p = s.pressure;
-    double sum = 0.0;
-    if (k) {
+    double sum[3] = {0.0, 0.0, 0.0};
+    // One loop per case (loads, springs), each with branch-free selects.
+    auto residual_loop = [&](auto with_loads, auto with_springs) {
       for (int i = 0; i < m.n; ++i) {
-        const double base = ku[i] - p * a[i] - f[i];
-        const double r = base + k[i] * u[i];
-        reaction[i] = mask[i] ? base : 0.0;
-        sum += mask[i] ? 0.0 : r * r;
+        for (int d = 0; d < 3; ++d) {
+          double base = ku[d][i] - p * a[d][i];
+          if (with_loads) base -= f[d][i];  // (none: x - +0 is x)
+          double free_r = base;
+          if (with_springs) free_r += k[d][i] * u[d][i];
+          reaction[d][i] = mask[d][i] ? base : 0.0;
+          sum[d] += mask[d][i] ? 0.0 : free_r * free_r;
+        }
+        const bool any = (mask[0][i] | mask[1][i] | mask[2][i]) != 0;
+        const double an = norms[i];
+        pressure[i] = any && an > 0 ? s.reaction.row(i).norm() / an : 0.0;  // (Eigen's order of the sum)
       }
-    } else {
-      for (int i = 0; i < m.n; ++i) {  // branch-free selects
-        const double base = ku[i] - p * a[i] - f[i];
-        reaction[i] = mask[i] ? base : 0.0;
-        sum += mask[i] ? 0.0 : base * base;
-      }
+    };
+    using yes = std::true_type;
+    using no = std::false_type;
+    if (loads && springs) residual_loop(yes(), yes());
+    else if (loads) residual_loop(yes(), no());
+    else if (springs) residual_loop(no(), yes());
+    else residual_loop(no(), no());
+    for (int d = 0; d < 3; ++d) {
+      res2 += sum[d];
+      rhs2 += w.rhs.col(d).squaredNorm();
+      vol_row += w.a_free.col(d).dot(s.u.col(d));
     }
-    res2 += sum;
-    rhs2 += w.rhs.col(d).squaredNorm();
-    vol_row += w.a_free.col(d).dot(s.u.col(d));
   }
   if (m.volume_constraint) {
     res2 += alpha * alpha * vol_row * vol_row;
     rhs2 += alpha * alpha * last_c * last_c;
   }
   st.residual = rhs2 > 0 ? std::sqrt(res2 / rhs2) : std::sqrt(res2);
-  // Only constrained entries carry a reaction.
-  const std::uint8_t* constrained[3] = {w.mask.col(0).data(), w.mask.col(1).data(), w.mask.col(2).data()};
-  for (int i = 0; i < m.n; ++i) {
-    const double a = w.area_norms[i];  // |A_i| of s.area_vectors (refresh_geometry)
-    const bool any = (constrained[0][i] | constrained[1][i] | constrained[2][i]) != 0;
-    s.reaction_pressure[i] = any && a > 0 ? s.reaction.row(i).norm() / a : 0.0;
-  }
   if (m.compute_stress) {
     const auto t_stress = Clock::now();
-    compute_strain_stress(m, s);
+    compute_strain_stress(m, s, w.u_new.data());  // (u_new: 3 N, free after the residual)
     st.stress_ms = ms_since(t_stress);
   }
   s.velocity = (s.u - w.start.u) * (1.0 / m.dt);  // one division, not one per entry

@@ -106,7 +106,7 @@ void multiply(const StiffnessPattern& p, const AxisStiffness& K, const NodeMat& 
   }
 }
 
-void eliminate_rhs(const StiffnessPattern& p, const AxisStiffness& K, const FlagMat& mask, const NodeMat& f,
+void eliminate_rhs(const StiffnessPattern& p, const AxisStiffness& K, const FlagMat& mask, const NodeMat* f,
                    const NodeMat& u_fixed, NodeMat& rhs, std::vector<std::uint8_t>& axes) {
   const Eigen::Index n = K.diagonal.rows();
   const std::uint8_t* mk[3] = {mask.col(0).data(), mask.col(1).data(), mask.col(2).data()};
@@ -116,8 +116,12 @@ void eliminate_rhs(const StiffnessPattern& p, const AxisStiffness& K, const Flag
   std::uint8_t* bits = axes.data();  // bit d: entry d constrained
   for (Eigen::Index i = 0; i < n; ++i) bits[i] = std::uint8_t((mk[0][i] != 0) | (mk[1][i] != 0) << 1 | (mk[2][i] != 0) << 2);
   for (int d = 0; d < 3; ++d) {
-    const double* fd = f.col(d).data();
-    for (Eigen::Index i = 0; i < n; ++i) r[d][i] = mk[d][i] ? uf[d][i] : fd[i];
+    if (f) {
+      const double* fd = f->col(d).data();
+      for (Eigen::Index i = 0; i < n; ++i) r[d][i] = mk[d][i] ? uf[d][i] : fd[i];
+    } else {
+      for (Eigen::Index i = 0; i < n; ++i) r[d][i] = mk[d][i] ? uf[d][i] : 0.0;
+    }
   }
   // Only the edges between a free and a constrained entry move values (few: around the held
   // and prescribed nodes), found by one comparison of the two nodes' bits.

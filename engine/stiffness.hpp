@@ -30,9 +30,10 @@ void multiply(const StiffnessPattern& pattern, const AxisStiffness& K, const Nod
 // Right-hand side of the eliminated system (per axis its mask, load, prescribed values):
 // rhs_i = f_i - sum_{j constrained} K_ij u_j for free i, rhs_j = u_j for constrained j. Only
 // the edge weights enter, the same on every axis: one pass over the edges for the three.
-// `axes`: scratch, resized to N (the constrained axes of each node as bits).
+// `axes`: scratch, resized to N (the constrained axes of each node as bits). `f` null: no
+// loads (f = 0, the same bits as a zero array).
 void eliminate_rhs(const StiffnessPattern& pattern, const AxisStiffness& K, const FlagMat& mask,
-                   const NodeMat& f, const NodeMat& u_fixed, NodeMat& rhs, std::vector<std::uint8_t>& axes);
+                   const NodeMat* f, const NodeMat& u_fixed, NodeMat& rhs, std::vector<std::uint8_t>& axes);
 
 // K_masked = K with rows and columns of constrained nodes (mask(i) != 0) replaced by the
 // identity. Same pattern, values written in place.

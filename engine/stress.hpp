@@ -8,6 +8,7 @@ namespace vdm {
 // sigma_i^d = B_i^d eps_i^d + sum_j B_ij (dV_i^d - dV_j^d) / V_i   (Pa)
 // For an infinite B_i^d the bulk term is the constraint force over the patch area,
 // -reaction_i^d / A_i^d: the same quantity, B eps = bulk force / A^d, for a finite B.
-void compute_strain_stress(const TissueModel& model, SimState& state);
+// `scratch`: 3 N doubles to work in (the step lends an array it is done with). No allocation.
+void compute_strain_stress(const TissueModel& model, SimState& state, double* scratch);
 
 }  // namespace vdm

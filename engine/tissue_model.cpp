@@ -108,6 +108,8 @@ bool build_tissue_model(const TissueDef& def, TissueModel& m, std::string& error
         m.bulk(i, d) = b;
       }
     }
+  for (int i = 0; i < n; ++i)
+    if (m.infinite.row(i).any()) m.infinite_nodes.push_back(i);
   m.connectivity_modulus = def.connectivity_modulus;
   m.axis_stiffness_floor = def.axis_stiffness_floor;
   m.density = def.density;

@@ -50,6 +50,7 @@ struct TissueModel {
   double size = 0;                       // bounding-box diagonal (m), a length scale
   NodeMat bulk;                          // N x 3 B_i^d (Pa); entries that are inf are 0 here
   FlagMat infinite;                      // N x 3: B_i^d = inf, handled as u_i^d = 0
+  std::vector<int> infinite_nodes;       // the nodes with an infinite B_i^d on some axis, in order
   FlagMat held;                          // N x 3: fixed or infinite: always constrained
   double connectivity_modulus = 0;
   double axis_stiffness_floor = 0;

@@ -2,6 +2,7 @@
 // product K X per axis, and the eliminated right-hand side (constrained values moved to the
 // right, identity rows) against the same elimination done with the full matrix.
 #include <gtest/gtest.h>
+#include <cstring>
 
 #include "engine/stiffness.hpp"
 #include "support/axis_systems.hpp"
@@ -46,7 +47,7 @@ TEST(Stiffness, EliminatedRightHandSideMovesTheConstrainedValuesToTheRight) {
   const TissueModel& m = t.s.model;
   NodeMat rhs(m.n, 3);
   std::vector<std::uint8_t> scratch;
-  eliminate_rhs(m.pattern, t.s.k, t.s.mask, t.f, t.u_fixed, rhs, scratch);
+  eliminate_rhs(m.pattern, t.s.k, t.s.mask, &t.f, t.u_fixed, rhs, scratch);
   int coupled = 0;
   for (int d = 0; d < 3; ++d) {
     // K_full u = f on the free rows with u = u_fixed on the constrained entries: the free
@@ -63,6 +64,20 @@ TEST(Stiffness, EliminatedRightHandSideMovesTheConstrainedValuesToTheRight) {
     }
   }
   EXPECT_GT(coupled, 10);  // free entries next to constrained ones were tested
+}
+
+// No loads (null) is a zero load array, bit for bit.
+TEST(Stiffness, EliminatedRightHandSideWithoutLoadsIsThatOfZeroLoads) {
+  const Kernels t;
+  const TissueModel& m = t.s.model;
+  const NodeMat zero = NodeMat::Zero(m.n, 3);
+  NodeMat with_zero(m.n, 3), without(m.n, 3);
+  std::vector<std::uint8_t> scratch;
+  eliminate_rhs(m.pattern, t.s.k, t.s.mask, &zero, t.u_fixed, with_zero, scratch);
+  without.setConstant(7.0);
+  eliminate_rhs(m.pattern, t.s.k, t.s.mask, nullptr, t.u_fixed, without, scratch);
+  EXPECT_EQ(std::memcmp(with_zero.data(), without.data(), sizeof(double) * size_t(without.size())), 0);
+  EXPECT_GT(without.cwiseAbs().maxCoeff(), 0.0);
 }
 
 }  // namespace
