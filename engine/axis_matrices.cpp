@@ -170,32 +170,66 @@ void eliminate_constrained(const AxisMatrices& K, const double* x, double* y, do
   for (int c = 0; c < W; ++c) eliminate_constrained_column<W>(K, c, x, y, dot[c]);
 }
 
+// K's arrays as the row products read them (taken once per product, not per row: GCC
+// reloads a member's data pointer after stores it cannot prove apart).
+struct RowArrays {
+  const int* start;
+  const int* col;
+  const double* off;
+  const double* diag;
+  explicit RowArrays(const AxisMatrices& K) : start(K.start.data()), col(K.col.data()), off(K.off.data()), diag(K.diag.data()) {}
+};
+
+// Row i of K x for a block of 6 (multiply_block and residual_block share it): lanes are the
+// two vectors of an axis (r^d, s^d), one value for the six.
+inline void row_product6(const RowArrays& k, const double* x, int i, simd::V2& a0, simd::V2& a1, simd::V2& a2) {
+  using simd::load2;
+  using simd::splat;
+  const double* xi = x + size_t(i) * 6;
+  const double* di = k.diag + 3 * size_t(i);
+  a0 = splat(di[0]) * load2(xi);
+  a1 = splat(di[1]) * load2(xi + 2);
+  a2 = splat(di[2]) * load2(xi + 4);
+  for (int p = k.start[i]; p < k.start[i + 1]; ++p) {
+    const simd::V2 v = splat(k.off[p]);
+    const double* xj = x + size_t(k.col[p]) * 6;
+    a0 += v * load2(xj);
+    a1 += v * load2(xj + 2);
+    a2 += v * load2(xj + 4);
+  }
+}
+
+// Row i of K x for a block of 3: x and y together (their values are adjacent), z alone.
+inline void row_product3(const RowArrays& k, const double* x, int i, simd::V2& axy, double& az) {
+  using simd::load2;
+  using simd::splat;
+  const double* xi = x + size_t(i) * 3;
+  const double* di = k.diag + 3 * size_t(i);
+  axy = load2(di) * load2(xi);
+  az = di[2] * xi[2];
+  for (int p = k.start[i]; p < k.start[i + 1]; ++p) {
+    const double v = k.off[p];
+    const double* xj = x + size_t(k.col[p]) * 3;
+    axy += splat(v) * load2(xj);
+    az += v * xj[2];
+  }
+}
+
 }  // namespace
 
 template <int W>
 void multiply_block(const AxisMatrices& K, const double* x, double* y, double* dot) {
   static_assert(W == 3 || W == 6, "blocks of 3 or 6 vectors");
+  const RowArrays rows(K);
   using simd::V2;
   using simd::load2;
-  using simd::splat;
-  const int* start = K.start.data();
-  const int* col = K.col.data();
-  const double* off = K.off.data();
-  const double* diag = K.diag.data();
   if constexpr (W == 6) {
     // Lanes: the two vectors of an axis (r^d, s^d); one value for the six.
     V2 d0 = {0, 0}, d1 = {0, 0}, d2 = {0, 0};
     for (int i = 0; i < K.n; ++i) {
       const double* xi = x + size_t(i) * 6;
-      const double* di = diag + 3 * size_t(i);
-      V2 a0 = splat(di[0]) * load2(xi), a1 = splat(di[1]) * load2(xi + 2), a2 = splat(di[2]) * load2(xi + 4);
-      for (int p = start[i]; p < start[i + 1]; ++p) {
-        const V2 v = splat(off[p]);
-        const double* xj = x + size_t(col[p]) * 6;
-        a0 += v * load2(xj);
-        a1 += v * load2(xj + 2);
-        a2 += v * load2(xj + 4);
-      }
+      V2 a0, a1, a2;
+      row_product6(rows, x, i, a0, a1, a2);
       double* yi = y + size_t(i) * 6;
       simd::store2(yi, a0);
       simd::store2(yi + 2, a1);
@@ -213,15 +247,9 @@ void multiply_block(const AxisMatrices& K, const double* x, double* y, double* d
     double dz = 0;
     for (int i = 0; i < K.n; ++i) {
       const double* xi = x + size_t(i) * 3;
-      const double* di = diag + 3 * size_t(i);
-      V2 axy = load2(di) * load2(xi);
-      double az = di[2] * xi[2];
-      for (int p = start[i]; p < start[i + 1]; ++p) {
-        const double v = off[p];
-        const double* xj = x + size_t(col[p]) * 3;
-        axy += splat(v) * load2(xj);
-        az += v * xj[2];
-      }
+      V2 axy;
+      double az;
+      row_product3(rows, x, i, axy, az);
       double* yi = y + size_t(i) * 3;
       simd::store2(yi, axy);
       yi[2] = az;
@@ -238,28 +266,16 @@ template <int W>
 bool residual_block(const AxisMatrices& K, const double* b, const double* x, double* r, double* bn, double* rn) {
   static_assert(W == 3 || W == 6, "blocks of 3 or 6 vectors");
   if (K.partial_count != 0) return false;
+  const RowArrays rows(K);
   using simd::V2;
   using simd::load2;
-  using simd::splat;
   using simd::store2;
-  const int* start = K.start.data();
-  const int* col = K.col.data();
-  const double* off = K.off.data();
-  const double* diag = K.diag.data();
   if constexpr (W == 6) {
     // multiply_block's row, then the row's residual (lanes as there).
     V2 b0 = {0, 0}, b1 = {0, 0}, b2 = {0, 0}, r0 = {0, 0}, r1 = {0, 0}, r2 = {0, 0};
     for (int i = 0; i < K.n; ++i) {
-      const double* xi = x + size_t(i) * 6;
-      const double* di = diag + 3 * size_t(i);
-      V2 a0 = splat(di[0]) * load2(xi), a1 = splat(di[1]) * load2(xi + 2), a2 = splat(di[2]) * load2(xi + 4);
-      for (int p = start[i]; p < start[i + 1]; ++p) {
-        const V2 v = splat(off[p]);
-        const double* xj = x + size_t(col[p]) * 6;
-        a0 += v * load2(xj);
-        a1 += v * load2(xj + 2);
-        a2 += v * load2(xj + 4);
-      }
+      V2 a0, a1, a2;
+      row_product6(rows, x, i, a0, a1, a2);
       const double* bi = b + size_t(i) * 6;
       const V2 c0 = load2(bi), c1 = load2(bi + 2), c2 = load2(bi + 4);
       b0 += c0 * c0;
@@ -284,16 +300,9 @@ bool residual_block(const AxisMatrices& K, const double* b, const double* x, dou
     V2 bxy = {0, 0}, rxy = {0, 0};
     double bz = 0, rz = 0;
     for (int i = 0; i < K.n; ++i) {
-      const double* xi = x + size_t(i) * 3;
-      const double* di = diag + 3 * size_t(i);
-      V2 axy = load2(di) * load2(xi);
-      double az = di[2] * xi[2];
-      for (int p = start[i]; p < start[i + 1]; ++p) {
-        const double v = off[p];
-        const double* xj = x + size_t(col[p]) * 3;
-        axy += splat(v) * load2(xj);
-        az += v * xj[2];
-      }
+      V2 axy;
+      double az;
+      row_product3(rows, x, i, axy, az);
       const double* bi = b + size_t(i) * 3;
       const V2 cxy = load2(bi);
       const double cz = bi[2];
