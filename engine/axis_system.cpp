@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "engine/linear_solver.hpp"
+#include "engine/simd2.hpp"
 
 namespace vdm {
 
@@ -24,22 +25,48 @@ void eliminate_constraints(const AxisSystem& system, std::array<SpMat, 3>& K_mas
 }
 
 double eliminated_mean_diagonal(const AxisSystem& system, const NodeMat* a, NodeMat* a_free) {
-  double sum = 0.0;
-  const Eigen::Index n = system.K->diagonal.rows();
-  for (int d = 0; d < 3; ++d) {
-    const double* diag = system.K->diagonal.col(d).data();
-    const std::uint8_t* mask = system.mask->col(d).data();
-    const double* k = system.springs ? system.springs->col(d).data() : nullptr;
-    double axis = 0.0;  // per axis, then summed: as the solvers have always added it up
-    const double* ad = a_free ? a->col(d).data() : nullptr;
-    double* fd = a_free ? a_free->col(d).data() : nullptr;
-    for (Eigen::Index i = 0; i < n; ++i) {
+  // The N x 3 arrays as one run of 3 N entries, 16 at a time: a block without a constrained
+  // entry (most: the held and prescribed ones are few) is summed in pairs (four independent
+  // sums), with a_free = a; the entries of the other blocks one by one.
+  const size_t count = size_t(system.K->diagonal.size());
+  const double* diag = system.K->diagonal.data();
+  const std::uint8_t* mask = system.mask->data();
+  const double* k = system.springs ? system.springs->data() : nullptr;
+  const double* ad = a_free ? a->data() : nullptr;
+  double* fd = a_free ? a_free->data() : nullptr;
+  using simd::V2;
+  using simd::load2;
+  V2 s0 = {0.0, 0.0}, s1 = {0.0, 0.0};
+  double rest = 0.0;
+  auto one_by_one = [&](size_t begin, size_t end) {
+    for (size_t i = begin; i < end; ++i) {
       if (fd) fd[i] = mask[i] ? 0.0 : ad[i];
-      axis += mask[i] ? 1.0 : std::abs(diag[i] + (k ? k[i] : 0.0));
+      rest += mask[i] ? 1.0 : std::abs(diag[i] + (k ? k[i] : 0.0));
     }
-    sum += axis;
+  };
+  size_t i = 0;
+  for (; i + 16 <= count; i += 16) {
+    if (!simd::none_set16(mask + i)) {
+      one_by_one(i, i + 16);
+      continue;
+    }
+    for (size_t j = i; j < i + 16; j += 4) {
+      V2 d0 = load2(diag + j), d1 = load2(diag + j + 2);
+      if (k) {
+        d0 += load2(k + j);
+        d1 += load2(k + j + 2);
+      }
+      s0 += simd::abs2(d0);
+      s1 += simd::abs2(d1);
+      if (fd) {
+        simd::store2(fd + j, load2(ad + j));
+        simd::store2(fd + j + 2, load2(ad + j + 2));
+      }
+    }
   }
-  return n > 0 ? sum / double(3 * n) : 0.0;
+  one_by_one(i, count);
+  const V2 sum = s0 + s1;
+  return count > 0 ? (sum[0] + sum[1] + rest) / double(count) : 0.0;
 }
 
 double pressure_scale(double mean_diagonal, const NodeMat& a) {

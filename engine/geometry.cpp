@@ -6,6 +6,8 @@
 #include <cstring>
 #include <limits>
 
+#include "engine/simd2.hpp"
+
 namespace vdm {
 
 // Each triangle's signed volume against `origin`, 6 V_k = (a - o) . ((b - o) x (c - o)), is
@@ -85,6 +87,42 @@ void unpack_area_vectors(const std::vector<double>& packed, NodeMat& area_vector
   }
 }
 
+AreaNormSums unpack_area_vectors_and_norms(const std::vector<double>& packed, NodeMat& area_vectors, Vec& area_norms) {
+  using simd::V2;
+  const size_t n = size_t(area_vectors.rows());
+  const double* pa = packed.data() + 3 * n;
+  double* c[3] = {area_vectors.col(0).data(), area_vectors.col(1).data(), area_vectors.col(2).data()};
+  double* norm = area_norms.data();
+  // Two nodes at a time: their six packed sums as three pairs, regrouped by axis.
+  const V2 sixth = simd::splat(kSixth);
+  V2 total = {0.0, 0.0}, smallest = simd::splat(std::numeric_limits<double>::infinity());
+  size_t i = 0;
+  for (; i + 2 <= n; i += 2) {
+    const double* p = pa + 3 * i;
+    const V2 u = simd::load2(p), v = simd::load2(p + 2), w = simd::load2(p + 4);  // x0 y0, z0 x1, y1 z1
+    const V2 x = V2(_mm_shuffle_pd(u, v, 2)) * sixth, y = V2(_mm_shuffle_pd(u, w, 1)) * sixth,
+             z = V2(_mm_shuffle_pd(v, w, 2)) * sixth;
+    simd::store2(c[0] + i, x);
+    simd::store2(c[1] + i, y);
+    simd::store2(c[2] + i, z);
+    const V2 length = simd::sqrt2(x * x + y * y + z * z);
+    simd::store2(norm + i, length);
+    total += length;
+    smallest = simd::min2(smallest, length);
+  }
+  AreaNormSums sums{total[0] + total[1], std::min(smallest[0], smallest[1])};
+  for (; i < n; ++i) {
+    const double x = pa[3 * i] * kSixth, y = pa[3 * i + 1] * kSixth, z = pa[3 * i + 2] * kSixth;
+    c[0][i] = x;
+    c[1][i] = y;
+    c[2][i] = z;
+    norm[i] = std::sqrt(x * x + y * y + z * z);
+    sums.total += norm[i];
+    sums.smallest = std::min(sums.smallest, norm[i]);
+  }
+  return sums;
+}
+
 bool packed_positions_equal(const NodeMat& x, const std::vector<double>& packed) {
   const size_t n = size_t(x.rows());
   if (packed.size() != 6 * n) return false;
@@ -115,26 +153,37 @@ double area_vectors_and_volume(const NodeMat& x, const TriMat& tris, const Vec3&
   return v;
 }
 
-void distributed_volumes(const NodeMat& area_vectors, double volume, Vec& volumes,
-                         double min_fraction) {
+VolumeScale distributed_volumes(const NodeMat& area_vectors, double volume, Vec& volumes, double min_fraction) {
   const Eigen::Index n = area_vectors.rows();
   Vec norms(n);
   for (Eigen::Index i = 0; i < n; ++i) norms[i] = area_vectors.row(i).norm();
-  distributed_volumes_from_norms(norms, volume, volumes, min_fraction);
+  return distributed_volumes_from_norms(norms, volume, volumes, min_fraction);
 }
 
-void distributed_volumes_from_norms(const Vec& area_norms, double volume, Vec& volumes, double min_fraction) {
-  const Eigen::Index n = area_norms.size();
-  double total = 0.0;
-  for (Eigen::Index i = 0; i < n; ++i) total += area_norms[i];
-  const double floor_area = min_fraction * total / std::max<Eigen::Index>(n, 1);
-  double floored_total = 0.0;
-  for (Eigen::Index i = 0; i < n; ++i) {
-    volumes[i] = std::max(area_norms[i], floor_area);
-    floored_total += volumes[i];
+VolumeScale distributed_volumes_from_norms(const Vec& area_norms, double volume, Vec& volumes, double min_fraction) {
+  AreaNormSums sums;
+  for (Eigen::Index i = 0; i < area_norms.size(); ++i) {
+    sums.total += area_norms[i];
+    sums.smallest = std::min(sums.smallest, area_norms[i]);
   }
-  const double scale = floored_total > 0.0 ? volume / floored_total : 0.0;
-  for (Eigen::Index i = 0; i < n; ++i) volumes[i] *= scale;
+  return distributed_volumes_from_norms(area_norms, sums, volume, volumes, min_fraction);
+}
+
+VolumeScale distributed_volumes_from_norms(const Vec& area_norms, const AreaNormSums& sums, double volume,
+                                           Vec& volumes, double min_fraction) {
+  const Eigen::Index n = area_norms.size();
+  VolumeScale how;
+  how.floor_area = min_fraction * sums.total / double(std::max<Eigen::Index>(n, 1));
+  how.any_floored = how.floored(sums.smallest);
+  // Without a floored node (nearly always) the floored areas' sum is the areas' own.
+  double floored_total = sums.total;
+  if (how.any_floored) {
+    floored_total = 0.0;
+    for (Eigen::Index i = 0; i < n; ++i) floored_total += std::max(area_norms[i], how.floor_area);
+  }
+  how.scale = floored_total > 0.0 ? volume / floored_total : 0.0;
+  for (Eigen::Index i = 0; i < n; ++i) volumes[i] = how.scale * std::max(area_norms[i], how.floor_area);
+  return how;
 }
 
 int nearest_node(const NodeMat& x, const Vec3& p) {

@@ -1,5 +1,6 @@
 #pragma once
 // Surface geometry of the VDM model (vdm-model.md section 1, paper eqs 1-2).
+#include <limits>
 #include <vector>
 
 #include "engine/types.hpp"
@@ -30,17 +31,41 @@ double packed_area_sums_and_volume(const NodeMat& x, const TriMat& tris, const V
                                    std::vector<double>& packed);
 // A_i from a `packed` of packed_area_sums_and_volume(): the area vectors it sums, N x 3.
 void unpack_area_vectors(const std::vector<double>& packed, NodeMat& area_vectors);
+// The sum of the lengths |A_i| and the smallest of them.
+struct AreaNormSums {
+  double total = 0.0;
+  double smallest = std::numeric_limits<double>::infinity();
+};
+// unpack_area_vectors() and |A_i| (`area_norms`, N) in the same pass; returns their sum and
+// smallest. The sum is finite only when every A_i is (a non-finite component makes its norm,
+// and so the sum, inf or NaN).
+AreaNormSums unpack_area_vectors_and_norms(const std::vector<double>& packed, NodeMat& area_vectors, Vec& area_norms);
 // Whether `packed` holds exactly the positions x (bit for bit), as packed_area_sums_and_volume()
 // wrote them.
 bool packed_positions_equal(const NodeMat& x, const std::vector<double>& packed);
 
+// How the V_i were made from the |A_i| (distributed_volumes_from_norms): V_i = scale max(|A_i|,
+// floor_area), so V_i = scale |A_i| at every node whose |A_i| is not below floor_area
+// (any_floored: some node's is). What lets the stiffness's edge weights go without a division
+// (assemble_stiffness). The default describes volumes of no such form: every node floored.
+struct VolumeScale {
+  double scale = 0.0;
+  double floor_area = std::numeric_limits<double>::infinity();
+  bool any_floored = true;
+  bool floored(double area_norm) const { return area_norm < floor_area; }
+};
 // Eq (2) with the normalisation choice of vdm-model.md: V_i = V |A_i| / sum_j |A_j|,
 // so that sum_i V_i = V exactly. `volumes` must have N entries. A node whose distributed
-// area is below `min_fraction` of the mean gets that floor (keeps V_i > 0).
-void distributed_volumes(const NodeMat& area_vectors, double volume, Vec& volumes,
-                         double min_fraction = 1e-9);
-// The same from the lengths |A_i| (`area_norms`, N) of the area vectors.
-void distributed_volumes_from_norms(const Vec& area_norms, double volume, Vec& volumes, double min_fraction = 1e-9);
+// area is below `min_fraction` of the mean gets that floor (keeps V_i > 0). Returns how the
+// V_i were made.
+VolumeScale distributed_volumes(const NodeMat& area_vectors, double volume, Vec& volumes,
+                                double min_fraction = 1e-9);
+// The same from the lengths |A_i| (`area_norms`, N) of the area vectors, and from their sum
+// and smallest when known (unpack_area_vectors_and_norms).
+VolumeScale distributed_volumes_from_norms(const Vec& area_norms, double volume, Vec& volumes,
+                                           double min_fraction = 1e-9);
+VolumeScale distributed_volumes_from_norms(const Vec& area_norms, const AreaNormSums& sums, double volume,
+                                           Vec& volumes, double min_fraction = 1e-9);
 
 // Index of the node of x nearest to p (the first one on a tie).
 int nearest_node(const NodeMat& x, const Vec3& p);

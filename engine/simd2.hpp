@@ -1,6 +1,8 @@
 #pragma once
 // Pairs of doubles as one SSE2 register (GCC/Clang vector extension), for the three-axis
 // kernels: lane-wise arithmetic, so the results are those of the scalar code bit for bit.
+#include <emmintrin.h>
+
 #include <cstring>
 
 namespace vdm::simd {
@@ -14,5 +16,17 @@ inline V2 load2(const double* p) {
 }
 inline void store2(double* p, V2 v) { std::memcpy(p, &v, sizeof v); }
 inline V2 splat(double a) { return V2{a, a}; }
+// Lane-wise std::max(a, b): b where a < b, else a (one maxpd).
+inline V2 max2(V2 a, V2 b) { return _mm_max_pd(b, a); }
+// Lane-wise std::min(a, b): b where b < a, else a (one minpd).
+inline V2 min2(V2 a, V2 b) { return _mm_min_pd(b, a); }
+inline V2 sqrt2(V2 a) { return _mm_sqrt_pd(a); }
+inline V2 abs2(V2 a) { return _mm_andnot_pd(_mm_set1_pd(-0.0), a); }
+
+// Whether none of the 16 flags (bytes) from p is set.
+inline bool none_set16(const unsigned char* p) {
+  const __m128i flags = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p));
+  return _mm_movemask_epi8(_mm_cmpeq_epi8(flags, _mm_setzero_si128())) == 0xFFFF;
+}
 
 }  // namespace vdm::simd

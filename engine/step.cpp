@@ -10,6 +10,7 @@
 #include "engine/geometry.hpp"
 #include "engine/loads.hpp"
 #include "engine/sim_state.hpp"
+#include "engine/simd2.hpp"
 #include "engine/step_workspace.hpp"
 #include "engine/stiffness.hpp"
 #include "engine/stress.hpp"
@@ -30,12 +31,6 @@ void add_warning(SimState& s, const char* what) {
   if (s.warnings.size() < 64) s.warnings.emplace_back(what);
 }
 
-// |A_i| and V_i from the area vectors and the volume v.
-void node_volumes(const TissueModel& m, double v, SimState& s, StepWorkspace& w) {
-  for (int i = 0; i < m.n; ++i) w.area_norms[i] = s.area_vectors.row(i).norm();
-  distributed_volumes_from_norms(w.area_norms, v, s.node_volumes);
-}
-
 // The volume enclosed at x, with x and its area sums left in w.packed: a volume check at the
 // end of a step leaves them, and the next step's refresh at the same positions (bit for bit)
 // only unpacks them instead of going over the triangles again.
@@ -52,16 +47,17 @@ double packed_geometry(const TissueModel& m, const NodeMat& x, StepWorkspace& w)
 // valid geometry is kept (returns -1 after restoring it) and the caller says so.
 double refresh_geometry(const TissueModel& m, const NodeMat& x, SimState& s, StepWorkspace& w) {
   const double v = packed_geometry(m, x, w);
-  unpack_area_vectors(w.packed, s.area_vectors);
-  if (!(v > 0.0) || !std::isfinite(v) || !all_finite(s.area_vectors)) {
+  // A_i and |A_i| in one pass; their sum is finite only when every A_i is.
+  const AreaNormSums sums = unpack_area_vectors_and_norms(w.packed, s.area_vectors, w.area_norms);
+  if (!(v > 0.0) || !std::isfinite(v) || !std::isfinite(sums.total)) {
     if (w.have_geometry) {  // back to the geometry K was built from
       const double v_refresh = packed_geometry(m, w.x_refresh, w);
-      unpack_area_vectors(w.packed, s.area_vectors);
-      node_volumes(m, v_refresh, s, w);
+      const AreaNormSums valid = unpack_area_vectors_and_norms(w.packed, s.area_vectors, w.area_norms);
+      distributed_volumes_from_norms(w.area_norms, valid, v_refresh, s.node_volumes);
     }
     return -1.0;
   }
-  node_volumes(m, v, s, w);
+  const VolumeScale volume_scale = distributed_volumes_from_norms(w.area_norms, sums, v, s.node_volumes);
   if (m.use_inertia) {
     const double h = m.dt;
     for (int i = 0; i < m.n; ++i) {
@@ -69,7 +65,7 @@ double refresh_geometry(const TissueModel& m, const NodeMat& x, SimState& s, Ste
       w.extra_diagonal[i] = mass / (h * h) + m.damping * mass / h;
     }
   }
-  assemble_stiffness(m, s.area_vectors, w.area_norms, s.node_volumes, w.extra_diagonal, w.K, w.scratch);
+  assemble_stiffness(m, s.area_vectors, w.area_norms, s.node_volumes, volume_scale, w.extra_diagonal, w.K, w.scratch);
   if (&x != &w.x_refresh) w.x_refresh = x;
   w.volume_at_refresh = v;
   w.matrix_dirty = true;
@@ -121,36 +117,73 @@ const char* check_input(const TissueModel& m, const StepInput& in) {
   return nullptr;
 }
 
+// x . y over n entries, in pairs (four independent sums).
+double dot(const double* x, const double* y, size_t n) {
+  using simd::V2;
+  V2 s0 = {0.0, 0.0}, s1 = {0.0, 0.0};
+  size_t i = 0;
+  for (; i + 4 <= n; i += 4) {
+    s0 += simd::load2(x + i) * simd::load2(y + i);
+    s1 += simd::load2(x + i + 2) * simd::load2(y + i + 2);
+  }
+  const V2 s = s0 + s1;
+  double sum = s[0] + s[1];
+  for (; i < n; ++i) sum += x[i] * y[i];
+  return sum;
+}
+
 // Constrained entries this step: held (fixed, infinite B) and prescribed by the input
-// (sizes checked by check_input). Returns whether they differ from last_mask. Also adds up
-// a . u over all entries minus a . u_fixed over the constrained ones (`a_u`): the volume
-// row's right-hand side needs it, and it is this pass's data.
+// (sizes checked by check_input), in w.mask; the N x 3 flags as one run of 3 N, 16 at a time.
+// Returns whether they differ from last_mask. The prescribed entries that are not held (few:
+// the contact's) go to w.prescribed_entries, their values to w.u_fixed (zero elsewhere). Also
+// adds up a . u over all entries minus a . u_fixed (`a_u`): the volume row's right-hand side
+// needs it.
 bool build_constraints(const TissueModel& m, const StepInput& in, const NodeMat& a, const NodeMat& u, StepWorkspace& w,
                        double& a_u) {
   const bool has_prescribed = in.prescribed.rows() == m.n && in.prescribed_u.rows() == m.n;
-  std::uint8_t differ = 0;
-  a_u = 0.0;
-  for (int d = 0; d < 3; ++d) {
-    const std::uint8_t* held = m.held.col(d).data();
-    const std::uint8_t* presc = has_prescribed ? in.prescribed.col(d).data() : nullptr;
-    const double* pu = has_prescribed ? in.prescribed_u.col(d).data() : nullptr;
-    const std::uint8_t* last = w.last_mask.col(d).data();
-    const double* ad = a.col(d).data();
-    const double* ud = u.col(d).data();
-    std::uint8_t* mask = w.mask.col(d).data();
-    double* fixed = w.u_fixed.col(d).data();
-    double sum = 0.0;
-    for (int i = 0; i < m.n; ++i) {  // branch-free: held or prescribed, prescribed values unless held
-      const std::uint8_t h = held[i] != 0, p = presc ? presc[i] != 0 : 0;
-      const std::uint8_t c = h | p;
-      mask[i] = c;
-      differ |= std::uint8_t(c ^ last[i]);
-      fixed[i] = (p & !h) ? pu[i] : 0.0;
-      sum += ad[i] * (c ? ud[i] - fixed[i] : ud[i]);
+  double* fixed = w.u_fixed.data();
+  for (const int k : w.prescribed_entries) fixed[k] = 0.0;  // the last step's values
+  w.prescribed_entries.clear();
+  const size_t count = 3 * size_t(m.n);
+  const std::uint8_t* held = m.held.data();
+  const std::uint8_t* presc = has_prescribed ? in.prescribed.data() : nullptr;
+  const std::uint8_t* last = w.last_mask.data();
+  std::uint8_t* mask = w.mask.data();
+  auto load16 = [](const std::uint8_t* p) { return _mm_loadu_si128(reinterpret_cast<const __m128i*>(p)); };
+  const __m128i zero = _mm_setzero_si128(), one = _mm_set1_epi8(1);
+  __m128i differ = zero;
+  size_t k = 0;
+  for (; k + 16 <= count; k += 16) {
+    const __m128i not_held = _mm_cmpeq_epi8(load16(held + k), zero);  // bytes: all ones or zero
+    __m128i free = not_held;
+    if (presc) {
+      const __m128i not_prescribed = _mm_cmpeq_epi8(load16(presc + k), zero);
+      free = _mm_and_si128(not_held, not_prescribed);
+      for (int bits = _mm_movemask_epi8(_mm_andnot_si128(not_prescribed, not_held)); bits != 0; bits &= bits - 1)
+        w.prescribed_entries.push_back(int(k) + __builtin_ctz(unsigned(bits)));
     }
-    a_u += sum;
+    const __m128i c = _mm_andnot_si128(free, one);  // 1: constrained
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(mask + k), c);
+    differ = _mm_or_si128(differ, _mm_xor_si128(c, load16(last + k)));
   }
-  return differ != 0;
+  bool changed = _mm_movemask_epi8(_mm_cmpeq_epi8(differ, zero)) != 0xFFFF;
+  for (; k < count; ++k) {
+    const bool h = held[k] != 0, p = presc && presc[k] != 0;
+    if (p && !h) w.prescribed_entries.push_back(int(k));
+    mask[k] = std::uint8_t(h || p);
+    changed = changed || mask[k] != last[k];
+  }
+  const double* ad = a.data();
+  double moved = 0.0;  // a . u_fixed
+  if (has_prescribed) {
+    const double* pu = in.prescribed_u.data();
+    for (const int e : w.prescribed_entries) {
+      fixed[e] = pu[e];
+      moved += ad[e] * pu[e];
+    }
+  }
+  a_u = dot(ad, u.data(), count) - moved;
+  return changed;
 }
 
 // The system of K with the entries of last_mask constrained and last_springs on the free
@@ -196,48 +229,81 @@ bool build_loads(const TissueModel& m, const StepInput& in, SimState& s, StepWor
   return true;
 }
 
+// The constrained entries' u = u_fixed exactly, and x = X + u there (after a pass that moved
+// every entry: u + (u_fixed - u) may be an ulp off).
+void pin_constrained(const StepWorkspace& w, const NodeMat& rest, NodeMat& u, NodeMat& x) {
+  const double* fixed = w.u_fixed.data();
+  const double* X = rest.data();
+  double* ud = u.data();
+  double* xd = x.data();
+  for (const std::vector<int>* entries : {&w.held_entries, &w.prescribed_entries})
+    for (const int k : *entries) {
+      ud[k] = fixed[k];
+      xd[k] = X[k] + ud[k];
+    }
+}
+
 // The solve's result `u_new` with the constrained entries set to their values, minus u: the
 // fixed-point residual, in place. Returns its largest magnitude. With `x` (a step's first
 // solve, taken whole: omega = 1) also advance_positions() in the same pass: u += r on the
 // free entries, u_fixed on the constrained ones, x = rest + u (the same values, bit for bit).
-double pin_and_difference(const FlagMat& mask, const NodeMat& u_fixed, NodeMat& u, NodeMat& u_new,
-                          const NodeMat& rest, NodeMat* x) {
-  double largest = 0.0;
-  for (int d = 0; d < 3; ++d) {
-    const std::uint8_t* mk = mask.col(d).data();
-    const double* fixed = u_fixed.col(d).data();
-    double* ud = u.col(d).data();
-    double* r = u_new.col(d).data();
-    const double* X = rest.col(d).data();
-    double* xd = x ? x->col(d).data() : nullptr;
-    for (Eigen::Index i = 0; i < u.rows(); ++i) {
-      r[i] = (mk[i] ? fixed[i] : r[i]) - ud[i];
-      largest = std::max(largest, std::abs(r[i]));
-      if (xd) {
-        ud[i] = mk[i] ? fixed[i] : ud[i] + r[i];
-        xd[i] = X[i] + ud[i];
-      }
+// The N x 3 arrays as runs of 3 N entries: the few constrained ones set before and after.
+double pin_and_difference(const StepWorkspace& w, NodeMat& u, NodeMat& u_new, const NodeMat& rest, NodeMat* x) {
+  const double* fixed = w.u_fixed.data();
+  double* r = u_new.data();
+  for (const std::vector<int>* entries : {&w.held_entries, &w.prescribed_entries})
+    for (const int k : *entries) r[k] = fixed[k];
+  const size_t count = size_t(u.size());
+  double* ud = u.data();
+  using simd::V2;
+  V2 largest = {0.0, 0.0};
+  size_t i = 0;
+  if (x) {
+    const double* X = rest.data();
+    double* xd = x->data();
+    for (; i + 2 <= count; i += 2) {
+      const V2 ri = simd::load2(r + i) - simd::load2(ud + i);
+      simd::store2(r + i, ri);
+      largest = simd::max2(largest, simd::abs2(ri));
+      const V2 ui = simd::load2(ud + i) + ri;
+      simd::store2(ud + i, ui);
+      simd::store2(xd + i, simd::load2(X + i) + ui);
     }
-  }
-  return largest;
-}
-
-// u += omega r on the free entries, u = u_fixed exactly on the constrained ones (u + (u_fixed
-// - u) may be an ulp off), and x = X + u, in one pass.
-void advance_positions(const NodeMat& rest, double omega, const NodeMat& r, const FlagMat& mask,
-                       const NodeMat& u_fixed, NodeMat& u, NodeMat& x) {
-  for (int d = 0; d < 3; ++d) {
-    const double* X = rest.col(d).data();
-    const double* dr = r.col(d).data();
-    const std::uint8_t* mk = mask.col(d).data();
-    const double* fixed = u_fixed.col(d).data();
-    double* ud = u.col(d).data();
-    double* xd = x.col(d).data();
-    for (Eigen::Index i = 0; i < u.rows(); ++i) {
-      ud[i] = mk[i] ? fixed[i] : ud[i] + omega * dr[i];
+    for (; i < count; ++i) {
+      r[i] -= ud[i];
+      largest[0] = std::max(largest[0], std::abs(r[i]));
+      ud[i] += r[i];
       xd[i] = X[i] + ud[i];
     }
+    pin_constrained(w, rest, u, *x);
+  } else {
+    for (; i + 2 <= count; i += 2) {
+      const V2 ri = simd::load2(r + i) - simd::load2(ud + i);
+      simd::store2(r + i, ri);
+      largest = simd::max2(largest, simd::abs2(ri));
+    }
+    for (; i < count; ++i) {
+      r[i] -= ud[i];
+      largest[0] = std::max(largest[0], std::abs(r[i]));
+    }
   }
+  return std::max(largest[0], largest[1]);
+}
+
+// u += omega r on the free entries, u = u_fixed exactly on the constrained ones, and x = X +
+// u, in one pass over all entries and one over the constrained.
+void advance_positions(const StepWorkspace& w, const NodeMat& rest, double omega, const NodeMat& r, NodeMat& u,
+                       NodeMat& x) {
+  const size_t count = size_t(u.size());
+  const double* X = rest.data();
+  const double* dr = r.data();
+  double* ud = u.data();
+  double* xd = x.data();
+  for (size_t i = 0; i < count; ++i) {
+    ud[i] += omega * dr[i];
+    xd[i] = X[i] + ud[i];
+  }
+  pin_constrained(w, rest, u, x);
 }
 
 // Newton on the exact volume along the fluid's own response s (K s = a): u += dP' s and
@@ -350,7 +416,9 @@ SimState make_sim_state(const TissueModel& m) {
   w->K.weight = Vec::Zero(Eigen::Index(m.edges.size()));
   w->K.diagonal = NodeMat::Zero(n, 3);
   w->mask = FlagMat::Zero(n, 3);
-  w->constrained_axes.assign(size_t(n), 0);
+  for (int k = 0; k < 3 * n; ++k)
+    if (m.held.data()[k]) w->held_entries.push_back(k);
+  w->prescribed_entries.reserve(3 * size_t(n));
   w->last_mask = FlagMat::Constant(n, 3, 2);  // never equal: the first step tells the solver
   w->u_fixed = NodeMat::Zero(n, 3);
   w->a_free = NodeMat::Zero(n, 3);
@@ -553,7 +621,7 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
       w.matrix_dirty = false;
     }
     loads = build_loads(m, in, s, w);
-    eliminate_rhs(m.pattern, w.K, w.mask, loads ? &w.force : nullptr, w.u_fixed, w.rhs, w.constrained_axes);
+    eliminate_rhs(m.pattern, w.K, w.mask, loads ? &w.force : nullptr, w.u_fixed, w.rhs);
     // Eq (11) as a Newton step on the exact volume: a.u^{n+1} = V_0 - V(x^n) + a.u^n,
     // with the constrained part moved to the right.
     const double c = m.rest_volume - current_volume + a_u;
@@ -594,7 +662,7 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
     // from the last two residuals; it saves iterations where the plain iteration converges.
     // u_new becomes the fixed-point residual r = G(u) - u (G(u) pinned), du = max |r|.
     // The first solve is taken whole (omega = 1): u and x move in the same pass.
-    const double du = pin_and_difference(w.mask, w.u_fixed, s.u, w.u_new, m.rest.positions, it == 0 ? &s.x : nullptr);
+    const double du = pin_and_difference(w, s.u, w.u_new, m.rest.positions, it == 0 ? &s.x : nullptr);
     if (it >= 2 && du > last_du && du > 10.0 * m.solver.nonlinear_tolerance * m.size) {
       // Diverging: past some deformation the geometric fixed point loses stability (its
       // contraction factor passes 1). Keep the current iterate, the best so far.
@@ -610,7 +678,7 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
     st.relaxation = omega;
     st.nonlinear_change = du / m.size;
     if (it + 1 < max_it) w.residual_prev = w.u_new;
-    if (it > 0) advance_positions(m.rest.positions, omega, w.u_new, w.mask, w.u_fixed, s.u, s.x);
+    if (it > 0) advance_positions(w, m.rest.positions, omega, w.u_new, s.u, s.x);
     s.pressure += omega * (p_new - s.pressure);
     if (m.volume_constraint) {
       last_c += correct_volume(m, s, w, *solver, final_volume);

@@ -25,12 +25,15 @@ struct StepStart {
 struct StepWorkspace {
   AxisStiffness K;                // per-axis K^d at the last refresh (unmasked)
   FlagMat mask, last_mask;        // constrained entries this step / when the solver was last told
-  std::vector<std::uint8_t> constrained_axes;  // eliminate_rhs()'s scratch: mask's axes per node as bits
+  // The constrained entries as indices d N + i into the N x 3 arrays: the model's held ones
+  // (m.held: every step, value 0) and this step's prescribed ones that are not held (few: the
+  // contact's; build_constraints, capacity 3 N).
+  std::vector<int> held_entries, prescribed_entries;
   NodeMat last_springs;           // StepInput::spring_k when the solver was last told (N x 3; 0 rows, all
                                   // zero, until the first step with springs: most runs have none)
   bool last_springs_any = false;  // some of last_springs is not zero
   double mean_diagonal = 1.0;     // of the eliminated matrices (the residual's pressure scale)
-  NodeMat u_fixed;                // values of constrained entries (m)
+  NodeMat u_fixed;                // values of constrained entries (m), zero on the others
   NodeMat a_free;                 // area vectors, zero on constrained entries
   NodeMat force;                  // total load f this step (N)
   NodeMat rhs;                    // eliminated right-hand side

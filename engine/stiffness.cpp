@@ -4,6 +4,8 @@
 #include <cmath>
 #include <vector>
 
+#include "engine/simd2.hpp"
+
 namespace vdm {
 
 StiffnessPattern build_stiffness_pattern(int n, const std::vector<std::array<int, 2>>& edges) {
@@ -32,11 +34,23 @@ StiffnessPattern build_stiffness_pattern(int n, const std::vector<std::array<int
   p.edge_slot.resize(edges.size());
   for (size_t e = 0; e < edges.size(); ++e)
     p.edge_slot[e] = {slot(edges[e][0], edges[e][1]), slot(edges[e][1], edges[e][0])};
+  p.slot_edge.assign(size_t(p.matrix.nonZeros()), -1);
+  for (size_t e = 0; e < edges.size(); ++e) p.slot_edge[size_t(p.edge_slot[e][0])] = p.slot_edge[size_t(p.edge_slot[e][1])] = int(e);
   return p;
 }
 
+namespace {
+
+// w_ij by eq (4) as written (a division), for an edge with a floored end.
+inline double plain_weight(double bc, double norm_i, double norm_j, double vol_i, double vol_j) {
+  const double a = 0.5 * (norm_i + norm_j);
+  return bc * a * a / (0.5 * (vol_i + vol_j));
+}
+
+}  // namespace
+
 void assemble_stiffness(const TissueModel& m, const NodeMat& A, const Vec& area_norms, const Vec& Vi,
-                        const Vec& extra_diagonal, AxisStiffness& K, Vec& scratch) {
+                        const VolumeScale& how, const Vec& extra_diagonal, AxisStiffness& K, Vec& scratch) {
   // Connectivity: a graph Laplacian with weights w_ij, the same on every axis; its diagonal
   // sums in `scratch`.
   double* lap = scratch.data();
@@ -45,28 +59,56 @@ void assemble_stiffness(const TissueModel& m, const NodeMat& A, const Vec& area_
   const double* norm = area_norms.data();
   const double* vol = Vi.data();
   double* weight = K.weight.data();
-  for (size_t e = 0; e < m.edges.size(); ++e) {
-    const int i = m.edges[e][0], j = m.edges[e][1];
-    const double a = 0.5 * (norm[i] + norm[j]);
-    const double vij = 0.5 * (vol[i] + vol[j]);
-    const double w = bc * a * a / vij;
-    weight[e] = w;
-    lap[i] += w;
-    lap[j] += w;
+  const std::array<int, 2>* edges = m.edges.data();
+  const size_t edge_count = m.edges.size();
+  const double per_area = 0.5 * bc / how.scale;  // w_ij / (|A_i| + |A_j|) where no end is floored
+  if (!how.any_floored) {
+    for (size_t e = 0; e < edge_count; ++e) {
+      const int i = edges[e][0], j = edges[e][1];
+      const double w = per_area * (norm[i] + norm[j]);
+      weight[e] = w;
+      lap[i] += w;
+      lap[j] += w;
+    }
+  } else {
+    for (size_t e = 0; e < edge_count; ++e) {
+      const int i = edges[e][0], j = edges[e][1];
+      const double w = how.floored(norm[i]) || how.floored(norm[j]) ? plain_weight(bc, norm[i], norm[j], vol[i], vol[j])
+                                                                     : per_area * (norm[i] + norm[j]);
+      weight[e] = w;
+      lap[i] += w;
+      lap[j] += w;
+    }
   }
   // Diagonal: the Laplacian's, then the bulk term per node and axis (one division by V_i
-  // per node for the three axes).
+  // per node for the three axes), two nodes at a time.
+  using simd::V2;
+  using simd::load2;
   const bool extra = extra_diagonal.size() == m.n;
+  const double* ex = extra ? extra_diagonal.data() : nullptr;
   const double floor = m.axis_stiffness_floor;
   double* diag[3] = {K.diagonal.col(0).data(), K.diagonal.col(1).data(), K.diagonal.col(2).data()};
   const double* a[3] = {A.col(0).data(), A.col(1).data(), A.col(2).data()};
   const double* bulk[3] = {m.bulk.col(0).data(), m.bulk.col(1).data(), m.bulk.col(2).data()};
-  for (int i = 0; i < m.n; ++i) {
+  int i = 0;
+  for (; i + 2 <= m.n; i += 2) {
+    const V2 inv_v = simd::splat(1.0) / load2(vol + i);
+    const V2 nn = load2(norm + i);
+    const V2 a2 = simd::splat(floor) * (nn * nn);
+    const V2 l = load2(lap + i);
+    for (int d = 0; d < 3; ++d) {
+      const V2 ad = load2(a[d] + i);
+      V2 k = l + load2(bulk[d] + i) * simd::max2(ad * ad, a2) * inv_v;
+      if (extra) k += load2(ex + i);
+      simd::store2(diag[d] + i, k);
+    }
+  }
+  for (; i < m.n; ++i) {
     const double inv_v = 1.0 / vol[i];
     const double a2 = floor * (norm[i] * norm[i]);
     for (int d = 0; d < 3; ++d) {
       diag[d][i] = lap[i] + bulk[d][i] * std::max(a[d][i] * a[d][i], a2) * inv_v;
-      if (extra) diag[d][i] += extra_diagonal[i];
+      if (extra) diag[d][i] += ex[i];
     }
   }
 }
@@ -76,7 +118,7 @@ void assemble_stiffness(const TissueModel& m, const NodeMat& A, const Vec& Vi, c
   Vec norms(m.n), scratch(m.n);
   for (int i = 0; i < m.n; ++i) norms[i] = A.row(i).norm();
   AxisStiffness k{Vec(Eigen::Index(m.edges.size())), NodeMat(m.n, 3)};
-  assemble_stiffness(m, A, norms, Vi, extra_diagonal, k, scratch);
+  assemble_stiffness(m, A, norms, Vi, VolumeScale(), extra_diagonal, k, scratch);
   to_sparse(m.pattern, k, K);
 }
 
@@ -107,35 +149,45 @@ void multiply(const StiffnessPattern& p, const AxisStiffness& K, const NodeMat& 
 }
 
 void eliminate_rhs(const StiffnessPattern& p, const AxisStiffness& K, const FlagMat& mask, const NodeMat* f,
-                   const NodeMat& u_fixed, NodeMat& rhs, std::vector<std::uint8_t>& axes) {
-  const Eigen::Index n = K.diagonal.rows();
-  const std::uint8_t* mk[3] = {mask.col(0).data(), mask.col(1).data(), mask.col(2).data()};
-  const double* uf[3] = {u_fixed.col(0).data(), u_fixed.col(1).data(), u_fixed.col(2).data()};
-  double* r[3] = {rhs.col(0).data(), rhs.col(1).data(), rhs.col(2).data()};
-  axes.resize(size_t(n));
-  std::uint8_t* bits = axes.data();  // bit d: entry d constrained
-  for (Eigen::Index i = 0; i < n; ++i) bits[i] = std::uint8_t((mk[0][i] != 0) | (mk[1][i] != 0) << 1 | (mk[2][i] != 0) << 2);
-  for (int d = 0; d < 3; ++d) {
-    if (f) {
-      const double* fd = f->col(d).data();
-      for (Eigen::Index i = 0; i < n; ++i) r[d][i] = mk[d][i] ? uf[d][i] : fd[i];
-    } else {
-      for (Eigen::Index i = 0; i < n; ++i) r[d][i] = mk[d][i] ? uf[d][i] : 0.0;
-    }
+                   const NodeMat& u_fixed, NodeMat& rhs) {
+  // The N x 3 arrays as runs of 3 N entries (entry d N + i: node i, axis d).
+  const size_t n = size_t(K.diagonal.rows()), count = 3 * n;
+  const std::uint8_t* mk = mask.data();
+  const double* uf = u_fixed.data();
+  double* r = rhs.data();
+  // The loads, or zero, on the free entries and the values on the constrained ones; blocks of
+  // 16 entries without a constrained one (most) copied whole.
+  const double* fd = f ? f->data() : nullptr;
+  auto one_by_one = [&](size_t begin, size_t end) {
+    for (size_t k = begin; k < end; ++k) r[k] = mk[k] ? uf[k] : fd ? fd[k] : 0.0;
+  };
+  size_t k = 0;
+  for (; k + 16 <= count; k += 16) {
+    if (!simd::none_set16(mk + k)) one_by_one(k, k + 16);
+    else if (fd) std::copy(fd + k, fd + k + 16, r + k);
+    else std::fill(r + k, r + k + 16, 0.0);
   }
-  // Only the edges between a free and a constrained entry move values (few: around the held
-  // and prescribed nodes), found by one comparison of the two nodes' bits.
+  one_by_one(k, count);
+  // Each constrained entry's value moves to its free neighbours on its axis (K_ij = -w_ij),
+  // through the pattern's column of its node. The constrained entries are found 16 flags at a
+  // time again; one whose value is zero (a held entry) moves nothing.
+  const int* outer = p.matrix.outerIndexPtr();
+  const int* inner = p.matrix.innerIndexPtr();
+  const int* edge = p.slot_edge.data();
   const double* w = K.weight.data();
-  for (size_t e = 0; e < p.edges.size(); ++e) {
-    const int i = p.edges[e][0], j = p.edges[e][1];
-    const std::uint8_t differ = bits[i] ^ bits[j];
-    if (!differ) continue;  // on every axis both free, or both constrained
-    for (int d = 0; d < 3; ++d) {
-      if (!(differ >> d & 1)) continue;
-      if (bits[j] >> d & 1) r[d][i] += w[e] * uf[d][j];  // K_ij = -w
-      else r[d][j] += w[e] * uf[d][i];
+  auto move_value = [&](size_t k) {
+    if (!mk[k] || uf[k] == 0.0) return;
+    const size_t axis = k / n * n;  // entry of node 0 on k's axis
+    const int j = int(k - axis);
+    for (int s = outer[j]; s < outer[j + 1]; ++s) {
+      const size_t i = axis + size_t(inner[s]);
+      if (!mk[i]) r[i] += w[edge[s]] * uf[k];  // (the diagonal's entry is constrained: k itself)
     }
-  }
+  };
+  for (k = 0; k + 16 <= count; k += 16)
+    if (!simd::none_set16(mk + k))
+      for (size_t e = k; e < k + 16; ++e) move_value(e);
+  for (; k < count; ++k) move_value(k);
 }
 
 void mask_constrained(const SpMat& K, const std::uint8_t* mask, SpMat& Km) {

@@ -3,19 +3,26 @@
 // fixed pattern, and per-axis elimination of constrained entries (Dirichlet rows/columns).
 #include <array>
 
+#include "engine/geometry.hpp"
 #include "engine/sparse.hpp"
 #include "engine/tissue_model.hpp"
 
 namespace vdm {
 
 // Writes K^d for d = x, y, z at the geometry (A_i, V_i) into K (sized: E weights, N x 3
-// diagonals). `area_norms` (N): |A_i|; `extra_diagonal` (N, may be empty) is added to every
-// axis: the inertia term M/h^2 + D/h; `scratch` (N) to work in. No allocation.
+// diagonals). `area_norms` (N): |A_i|; `volume_scale`: how the V_i were made from them
+// (distributed_volumes_from_norms; the default VolumeScale for V_i of any other form);
+// `extra_diagonal` (N, may be empty) is added to every axis: the inertia term M/h^2 + D/h;
+// `scratch` (N) to work in. No allocation.
 //   bulk:          k_i^d = B_i^d (A_i^d)^2 / V_i                          eq (3)
 //   connectivity:  w_ij  = B_ij a_ij^2 / V_ij, a_ij = (|A_i|+|A_j|)/2, V_ij = (V_i+V_j)/2   eq (4)
+// With V_i = scale |A_i| at both ends, V_ij = scale a_ij and w_ij = (B_ij / (2 scale))
+// (|A_i| + |A_j|): no division (the formula above where an end is floored).
 void assemble_stiffness(const TissueModel& model, const NodeMat& area_vectors, const Vec& area_norms,
-                        const Vec& node_volumes, const Vec& extra_diagonal, AxisStiffness& K, Vec& scratch);
-// The same into per-axis sparse matrices on `model.pattern` (values only; allocates).
+                        const Vec& node_volumes, const VolumeScale& volume_scale, const Vec& extra_diagonal,
+                        AxisStiffness& K, Vec& scratch);
+// The same into per-axis sparse matrices on `model.pattern` for V_i of any form (values
+// only; allocates).
 void assemble_stiffness(const TissueModel& model, const NodeMat& area_vectors,
                         const Vec& node_volumes, const Vec& extra_diagonal,
                         std::array<SpMat, 3>& K);
@@ -29,11 +36,11 @@ void multiply(const StiffnessPattern& pattern, const AxisStiffness& K, const Nod
 
 // Right-hand side of the eliminated system (per axis its mask, load, prescribed values):
 // rhs_i = f_i - sum_{j constrained} K_ij u_j for free i, rhs_j = u_j for constrained j. Only
-// the edge weights enter, the same on every axis: one pass over the edges for the three.
-// `axes`: scratch, resized to N (the constrained axes of each node as bits). `f` null: no
-// loads (f = 0, the same bits as a zero array).
+// the edge weights enter, the same on every axis; only the constrained entries with a value
+// (not the held ones, u_j = 0) move anything, along their nodes' edges (StiffnessPattern::
+// slot_edge). `f` null: no loads (f = 0, the same bits as a zero array).
 void eliminate_rhs(const StiffnessPattern& pattern, const AxisStiffness& K, const FlagMat& mask,
-                   const NodeMat* f, const NodeMat& u_fixed, NodeMat& rhs, std::vector<std::uint8_t>& axes);
+                   const NodeMat* f, const NodeMat& u_fixed, NodeMat& rhs);
 
 // K_masked = K with rows and columns of constrained nodes (mask(i) != 0) replaced by the
 // identity. Same pattern, values written in place.

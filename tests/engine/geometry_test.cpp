@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "engine/geometry.hpp"
 #include "engine/shapes.hpp"
@@ -93,6 +94,57 @@ TEST(Geometry, DistributedVolumesSumToVolume) {
   EXPECT_GT(Vi.minCoeff(), 0.0);
   // Proportional to |A_i|.
   for (int i = 0; i < s.node_count(); ++i) EXPECT_NEAR(Vi[i] / A.row(i).norm(), V / A.rowwise().norm().sum(), 1e-12);
+}
+
+// The step's pass: A_i and |A_i| from the packed sums at once, their sum and smallest (pairs
+// of nodes, and the last one alone when N is odd).
+TEST(Geometry, UnpackedNormsAreTheAreaVectorsLengths) {
+  int odd = 0;
+  for (const SurfaceMesh& s : {make_icosphere(0.05, 3), make_uv_sphere(0.04, 9, 13), make_uv_sphere(0.04, 10, 13)}) {
+    const int n = s.node_count();
+    odd += n % 2;
+    NodeMat A(n, 3), B(n, 3);
+    Vec norms(n);
+    std::vector<double> packed;
+    area_vectors_and_volume(s.positions, s.triangles, Vec3::Zero(), A, packed);
+    const AreaNormSums sums = unpack_area_vectors_and_norms(packed, B, norms);
+    EXPECT_EQ(A, B);
+    double total = 0.0;
+    for (int i = 0; i < n; ++i) {
+      EXPECT_NEAR(norms[i], A.row(i).norm(), 1e-15 * A.row(i).norm()) << "node " << i;
+      total += norms[i];
+    }
+    EXPECT_NEAR(sums.total, total, 1e-14 * total);
+    EXPECT_EQ(sums.smallest, norms.minCoeff());
+    // A non-finite area sum leaves the total non-finite.
+    packed[3 * size_t(n) + 3 * size_t(n - 1) + 1] = std::numeric_limits<double>::quiet_NaN();
+    EXPECT_FALSE(std::isfinite(unpack_area_vectors_and_norms(packed, B, norms).total));
+    packed[3 * size_t(n) + 4] = std::numeric_limits<double>::infinity();
+    EXPECT_FALSE(std::isfinite(unpack_area_vectors_and_norms(packed, B, norms).total));
+  }
+  EXPECT_GE(odd, 1);  // both paths of the pass
+}
+
+// V_i = scale max(|A_i|, floor_area), as the returned VolumeScale says, floored or not.
+TEST(Geometry, VolumeScaleDescribesTheDistributedVolumes) {
+  const SurfaceMesh s = make_icosphere(0.05, 2);
+  NodeMat A(s.node_count(), 3);
+  distributed_area_vectors(s.positions, s.triangles, A);
+  const Vec norms = A.rowwise().norm();
+  const double V = enclosed_volume(s.positions, s.triangles, Vec3::Zero());
+  for (double min_fraction : {1e-9, 1.0}) {  // 1: the floor is the mean area, some nodes below it
+    Vec Vi(s.node_count());
+    const VolumeScale how = distributed_volumes_from_norms(norms, V, Vi, min_fraction);
+    EXPECT_NEAR(how.floor_area, min_fraction * norms.mean(), 1e-15 * norms.mean());
+    int floored = 0;
+    for (int i = 0; i < s.node_count(); ++i) {
+      floored += how.floored(norms[i]);
+      EXPECT_EQ(Vi[i], how.scale * std::max(norms[i], how.floor_area)) << "node " << i;
+    }
+    EXPECT_EQ(how.any_floored, floored > 0);
+    EXPECT_EQ(how.any_floored, min_fraction == 1.0);
+    EXPECT_NEAR(Vi.sum(), V, 1e-14 * V);
+  }
 }
 
 TEST(Geometry, AreaVectorsAreTheVolumeGradient) {

@@ -2,6 +2,7 @@
 // product K X per axis, and the eliminated right-hand side (constrained values moved to the
 // right, identity rows) against the same elimination done with the full matrix.
 #include <gtest/gtest.h>
+#include <algorithm>
 #include <cstring>
 
 #include "engine/stiffness.hpp"
@@ -25,7 +26,8 @@ struct Kernels {
       for (int d = 0; d < 3; ++d) {
         x(i, d) = std::sin(0.31 * i + 1.7 * d) + 0.2;
         f(i, d) = std::cos(0.13 * i - 0.4 * d);
-        if (s.mask(i, d)) u_fixed(i, d) = 1e-3 * (1.0 + std::sin(0.7 * i + d));
+        // Constrained values, zero at every third node (as held entries are: they move nothing).
+        if (s.mask(i, d) && i % 3 != 0) u_fixed(i, d) = 1e-3 * (1.0 + std::sin(0.7 * i + d));
       }
   }
 };
@@ -46,8 +48,7 @@ TEST(Stiffness, EliminatedRightHandSideMovesTheConstrainedValuesToTheRight) {
   const Kernels t;
   const TissueModel& m = t.s.model;
   NodeMat rhs(m.n, 3);
-  std::vector<std::uint8_t> scratch;
-  eliminate_rhs(m.pattern, t.s.k, t.s.mask, &t.f, t.u_fixed, rhs, scratch);
+  eliminate_rhs(m.pattern, t.s.k, t.s.mask, &t.f, t.u_fixed, rhs);
   int coupled = 0;
   for (int d = 0; d < 3; ++d) {
     // K_full u = f on the free rows with u = u_fixed on the constrained entries: the free
@@ -72,12 +73,55 @@ TEST(Stiffness, EliminatedRightHandSideWithoutLoadsIsThatOfZeroLoads) {
   const TissueModel& m = t.s.model;
   const NodeMat zero = NodeMat::Zero(m.n, 3);
   NodeMat with_zero(m.n, 3), without(m.n, 3);
-  std::vector<std::uint8_t> scratch;
-  eliminate_rhs(m.pattern, t.s.k, t.s.mask, &zero, t.u_fixed, with_zero, scratch);
+  eliminate_rhs(m.pattern, t.s.k, t.s.mask, &zero, t.u_fixed, with_zero);
   without.setConstant(7.0);
-  eliminate_rhs(m.pattern, t.s.k, t.s.mask, nullptr, t.u_fixed, without, scratch);
+  eliminate_rhs(m.pattern, t.s.k, t.s.mask, nullptr, t.u_fixed, without);
   EXPECT_EQ(std::memcmp(with_zero.data(), without.data(), sizeof(double) * size_t(without.size())), 0);
   EXPECT_GT(without.cwiseAbs().maxCoeff(), 0.0);
+}
+
+// The edge weights without a division, w_ij = (B_ij / (2 scale)) (|A_i| + |A_j|), and the
+// diagonals, against eq (3)-(4) as written (w_ij = B_ij a_ij^2 / V_ij), with no node floored
+// and with some (their edges by the plain formula): the same to round-off.
+TEST(Stiffness, DivisionFreeWeightsAreThePlainFormula) {
+  const axis_test::System sys = axis_test::make_system();
+  TissueModel m = sys.model;
+  m.axis_stiffness_floor = 0.1;  // the diagonals' floor term too
+  NodeMat a(m.n, 3);
+  distributed_area_vectors(m.rest.positions, m.rest.triangles, a);
+  const Vec norms = a.rowwise().norm();
+  const double volume = enclosed_volume(m.rest.positions, m.rest.triangles, m.origin);
+  for (double min_fraction : {1e-9, 1.0}) {
+    Vec v(m.n), scratch(m.n);
+    const VolumeScale how = distributed_volumes_from_norms(norms, volume, v, min_fraction);
+    EXPECT_EQ(how.any_floored, min_fraction == 1.0);
+    AxisStiffness k{Vec(Eigen::Index(m.edges.size())), NodeMat(m.n, 3)};
+    assemble_stiffness(m, a, norms, v, how, Vec(), k, scratch);
+    Vec lap = Vec::Zero(m.n);
+    int floored_edges = 0;
+    for (size_t e = 0; e < m.edges.size(); ++e) {
+      const int i = m.edges[e][0], j = m.edges[e][1];
+      const double aij = 0.5 * (norms[i] + norms[j]);
+      const double w = m.connectivity_modulus * aij * aij / (0.5 * (v[i] + v[j]));
+      EXPECT_NEAR(k.weight[Eigen::Index(e)], w, 1e-14 * w) << "edge " << e;
+      floored_edges += how.floored(norms[i]) || how.floored(norms[j]);
+      lap[i] += w;
+      lap[j] += w;
+    }
+    EXPECT_EQ(floored_edges > 0, how.any_floored);
+    for (int i = 0; i < m.n; ++i)
+      for (int d = 0; d < 3; ++d) {
+        const double bulk = m.bulk(i, d) * std::max(a(i, d) * a(i, d), m.axis_stiffness_floor * norms[i] * norms[i]) / v[i];
+        EXPECT_NEAR(k.diagonal(i, d), lap[i] + bulk, 1e-13 * (lap[i] + bulk)) << "node " << i << " axis " << d;
+      }
+    // V_i of no known form (the default VolumeScale): every weight by the plain formula.
+    AxisStiffness plain{Vec(Eigen::Index(m.edges.size())), NodeMat(m.n, 3)};
+    assemble_stiffness(m, a, norms, v, VolumeScale(), Vec(), plain, scratch);
+    for (size_t e = 0; e < m.edges.size(); ++e) {
+      const Eigen::Index x = Eigen::Index(e);
+      EXPECT_NEAR(plain.weight[x], k.weight[x], 1e-14 * k.weight[x]) << "edge " << e;
+    }
+  }
 }
 
 }  // namespace
