@@ -2,8 +2,9 @@
 //   cmake -S . -B build-bench -G Ninja -DCMAKE_BUILD_TYPE=Release -DVDMSIM_BENCHMARKS=ON
 //   cmake --build build-bench --target vdmsim_micro_benchmarks && build-bench/benchmarks/vdmsim_micro_benchmarks
 // Kernels on the project's 10k-node liver (assets/meshes/liver_L5.obj): geometry refresh,
-// assembly, a pressed step with each solver, BVH refit and query (inside a contact step and
-// alone), the stress view's scalar field and colour lookup, PNG encoding of a 720p frame.
+// assembly, a pressed step with each solver, the step's results pass, BVH refit and query
+// (inside a contact step and alone), the stress view's scalar field and colour lookup, PNG
+// encoding of a 720p frame.
 #include <benchmark/benchmark.h>
 
 #include <time.h>
@@ -26,7 +27,10 @@
 #include "engine/node_ordering.hpp"
 #include "engine/sparse_ldlt.hpp"
 #include "engine/sim_state.hpp"
+#include "engine/step_results.hpp"
+#include "engine/step_workspace.hpp"
 #include "engine/stiffness.hpp"
+#include "engine/stress.hpp"
 #include "engine/tissue_model.hpp"
 #include "render/colormap.hpp"
 #include "render/png_io.hpp"
@@ -151,6 +155,38 @@ BENCHMARK(BM_PressedStep)
     ->Arg(static_cast<int>(vdm::SolverMethod::direct))
     ->Arg(static_cast<int>(vdm::SolverMethod::reference))
     ->Unit(benchmark::kMillisecond);
+
+// The end of a step on the 10k liver pressed 5 mm: (0) the results pass (K u, reactions,
+// residual sums, contact pressure, strain and stress in one gather over the neighbour
+// lists), (1) the two kernels it replaced, the product over the edge list and the strain and
+// stress gather (without the residual loop between them), (2) the results pass without stress.
+void BM_StepResults(benchmark::State& st) {
+  vdm::TissueModel m = model(vdm::SolverMethod::structured);
+  vdm::SimState s = vdm::make_sim_state(m);
+  vdm::StepInput in = vdm::make_step_input(m);
+  for (int k = 1; k <= 5; ++k) {
+    press(m, 0.001 * k, in);
+    vdm::step(m, in, s);
+  }
+  vdm::StepWorkspace& w = *s.work;
+  const vdm::StepResultsInput input{w.K, w.mask, nullptr, nullptr, w.area_norms, w.rhs, w.a_free};
+  const int which = static_cast<int>(st.range(0));
+  m.compute_stress = which != 2;
+  vdm::NodeMat Ku(m.n, 3);
+  for (auto _ : st) {
+    if (which == 1) {
+      vdm::multiply(m.pattern, w.K, s.u, Ku);
+      vdm::compute_strain_stress(m, s, w.u_new.data());
+    } else {
+      const vdm::ResidualSums sums = vdm::compute_step_results(m, input, s, w.result_rows);
+      benchmark::DoNotOptimize(sums);
+    }
+    benchmark::ClobberMemory();
+  }
+  const char* names[] = {"results pass", "multiply + compute_strain_stress", "results pass, no stress"};
+  st.SetLabel(names[which]);
+}
+BENCHMARK(BM_StepResults)->DenseRange(0, 2)->Unit(benchmark::kMicrosecond);
 
 // A contact step (BVH refit, query, active set, solves) with a 4 mm probe 5 mm deep.
 void BM_ContactStep(benchmark::State& st) {

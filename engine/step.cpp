@@ -4,16 +4,15 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
-#include <type_traits>
 
 #include "engine/all_finite.hpp"
 #include "engine/geometry.hpp"
 #include "engine/loads.hpp"
 #include "engine/sim_state.hpp"
 #include "engine/simd2.hpp"
+#include "engine/step_results.hpp"
 #include "engine/step_workspace.hpp"
 #include "engine/stiffness.hpp"
-#include "engine/stress.hpp"
 #include "engine/volume_along.hpp"
 
 namespace vdm {
@@ -437,6 +436,7 @@ SimState make_sim_state(const TissueModel& m) {
   w->scratch = Vec::Zero(n);
   w->area_norms = Vec::Zero(n);
   w->packed.assign(6 * size_t(n), 0.0);
+  w->result_rows.assign(result_rows_size(n), 0.0);
   // sub_input and whole_*: made by the first step done in parts (make_halving_arrays);
   // last_springs, force_* and pressure_*: by the first step that has them.
   w->solver = make_linear_solver(m.solver);
@@ -696,70 +696,26 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
   s.volume = std::isnan(final_volume) ? packed_geometry(m, s.x, w) : final_volume;
   s.volume_rel_error = (s.volume - m.rest_volume) / m.rest_volume;
   // True residual of the last solve's eliminated 3N+1 system (volume row scaled like the
-  // reference solver's), and the reactions, from one product with the unmasked K per axis:
-  // on a free row (K u)_i + k_i u_i - dP a_i - f_i is the eliminated system's residual (the
-  // constrained u_j are their prescribed values), on a constrained row (K u)_i - dP A_i - f_i
-  // is the reaction (the constrained rows' residual is zero: u is pinned to its values).
+  // reference solver's), the reactions, contact pressure, strain and stress: one gather over
+  // the neighbour lists with the unmasked K per axis (compute_step_results). The pass does
+  // both: its time is reported as the stress's when the model computes stress.
+  const auto t_results = Clock::now();
+  const ResidualSums sums = compute_step_results(
+      m, {w.K, w.mask, loads ? &w.force : nullptr, w.last_springs_any ? &w.last_springs : nullptr, w.area_norms, w.rhs, w.a_free},
+      s, w.result_rows);
+  if (m.compute_stress) st.stress_ms = ms_since(t_results);
   const double alpha = pressure_scale(w.mean_diagonal, w.a_free);
   double res2 = 0.0, rhs2 = 0.0, vol_row = -last_c;
-  NodeMat& Ku = w.u_new;  // free after the iterations
-  multiply(m.pattern, w.K, s.u, Ku);
-  {
-    // Node by node, the three axes' sums of squares each in node order (three chains, not
-    // one: the same sums), and the contact pressure |r_i| / |A_i| from the node's reaction
-    // row in the same pass (only constrained entries carry a reaction).
-    const std::uint8_t* mask[3] = {w.mask.col(0).data(), w.mask.col(1).data(), w.mask.col(2).data()};
-    const double* ku[3] = {Ku.col(0).data(), Ku.col(1).data(), Ku.col(2).data()};
-    const double* u[3] = {s.u.col(0).data(), s.u.col(1).data(), s.u.col(2).data()};
-    const double* f[3] = {w.force.col(0).data(), w.force.col(1).data(), w.force.col(2).data()};  // (if loads)
-    const double* a[3] = {s.area_vectors.col(0).data(), s.area_vectors.col(1).data(), s.area_vectors.col(2).data()};
-    const bool springs = w.last_springs_any;
-    const double* k[3] = {nullptr, nullptr, nullptr};
-    if (springs)
-      for (int d = 0; d < 3; ++d) k[d] = w.last_springs.col(d).data();
-    double* reaction[3] = {s.reaction.col(0).data(), s.reaction.col(1).data(), s.reaction.col(2).data()};
-    double* pressure = s.reaction_pressure.data();
-    const double* norms = w.area_norms.data();  // |A_i| of s.area_vectors (refresh_geometry)
-    const double p = s.pressure;
-    double sum[3] = {0.0, 0.0, 0.0};
-    // One loop per case (loads, springs), each with branch-free selects.
-    auto residual_loop = [&](auto with_loads, auto with_springs) {
-      for (int i = 0; i < m.n; ++i) {
-        for (int d = 0; d < 3; ++d) {
-          double base = ku[d][i] - p * a[d][i];
-          if (with_loads) base -= f[d][i];  // (none: x - +0 is x)
-          double free_r = base;
-          if (with_springs) free_r += k[d][i] * u[d][i];
-          reaction[d][i] = mask[d][i] ? base : 0.0;
-          sum[d] += mask[d][i] ? 0.0 : free_r * free_r;
-        }
-        const bool any = (mask[0][i] | mask[1][i] | mask[2][i]) != 0;
-        const double an = norms[i];
-        pressure[i] = any && an > 0 ? s.reaction.row(i).norm() / an : 0.0;  // (Eigen's order of the sum)
-      }
-    };
-    using yes = std::true_type;
-    using no = std::false_type;
-    if (loads && springs) residual_loop(yes(), yes());
-    else if (loads) residual_loop(yes(), no());
-    else if (springs) residual_loop(no(), yes());
-    else residual_loop(no(), no());
-    for (int d = 0; d < 3; ++d) {
-      res2 += sum[d];
-      rhs2 += w.rhs.col(d).squaredNorm();
-      vol_row += w.a_free.col(d).dot(s.u.col(d));
-    }
+  for (int d = 0; d < 3; ++d) {
+    res2 += sums.free2[d];
+    rhs2 += sums.rhs2[d];
+    vol_row += sums.volume_row[d];
   }
   if (m.volume_constraint) {
     res2 += alpha * alpha * vol_row * vol_row;
     rhs2 += alpha * alpha * last_c * last_c;
   }
   st.residual = rhs2 > 0 ? std::sqrt(res2 / rhs2) : std::sqrt(res2);
-  if (m.compute_stress) {
-    const auto t_stress = Clock::now();
-    compute_strain_stress(m, s, w.u_new.data());  // (u_new: 3 N, free after the residual)
-    st.stress_ms = ms_since(t_stress);
-  }
   s.velocity = (s.u - w.start.u) * (1.0 / m.dt);  // one division, not one per entry
   ++s.step;
   s.time += m.dt;

@@ -122,6 +122,7 @@ bool build_tissue_model(const TissueDef& def, TissueModel& m, std::string& error
   m.dt = def.dt;
   m.solver = def.solver;
   m.pattern = build_stiffness_pattern(n, m.edges);
+  m.neighbours = build_neighbour_lists(n, m.edges);
   return true;
 }
 

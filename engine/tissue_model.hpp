@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/neighbour_lists.hpp"
 #include "engine/settings.hpp"
 #include "engine/sparse.hpp"
 #include "engine/types.hpp"
@@ -64,6 +65,7 @@ struct TissueModel {
   double dt = 0;
   SolverSettings solver;
   StiffnessPattern pattern;              // fixed sparsity of every K^d
+  NeighbourLists neighbours;             // its rows without the diagonal, with each entry's edge
 };
 
 // Builds the model; on a bad definition returns false and explains why in `error`.

@@ -1,0 +1,251 @@
+#include "engine/step_results.hpp"
+
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+
+#include "engine/simd2.hpp"
+
+namespace vdm {
+namespace {
+
+using simd::V2;
+typedef long long V2i __attribute__((vector_size(16)));  // lane masks of a V2 (all ones: true)
+
+// Lanes (a[0], b[0]) and (a[1], b[1]): two nodes' pairs turned into per-axis pairs and back.
+inline V2 low_lanes(V2 a, V2 b) { return V2{a[0], b[0]}; }
+inline V2 high_lanes(V2 a, V2 b) { return V2{a[1], b[1]}; }
+inline V2 select(V2i m, V2 a) { return V2(V2i(a) & m); }      // m ? a : +0
+inline V2 select_not(V2i m, V2 a) { return V2(V2i(a) & ~m); }  // m ? +0 : a
+
+// Node-major rows, one per node and 64 bytes apart (a cache line), that the gather reads:
+// (u_x, u_y), (u_z, dV_x), (dV_y, dV_z) with dV = A o u; without stress (u_x, u_y), (u_z, 0).
+// A neighbour then costs its entry, its edge weight and two or three pair loads.
+constexpr std::ptrdiff_t kRow = 8;
+
+// Per-axis entries of nodes i and i + 1 as a pair (Pair), or of node i alone (lane 1 zero:
+// the last node of an odd count). The N x 3 arrays are read through their data and the
+// column offsets (one pointer per array, not three).
+template <bool Pair>
+inline V2 load(const double* p) { return Pair ? simd::load2(p) : V2{p[0], 0.0}; }
+template <bool Pair>
+inline void store(double* p, V2 v) {
+  if (Pair) simd::store2(p, v);
+  else p[0] = v[0];
+}
+template <bool Pair>
+inline V2i held_lanes(const std::uint8_t* m) {
+  return V2i{m[0] ? -1LL : 0LL, Pair && m[1] ? -1LL : 0LL};
+}
+
+// sum_j w_ij u_j over node i's neighbours (x and y in `wu_xy`, z in lane 0 of `wu_z_dv_x`),
+// and with stress sum_j dV_j (lane 1 of `wu_z_dv_x`, then `dv_yz`).
+struct NeighbourSums {
+  V2 wu_xy = {0.0, 0.0}, wu_z_dv_x = {0.0, 0.0}, dv_yz = {0.0, 0.0};
+};
+
+template <bool Stress>
+inline NeighbourSums gather(const NeighbourLists::Entry* e, const NeighbourLists::Entry* end, const double* weight,
+                            const double* rows) {
+  NeighbourSums g;
+  for (; e != end; ++e) {
+    const double w = weight[e->edge];
+    const double* r = rows + kRow * e->node;
+    g.wu_xy += simd::splat(w) * simd::load2(r);
+    if (Stress) {
+      g.wu_z_dv_x += V2{w, 1.0} * simd::load2(r + 2);
+      g.dv_yz += simd::load2(r + 4);
+    } else {
+      g.wu_z_dv_x += simd::splat(w) * simd::load2(r + 2);
+    }
+  }
+  return g;
+}
+
+// The whole pass for one case (stress or not, loads, springs).
+template <bool Stress, bool Loads, bool Springs>
+class ResultsPass {
+ public:
+  ResultsPass(const TissueModel& m, const StepResultsInput& in, SimState& s, double* rows)
+      : m_(m), rows_(rows), n_(m.n), col_{0, m.n, 2 * std::ptrdiff_t(m.n)}, u_(s.u.data()), a_(s.area_vectors.data()),
+        rhs_(in.rhs.data()), a_free_(in.a_free.data()), begin_(m.neighbours.begin.data()),
+        entries_(m.neighbours.entries.data()), weight_(in.K.weight.data()), diag_(in.K.diagonal.data()),
+        mask_(in.mask.data()), f_(Loads ? in.force->data() : nullptr), k_(Springs ? in.springs->data() : nullptr),
+        reaction_(s.reaction.data()), pressure_(s.reaction_pressure.data()), norms_(in.area_norms.data()),
+        strain_(s.strain.data()), sigma_(s.stress.data()), bulk_(m.bulk.data()), vol_(s.node_volumes.data()),
+        bc_(m.connectivity_modulus), p_(s.pressure) {}
+
+  ResidualSums run(SimState& s) {
+    // Rows first (every neighbour's row is read), two nodes at a time, with the sums that
+    // need no neighbour; then the gather and each node's results, two nodes at a time.
+    std::ptrdiff_t i = 0;
+    for (; i + 1 < n_; i += 2) pack<true>(i);
+    if (i < n_) pack<false>(i);
+    for (i = 0; i + 1 < n_; i += 2) results<true>(i);
+    if (i < n_) results<false>(i);
+    if (Stress) infinite_bulk(s);
+    ResidualSums sums;
+    for (int d = 0; d < 3; ++d) {  // even nodes' sum + odd nodes'
+      sums.free2[d] = free2_[d][0] + free2_[d][1];
+      sums.rhs2[d] = rhs2_[d][0] + rhs2_[d][1];
+      sums.volume_row[d] = volume_row_[d][0] + volume_row_[d][1];
+    }
+    return sums;
+  }
+
+ private:
+  // The rows of nodes i and i + 1 (Pair) or i alone, and their terms of |rhs|^2 and a_free . u.
+  template <bool Pair>
+  void pack(std::ptrdiff_t i) {
+    V2 u[3], dv[3];
+    for (int d = 0; d < 3; ++d) {
+      const std::ptrdiff_t id = i + col_[d];
+      u[d] = load<Pair>(u_ + id);
+      dv[d] = Stress ? load<Pair>(a_ + id) * u[d] : V2{0.0, 0.0};
+      const V2 r = load<Pair>(rhs_ + id);
+      rhs2_[d] += r * r;
+      volume_row_[d] += load<Pair>(a_free_ + id) * u[d];
+    }
+    double* row = rows_ + kRow * i;
+    simd::store2(row, low_lanes(u[0], u[1]));
+    simd::store2(row + 2, low_lanes(u[2], dv[0]));
+    if (Stress) simd::store2(row + 4, low_lanes(dv[1], dv[2]));
+    if (Pair) {
+      row += kRow;
+      simd::store2(row, high_lanes(u[0], u[1]));
+      simd::store2(row + 2, high_lanes(u[2], dv[0]));
+      if (Stress) simd::store2(row + 4, high_lanes(dv[1], dv[2]));
+    }
+  }
+
+  // Nodes i and i + 1 (Pair) or i alone, each axis's two entries as a pair.
+  template <bool Pair>
+  void results(std::ptrdiff_t i) {
+    const NeighbourLists::Entry* e = entries_ + begin_[i];
+    const NeighbourSums g0 = gather<Stress>(e, entries_ + begin_[i + 1], weight_, rows_);
+    const NeighbourSums g1 = Pair ? gather<Stress>(entries_ + begin_[i + 1], entries_ + begin_[i + 2], weight_, rows_)
+                                  : NeighbourSums();
+    const V2 wu[3] = {low_lanes(g0.wu_xy, g1.wu_xy), high_lanes(g0.wu_xy, g1.wu_xy), low_lanes(g0.wu_z_dv_x, g1.wu_z_dv_x)};
+    // (K u)_i - dP A_i - f_i; on a free entry plus k_i u_i it is the eliminated system's
+    // residual (the constrained u_j are their prescribed values), on a constrained one the
+    // reaction (zero residual: u is pinned there).
+    V2 base[3], free_r[3];
+    for (int d = 0; d < 3; ++d) {
+      const std::ptrdiff_t id = i + col_[d];
+      const V2 u = load<Pair>(u_ + id);
+      base[d] = load<Pair>(diag_ + id) * u - wu[d] - simd::splat(p_) * load<Pair>(a_ + id);
+      if (Loads) base[d] -= load<Pair>(f_ + id);
+      free_r[d] = base[d];
+      if (Springs) free_r[d] += load<Pair>(k_ + id) * u;
+    }
+    if (!any_held<Pair>(i)) {  // most nodes: no reaction, every entry free
+      for (int d = 0; d < 3; ++d) {
+        free2_[d] += free_r[d] * free_r[d];
+        store<Pair>(reaction_ + i + col_[d], V2{0.0, 0.0});
+      }
+      store<Pair>(pressure_ + i, V2{0.0, 0.0});
+    } else {
+      V2 r[3];
+      for (int d = 0; d < 3; ++d) {
+        const V2i held = held_lanes<Pair>(mask_ + i + col_[d]);
+        r[d] = select(held, base[d]);
+        free2_[d] += select_not(held, free_r[d] * free_r[d]);
+        store<Pair>(reaction_ + i + col_[d], r[d]);
+      }
+      // The contact pressure |r_i| / |A_i| on a node with a constrained entry.
+      for (int lane = 0; lane < (Pair ? 2 : 1); ++lane) {
+        const std::ptrdiff_t node = i + lane;
+        const bool any = (mask_[node] | mask_[node + col_[1]] | mask_[node + col_[2]]) != 0;
+        const double an = norms_[node];
+        const double r2 = r[0][lane] * r[0][lane] + r[1][lane] * r[1][lane] + r[2][lane] * r[2][lane];
+        pressure_[node] = any && an > 0 ? std::sqrt(r2) / an : 0.0;
+      }
+    }
+    if (Stress) {
+      // eps = dV_i / V_i; sigma = B eps + B_c sum_j (dV_i - dV_j) / V_i (one division by
+      // V_i for the three axes), as for a finite B on every entry (the infinite: below).
+      const V2 dv_sums[3] = {high_lanes(g0.wu_z_dv_x, g1.wu_z_dv_x), low_lanes(g0.dv_yz, g1.dv_yz),
+                             high_lanes(g0.dv_yz, g1.dv_yz)};
+      const V2 degree = {double(begin_[i + 1] - begin_[i]), Pair ? double(begin_[i + 2] - begin_[i + 1]) : 0.0};
+      const V2 inv_v = simd::splat(1.0) / (Pair ? simd::load2(vol_ + i) : V2{vol_[i], 1.0});
+      for (int d = 0; d < 3; ++d) {
+        const std::ptrdiff_t id = i + col_[d];
+        const V2 dv = load<Pair>(a_ + id) * load<Pair>(u_ + id);
+        const V2 eps = dv * inv_v;
+        store<Pair>(strain_ + id, eps);
+        store<Pair>(sigma_ + id, load<Pair>(bulk_ + id) * eps + simd::splat(bc_) * (degree * dv - dv_sums[d]) * inv_v);
+      }
+    }
+  }
+
+  // Some entry of node i (and i + 1) constrained.
+  template <bool Pair>
+  bool any_held(std::ptrdiff_t i) const {
+    if (!Pair) return (mask_[i] | mask_[i + col_[1]] | mask_[i + col_[2]]) != 0;
+    std::uint16_t m[3];
+    for (int d = 0; d < 3; ++d) std::memcpy(&m[d], mask_ + i + col_[d], sizeof m[d]);
+    return (m[0] | m[1] | m[2]) != 0;
+  }
+
+  // An infinite B_i^d: no strain (u_i^d = 0 is a constraint), and the bulk term is the
+  // constraint force over the patch area, -reaction_i^d / A_i^d. The stress written by
+  // results() is the tension alone there (the model's B is 0 on infinite entries).
+  void infinite_bulk(SimState& s) const {
+    const NodeMat& A = s.area_vectors;
+    for (const int i : m_.infinite_nodes) {
+      const double tiny = 1e-9 * A.row(i).norm();
+      for (int d = 0; d < 3; ++d) {
+        if (!m_.infinite(i, d)) continue;
+        s.strain(i, d) = 0.0;
+        s.stress(i, d) += std::abs(A(i, d)) > tiny ? -s.reaction(i, d) / A(i, d) : 0.0;
+      }
+    }
+  }
+
+  const TissueModel& m_;
+  double* rows_;
+  const std::ptrdiff_t n_;
+  const std::ptrdiff_t col_[3];
+  const double *u_, *a_, *rhs_, *a_free_;
+  const int* begin_;
+  const NeighbourLists::Entry* entries_;
+  const double *weight_, *diag_;
+  const std::uint8_t* mask_;
+  const double *f_, *k_;
+  double *reaction_, *pressure_;
+  const double* norms_;
+  double *strain_, *sigma_;
+  const double *bulk_, *vol_;
+  const double bc_, p_;
+  // Per axis, lane 0 the even nodes' sum and lane 1 the odd nodes'.
+  V2 free2_[3] = {}, rhs2_[3] = {}, volume_row_[3] = {};
+};
+
+template <bool Stress, bool Loads, bool Springs>
+ResidualSums results_pass(const TissueModel& m, const StepResultsInput& in, SimState& s, double* rows) {
+  return ResultsPass<Stress, Loads, Springs>(m, in, s, rows).run(s);
+}
+
+template <bool Stress>
+ResidualSums results_pass(const TissueModel& m, const StepResultsInput& in, SimState& s, double* rows) {
+  const bool loads = in.force != nullptr, springs = in.springs != nullptr;
+  if (loads && springs) return results_pass<Stress, true, true>(m, in, s, rows);
+  if (loads) return results_pass<Stress, true, false>(m, in, s, rows);
+  if (springs) return results_pass<Stress, false, true>(m, in, s, rows);
+  return results_pass<Stress, false, false>(m, in, s, rows);
+}
+
+}  // namespace
+
+ResidualSums compute_step_results(const TissueModel& m, const StepResultsInput& in, SimState& s,
+                                  std::vector<double>& rows) {
+  // Rows of 8 doubles from a 64-byte boundary: one cache line per neighbour.
+  const size_t size = result_rows_size(m.n);
+  if (rows.size() < size) rows.resize(size);
+  const std::uintptr_t address = reinterpret_cast<std::uintptr_t>(rows.data());
+  double* aligned = rows.data() + (64 - address % 64) % 64 / sizeof(double);
+  return m.compute_stress ? results_pass<true>(m, in, s, aligned) : results_pass<false>(m, in, s, aligned);
+}
+
+}  // namespace vdm
