@@ -37,6 +37,12 @@ void AxisIncompleteCholesky::analyze(const AxisMatrices& K) {
       up_src_[size_t(fill[size_t(k)]++)] = p;
     }
   up_val_.assign(3 * lo_col_.size(), 0.0f);
+  lo_col6_.resize(lo_col_.size());
+  up_col6_.resize(up_col_.size());
+  for (size_t p = 0; p < lo_col_.size(); ++p) {
+    lo_col6_[p] = 6 * lo_col_[p];
+    up_col6_[p] = 6 * up_col_[p];
+  }
   inv_diag_.assign(3 * size_t(n_), 0.0);
   mask_.assign(3 * size_t(n_), 0);
   work_diag_.assign(3 * size_t(n_), 0.0);
@@ -186,14 +192,19 @@ void AxisIncompleteCholesky::apply(const double* r, double* z, double* rz) const
   using simd::load2;
   using simd::splat;
   using simd::store2;
+  using simd::load2f;
+  using simd::splat_high;
+  using simd::splat_low;
   const int* lo_start = lo_start_.data();
-  const int* lo_col = lo_col_.data();
+  const int* lo_col6 = lo_col6_.data();
   const float* lo_val = lo_val_.data();
   const int* up_start = up_start_.data();
-  const int* up_col = up_col_.data();
+  const int* up_col6 = up_col6_.data();
   const float* up_val = up_val_.data();
   const double* inv_diag = inv_diag_.data();
   if constexpr (W == 6) {
+    // The three values of an entry as pairs (v0, v1) and (v1, v2), each in one conversion,
+    // then spread over the lanes.
     // Lanes: the two vectors of an axis (axis_matrices.hpp) share the value of L^d.
     // Forward: L y = r (y stored in z).
     for (int i = 0; i < n_; ++i) {
@@ -201,10 +212,11 @@ void AxisIncompleteCholesky::apply(const double* r, double* z, double* rz) const
       V2 a0 = load2(ri), a1 = load2(ri + 2), a2 = load2(ri + 4);
       for (int p = lo_start[i]; p < lo_start[i + 1]; ++p) {
         const float* v = lo_val + 3 * size_t(p);
-        const double* zj = z + size_t(lo_col[p]) * 6;
-        a0 -= splat(double(v[0])) * load2(zj);
-        a1 -= splat(double(v[1])) * load2(zj + 2);
-        a2 -= splat(double(v[2])) * load2(zj + 4);
+        const V2 v01 = load2f(v), v12 = load2f(v + 1);
+        const double* zj = block_row<6>(z, lo_col6[p]);
+        a0 -= splat_low(v01) * load2(zj);
+        a1 -= splat_high(v01) * load2(zj + 2);
+        a2 -= splat_high(v12) * load2(zj + 4);
       }
       const double* id = inv_diag + 3 * size_t(i);
       double* zi = z + size_t(i) * 6;
@@ -219,10 +231,11 @@ void AxisIncompleteCholesky::apply(const double* r, double* z, double* rz) const
       V2 a0 = load2(zi), a1 = load2(zi + 2), a2 = load2(zi + 4);
       for (int p = up_start[i]; p < up_start[i + 1]; ++p) {
         const float* v = up_val + 3 * size_t(p);
-        const double* zj = z + size_t(up_col[p]) * 6;
-        a0 -= splat(double(v[0])) * load2(zj);
-        a1 -= splat(double(v[1])) * load2(zj + 2);
-        a2 -= splat(double(v[2])) * load2(zj + 4);
+        const V2 v01 = load2f(v), v12 = load2f(v + 1);
+        const double* zj = block_row<6>(z, up_col6[p]);
+        a0 -= splat_low(v01) * load2(zj);
+        a1 -= splat_high(v01) * load2(zj + 2);
+        a2 -= splat_high(v12) * load2(zj + 4);
       }
       const double* id = inv_diag + 3 * size_t(i);
       a0 *= splat(id[0]);
@@ -247,8 +260,8 @@ void AxisIncompleteCholesky::apply(const double* r, double* z, double* rz) const
       double az = ri[2];
       for (int p = lo_start[i]; p < lo_start[i + 1]; ++p) {
         const float* v = lo_val + 3 * size_t(p);
-        const double* zj = z + size_t(lo_col[p]) * 3;
-        axy -= V2{double(v[0]), double(v[1])} * load2(zj);
+        const double* zj = block_row<3>(z, lo_col6[p]);
+        axy -= load2f(v) * load2(zj);
         az -= double(v[2]) * zj[2];
       }
       const double* id = inv_diag + 3 * size_t(i);
@@ -264,8 +277,8 @@ void AxisIncompleteCholesky::apply(const double* r, double* z, double* rz) const
       double az = zi[2];
       for (int p = up_start[i]; p < up_start[i + 1]; ++p) {
         const float* v = up_val + 3 * size_t(p);
-        const double* zj = z + size_t(up_col[p]) * 3;
-        axy -= V2{double(v[0]), double(v[1])} * load2(zj);
+        const double* zj = block_row<3>(z, up_col6[p]);
+        axy -= load2f(v) * load2(zj);
         az -= double(v[2]) * zj[2];
       }
       const double* id = inv_diag + 3 * size_t(i);
@@ -287,23 +300,23 @@ double AxisIncompleteCholesky::apply_column(int c, const double* r, double* z) c
   static_assert(W == 3 || W == 6, "blocks of 3 or 6 vectors");
   const size_t d = size_t(axis_of<W>(c));
   const int* lo_start = lo_start_.data();
-  const int* lo_col = lo_col_.data();
+  const int* lo_col6 = lo_col6_.data();
   const float* lo_val = lo_val_.data() + d;
   const int* up_start = up_start_.data();
-  const int* up_col = up_col_.data();
+  const int* up_col6 = up_col6_.data();
   const float* up_val = up_val_.data() + d;
   const double* inv_diag = inv_diag_.data() + d;
   const double* rc = r + c;
   double* zc = z + c;
   for (int i = 0; i < n_; ++i) {  // forward: L y = r
     double a = rc[size_t(i) * W];
-    for (int p = lo_start[i]; p < lo_start[i + 1]; ++p) a -= double(lo_val[3 * size_t(p)]) * zc[size_t(lo_col[p]) * W];
+    for (int p = lo_start[i]; p < lo_start[i + 1]; ++p) a -= double(lo_val[3 * size_t(p)]) * *block_row<W>(zc, lo_col6[p]);
     zc[size_t(i) * W] = a * inv_diag[3 * size_t(i)];
   }
   double rz = 0.0;
   for (int i = n_ - 1; i >= 0; --i) {  // backward: L^T z = y
     double a = zc[size_t(i) * W];
-    for (int p = up_start[i]; p < up_start[i + 1]; ++p) a -= double(up_val[3 * size_t(p)]) * zc[size_t(up_col[p]) * W];
+    for (int p = up_start[i]; p < up_start[i + 1]; ++p) a -= double(up_val[3 * size_t(p)]) * *block_row<W>(zc, up_col6[p]);
     a *= inv_diag[3 * size_t(i)];
     zc[size_t(i) * W] = a;
     rz += rc[size_t(i) * W] * a;

@@ -47,6 +47,7 @@ class AxisIncompleteCholesky {
   // Strictly lower part of L by rows (the columns of K's row i below i, ascending);
   // source: index of the entry among K's off-diagonal entries.
   std::vector<int> lo_start_, lo_col_, lo_src_;
+  std::vector<int> lo_col6_, up_col6_;      // 6 times the columns, for apply (block_row)
   std::vector<float> lo_val_;              // 3 per entry (float: a preconditioner; half the loads)
   // The same entries by rows of L^T (strictly upper), for a gathering backward solve;
   // up_src_: index into the lower entries.

@@ -1,6 +1,7 @@
 #include "engine/axis_matrices.hpp"
 
 #include <algorithm>
+#include <cstring>
 #include <stdexcept>
 #include <type_traits>
 #include <utility>
@@ -45,96 +46,121 @@ void AxisMatrices::analyze(const StiffnessPattern& pattern, const std::vector<in
     }
     start[size_t(i) + 1] = static_cast<int>(col.size());
   }
+  col6.resize(col.size());
+  for (size_t p = 0; p < col.size(); ++p) col6[p] = 6 * col[p];
   off.assign(col.size(), 0.0);
   diag.assign(3 * size_t(n), 0.0);
   row_of = iperm;
+  node_of.resize(size_t(n));
+  for (int i = 0; i < n; ++i) node_of[size_t(i)] = perm.empty() ? i : perm[size_t(i)];
   row_mask.assign(3 * size_t(n), 0);
   held_rows.assign(size_t(n), 0);
   partial_count = 0;
+  full_count = 0;
+  zeroed.clear();
+  zeroed.reserve(col.size());  // each entry listed at most once
+  gathered_mask.resize(0, 3);
 }
 
-void AxisMatrices::gather(const AxisStiffness& K, const FlagMat& mask, const NodeMat* springs) {
-  // The per-node values in node order (sequential reads of the three columns; each row here
-  // written whole), then the entries row by row. Through local pointers: the byte stores of
-  // the mask would otherwise make the compiler reload every member's data pointer.
+void AxisMatrices::classify(const FlagMat& mask) {
+  // Node by node (sequential reads of the mask's three columns); through local pointers: the
+  // byte stores of the mask would otherwise make the compiler reload every member's data
+  // pointer.
   const int* ro = row_of.data();
   std::uint8_t* rm = row_mask.data();
-  double* dg = diag.data();
   int* hr = held_rows.data();
-  const double* kd0 = K.diagonal.col(0).data();
-  const double* kd1 = K.diagonal.col(1).data();
-  const double* kd2 = K.diagonal.col(2).data();
   const std::uint8_t* md0 = mask.col(0).data();
   const std::uint8_t* md1 = mask.col(1).data();
   const std::uint8_t* md2 = mask.col(2).data();
   const int rows = n;
   int held = 0, partial = 0;  // rows constrained on all axes (from the end), on some
-  auto per_node = [&](auto with_springs, const double* sd0, const double* sd1, const double* sd2) {
-    for (int v = 0; v < rows; ++v) {
-      const size_t i = size_t(ro[v]);
-      // The free diagonal values (with the springs when there are: a `+ 0.0` otherwise, as
-      // before, so a -0 would still read +0).
-      double k0 = kd0[v], k1 = kd1[v], k2 = kd2[v];
-      if constexpr (decltype(with_springs)::value) {
-        k0 += sd0[v];
-        k1 += sd1[v];
-        k2 += sd2[v];
-      } else {
-        k0 += 0.0;
-        k1 += 0.0;
-        k2 += 0.0;
-      }
-      std::uint8_t* mi = rm + 3 * i;
-      double* di = dg + 3 * i;
-      if ((md0[v] | md1[v] | md2[v]) == 0) {  // most rows: free on every axis
-        mi[0] = mi[1] = mi[2] = 0;
-        di[0] = k0;
-        di[1] = k1;
-        di[2] = k2;
-        continue;
-      }
-      const std::uint8_t h0 = md0[v] != 0, h1 = md1[v] != 0, h2 = md2[v] != 0;
-      mi[0] = h0;
-      mi[1] = h1;
-      mi[2] = h2;
-      di[0] = h0 ? 1.0 : k0;
-      di[1] = h1 ? 1.0 : k1;
-      di[2] = h2 ? 1.0 : k2;
-      if (h0 & h1 & h2) hr[size_t(rows - 1 - held++)] = int(i);
-      else hr[size_t(partial++)] = int(i);
-    }
-  };
-  if (springs)
-    per_node(std::true_type(), springs->col(0).data(), springs->col(1).data(), springs->col(2).data());
-  else
-    per_node(std::false_type(), nullptr, nullptr, nullptr);
+  for (int v = 0; v < rows; ++v) {
+    const size_t i = size_t(ro[v]);
+    const std::uint8_t h0 = md0[v] != 0, h1 = md1[v] != 0, h2 = md2[v] != 0;
+    std::uint8_t* mi = rm + 3 * i;
+    mi[0] = h0;
+    mi[1] = h1;
+    mi[2] = h2;
+    if ((h0 | h1 | h2) == 0) continue;  // most rows: free on every axis
+    if (h0 & h1 & h2) hr[size_t(rows - 1 - held++)] = int(i);
+    else hr[size_t(partial++)] = int(i);
+  }
   partial_count = partial;
-  // One value per entry for the three axes (two at a time); the rows and columns of the
-  // nodes constrained on every axis (most of the constrained ones: held and prescribed nodes)
-  // zeroed here, those of a node constrained on some axes only left to the kernels
+  full_count = held;
+  // The entries in the rows and columns of the nodes constrained on every axis (most of the
+  // constrained ones: held and prescribed nodes), each once (within the capacity reserved by
+  // analyze()); those of a node constrained on some axes only are left to the kernels
   // (multiply_block, the factorisation).
-  const double* weight = K.weight.data();
-  const int* edge = off_edge.data();
   const int* cp = col.data();
   const int* st = start.data();
+  zeroed.clear();
+  for (int k = rows - held; k < rows; ++k) {
+    const int i = hr[k];
+    for (int q = st[i]; q < st[i + 1]; ++q) {
+      const int j = cp[q];
+      zeroed.push_back(q);
+      if (rm[3 * j] & rm[3 * j + 1] & rm[3 * j + 2]) continue;  // row j is listed in its own turn
+      for (int t = st[j]; t < st[j + 1]; ++t)
+        if (cp[t] == i) {
+          zeroed.push_back(t);
+          break;
+        }
+    }
+  }
+  gathered_mask = mask;
+}
+
+void AxisMatrices::gather(const AxisStiffness& K, const FlagMat& mask, const NodeMat* springs) {
+  if (gathered_mask.rows() != mask.rows() ||
+      std::memcmp(gathered_mask.data(), mask.data(), size_t(mask.size())) != 0)
+    classify(mask);
+  // The free diagonal values row by row (each row of diag written whole, in order; the
+  // columns of K read at the row's node), with the springs when there are (a `+ 0.0`
+  // otherwise, so a -0 would still read +0); then 1 on the constrained entries.
+  const int* node = node_of.data();
+  double* dg = diag.data();
+  const double* kd0 = K.diagonal.col(0).data();
+  const double* kd1 = K.diagonal.col(1).data();
+  const double* kd2 = K.diagonal.col(2).data();
+  const int rows = n;
+  if (springs) {
+    const double* sd0 = springs->col(0).data();
+    const double* sd1 = springs->col(1).data();
+    const double* sd2 = springs->col(2).data();
+    for (int i = 0; i < rows; ++i) {
+      const size_t v = size_t(node[i]);
+      dg[3 * size_t(i)] = kd0[v] + sd0[v];
+      dg[3 * size_t(i) + 1] = kd1[v] + sd1[v];
+      dg[3 * size_t(i) + 2] = kd2[v] + sd2[v];
+    }
+  } else {
+    for (int i = 0; i < rows; ++i) {
+      const size_t v = size_t(node[i]);
+      dg[3 * size_t(i)] = kd0[v] + 0.0;
+      dg[3 * size_t(i) + 1] = kd1[v] + 0.0;
+      dg[3 * size_t(i) + 2] = kd2[v] + 0.0;
+    }
+  }
+  const std::uint8_t* rm = row_mask.data();
+  const int* hr = held_rows.data();
+  for (int k = 0; k < partial_count; ++k) {
+    const size_t i = size_t(hr[k]);
+    for (size_t d = 0; d < 3; ++d)
+      if (rm[3 * i + d]) dg[3 * i + d] = 1.0;
+  }
+  for (int k = rows - full_count; k < rows; ++k) {
+    double* di = dg + 3 * size_t(hr[k]);
+    di[0] = di[1] = di[2] = 1.0;
+  }
+  // One value per entry for the three axes (two at a time), then the listed entries zeroed.
+  const double* weight = K.weight.data();
+  const int* edge = off_edge.data();
   double* o = off.data();
   const size_t m = off.size();
   size_t p = 0;
   for (; p + 2 <= m; p += 2) simd::store2(o + p, -simd::V2{weight[edge[p]], weight[edge[p + 1]]});
   if (p < m) o[p] = -weight[edge[p]];
-  for (int k = rows - held; k < rows; ++k) {
-    const int i = hr[k];
-    for (int q = st[i]; q < st[i + 1]; ++q) {
-      const int j = cp[q];
-      o[q] = 0.0;
-      if (rm[3 * j] & rm[3 * j + 1] & rm[3 * j + 2]) continue;  // row j is zeroed in its own turn
-      for (int t = st[j]; t < st[j + 1]; ++t)
-        if (cp[t] == i) {
-          o[t] = 0.0;
-          break;
-        }
-    }
-  }
+  for (const int q : zeroed) o[q] = 0.0;
 }
 
 namespace {
@@ -174,10 +200,10 @@ void eliminate_constrained(const AxisMatrices& K, const double* x, double* y, do
 // reloads a member's data pointer after stores it cannot prove apart).
 struct RowArrays {
   const int* start;
-  const int* col;
+  const int* col6;
   const double* off;
   const double* diag;
-  explicit RowArrays(const AxisMatrices& K) : start(K.start.data()), col(K.col.data()), off(K.off.data()), diag(K.diag.data()) {}
+  explicit RowArrays(const AxisMatrices& K) : start(K.start.data()), col6(K.col6.data()), off(K.off.data()), diag(K.diag.data()) {}
 };
 
 // Row i of K x for a block of 6 (multiply_block and residual_block share it): lanes are the
@@ -191,11 +217,11 @@ inline void row_product6(const RowArrays& k, const double* x, int i, simd::V2& a
   a1 = splat(di[1]) * load2(xi + 2);
   a2 = splat(di[2]) * load2(xi + 4);
   for (int p = k.start[i]; p < k.start[i + 1]; ++p) {
-    const simd::V2 v = splat(k.off[p]);
-    const double* xj = x + size_t(k.col[p]) * 6;
-    a0 += v * load2(xj);
-    a1 += v * load2(xj + 2);
-    a2 += v * load2(xj + 4);
+    const double* xj = block_row<6>(x, k.col6[p]);
+    const simd::V2 x0 = load2(xj), x1 = load2(xj + 2), x2 = load2(xj + 4), v = splat(k.off[p]);
+    a0 += v * x0;
+    a1 += v * x1;
+    a2 += v * x2;
   }
 }
 
@@ -209,7 +235,7 @@ inline void row_product3(const RowArrays& k, const double* x, int i, simd::V2& a
   az = di[2] * xi[2];
   for (int p = k.start[i]; p < k.start[i + 1]; ++p) {
     const double v = k.off[p];
-    const double* xj = x + size_t(k.col[p]) * 3;
+    const double* xj = block_row<3>(x, k.col6[p]);
     axy += splat(v) * load2(xj);
     az += v * xj[2];
   }
@@ -262,13 +288,14 @@ void multiply_block(const AxisMatrices& K, const double* x, double* y, double* d
   eliminate_constrained<W>(K, x, y, dot);
 }
 
-template <int W>
-bool residual_block(const AxisMatrices& K, const double* b, const double* x, double* r, double* bn, double* rn) {
-  static_assert(W == 3 || W == 6, "blocks of 3 or 6 vectors");
-  if (K.partial_count != 0) return false;
+namespace {
+
+// residual_block's pass, row i of b from b_row: b_row(i, c0, c1, c2) for W = 6 (the lanes of
+// multiply_block), b_row(i, cxy, cz) for W = 3.
+template <int W, class BRow>
+void residual_rows(const AxisMatrices& K, const BRow& b_row, const double* x, double* r, double* bn, double* rn) {
   const RowArrays rows(K);
   using simd::V2;
-  using simd::load2;
   using simd::store2;
   if constexpr (W == 6) {
     // multiply_block's row, then the row's residual (lanes as there).
@@ -276,8 +303,8 @@ bool residual_block(const AxisMatrices& K, const double* b, const double* x, dou
     for (int i = 0; i < K.n; ++i) {
       V2 a0, a1, a2;
       row_product6(rows, x, i, a0, a1, a2);
-      const double* bi = b + size_t(i) * 6;
-      const V2 c0 = load2(bi), c1 = load2(bi + 2), c2 = load2(bi + 4);
+      V2 c0, c1, c2;
+      b_row(i, c0, c1, c2);
       b0 += c0 * c0;
       b1 += c1 * c1;
       b2 += c2 * c2;
@@ -303,9 +330,9 @@ bool residual_block(const AxisMatrices& K, const double* b, const double* x, dou
       V2 axy;
       double az;
       row_product3(rows, x, i, axy, az);
-      const double* bi = b + size_t(i) * 3;
-      const V2 cxy = load2(bi);
-      const double cz = bi[2];
+      V2 cxy;
+      double cz;
+      b_row(i, cxy, cz);
       bxy += cxy * cxy;
       bz += cz * cz;
       const V2 exy = cxy - axy;
@@ -321,6 +348,62 @@ bool residual_block(const AxisMatrices& K, const double* b, const double* x, dou
     store2(rn, rxy);
     rn[2] = rz;
   }
+}
+
+}  // namespace
+
+template <int W>
+bool residual_block(const AxisMatrices& K, const double* b, const double* x, double* r, double* bn, double* rn) {
+  static_assert(W == 3 || W == 6, "blocks of 3 or 6 vectors");
+  if (K.partial_count != 0) return false;
+  using simd::V2;
+  using simd::load2;
+  if constexpr (W == 6) {
+    auto b_row = [b](int i, V2& c0, V2& c1, V2& c2) {
+      const double* bi = b + size_t(i) * 6;
+      c0 = load2(bi);
+      c1 = load2(bi + 2);
+      c2 = load2(bi + 4);
+    };
+    residual_rows<W>(K, b_row, x, r, bn, rn);
+  } else {
+    auto b_row = [b](int i, V2& cxy, double& cz) {
+      const double* bi = b + size_t(i) * 3;
+      cxy = load2(bi);
+      cz = bi[2];
+    };
+    residual_rows<W>(K, b_row, x, r, bn, rn);
+  }
+  return true;
+}
+
+template <int W>
+bool residual_block(const AxisMatrices& K, const std::array<const double*, W / 3>& b_src, const double* x, double* r,
+                    double* bn, double* rn) {
+  static_assert(W == 3 || W == 6, "blocks of 3 or 6 vectors");
+  if (K.partial_count != 0) return false;
+  using simd::V2;
+  const int* node = K.node_of.data();
+  const size_t n = size_t(K.n), n2 = 2 * n;  // the columns' offsets
+  if constexpr (W == 6) {
+    const double* b0 = b_src[0];
+    const double* b1 = b_src[1];
+    auto b_row = [node, b0, b1, n, n2](int i, V2& c0, V2& c1, V2& c2) {
+      const size_t v = size_t(node[i]);
+      c0 = V2{b0[v], b1[v]};
+      c1 = V2{b0[v + n], b1[v + n]};
+      c2 = V2{b0[v + n2], b1[v + n2]};
+    };
+    residual_rows<W>(K, b_row, x, r, bn, rn);
+  } else {
+    const double* b0 = b_src[0];
+    auto b_row = [node, b0, n, n2](int i, V2& cxy, double& cz) {
+      const size_t v = size_t(node[i]);
+      cxy = V2{b0[v], b0[v + n]};
+      cz = b0[v + n2];
+    };
+    residual_rows<W>(K, b_row, x, r, bn, rn);
+  }
   return true;
 }
 
@@ -329,7 +412,7 @@ double multiply_column(const AxisMatrices& K, int c, const double* x, double* y)
   static_assert(W == 3 || W == 6, "blocks of 3 or 6 vectors");
   const int d = axis_of<W>(c);
   const int* start = K.start.data();
-  const int* col = K.col.data();
+  const int* col6 = K.col6.data();
   const double* off = K.off.data();
   const double* diag = K.diag.data();
   const double* xc = x + c;
@@ -338,7 +421,7 @@ double multiply_column(const AxisMatrices& K, int c, const double* x, double* y)
   for (int i = 0; i < K.n; ++i) {  // multiply_block's operations on lane c, in its order
     const double xi = xc[size_t(i) * W];
     double a = diag[3 * size_t(i) + size_t(d)] * xi;
-    for (int p = start[i]; p < start[i + 1]; ++p) a += off[p] * xc[size_t(col[p]) * W];
+    for (int p = start[i]; p < start[i + 1]; ++p) a += off[p] * *block_row<W>(xc, col6[p]);
     yc[size_t(i) * W] = a;
     dot += xi * a;
   }
@@ -348,6 +431,10 @@ double multiply_column(const AxisMatrices& K, int c, const double* x, double* y)
 
 template bool residual_block<3>(const AxisMatrices&, const double*, const double*, double*, double*, double*);
 template bool residual_block<6>(const AxisMatrices&, const double*, const double*, double*, double*, double*);
+template bool residual_block<3>(const AxisMatrices&, const std::array<const double*, 1>&, const double*, double*,
+                                double*, double*);
+template bool residual_block<6>(const AxisMatrices&, const std::array<const double*, 2>&, const double*, double*,
+                                double*, double*);
 template void multiply_block<3>(const AxisMatrices&, const double*, double*, double*);
 template double multiply_column<3>(const AxisMatrices&, int, const double*, double*);
 template double multiply_column<6>(const AxisMatrices&, int, const double*, double*);

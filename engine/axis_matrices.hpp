@@ -9,6 +9,7 @@
 // pressure response) right-hand sides, and the independent dependency chains overlap in the
 // triangular solves.
 #include <array>
+#include <type_traits>
 #include <vector>
 
 #include "engine/sparse.hpp"
@@ -20,14 +21,19 @@ struct AxisMatrices {
   int n = 0;
   std::vector<int> start;      // n + 1: row i's off-diagonal entries are [start[i], start[i+1])
   std::vector<int> col;        // their columns, ascending
+  std::vector<int> col6;       // 6 col: the column's row in a block (block_row), for the kernels
   std::vector<double> off;     // 1 value per off-diagonal entry for the three axes, 0 in the
                                // rows and columns of the rows constrained on every axis
   std::vector<double> diag;    // 3 values per row (1 for a constrained entry)
   std::vector<int> off_edge;   // the edge of each off-diagonal entry
   std::vector<int> row_of;     // row v of the source is row row_of[v] here
+  std::vector<int> node_of;    // and row i here row node_of[i] of the source
   std::vector<std::uint8_t> row_mask;  // gather(): 3 per row, the constrained entries
   std::vector<int> held_rows;  // gather(): first the rows constrained on some axes only
   int partial_count = 0;       // (partial_count of them), the rows constrained on all at the end
+  int full_count = 0;          // (full_count of them)
+  std::vector<int> zeroed;     // gather(): the entries zeroed for the rows constrained on all
+  FlagMat gathered_mask;       // the mask those were made for (source numbering)
 
   // Entry (i, j != i) of K^d: off[p] unless entry d of row i or row j is constrained.
   bool constrained(int i, int d) const { return row_mask[3 * size_t(i) + size_t(d)] != 0; }
@@ -38,8 +44,21 @@ struct AxisMatrices {
   // Values from K (the StiffnessPattern analysed; no allocation), with the entries
   // constrained by `mask` (N x 3, source numbering) eliminated: their rows and columns become
   // the identity; `springs` (N x 3, may be null) added to the free diagonal entries.
+  // Most gathers see the mask of the last one: only the values are copied then.
   void gather(const AxisStiffness& K, const FlagMat& mask, const NodeMat* springs);
+
+ private:
+  void classify(const FlagMat& mask);  // row_mask, held_rows, the counts, zeroed from mask
 };
+
+// Row j of a block of W (W = 3 or 6) from six_j = 6 j: x + 6 j, or x + 3 j as 4 bytes times
+// 6 j. One addressing mode, where j W took a multiply and a shift per entry in the kernels.
+template <int W, class T>
+inline T* block_row(T* x, int six_j) {
+  static_assert(W == 3 || W == 6, "blocks of 3 or 6 vectors");
+  using Byte = std::conditional_t<std::is_const_v<T>, const char, char>;
+  return reinterpret_cast<T*>(reinterpret_cast<Byte*>(x) + size_t(six_j) * (W * sizeof(double) / 6));
+}
 
 // The axis of vector c in a block of W.
 template <int W>
@@ -59,6 +78,13 @@ void multiply_block(const AxisMatrices& K, const double* x, double* y, double* d
 // constrained on some axes only: the product's fix-up of those rows comes after the pass.
 template <int W>
 bool residual_block(const AxisMatrices& K, const double* b, const double* x, double* r, double* bn, double* rn);
+// The same with b in the source's numbering: system g (of W / 3) an n x 3 column-major
+// matrix at b_src[g] (a NodeMat's data), vector c = d (W / 3) + g of the block its column d,
+// row i's entries from row node_of[i] (each row read where the pass needs it: no permuted
+// copy of b is written and read back). The same bits as with that copy.
+template <int W>
+bool residual_block(const AxisMatrices& K, const std::array<const double*, W / 3>& b_src, const double* x, double* r,
+                    double* bn, double* rn);
 // Column c of that product alone (y's other columns untouched): the operations of
 // multiply_block's column c, in its order, so the same values bit for bit, at a fraction of
 // the block's cost. Returns x_c . y_c.

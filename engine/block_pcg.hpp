@@ -37,7 +37,8 @@ struct BlockPcgWorkspace {
 // The same object may also have `residual(b, x, r, bn, rn)`: r = b - A x on the whole block
 // (r may be b) with bn[c] = |b_c|^2 and rn[c] = |r_c|^2 summed row by row from 0, in one
 // pass (block_pcg's own passes, the product and its dot in three passes otherwise: the same
-// bits); it returns false, having written nothing, when it cannot.
+// bits); it returns false, having written nothing, when it cannot. b is read only when there
+// is no residual() or it returns false (a residual() may read the same b from elsewhere).
 struct NoColumnKernels {};
 
 namespace detail {

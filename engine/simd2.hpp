@@ -16,6 +16,15 @@ inline V2 load2(const double* p) {
 }
 inline void store2(double* p, V2 v) { std::memcpy(p, &v, sizeof v); }
 inline V2 splat(double a) { return V2{a, a}; }
+// Two adjacent floats as a pair of doubles (one cvtps2pd from memory; exact).
+inline V2 load2f(const float* p) {
+  double t;
+  std::memcpy(&t, p, sizeof t);
+  return _mm_cvtps_pd(_mm_castpd_ps(_mm_set_sd(t)));
+}
+// {a[0], a[0]} and {a[1], a[1]}.
+inline V2 splat_low(V2 a) { return _mm_unpacklo_pd(a, a); }
+inline V2 splat_high(V2 a) { return _mm_unpackhi_pd(a, a); }
 // Lane-wise std::max(a, b): b where a < b, else a (one maxpd).
 inline V2 max2(V2 a, V2 b) { return _mm_max_pd(b, a); }
 // Lane-wise std::min(a, b): b where b < a, else a (one minpd).

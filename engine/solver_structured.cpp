@@ -185,22 +185,29 @@ class StructuredSolver final : public LinearSolver {
     NodeMat* out[2] = {rhs ? r : &s_, &s_};
     // The block of both systems is x_ itself; one system alone iterates in x3_.
     double* x = W == 6 ? x_.data() : x3_.data();
-    // The right-hand sides go into the block PCG's residual array, which block_pcg() reads
-    // as b before it writes the residual there (sized first: resizing would clear them).
+    // The right-hand sides, column c = d G + g of the block being axis d of system g, in node
+    // order: residual_block reads each row of them where its pass needs it. Only when it
+    // cannot (rows constrained on some axes only) are they copied into the block PCG's
+    // residual array, which block_pcg() then reads as b before it writes the residual there
+    // (sized first: resizing would clear them); each node's entries to its row of the block
+    // (reading the columns in solver order missed on every load).
     work_.resize(size_t(n_) * W);
     double* const bw = work_.r.data();
     if (W == 6 && !settings_.warm_start) std::fill(x_.begin(), x_.end(), 0.0);
     double threshold[W];
-    // b in node order, each node's entries (both systems' for W = 6) to its row of the block
-    // (reading the columns of b in solver order missed on every load).
-    const double* bc[G][3];
-    for (int g = 0; g < G; ++g)
-      for (int d = 0; d < 3; ++d) bc[g][d] = src[g]->col(d).data();
-    const int* iperm = iperm_.data();
-    for (int node = 0; node < n_; ++node) {
-      double* row = bw + size_t(iperm[node]) * W;
+    std::array<const double*, G> b_src;
+    for (int g = 0; g < G; ++g) b_src[size_t(g)] = src[g]->data();
+    const bool b_in_block = K_.partial_count != 0;
+    if (b_in_block) {
+      const double* bc[G][3];
       for (int g = 0; g < G; ++g)
-        for (int d = 0; d < 3; ++d) row[d * G + g] = bc[g][d][node];
+        for (int d = 0; d < 3; ++d) bc[g][d] = src[g]->col(d).data();
+      const int* iperm = iperm_.data();
+      for (int node = 0; node < n_; ++node) {
+        double* row = bw + size_t(iperm[node]) * W;
+        for (int g = 0; g < G; ++g)
+          for (int d = 0; d < 3; ++d) row[d * G + g] = bc[g][d][node];
+      }
     }
     for (int g = 0; g < G; ++g) {
       if (W == 3)
@@ -216,17 +223,20 @@ class StructuredSolver final : public LinearSolver {
     auto pre = [&ic](const double* in, double* res, double* dot) { ic.apply<W>(in, res, dot); };
     // A column left iterating alone (usually r^z under a vertical probe) runs on the column
     // kernels: the same iterates, bit for bit. The start's residual and norms in one pass.
+    // The start's residual takes b from the node-order columns (block_pcg() reads b only when
+    // residual() fails: with b_in_block).
     struct Columns {
       const AxisMatrices& K;
       const AxisIncompleteCholesky& ic;
+      const std::array<const double*, G>& b_src;
       double multiply(int c, const double* in, double* out) const { return multiply_column<W>(K, c, in, out); }
       double apply(int c, const double* in, double* out) const { return ic.apply_column<W>(c, in, out); }
-      bool residual(const double* b, const double* in, double* r, double* bn, double* rn) const {
-        return residual_block<W>(K, b, in, r, bn, rn);
+      bool residual(const double*, const double* in, double* r, double* bn, double* rn) const {
+        return residual_block<W>(K, b_src, in, r, bn, rn);
       }
     };
     std::array<KrylovResult, W> kr;
-    block_pcg<W>(op, pre, n_, bw, x, threshold, settings_.max_iterations, work_, kr, Columns{K, ic});
+    block_pcg<W>(op, pre, n_, bw, x, threshold, settings_.max_iterations, work_, kr, Columns{K, ic, b_src});
     BlockReport rep;
     for (const KrylovResult& k : kr) {
       rep.iterations += k.iterations;

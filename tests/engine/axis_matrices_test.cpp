@@ -85,11 +85,12 @@ TEST(AxisMatrices, GatherFromEdgeWeightsEliminatesTheConstrainedEntries) {
 // the nodes constrained on every axis; the diagonal K's (plus the spring) on a free entry, 1
 // on a constrained one; the rows constrained on some axes only listed first. With a mask
 // whose held region touches itself (rows and columns of neighbouring held nodes) and
-// springs, then without springs.
+// springs, then without springs, then (the same mask: only the values copied) with new
+// values.
 TEST(AxisMatrices, GatheredValuesAreExactlyTheEliminatedOnes) {
   const axis_test::System s = axis_test::make_system();
   const TissueModel& m = s.model;
-  const AxisStiffness k = axis_test::edge_stiffness(m);
+  AxisStiffness k = axis_test::edge_stiffness(m);
   FlagMat mask(m.n, 3);
   NodeMat springs(m.n, 3);
   for (int i = 0; i < m.n; ++i)
@@ -99,7 +100,12 @@ TEST(AxisMatrices, GatheredValuesAreExactlyTheEliminatedOnes) {
     }
   AxisMatrices K;
   K.analyze(m.pattern, s.perm);
-  for (const NodeMat* sp : {static_cast<const NodeMat*>(&springs), static_cast<const NodeMat*>(nullptr)}) {
+  for (int round = 0; round < 3; ++round) {
+    const NodeMat* sp = round == 0 ? &springs : nullptr;
+    if (round == 2) {  // new values, the same mask
+      k.weight *= 1.7;
+      k.diagonal *= 1.3;
+    }
     K.gather(k, mask, sp);
     auto full = [&](int row) { return mask.row(s.perm[size_t(row)]).minCoeff() != 0; };
     int partial = 0;
