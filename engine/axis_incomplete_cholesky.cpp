@@ -16,8 +16,8 @@ void AxisIncompleteCholesky::analyze(const AxisMatrices& K) {
   lo_src_.clear();
   for (int i = 0; i < n_; ++i) {
     for (int p = K.start[size_t(i)]; p < K.start[size_t(i) + 1]; ++p)
-      if (K.col[size_t(p)] < i) {  // columns ascending: the lower ones come first
-        lo_col_.push_back(K.col[size_t(p)]);
+      if (K.column(size_t(p)) < i) {  // columns ascending: the lower ones come first
+        lo_col_.push_back(K.column(size_t(p)));
         lo_src_.push_back(p);
       }
     lo_start_[size_t(i) + 1] = static_cast<int>(lo_col_.size());
@@ -37,12 +37,6 @@ void AxisIncompleteCholesky::analyze(const AxisMatrices& K) {
       up_src_[size_t(fill[size_t(k)]++)] = p;
     }
   up_val_.assign(3 * lo_col_.size(), 0.0f);
-  lo_col6_.resize(lo_col_.size());
-  up_col6_.resize(up_col_.size());
-  for (size_t p = 0; p < lo_col_.size(); ++p) {
-    lo_col6_[p] = 6 * lo_col_[p];
-    up_col6_[p] = 6 * up_col_[p];
-  }
   inv_diag_.assign(3 * size_t(n_), 0.0);
   mask_.assign(3 * size_t(n_), 0);
   work_diag_.assign(3 * size_t(n_), 0.0);
@@ -196,10 +190,10 @@ void AxisIncompleteCholesky::apply(const double* r, double* z, double* rz) const
   using simd::splat_high;
   using simd::splat_low;
   const int* lo_start = lo_start_.data();
-  const int* lo_col6 = lo_col6_.data();
+  const int* lo_col = lo_col_.data();
   const float* lo_val = lo_val_.data();
   const int* up_start = up_start_.data();
-  const int* up_col6 = up_col6_.data();
+  const int* up_col = up_col_.data();
   const float* up_val = up_val_.data();
   const double* inv_diag = inv_diag_.data();
   if constexpr (W == 6) {
@@ -213,7 +207,7 @@ void AxisIncompleteCholesky::apply(const double* r, double* z, double* rz) const
       for (int p = lo_start[i]; p < lo_start[i + 1]; ++p) {
         const float* v = lo_val + 3 * size_t(p);
         const V2 v01 = load2f(v), v12 = load2f(v + 1);
-        const double* zj = block_row<6>(z, lo_col6[p]);
+        const double* zj = block_row<6>(z, 6 * lo_col[p]);
         a0 -= splat_low(v01) * load2(zj);
         a1 -= splat_high(v01) * load2(zj + 2);
         a2 -= splat_high(v12) * load2(zj + 4);
@@ -232,7 +226,7 @@ void AxisIncompleteCholesky::apply(const double* r, double* z, double* rz) const
       for (int p = up_start[i]; p < up_start[i + 1]; ++p) {
         const float* v = up_val + 3 * size_t(p);
         const V2 v01 = load2f(v), v12 = load2f(v + 1);
-        const double* zj = block_row<6>(z, up_col6[p]);
+        const double* zj = block_row<6>(z, 6 * up_col[p]);
         a0 -= splat_low(v01) * load2(zj);
         a1 -= splat_high(v01) * load2(zj + 2);
         a2 -= splat_high(v12) * load2(zj + 4);
@@ -260,7 +254,7 @@ void AxisIncompleteCholesky::apply(const double* r, double* z, double* rz) const
       double az = ri[2];
       for (int p = lo_start[i]; p < lo_start[i + 1]; ++p) {
         const float* v = lo_val + 3 * size_t(p);
-        const double* zj = block_row<3>(z, lo_col6[p]);
+        const double* zj = block_row<3>(z, 6 * lo_col[p]);
         axy -= load2f(v) * load2(zj);
         az -= double(v[2]) * zj[2];
       }
@@ -277,7 +271,7 @@ void AxisIncompleteCholesky::apply(const double* r, double* z, double* rz) const
       double az = zi[2];
       for (int p = up_start[i]; p < up_start[i + 1]; ++p) {
         const float* v = up_val + 3 * size_t(p);
-        const double* zj = block_row<3>(z, up_col6[p]);
+        const double* zj = block_row<3>(z, 6 * up_col[p]);
         axy -= load2f(v) * load2(zj);
         az -= double(v[2]) * zj[2];
       }
@@ -300,23 +294,23 @@ double AxisIncompleteCholesky::apply_column(int c, const double* r, double* z) c
   static_assert(W == 3 || W == 6, "blocks of 3 or 6 vectors");
   const size_t d = size_t(axis_of<W>(c));
   const int* lo_start = lo_start_.data();
-  const int* lo_col6 = lo_col6_.data();
+  const int* lo_col = lo_col_.data();
   const float* lo_val = lo_val_.data() + d;
   const int* up_start = up_start_.data();
-  const int* up_col6 = up_col6_.data();
+  const int* up_col = up_col_.data();
   const float* up_val = up_val_.data() + d;
   const double* inv_diag = inv_diag_.data() + d;
   const double* rc = r + c;
   double* zc = z + c;
   for (int i = 0; i < n_; ++i) {  // forward: L y = r
     double a = rc[size_t(i) * W];
-    for (int p = lo_start[i]; p < lo_start[i + 1]; ++p) a -= double(lo_val[3 * size_t(p)]) * *block_row<W>(zc, lo_col6[p]);
+    for (int p = lo_start[i]; p < lo_start[i + 1]; ++p) a -= double(lo_val[3 * size_t(p)]) * *block_row<W>(zc, 6 * lo_col[p]);
     zc[size_t(i) * W] = a * inv_diag[3 * size_t(i)];
   }
   double rz = 0.0;
   for (int i = n_ - 1; i >= 0; --i) {  // backward: L^T z = y
     double a = zc[size_t(i) * W];
-    for (int p = up_start[i]; p < up_start[i + 1]; ++p) a -= double(up_val[3 * size_t(p)]) * *block_row<W>(zc, up_col6[p]);
+    for (int p = up_start[i]; p < up_start[i + 1]; ++p) a -= double(up_val[3 * size_t(p)]) * *block_row<W>(zc, 6 * up_col[p]);
     a *= inv_diag[3 * size_t(i)];
     zc[size_t(i) * W] = a;
     rz += rc[size_t(i) * W] * a;

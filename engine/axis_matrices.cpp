@@ -22,7 +22,7 @@ void AxisMatrices::analyze(const StiffnessPattern& pattern, const std::vector<in
   const int* outer = m.outerIndexPtr();
   const int* inner = m.innerIndexPtr();
   start.assign(size_t(n) + 1, 0);
-  col.clear();
+  col6.clear();
   off_edge.clear();
   std::vector<std::pair<int, int>> row;  // (column here, edge)
   for (int i = 0; i < n; ++i) {
@@ -41,14 +41,12 @@ void AxisMatrices::analyze(const StiffnessPattern& pattern, const std::vector<in
     if (!has_diagonal) throw std::invalid_argument("AxisMatrices: the pattern lacks a diagonal entry");
     std::sort(row.begin(), row.end());
     for (const auto& e : row) {
-      col.push_back(e.first);
+      col6.push_back(6 * e.first);
       off_edge.push_back(e.second);
     }
-    start[size_t(i) + 1] = static_cast<int>(col.size());
+    start[size_t(i) + 1] = static_cast<int>(col6.size());
   }
-  col6.resize(col.size());
-  for (size_t p = 0; p < col.size(); ++p) col6[p] = 6 * col[p];
-  off.assign(col.size(), 0.0);
+  off.assign(col6.size(), 0.0);
   diag.assign(3 * size_t(n), 0.0);
   row_of = iperm;
   node_of.resize(size_t(n));
@@ -58,7 +56,7 @@ void AxisMatrices::analyze(const StiffnessPattern& pattern, const std::vector<in
   partial_count = 0;
   full_count = 0;
   zeroed.clear();
-  zeroed.reserve(col.size());  // each entry listed at most once
+  zeroed.reserve(col6.size());  // each entry listed at most once
   gathered_mask.resize(0, 3);
 }
 
@@ -91,17 +89,17 @@ void AxisMatrices::classify(const FlagMat& mask) {
   // constrained ones: held and prescribed nodes), each once (within the capacity reserved by
   // analyze()); those of a node constrained on some axes only are left to the kernels
   // (multiply_block, the factorisation).
-  const int* cp = col.data();
+  const int* cp6 = col6.data();
   const int* st = start.data();
   zeroed.clear();
   for (int k = rows - held; k < rows; ++k) {
     const int i = hr[k];
     for (int q = st[i]; q < st[i + 1]; ++q) {
-      const int j = cp[q];
+      const int j = cp6[q] / 6;
       zeroed.push_back(q);
       if (rm[3 * j] & rm[3 * j + 1] & rm[3 * j + 2]) continue;  // row j is listed in its own turn
       for (int t = st[j]; t < st[j + 1]; ++t)
-        if (cp[t] == i) {
+        if (cp6[t] == 6 * i) {
           zeroed.push_back(t);
           break;
         }
@@ -181,7 +179,7 @@ void eliminate_constrained_column(const AxisMatrices& K, int c, const double* x,
     dot += xi * (now - yi);
     yi = now;
     for (int p = K.start[size_t(i)]; p < K.start[size_t(i) + 1]; ++p) {
-      const int j = K.col[size_t(p)];
+      const int j = K.column(size_t(p));
       if (K.constrained(j, d)) continue;  // its own row is the identity's (or zeroed)
       const double t = K.off[size_t(p)] * xi;
       y[size_t(j) * W + size_t(c)] -= t;

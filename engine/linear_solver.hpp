@@ -47,6 +47,10 @@ class LinearSolver {
                             double& dP) = 0;
   // Whether solve() reads `u` as its warm start (the others keep their own, or need none).
   virtual bool warm_starts_from_u() const { return false; }
+  // `count` doubles of the solver's own scratch that nothing reads between its calls (the
+  // caller may use them until it next calls the solver), or null when it has not that many.
+  // Never allocates. The step's results pass works there (no array of its own: memory).
+  virtual double* spare_doubles(size_t /*count*/) { return nullptr; }
   // s with K^d s^d = a^d on every axis (zero on constrained entries): the displacement per
   // unit of fluid pressure. Valid until the matrices change.
   virtual const NodeMat& pressure_response(const NodeMat& a) = 0;

@@ -56,8 +56,17 @@ class StructuredSolver final : public LinearSolver {
     ic_.analyze(K_);
     s_ = NodeMat::Zero(n_, 3);
     x_.assign(6 * size_t(n_), 0.0);
-    x3_.assign(3 * size_t(n_), 0.0);
+    std::vector<double>().swap(x3_);  // made by the first W = 3 solve (refresh_every > 1)
     work_.resize(6 * size_t(n_));
+  }
+
+  // The block PCG's z/q array: dead between solves, 6 N doubles once a block of both systems
+  // has been solved (sized so by analyze()); growing within its capacity allocates nothing.
+  double* spare_doubles(size_t count) override {
+    std::vector<double>& z = work_.zq;
+    if (z.capacity() < count) return nullptr;
+    if (z.size() < count) z.resize(count);
+    return z.data();
   }
 
   const NodeMat& pressure_response(const NodeMat& a) override {
@@ -183,7 +192,10 @@ class StructuredSolver final : public LinearSolver {
     const NodeMat* src[2] = {rhs ? rhs : a, rhs ? a : nullptr};
     const size_t lane[2] = {rhs ? 0u : 1u, 1u};  // the system's lane in x_ (0: r, 1: s)
     NodeMat* out[2] = {rhs ? r : &s_, &s_};
-    // The block of both systems is x_ itself; one system alone iterates in x3_.
+    // The block of both systems is x_ itself; one system alone iterates in x3_, made by the
+    // first such solve: a scene that refreshes the geometry every step never has one (1 MB
+    // at 40k nodes; a warmed-up step still allocates nothing: the second step has one).
+    if (W == 3 && x3_.size() != 3 * size_t(n_)) x3_.assign(3 * size_t(n_), 0.0);
     double* x = W == 6 ? x_.data() : x3_.data();
     // The right-hand sides, column c = d G + g of the block being axis d of system g, in node
     // order: residual_block reads each row of them where its pass needs it. Only when it
@@ -267,7 +279,7 @@ class StructuredSolver final : public LinearSolver {
   NodeMat s_;                    // node order (r goes to the caller's u)
   std::vector<double> x_;        // solver order, 6 per row (r^x s^x r^y s^y r^z s^z): the last
                                  // solutions, the warm starts, and the block of a W = 6 solve
-  std::vector<double> x3_;       // the block of a W = 3 solve (one system)
+  std::vector<double> x3_;       // the block of a W = 3 solve (one system; empty before one)
   BlockPcgWorkspace work_;
   bool s_valid_ = false;
   int pending_factorizations_ = 0;

@@ -17,7 +17,6 @@ struct StiffnessPattern {
   std::vector<int> diagonal;                  // value index of (i, i)
   std::vector<std::array<int, 2>> edges;      // the node pairs (i, j) of the off-diagonal entries
   std::vector<std::array<int, 2>> edge_slot;  // value indices of (i, j) and (j, i) per edge
-  std::vector<int> slot_edge;                 // the edge of each value index (-1: a diagonal)
 };
 
 // K^d = L_w + diag(k^d) as the step keeps it: the graph Laplacian's weights, one per edge

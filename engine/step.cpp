@@ -73,6 +73,13 @@ double refresh_geometry(const TissueModel& m, const NodeMat& x, SimState& s, Ste
   return v;
 }
 
+// Scratch for compute_step_results(): the solver's (spare_doubles), else the workspace's own
+// (sized by make_sim_state() when the solver lends none).
+double* results_rows(const TissueModel& m, StepWorkspace& w) {
+  double* rows = w.solver->spare_doubles(result_rows_size(m.n));
+  return rows ? rows : w.result_rows.data();
+}
+
 // Whether prescribed_u is finite wherever prescribed is set. The flags are read 8 at a time:
 // most are zero (a few held or driven nodes), and a zero word needs no look at its values.
 bool prescribed_finite(const StepInput& in) {
@@ -436,11 +443,12 @@ SimState make_sim_state(const TissueModel& m) {
   w->scratch = Vec::Zero(n);
   w->area_norms = Vec::Zero(n);
   w->packed.assign(6 * size_t(n), 0.0);
-  w->result_rows.assign(result_rows_size(n), 0.0);
   // sub_input and whole_*: made by the first step done in parts (make_halving_arrays);
   // last_springs, force_* and pressure_*: by the first step that has them.
   w->solver = make_linear_solver(m.solver);
   w->solver->analyze(m.pattern);
+  // The results pass's rows: in the solver's scratch when it lends some, else its own.
+  if (!w->solver->spare_doubles(result_rows_size(n))) w->result_rows.assign(result_rows_size(n), 0.0);
   s.work = std::move(w);
   return s;
 }
@@ -621,7 +629,7 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
       w.matrix_dirty = false;
     }
     loads = build_loads(m, in, s, w);
-    eliminate_rhs(m.pattern, w.K, w.mask, loads ? &w.force : nullptr, w.u_fixed, w.rhs);
+    eliminate_rhs(m.neighbours, w.K, w.mask, loads ? &w.force : nullptr, w.u_fixed, w.rhs);
     // Eq (11) as a Newton step on the exact volume: a.u^{n+1} = V_0 - V(x^n) + a.u^n,
     // with the constrained part moved to the right.
     const double c = m.rest_volume - current_volume + a_u;
@@ -702,7 +710,7 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
   const auto t_results = Clock::now();
   const ResidualSums sums = compute_step_results(
       m, {w.K, w.mask, loads ? &w.force : nullptr, w.last_springs_any ? &w.last_springs : nullptr, w.area_norms, w.rhs, w.a_free},
-      s, w.result_rows);
+      s, results_rows(m, w));
   if (m.compute_stress) st.stress_ms = ms_since(t_results);
   const double alpha = pressure_scale(w.mean_diagonal, w.a_free);
   double res2 = 0.0, rhs2 = 0.0, vol_row = -last_c;

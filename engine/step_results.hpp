@@ -21,7 +21,7 @@ struct StepResultsInput {
 };
 
 // Doubles of compute_step_results()'s scratch for `n` nodes.
-inline size_t result_rows_size(int n) { return 8 * size_t(n) + 8; }
+inline size_t result_rows_size(int n) { return 6 * size_t(n); }
 
 // Per-axis sums for the step's relative residual (each the even nodes' sum plus the odd
 // nodes': the pass takes two nodes at a time).
@@ -36,9 +36,8 @@ struct ResidualSums {
 // (|reaction_i| / |A_i| on nodes with a constrained entry, else 0) and, when
 // model.compute_stress, s.strain and s.stress: those of compute_strain_stress() to
 // round-off (the neighbour sums are taken in another order). `rows`: scratch of
-// result_rows_size(N) doubles (sized if smaller). One pass to pack u and A o u node by node,
-// one gather.
-ResidualSums compute_step_results(const TissueModel& model, const StepResultsInput& in, SimState& s,
-                                  std::vector<double>& rows);
+// result_rows_size(N) doubles (the step lends the solver's: LinearSolver::spare_doubles).
+// One pass to pack u and A o u node by node, one gather.
+ResidualSums compute_step_results(const TissueModel& model, const StepResultsInput& in, SimState& s, double* rows);
 
 }  // namespace vdm

@@ -59,7 +59,7 @@ struct StepWorkspace {
   Vec extra_diagonal;             // inertia M/h^2 + D/h (empty without inertia)
   Vec scratch;                    // N
   Vec area_norms;                 // |A_i| at the last refresh (N)
-  std::vector<double> result_rows;  // compute_step_results()'s node rows (result_rows_size(N))
+  std::vector<double> result_rows;  // compute_step_results()'s node rows when the solver lends none
   std::vector<double> packed;     // 6 N: packed_area_sums_and_volume()'s and volume_along()'s rows
   // packed holds positions and their area sums (packed_area_sums_and_volume) enclosing
   // packed_volume: the step's last volume check leaves them for the next refresh.

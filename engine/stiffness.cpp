@@ -34,8 +34,6 @@ StiffnessPattern build_stiffness_pattern(int n, const std::vector<std::array<int
   p.edge_slot.resize(edges.size());
   for (size_t e = 0; e < edges.size(); ++e)
     p.edge_slot[e] = {slot(edges[e][0], edges[e][1]), slot(edges[e][1], edges[e][0])};
-  p.slot_edge.assign(size_t(p.matrix.nonZeros()), -1);
-  for (size_t e = 0; e < edges.size(); ++e) p.slot_edge[size_t(p.edge_slot[e][0])] = p.slot_edge[size_t(p.edge_slot[e][1])] = int(e);
   return p;
 }
 
@@ -148,7 +146,7 @@ void multiply(const StiffnessPattern& p, const AxisStiffness& K, const NodeMat& 
   }
 }
 
-void eliminate_rhs(const StiffnessPattern& p, const AxisStiffness& K, const FlagMat& mask, const NodeMat* f,
+void eliminate_rhs(const NeighbourLists& neighbours, const AxisStiffness& K, const FlagMat& mask, const NodeMat* f,
                    const NodeMat& u_fixed, NodeMat& rhs) {
   // The N x 3 arrays as runs of 3 N entries (entry d N + i: node i, axis d).
   const size_t n = size_t(K.diagonal.rows()), count = 3 * n;
@@ -169,19 +167,19 @@ void eliminate_rhs(const StiffnessPattern& p, const AxisStiffness& K, const Flag
   }
   one_by_one(k, count);
   // Each constrained entry's value moves to its free neighbours on its axis (K_ij = -w_ij),
-  // through the pattern's column of its node. The constrained entries are found 16 flags at a
-  // time again; one whose value is zero (a held entry) moves nothing.
-  const int* outer = p.matrix.outerIndexPtr();
-  const int* inner = p.matrix.innerIndexPtr();
-  const int* edge = p.slot_edge.data();
+  // through its node's neighbour list (the pattern's column without the diagonal, in its
+  // order). The constrained entries are found 16 flags at a time again; one whose value is
+  // zero (a held entry) moves nothing.
+  const int* begin = neighbours.begin.data();
+  const NeighbourLists::Entry* entries = neighbours.entries.data();
   const double* w = K.weight.data();
   auto move_value = [&](size_t k) {
     if (!mk[k] || uf[k] == 0.0) return;
     const size_t axis = k / n * n;  // entry of node 0 on k's axis
     const int j = int(k - axis);
-    for (int s = outer[j]; s < outer[j + 1]; ++s) {
-      const size_t i = axis + size_t(inner[s]);
-      if (!mk[i]) r[i] += w[edge[s]] * uf[k];  // (the diagonal's entry is constrained: k itself)
+    for (int s = begin[j]; s < begin[j + 1]; ++s) {
+      const size_t i = axis + size_t(entries[s].node);
+      if (!mk[i]) r[i] += w[entries[s].edge] * uf[k];
     }
   };
   for (k = 0; k + 16 <= count; k += 16)

@@ -37,9 +37,9 @@ void multiply(const StiffnessPattern& pattern, const AxisStiffness& K, const Nod
 // Right-hand side of the eliminated system (per axis its mask, load, prescribed values):
 // rhs_i = f_i - sum_{j constrained} K_ij u_j for free i, rhs_j = u_j for constrained j. Only
 // the edge weights enter, the same on every axis; only the constrained entries with a value
-// (not the held ones, u_j = 0) move anything, along their nodes' edges (StiffnessPattern::
-// slot_edge). `f` null: no loads (f = 0, the same bits as a zero array).
-void eliminate_rhs(const StiffnessPattern& pattern, const AxisStiffness& K, const FlagMat& mask,
+// (not the held ones, u_j = 0) move anything, along their nodes' edges (the model's
+// `neighbours`). `f` null: no loads (f = 0, the same bits as a zero array).
+void eliminate_rhs(const NeighbourLists& neighbours, const AxisStiffness& K, const FlagMat& mask,
                    const NodeMat* f, const NodeMat& u_fixed, NodeMat& rhs);
 
 // K_masked = K with rows and columns of constrained nodes (mask(i) != 0) replaced by the

@@ -119,7 +119,7 @@ TEST(AxisMatrices, GatheredValuesAreExactlyTheEliminatedOnes) {
         EXPECT_EQ(K.constrained(i, d), mask(node, d) != 0);
       }
       for (int p = K.start[size_t(i)]; p < K.start[size_t(i) + 1]; ++p) {
-        const double want = full(i) || full(K.col[size_t(p)]) ? 0.0 : -k.weight[K.off_edge[size_t(p)]];
+        const double want = full(i) || full(K.column(size_t(p))) ? 0.0 : -k.weight[K.off_edge[size_t(p)]];
         EXPECT_EQ(std::memcmp(&K.off[size_t(p)], &want, sizeof want), 0) << "entry " << p;
       }
     }
@@ -137,12 +137,12 @@ TEST(AxisMatrices, RowsHoldTheOffDiagonalEntriesInAscendingColumns) {
   const axis_test::System s = axis_test::make_system();
   AxisMatrices K;
   K.analyze(s.model.pattern, s.perm);
-  EXPECT_EQ(long(K.col.size()) + K.n, long(s.model.pattern.matrix.nonZeros()));
+  EXPECT_EQ(long(K.col6.size()) + K.n, long(s.model.pattern.matrix.nonZeros()));
   for (int i = 0; i < K.n; ++i)
     for (int p = K.start[size_t(i)]; p < K.start[size_t(i) + 1]; ++p) {
-      EXPECT_NE(K.col[size_t(p)], i);
+      EXPECT_NE(K.column(size_t(p)), i);
       if (p > K.start[size_t(i)]) {
-        EXPECT_LT(K.col[size_t(p) - 1], K.col[size_t(p)]);
+        EXPECT_LT(K.column(size_t(p) - 1), K.column(size_t(p)));
       }
     }
 }

@@ -81,7 +81,7 @@ TEST(StepResults, MatchThePlainProductResidualLoopAndStress) {
   const StepWorkspace& w = *s.work;
   ASSERT_TRUE(w.last_springs_any);
   ASSERT_GT(w.force.cwiseAbs().maxCoeff(), 0.0);
-  std::vector<double> rows;
+  std::vector<double> rows(result_rows_size(m.n));
   int cases = 0;
   for (const bool stress : {true, false})
     for (const double bc : {2000.0, 0.0})
@@ -105,7 +105,7 @@ TEST(StepResults, MatchThePlainProductResidualLoopAndStress) {
           s.reaction_pressure.setConstant(7.0);
           s.strain.setConstant(7.0);
           s.stress.setConstant(7.0);
-          const ResidualSums got = compute_step_results(m, input, s, rows);
+          const ResidualSums got = compute_step_results(m, input, s, rows.data());
           // Round-off of sums over a node's neighbours, in another order than the scatter's.
           const double ku_scale = Ku.norm();
           EXPECT_TRUE(close(s.reaction, reaction, 1e-12));
@@ -144,11 +144,11 @@ TEST(StepResults, Deterministic) {
   ASSERT_FALSE(s.failed);
   const StepWorkspace& w = *s.work;
   const StepResultsInput input{w.K, w.mask, nullptr, nullptr, w.area_norms, w.rhs, w.a_free};
-  std::vector<double> rows;
-  const ResidualSums first = compute_step_results(m, input, s, rows);
+  std::vector<double> rows(result_rows_size(m.n));
+  const ResidualSums first = compute_step_results(m, input, s, rows.data());
   const NodeMat reaction = s.reaction, stress = s.stress;
   std::fill(rows.begin(), rows.end(), std::nan(""));
-  const ResidualSums again = compute_step_results(m, input, s, rows);
+  const ResidualSums again = compute_step_results(m, input, s, rows.data());
   for (int d = 0; d < 3; ++d) {
     EXPECT_EQ(first.free2[d], again.free2[d]);
     EXPECT_EQ(first.rhs2[d], again.rhs2[d]);

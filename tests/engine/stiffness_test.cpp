@@ -48,7 +48,7 @@ TEST(Stiffness, EliminatedRightHandSideMovesTheConstrainedValuesToTheRight) {
   const Kernels t;
   const TissueModel& m = t.s.model;
   NodeMat rhs(m.n, 3);
-  eliminate_rhs(m.pattern, t.s.k, t.s.mask, &t.f, t.u_fixed, rhs);
+  eliminate_rhs(m.neighbours, t.s.k, t.s.mask, &t.f, t.u_fixed, rhs);
   int coupled = 0;
   for (int d = 0; d < 3; ++d) {
     // K_full u = f on the free rows with u = u_fixed on the constrained entries: the free
@@ -73,9 +73,9 @@ TEST(Stiffness, EliminatedRightHandSideWithoutLoadsIsThatOfZeroLoads) {
   const TissueModel& m = t.s.model;
   const NodeMat zero = NodeMat::Zero(m.n, 3);
   NodeMat with_zero(m.n, 3), without(m.n, 3);
-  eliminate_rhs(m.pattern, t.s.k, t.s.mask, &zero, t.u_fixed, with_zero);
+  eliminate_rhs(m.neighbours, t.s.k, t.s.mask, &zero, t.u_fixed, with_zero);
   without.setConstant(7.0);
-  eliminate_rhs(m.pattern, t.s.k, t.s.mask, nullptr, t.u_fixed, without);
+  eliminate_rhs(m.neighbours, t.s.k, t.s.mask, nullptr, t.u_fixed, without);
   EXPECT_EQ(std::memcmp(with_zero.data(), without.data(), sizeof(double) * size_t(without.size())), 0);
   EXPECT_GT(without.cwiseAbs().maxCoeff(), 0.0);
 }
