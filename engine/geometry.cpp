@@ -135,19 +135,18 @@ double packed_area_sums_and_volume(const NodeMat& x, const TriMat& tris, const V
     }
   const V2 o[3] = {simd::splat(origin.x()), simd::splat(origin.y()), simd::splat(origin.z())};
   const int* t = tris.data();  // row-major: a triangle's three indices together
-  const size_t count = size_t(tris.rows());
+  const int* const pairs_end = t + 6 * (size_t(tris.rows()) / 2);
   double six_v = 0.0;
-  size_t k = 0;
-  for (; k + 2 <= count; k += 2) {
-    const Corners t0 = corners(px, t + 3 * k), t1 = corners(px, t + 3 * k + 3);
+  for (; t != pairs_end; t += 6) {
+    const Corners t0 = corners(px, t), t1 = corners(px, t + 3);
     const TwoCrosses s = two_crosses(t0, t1, o);
     add_to_corners(t0, 3 * n, simd::low_pair(s.sx, s.sy), s.sz[0]);
     add_to_corners(t1, 3 * n, simd::high_pair(s.sx, s.sy), s.sz[1]);
     six_v += s.six_v[0];
     six_v += s.six_v[1];
   }
-  if (k < count) {  // an odd count: the last triangle in both lanes, lane 0's result used
-    const Corners t0 = corners(px, t + 3 * k);
+  if (tris.rows() % 2 != 0) {  // an odd count: the last triangle in both lanes, lane 0's result used
+    const Corners t0 = corners(px, t);
     const TwoCrosses s = two_crosses(t0, t0, o);
     add_to_corners(t0, 3 * n, simd::low_pair(s.sx, s.sy), s.sz[0]);
     six_v += s.six_v[0];
