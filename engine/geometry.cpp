@@ -2,8 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdint>
-#include <cstring>
 #include <limits>
 
 #include "engine/simd2.hpp"
@@ -53,27 +51,105 @@ void distributed_area_vectors(const NodeMat& x, const TriMat& tris, NodeMat& are
   area_vectors *= kSixth;
 }
 
+namespace {
+
+using simd::V2;
+
+// Two nodes' positions (i, i + 1) from the columns of x as the three pairs of their packed rows:
+// {x0, y0}, {z0, x1}, {y1, z1}.
+struct TwoRows {
+  V2 u, v, w;
+};
+inline TwoRows two_rows(const double* const c[3], size_t i) {
+  const V2 x = simd::load2(c[0] + i), y = simd::load2(c[1] + i), z = simd::load2(c[2] + i);
+  return {simd::low_pair(x, y), simd::low_from(x, z), simd::high_pair(y, z)};
+}
+
+// A triangle's corners a, b, c: their rows of `packed`'s positions (px), whose sums are `3 N` further.
+struct Corners {
+  double *a, *b, *c;
+};
+inline Corners corners(double* px, const int* t) {
+  return {px + 3 * size_t(t[0]), px + 3 * size_t(t[1]), px + 3 * size_t(t[2])};
+}
+
+// Two triangles' cross products s = (b - a) x (c - a) (components x, y, z) and 6 V_k = (a - o) . s,
+// the first triangle in lane 0, the second in lane 1. Lane-wise, each lane does the operations
+// of the one-triangle formula in the same order (Eigen's cross product, and its 3-vector dot
+// (x x' + y y') + z z'), so its bits.
+struct TwoCrosses {
+  V2 sx, sy, sz, six_v;
+};
+inline TwoCrosses two_crosses(const Corners& t0, const Corners& t1, const V2 o[3]) {
+  const double *a0 = t0.a, *b0 = t0.b, *c0 = t0.c;
+  const double *a1 = t1.a, *b1 = t1.b, *c1 = t1.c;
+  const V2 ax = simd::pair(a0, a1), ay = simd::pair(a0 + 1, a1 + 1), az = simd::pair(a0 + 2, a1 + 2);
+  const V2 ux = simd::pair(b0, b1) - ax, uy = simd::pair(b0 + 1, b1 + 1) - ay, uz = simd::pair(b0 + 2, b1 + 2) - az;
+  const V2 vx = simd::pair(c0, c1) - ax, vy = simd::pair(c0 + 1, c1 + 1) - ay, vz = simd::pair(c0 + 2, c1 + 2) - az;
+  TwoCrosses r;
+  r.sx = uy * vz - uz * vy;
+  r.sy = uz * vx - ux * vz;
+  r.sz = ux * vy - uy * vx;
+  r.six_v = ((ax - o[0]) * r.sx + (ay - o[1]) * r.sy) + (az - o[2]) * r.sz;
+  return r;
+}
+
+// A triangle's cross product {s_x, s_y}, s_z added to the sums of its corners (`to_sums` = 3 N
+// after their positions), a, b, c in turn.
+inline void add_to_corners(const Corners& t, size_t to_sums, V2 sxy, double sz) {
+  for (double* row : {t.a, t.b, t.c}) {
+    double* p = row + to_sums;
+    simd::store2(p, simd::load2(p) + sxy);
+    p[2] += sz;
+  }
+}
+
+}  // namespace
+
+// Two triangles at a time for the arithmetic, their sums added triangle by triangle in order and
+// the volume terms summed in triangle order: every sum is the one-triangle loop's, term for term.
 double packed_area_sums_and_volume(const NodeMat& x, const TriMat& tris, const Vec3& origin,
                                    std::vector<double>& packed) {
   const size_t n = size_t(x.rows());
   packed.resize(6 * n);
   double* px = packed.data();
   double* pa = px + 3 * n;
-  for (size_t d = 0; d < 3; ++d) {
-    const double* col = x.col(Eigen::Index(d)).data();
-    for (size_t i = 0; i < n; ++i) {
-      px[3 * i + d] = col[i];
+  const double* const col[3] = {x.col(0).data(), x.col(1).data(), x.col(2).data()};
+  // Positions row by row and zero sums, two nodes at a time.
+  const V2 zero = {0.0, 0.0};
+  size_t i = 0;
+  for (; i + 2 <= n; i += 2) {
+    const TwoRows r = two_rows(col, i);
+    double *p = px + 3 * i, *q = pa + 3 * i;
+    simd::store2(p, r.u);
+    simd::store2(p + 2, r.v);
+    simd::store2(p + 4, r.w);
+    simd::store2(q, zero);
+    simd::store2(q + 2, zero);
+    simd::store2(q + 4, zero);
+  }
+  for (; i < n; ++i)
+    for (size_t d = 0; d < 3; ++d) {
+      px[3 * i + d] = col[d][i];
       pa[3 * i + d] = 0.0;
     }
-  }
+  const V2 o[3] = {simd::splat(origin.x()), simd::splat(origin.y()), simd::splat(origin.z())};
+  const int* t = tris.data();  // row-major: a triangle's three indices together
+  const int* const pairs_end = t + 6 * (size_t(tris.rows()) / 2);
   double six_v = 0.0;
-  for (Eigen::Index k = 0; k < tris.rows(); ++k) {
-    const size_t ia = size_t(tris(k, 0)), ib = size_t(tris(k, 1)), ic = size_t(tris(k, 2));
-    const Vec3 a(px + 3 * ia), b(px + 3 * ib), c(px + 3 * ic);
-    const Vec3 s = (b - a).cross(c - a);  // 6 S_k / 3
-    for (size_t node : {ia, ib, ic})
-      for (size_t d = 0; d < 3; ++d) pa[3 * node + d] += s[Eigen::Index(d)];
-    six_v += (a - origin).dot(s);
+  for (; t != pairs_end; t += 6) {
+    const Corners t0 = corners(px, t), t1 = corners(px, t + 3);
+    const TwoCrosses s = two_crosses(t0, t1, o);
+    add_to_corners(t0, 3 * n, simd::low_pair(s.sx, s.sy), s.sz[0]);
+    add_to_corners(t1, 3 * n, simd::high_pair(s.sx, s.sy), s.sz[1]);
+    six_v += s.six_v[0];
+    six_v += s.six_v[1];
+  }
+  if (tris.rows() % 2 != 0) {  // an odd count: the last triangle in both lanes, lane 0's result used
+    const Corners t0 = corners(px, t);
+    const TwoCrosses s = two_crosses(t0, t0, o);
+    add_to_corners(t0, 3 * n, simd::low_pair(s.sx, s.sy), s.sz[0]);
+    six_v += s.six_v[0];
   }
   return six_v / 6.0;
 }
@@ -126,22 +202,27 @@ AreaNormSums unpack_area_vectors_and_norms(const std::vector<double>& packed, No
 bool packed_positions_equal(const NodeMat& x, const std::vector<double>& packed) {
   const size_t n = size_t(x.rows());
   if (packed.size() != 6 * n) return false;
-  // Bits, not values (-0 and 0, NaNs): the same bits give the same sums. Node-major, the
-  // differences OR-ed over a block of nodes before the branch.
-  const double* c[3] = {x.col(0).data(), x.col(1).data(), x.col(2).data()};
+  // Bits, not values (-0 and 0, NaNs): the same bits give the same sums. Two nodes at a time,
+  // their columns regrouped as their packed rows, the differences OR-ed over a block of nodes
+  // before the branch.
+  const double* const c[3] = {x.col(0).data(), x.col(1).data(), x.col(2).data()};
   const double* p = packed.data();
-  auto bits = [](double v) {
-    std::uint64_t b;
-    std::memcpy(&b, &v, sizeof b);
-    return b;
-  };
-  constexpr size_t kBlock = 64;
+  constexpr size_t kBlock = 64;  // even: only the last block has a node alone
   for (size_t i0 = 0; i0 < n; i0 += kBlock) {
-    std::uint64_t diff = 0;
+    V2 diff = {0.0, 0.0};
     const size_t end = std::min(n, i0 + kBlock);
-    for (size_t i = i0; i < end; ++i)
-      diff |= (bits(p[3 * i]) ^ bits(c[0][i])) | (bits(p[3 * i + 1]) ^ bits(c[1][i])) | (bits(p[3 * i + 2]) ^ bits(c[2][i]));
-    if (diff != 0) return false;
+    size_t i = i0;
+    for (; i + 2 <= end; i += 2) {
+      const TwoRows r = two_rows(c, i);
+      const double* q = p + 3 * i;
+      diff = simd::or2(diff, simd::or2(simd::or2(simd::xor2(simd::load2(q), r.u), simd::xor2(simd::load2(q + 2), r.v)),
+                                       simd::xor2(simd::load2(q + 4), r.w)));
+    }
+    if (i < end) {  // the last node of an odd count
+      const V2 xy = {c[0][i], c[1][i]}, z = {c[2][i], 0.0}, qz = {p[3 * i + 2], 0.0};
+      diff = simd::or2(diff, simd::or2(simd::xor2(simd::load2(p + 3 * i), xy), simd::xor2(qz, z)));
+    }
+    if (!simd::all_bits_zero(diff)) return false;
   }
   return true;
 }

@@ -32,6 +32,22 @@ inline V2 min2(V2 a, V2 b) { return _mm_min_pd(b, a); }
 inline V2 sqrt2(V2 a) { return _mm_sqrt_pd(a); }
 inline V2 abs2(V2 a) { return _mm_andnot_pd(_mm_set1_pd(-0.0), a); }
 
+// {p[0], q[0]}: one double from each of two places (movsd, movhpd).
+inline V2 pair(const double* p, const double* q) { return V2{*p, *q}; }
+// {a[0], b[0]} and {a[1], b[1]}: two pairs regrouped by lane.
+inline V2 low_pair(V2 a, V2 b) { return _mm_unpacklo_pd(a, b); }
+inline V2 high_pair(V2 a, V2 b) { return _mm_unpackhi_pd(a, b); }
+// {b[0], a[1]} (one movsd).
+inline V2 low_from(V2 a, V2 b) { return _mm_move_sd(a, b); }
+// Bitwise a ^ b and a | b of two pairs.
+inline V2 xor2(V2 a, V2 b) { return _mm_xor_pd(a, b); }
+inline V2 or2(V2 a, V2 b) { return _mm_or_pd(a, b); }
+// Whether all 128 bits of a are zero.
+inline bool all_bits_zero(V2 a) {
+  const __m128i b = _mm_castpd_si128(a);
+  return _mm_movemask_epi8(_mm_cmpeq_epi8(b, _mm_setzero_si128())) == 0xFFFF;
+}
+
 // Whether none of the 16 flags (bytes) from p is set.
 inline bool none_set16(const unsigned char* p) {
   const __m128i flags = _mm_loadu_si128(reinterpret_cast<const __m128i*>(p));

@@ -1,8 +1,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
 #include <limits>
+#include <vector>
 
+#include "app/mesh_io.hpp"
 #include "engine/geometry.hpp"
 #include "engine/shapes.hpp"
 
@@ -81,6 +86,93 @@ TEST(Geometry, PackedSumsAreTheOnePassResultAndKnowTheirPositions) {
   EXPECT_FALSE(packed_positions_equal(zero, packed));
   // Another node count.
   EXPECT_FALSE(packed_positions_equal(s.positions.topRows(s.node_count() - 1), packed));
+}
+
+// The pass as one triangle at a time in plain scalar code (the formula of the Eigen version it
+// replaced): positions row by row, the cross products s = (b - a) x (c - a) summed at the
+// corners a, b, c in triangle order, 6 V = sum_k ((a_x - o_x) s_x + (a_y - o_y) s_y) + (a_z - o_z) s_z.
+double scalar_packed_area_sums_and_volume(const NodeMat& x, const TriMat& tris, const Vec3& o,
+                                          std::vector<double>& packed) {
+  const size_t n = size_t(x.rows());
+  packed.assign(6 * n, 0.0);
+  for (size_t i = 0; i < n; ++i)
+    for (int d = 0; d < 3; ++d) packed[3 * i + size_t(d)] = x(Eigen::Index(i), d);
+  double six_v = 0.0;
+  for (Eigen::Index k = 0; k < tris.rows(); ++k) {
+    const double* a = &packed[3 * size_t(tris(k, 0))];
+    const double* b = &packed[3 * size_t(tris(k, 1))];
+    const double* c = &packed[3 * size_t(tris(k, 2))];
+    const double ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2];
+    const double vx = c[0] - a[0], vy = c[1] - a[1], vz = c[2] - a[2];
+    const double s[3] = {uy * vz - uz * vy, uz * vx - ux * vz, ux * vy - uy * vx};
+    for (int corner = 0; corner < 3; ++corner)
+      for (size_t d = 0; d < 3; ++d) packed[3 * n + 3 * size_t(tris(k, corner)) + d] += s[d];
+    six_v += ((a[0] - o.x()) * s[0] + (a[1] - o.y()) * s[1]) + (a[2] - o.z()) * s[2];
+  }
+  return six_v / 6.0;
+}
+
+std::uint64_t bits(double v) {
+  std::uint64_t b;
+  std::memcpy(&b, &v, sizeof b);
+  return b;
+}
+
+// The two-triangles-at-a-time pass gives the scalar pass's bits: on the 2.5k and 10k livers
+// (deformed, off the origin), with an odd triangle count, and with triangles that repeat a node
+// (a node's sums then take two terms of one triangle, in corner order).
+TEST(Geometry, PackedPassIsTheScalarPassBitForBit) {
+  for (const char* name : {"liver_L4.obj", "liver_L5.obj"}) {
+    const auto path = std::filesystem::path(VDMSIM_SOURCE_DIR) / "assets/meshes" / name;
+    const vdmsim::MeshLoadResult mesh = vdmsim::load_surface_mesh(path.string());
+    ASSERT_TRUE(mesh.ok) << mesh.error;
+    NodeMat x = mesh.mesh.positions;
+    for (Eigen::Index i = 0; i < x.rows(); ++i)
+      x.row(i) = Vec3(0.3 + 1.2 * x(i, 0), -0.1 + x(i, 1) * (1 + 3 * x(i, 2)), 0.7 * x(i, 2) - 0.02).transpose();
+    const Vec3 origin(0.31, -0.12, 0.01);
+    const TriMat& all = mesh.mesh.triangles;
+    TriMat repeated(all.rows() + 3, 3);
+    repeated.topRows(all.rows()) = all;
+    repeated.row(all.rows()) << 7, 7, 12;
+    repeated.row(all.rows() + 1) << 12, 7, 12;
+    repeated.row(all.rows() + 2) << 3, 3, 3;
+    const TriMat odd = all.topRows(all.rows() - 1);
+    ASSERT_EQ(odd.rows() % 2, 1);
+    int case_index = 0;
+    for (const TriMat* tris : {&all, static_cast<const TriMat*>(&odd), static_cast<const TriMat*>(&repeated)}) {
+      std::vector<double> expected, packed(5, 1.0);  // a stale packed of another size
+      const double v_expected = scalar_packed_area_sums_and_volume(x, *tris, origin, expected);
+      const double v = packed_area_sums_and_volume(x, *tris, origin, packed);
+      EXPECT_EQ(bits(v), bits(v_expected)) << name << " case " << case_index;
+      ASSERT_EQ(packed.size(), expected.size());
+      size_t differing = 0;
+      for (size_t j = 0; j < packed.size(); ++j) differing += bits(packed[j]) != bits(expected[j]);
+      EXPECT_EQ(differing, 0u) << name << " case " << case_index;
+      // And again into the same packed (sums restarted from zero).
+      EXPECT_EQ(bits(packed_area_sums_and_volume(x, *tris, origin, packed)), bits(v_expected));
+      EXPECT_TRUE(packed == expected);
+      ++case_index;
+    }
+    // An odd node count (the packing's and the comparison's last node alone).
+    const NodeMat fewer = x.topRows(x.rows() - (x.rows() % 2 == 0 ? 1 : 0));
+    ASSERT_EQ(fewer.rows() % 2, 1);
+    TriMat kept(all.rows(), 3);
+    Eigen::Index kept_count = 0;
+    for (Eigen::Index k = 0; k < all.rows(); ++k)
+      if (all.row(k).maxCoeff() < fewer.rows()) kept.row(kept_count++) = all.row(k);
+    const TriMat some = kept.topRows(kept_count);
+    std::vector<double> expected, packed;
+    EXPECT_EQ(bits(packed_area_sums_and_volume(fewer, some, origin, packed)),
+              bits(scalar_packed_area_sums_and_volume(fewer, some, origin, expected)));
+    EXPECT_TRUE(packed == expected);
+    EXPECT_TRUE(packed_positions_equal(fewer, packed));
+    for (Eigen::Index node : {Eigen::Index(0), fewer.rows() - 2, fewer.rows() - 1})
+      for (int d = 0; d < 3; ++d) {
+        NodeMat moved = fewer;
+        moved(node, d) = -moved(node, d);
+        EXPECT_FALSE(packed_positions_equal(moved, packed)) << name << " node " << node << " axis " << d;
+      }
+  }
 }
 
 TEST(Geometry, DistributedVolumesSumToVolume) {
