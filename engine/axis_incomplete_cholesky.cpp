@@ -244,6 +244,12 @@ VDM_AVX2 void apply6_avx2(int n, const int* lo_start, const int* lo_col, const f
 template <int W>
 void AxisIncompleteCholesky::apply(const double* r, double* z, double* rz) const {
   static_assert(W == 3 || W == 6, "blocks of 3 or 6 vectors");
+  // The variant chosen first (nothing live across the call: the SSE2 sweeps compile as alone).
+  if (W == 6 && simd::avx2_enabled()) {
+    apply6_avx2(n_, lo_start_.data(), lo_col_.data(), lo_val_.data(), up_start_.data(), up_col_.data(),
+                up_val_.data(), inv_diag_.data(), r, z, rz);
+    return;
+  }
   using simd::V2;
   using simd::load2;
   using simd::splat;
@@ -259,10 +265,6 @@ void AxisIncompleteCholesky::apply(const double* r, double* z, double* rz) const
   const float* up_val = up_val_.data();
   const double* inv_diag = inv_diag_.data();
   if constexpr (W == 6) {
-    if (simd::avx2_enabled()) {
-      apply6_avx2(n_, lo_start, lo_col, lo_val, up_start, up_col, up_val, inv_diag, r, z, rz);
-      return;
-    }
     // The three values of an entry as pairs (v0, v1) and (v1, v2), each in one conversion,
     // then spread over the lanes.
     // Lanes: the two vectors of an axis (axis_matrices.hpp) share the value of L^d.

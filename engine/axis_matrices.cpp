@@ -285,15 +285,16 @@ inline void row_product3(const RowArrays& k, const double* x, int i, simd::V2& a
 template <int W>
 void multiply_block(const AxisMatrices& K, const double* x, double* y, double* dot) {
   static_assert(W == 3 || W == 6, "blocks of 3 or 6 vectors");
+  // The variant chosen first (nothing live across the call: the SSE2 loop compiles as alone).
+  if (W == 6 && simd::avx2_enabled()) {
+    multiply_block6_avx2(RowArrays(K), K.n, x, y, dot);
+    eliminate_constrained<W>(K, x, y, dot);
+    return;
+  }
   const RowArrays rows(K);
   using simd::V2;
   using simd::load2;
   if constexpr (W == 6) {
-    if (simd::avx2_enabled()) {
-      multiply_block6_avx2(rows, K.n, x, y, dot);
-      eliminate_constrained<W>(K, x, y, dot);
-      return;
-    }
     // Lanes: the two vectors of an axis (r^d, s^d); one value for the six.
     V2 d0 = {0, 0}, d1 = {0, 0}, d2 = {0, 0};
     for (int i = 0; i < K.n; ++i) {
@@ -410,10 +411,6 @@ void residual_rows(const AxisMatrices& K, const BRow& b_row, const double* x, do
   using simd::V2;
   using simd::store2;
   if constexpr (W == 6) {
-    if (simd::avx2_enabled()) {
-      residual_rows6_avx2(rows, K.n, b_row, x, r, bn, rn);
-      return;
-    }
     // multiply_block's row, then the row's residual (lanes as there).
     V2 b0 = {0, 0}, b1 = {0, 0}, b2 = {0, 0}, r0 = {0, 0}, r1 = {0, 0}, r2 = {0, 0};
     for (int i = 0; i < K.n; ++i) {
@@ -475,7 +472,8 @@ bool residual_block(const AxisMatrices& K, const double* b, const double* x, dou
   using simd::V2;
   using simd::load2;
   if constexpr (W == 6) {
-    residual_rows<W>(K, BlockRows6{b}, x, r, bn, rn);
+    if (simd::avx2_enabled()) residual_rows6_avx2(RowArrays(K), K.n, BlockRows6{b}, x, r, bn, rn);
+    else residual_rows<W>(K, BlockRows6{b}, x, r, bn, rn);
   } else {
     auto b_row = [b](int i, V2& cxy, double& cz) {
       const double* bi = b + size_t(i) * 3;
@@ -492,11 +490,15 @@ bool residual_block(const AxisMatrices& K, const std::array<const double*, W / 3
                     double* bn, double* rn) {
   static_assert(W == 3 || W == 6, "blocks of 3 or 6 vectors");
   if (K.partial_count != 0) return false;
+  // The variant chosen first, as in multiply_block.
+  const bool avx2 = W == 6 && simd::avx2_enabled();
   using simd::V2;
   const int* node = K.node_of.data();
   const size_t n = size_t(K.n), n2 = 2 * n;  // the columns' offsets
   if constexpr (W == 6) {
-    residual_rows<W>(K, SourceRows6{node, b_src[0], b_src[1], n, n2}, x, r, bn, rn);
+    const SourceRows6 b_row{node, b_src[0], b_src[1], n, n2};
+    if (avx2) residual_rows6_avx2(RowArrays(K), K.n, b_row, x, r, bn, rn);
+    else residual_rows<W>(K, b_row, x, r, bn, rn);
   } else {
     const double* b0 = b_src[0];
     auto b_row = [node, b0, n, n2](int i, V2& cxy, double& cz) {
