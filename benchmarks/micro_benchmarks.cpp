@@ -25,6 +25,7 @@
 #include "engine/axis_matrices.hpp"
 #include "engine/incomplete_cholesky.hpp"
 #include "engine/node_ordering.hpp"
+#include "engine/simd4.hpp"
 #include "engine/sparse_ldlt.hpp"
 #include "engine/sim_state.hpp"
 #include "engine/step_results.hpp"
@@ -400,9 +401,20 @@ void BM_ThreeAxisKernels(benchmark::State& st) {
   }
   const char* names[] = {"spmv x3",       "spmv x6",       "ic0_apply x3", "ic0_apply x6", "ic0_factorize 3 axes",
                          "gather 3 axes (the solver's: edge weights, 60 held nodes)", "mic0_factorize 3 axes (omega 0.9, the solver's)"};
-  st.SetLabel(names[which]);
+  const bool six = which == 1 || which == 3;  // the kernels with AVX2 variants (engine/simd4.hpp)
+  st.SetLabel(std::string(names[which]) + (six ? (vdm::simd::avx2_enabled() ? " (AVX2)" : " (SSE2)") : ""));
 }
 BENCHMARK(BM_ThreeAxisKernels)->DenseRange(0, 6)->Unit(benchmark::kMicrosecond);
+
+// The blocks of 6 on the SSE2 kernels (forced), for comparison with BM_ThreeAxisKernels/1
+// and /3 where the CPU runs their AVX2 variants.
+void BM_ThreeAxisKernelsSse2(benchmark::State& st) {
+  const bool saved = vdm::simd::avx2_enabled();
+  vdm::simd::set_avx2(false);
+  BM_ThreeAxisKernels(st);
+  vdm::simd::set_avx2(saved);
+}
+BENCHMARK(BM_ThreeAxisKernelsSse2)->Arg(1)->Arg(3)->Unit(benchmark::kMicrosecond);
 
 
 // What the contact broad phase costs without a BVH: the exact node-versus-capsule distance of

@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "engine/simd2.hpp"
+#include "engine/simd4.hpp"
 
 namespace vdm {
 
@@ -22,7 +23,8 @@ void AxisIncompleteCholesky::analyze(const AxisMatrices& K) {
       }
     lo_start_[size_t(i) + 1] = static_cast<int>(lo_col_.size());
   }
-  lo_val_.assign(3 * lo_col_.size(), 0.0f);
+  // One float to spare after the last entry: the AVX2 sweeps read an entry's values as four.
+  lo_val_.assign(3 * lo_col_.size() + 1, 0.0f);
   // Rows of L^T: entry (i, k) of L with k < i is entry (k, i) of L^T.
   up_start_.assign(size_t(n_) + 1, 0);
   for (size_t p = 0; p < lo_col_.size(); ++p) ++up_start_[size_t(lo_col_[p]) + 1];
@@ -36,7 +38,7 @@ void AxisIncompleteCholesky::analyze(const AxisMatrices& K) {
       up_col_[size_t(fill[size_t(k)])] = i;
       up_src_[size_t(fill[size_t(k)]++)] = p;
     }
-  up_val_.assign(3 * lo_col_.size(), 0.0f);
+  up_val_.assign(3 * lo_col_.size() + 1, 0.0f);  // one to spare as well
   inv_diag_.assign(3 * size_t(n_), 0.0);
   mask_.assign(3 * size_t(n_), 0);
   work_diag_.assign(3 * size_t(n_), 0.0);
@@ -164,14 +166,16 @@ void AxisIncompleteCholesky::copy_to_upper() {
 }
 
 void AxisIncompleteCholesky::save_values(std::vector<double>& out) const {
-  out.insert(out.end(), lo_val_.begin(), lo_val_.end());  // floats: exact as doubles
+  const std::ptrdiff_t values = std::ptrdiff_t(3 * lo_col_.size());  // not the float to spare
+  out.insert(out.end(), lo_val_.begin(), lo_val_.begin() + values);   // floats: exact as doubles
   out.insert(out.end(), inv_diag_.begin(), inv_diag_.end());
   out.insert(out.end(), mask_.begin(), mask_.end());
 }
 
 bool AxisIncompleteCholesky::load_values(const std::vector<double>& in, size_t& pos) {
-  if (in.size() < pos || in.size() - pos < lo_val_.size() + inv_diag_.size() + mask_.size()) return false;
-  for (float& v : lo_val_) v = float(in[pos++]);
+  const size_t values = 3 * lo_col_.size();  // not the float to spare
+  if (in.size() < pos || in.size() - pos < values + inv_diag_.size() + mask_.size()) return false;
+  for (size_t k = 0; k < values; ++k) lo_val_[k] = float(in[pos++]);
   std::copy(in.begin() + std::ptrdiff_t(pos), in.begin() + std::ptrdiff_t(pos + inv_diag_.size()), inv_diag_.begin());
   pos += inv_diag_.size();
   for (std::uint8_t& m : mask_) m = in[pos++] != 0.0 ? 1 : 0;
@@ -179,9 +183,73 @@ bool AxisIncompleteCholesky::load_values(const std::vector<double>& in, size_t& 
   return true;
 }
 
+namespace {
+
+// apply<6> with AVX2 (simd4.hpp): a row of 6 as lanes 0-3 (a0 and a1 of the SSE2 sweeps) and
+// 4-5 (a2), each lane with the same operations in the same order (so the same bits). An
+// entry's three values are read as four floats (the arrays have one float to spare after the
+// last entry) and spread over the lanes.
+VDM_AVX2 void apply6_avx2(int n, const int* lo_start, const int* lo_col, const float* lo_val, const int* up_start,
+                          const int* up_col, const float* up_val, const double* inv_diag, const double* r, double* z,
+                          double* rz) {
+  using simd::V2;
+  using simd::V4;
+  using simd::load2;
+  using simd::load4;
+  // Forward: L y = r (y stored in z). Rows are written and read back in the same two parts
+  // (4 + 2 doubles): a row loaded right after its store is then forwarded from it.
+  for (int i = 0; i < n; ++i) {
+    const double* ri = r + size_t(i) * 6;
+    V4 a01 = load4(ri);
+    V2 a2 = load2(ri + 4);
+    for (int p = lo_start[i]; p < lo_start[i + 1]; ++p) {
+      const V4 v = simd::load4f(lo_val + 3 * size_t(p));
+      const double* zj = block_row<6>(z, 6 * lo_col[p]);
+      a01 -= simd::dup01(v) * load4(zj);
+      a2 -= simd::dup2(v) * load2(zj + 4);
+    }
+    const double* id = inv_diag + 3 * size_t(i);
+    double* zi = z + size_t(i) * 6;
+    simd::store4(zi, a01 * simd::dup01(load2(id)));
+    simd::store2(zi + 4, a2 * simd::splat(id[2]));
+  }
+  // Backward: L^T z = y, by the rows of L^T.
+  V4 d01 = {0, 0, 0, 0};
+  V2 d2 = {0, 0};
+  for (int i = n - 1; i >= 0; --i) {
+    double* zi = z + size_t(i) * 6;
+    V4 a01 = load4(zi);
+    V2 a2 = load2(zi + 4);
+    for (int p = up_start[i]; p < up_start[i + 1]; ++p) {
+      const V4 v = simd::load4f(up_val + 3 * size_t(p));
+      const double* zj = block_row<6>(z, 6 * up_col[p]);
+      a01 -= simd::dup01(v) * load4(zj);
+      a2 -= simd::dup2(v) * load2(zj + 4);
+    }
+    const double* id = inv_diag + 3 * size_t(i);
+    a01 *= simd::dup01(load2(id));
+    a2 *= simd::splat(id[2]);
+    simd::store4(zi, a01);
+    simd::store2(zi + 4, a2);
+    const double* ri = r + size_t(i) * 6;
+    d01 += load4(ri) * a01;
+    d2 += load2(ri + 4) * a2;
+  }
+  simd::store4(rz, d01);
+  simd::store2(rz + 4, d2);
+}
+
+}  // namespace
+
 template <int W>
 void AxisIncompleteCholesky::apply(const double* r, double* z, double* rz) const {
   static_assert(W == 3 || W == 6, "blocks of 3 or 6 vectors");
+  // The variant chosen first (nothing live across the call: the SSE2 sweeps compile as alone).
+  if (W == 6 && simd::avx2_enabled()) {
+    apply6_avx2(n_, lo_start_.data(), lo_col_.data(), lo_val_.data(), up_start_.data(), up_col_.data(),
+                up_val_.data(), inv_diag_.data(), r, z, rz);
+    return;
+  }
   using simd::V2;
   using simd::load2;
   using simd::splat;

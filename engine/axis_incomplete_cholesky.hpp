@@ -49,11 +49,12 @@ class AxisIncompleteCholesky {
   // block_row: copies of the columns times 6 saved 8 % of their instructions but cost 1 MB at
   // 40k nodes, which the peak-memory target did not have.)
   std::vector<int> lo_start_, lo_col_, lo_src_;
-  std::vector<float> lo_val_;              // 3 per entry (float: a preconditioner; half the loads)
+  std::vector<float> lo_val_;              // 3 per entry (float: a preconditioner; half the loads),
+                                           // and one to spare (the AVX2 sweeps read 4 at a time)
   // The same entries by rows of L^T (strictly upper), for a gathering backward solve;
   // up_src_: index into the lower entries.
   std::vector<int> up_start_, up_col_, up_src_;
-  std::vector<float> up_val_;              // 3 per entry
+  std::vector<float> up_val_;              // 3 per entry, and one to spare
   std::vector<double> inv_diag_;           // 3 per row: 1 / L_ii
   std::vector<std::uint8_t> mask_;         // 3 per row: the constrained set the factors fit
   std::vector<double> work_diag_;           // scratch: K's diagonal as the elimination updates it

@@ -7,6 +7,7 @@
 #include <utility>
 
 #include "engine/simd2.hpp"
+#include "engine/simd4.hpp"
 
 namespace vdm {
 
@@ -223,6 +224,46 @@ inline void row_product6(const RowArrays& k, const double* x, int i, simd::V2& a
   }
 }
 
+// The same with AVX2 (simd4.hpp): lanes 0-3 of a01 are a0 and a1 above, a2 the same, each
+// lane with the same operations in the same order (so the same bits).
+VDM_AVX2 inline void row_product6_avx2(const RowArrays& k, const double* x, int i, simd::V4& a01, simd::V2& a2) {
+  using simd::load2;
+  using simd::load4;
+  const double* xi = x + size_t(i) * 6;
+  const double* di = k.diag + 3 * size_t(i);
+  a01 = simd::dup01(load2(di)) * load4(xi);
+  a2 = simd::splat(di[2]) * load2(xi + 4);
+  for (int p = k.start[i]; p < k.start[i + 1]; ++p) {
+    const double* xj = block_row<6>(x, k.col6[p]);
+    const simd::V4 v = simd::splat4(k.off[p]);
+    a01 += v * load4(xj);
+    a2 += simd::low2(v) * load2(xj + 4);
+  }
+}
+
+// multiply_block<6> with AVX2 (K's arrays by value, as below).
+VDM_AVX2 void multiply_block6_avx2(const RowArrays rows, int n, const double* x, double* y, double* dot) {
+  using simd::V2;
+  using simd::V4;
+  using simd::load2;
+  using simd::load4;
+  V4 d01 = {0, 0, 0, 0};
+  V2 d2 = {0, 0};
+  for (int i = 0; i < n; ++i) {
+    const double* xi = x + size_t(i) * 6;
+    V4 a01;
+    V2 a2;
+    row_product6_avx2(rows, x, i, a01, a2);
+    double* yi = y + size_t(i) * 6;
+    simd::store4(yi, a01);
+    simd::store2(yi + 4, a2);
+    d01 += load4(xi) * a01;
+    d2 += load2(xi + 4) * a2;
+  }
+  simd::store4(dot, d01);
+  simd::store2(dot + 4, d2);
+}
+
 // Row i of K x for a block of 3: x and y together (their values are adjacent), z alone.
 inline void row_product3(const RowArrays& k, const double* x, int i, simd::V2& axy, double& az) {
   using simd::load2;
@@ -244,6 +285,12 @@ inline void row_product3(const RowArrays& k, const double* x, int i, simd::V2& a
 template <int W>
 void multiply_block(const AxisMatrices& K, const double* x, double* y, double* dot) {
   static_assert(W == 3 || W == 6, "blocks of 3 or 6 vectors");
+  // The variant chosen first (nothing live across the call: the SSE2 loop compiles as alone).
+  if (W == 6 && simd::avx2_enabled()) {
+    multiply_block6_avx2(RowArrays(K), K.n, x, y, dot);
+    eliminate_constrained<W>(K, x, y, dot);
+    return;
+  }
   const RowArrays rows(K);
   using simd::V2;
   using simd::load2;
@@ -288,8 +335,76 @@ void multiply_block(const AxisMatrices& K, const double* x, double* y, double* d
 
 namespace {
 
-// residual_block's pass, row i of b from b_row: b_row(i, c0, c1, c2) for W = 6 (the lanes of
-// multiply_block), b_row(i, cxy, cz) for W = 3.
+// Row i of b for residual_rows<6>, as the SSE2 pass takes it (c0, c1, c2: the lanes of
+// multiply_block) or the AVX2 one (c01, c2): from a block of 6, or from the source's columns.
+struct BlockRows6 {
+  const double* b;
+  void operator()(int i, simd::V2& c0, simd::V2& c1, simd::V2& c2) const {
+    const double* bi = b + size_t(i) * 6;
+    c0 = simd::load2(bi);
+    c1 = simd::load2(bi + 2);
+    c2 = simd::load2(bi + 4);
+  }
+  VDM_AVX2 void operator()(int i, simd::V4& c01, simd::V2& c2) const {
+    const double* bi = b + size_t(i) * 6;
+    c01 = simd::load4(bi);
+    c2 = simd::load2(bi + 4);
+  }
+};
+
+struct SourceRows6 {
+  const int* node;     // K.node_of
+  const double* b0;    // system 0's n x 3 column-major matrix
+  const double* b1;    // system 1's
+  size_t n, n2;        // the columns' offsets
+  void operator()(int i, simd::V2& c0, simd::V2& c1, simd::V2& c2) const {
+    const size_t v = size_t(node[i]);
+    c0 = simd::V2{b0[v], b1[v]};
+    c1 = simd::V2{b0[v + n], b1[v + n]};
+    c2 = simd::V2{b0[v + n2], b1[v + n2]};
+  }
+  VDM_AVX2 void operator()(int i, simd::V4& c01, simd::V2& c2) const {
+    const size_t v = size_t(node[i]);
+    c01 = simd::V4{b0[v], b1[v], b0[v + n], b1[v + n]};
+    c2 = simd::V2{b0[v + n2], b1[v + n2]};
+  }
+};
+
+// residual_rows<6> with AVX2: the lanes of multiply_block6_avx2, each with the SSE2 pass's
+// operations in its order. K's arrays and b_row by value: local copies, kept in registers
+// across the stores (through references they were reloaded on every row).
+template <class BRow>
+VDM_AVX2 void residual_rows6_avx2(const RowArrays rows, int n, const BRow b_row, const double* x, double* r,
+                                  double* bn, double* rn) {
+  using simd::V2;
+  using simd::V4;
+  V4 b01 = {0, 0, 0, 0}, r01 = {0, 0, 0, 0};
+  V2 b2 = {0, 0}, r2 = {0, 0};
+  for (int i = 0; i < n; ++i) {
+    V4 a01;
+    V2 a2;
+    row_product6_avx2(rows, x, i, a01, a2);
+    V4 c01;
+    V2 c2;
+    b_row(i, c01, c2);
+    b01 += c01 * c01;
+    b2 += c2 * c2;
+    const V4 e01 = c01 - a01;
+    const V2 e2 = c2 - a2;
+    double* ri = r + size_t(i) * 6;
+    simd::store4(ri, e01);
+    simd::store2(ri + 4, e2);
+    r01 += e01 * e01;
+    r2 += e2 * e2;
+  }
+  simd::store4(bn, b01);
+  simd::store2(bn + 4, b2);
+  simd::store4(rn, r01);
+  simd::store2(rn + 4, r2);
+}
+
+// residual_block's pass, row i of b from b_row: b_row(i, c0, c1, c2) for W = 6 (BlockRows6,
+// SourceRows6), b_row(i, cxy, cz) for W = 3.
 template <int W, class BRow>
 void residual_rows(const AxisMatrices& K, const BRow& b_row, const double* x, double* r, double* bn, double* rn) {
   const RowArrays rows(K);
@@ -357,13 +472,8 @@ bool residual_block(const AxisMatrices& K, const double* b, const double* x, dou
   using simd::V2;
   using simd::load2;
   if constexpr (W == 6) {
-    auto b_row = [b](int i, V2& c0, V2& c1, V2& c2) {
-      const double* bi = b + size_t(i) * 6;
-      c0 = load2(bi);
-      c1 = load2(bi + 2);
-      c2 = load2(bi + 4);
-    };
-    residual_rows<W>(K, b_row, x, r, bn, rn);
+    if (simd::avx2_enabled()) residual_rows6_avx2(RowArrays(K), K.n, BlockRows6{b}, x, r, bn, rn);
+    else residual_rows<W>(K, BlockRows6{b}, x, r, bn, rn);
   } else {
     auto b_row = [b](int i, V2& cxy, double& cz) {
       const double* bi = b + size_t(i) * 3;
@@ -380,19 +490,15 @@ bool residual_block(const AxisMatrices& K, const std::array<const double*, W / 3
                     double* bn, double* rn) {
   static_assert(W == 3 || W == 6, "blocks of 3 or 6 vectors");
   if (K.partial_count != 0) return false;
+  // The variant chosen first, as in multiply_block.
+  const bool avx2 = W == 6 && simd::avx2_enabled();
   using simd::V2;
   const int* node = K.node_of.data();
   const size_t n = size_t(K.n), n2 = 2 * n;  // the columns' offsets
   if constexpr (W == 6) {
-    const double* b0 = b_src[0];
-    const double* b1 = b_src[1];
-    auto b_row = [node, b0, b1, n, n2](int i, V2& c0, V2& c1, V2& c2) {
-      const size_t v = size_t(node[i]);
-      c0 = V2{b0[v], b1[v]};
-      c1 = V2{b0[v + n], b1[v + n]};
-      c2 = V2{b0[v + n2], b1[v + n2]};
-    };
-    residual_rows<W>(K, b_row, x, r, bn, rn);
+    const SourceRows6 b_row{node, b_src[0], b_src[1], n, n2};
+    if (avx2) residual_rows6_avx2(RowArrays(K), K.n, b_row, x, r, bn, rn);
+    else residual_rows<W>(K, b_row, x, r, bn, rn);
   } else {
     const double* b0 = b_src[0];
     auto b_row = [node, b0, n, n2](int i, V2& cxy, double& cz) {

@@ -2,10 +2,14 @@
 // (permuted) matrix; on a block of vectors it preconditions each with its own axis.
 #include <gtest/gtest.h>
 
+#include <cstring>
+#include <vector>
+
 #include "engine/axis_incomplete_cholesky.hpp"
 #include "engine/block_pcg.hpp"
 #include "engine/incomplete_cholesky.hpp"
 #include "support/axis_systems.hpp"
+#include "support/simd_paths.hpp"
 
 namespace vdm {
 namespace {
@@ -179,6 +183,43 @@ TEST(AxisIncompleteCholesky, FittedToAnotherConstrainedSetPreconditionsItsSystem
   // Older factors precondition less well, but still well (without the refit's identity
   // rows the constrained entries would not even be solved exactly).
   EXPECT_LE(its_fitted, 2 * its_fresh) << its_fitted << " against " << its_fresh;
+}
+
+// The AVX2 sweeps on blocks of 6 (engine/simd4.hpp) give the SSE2 ones' bits: with IC(0)
+// and relaxed MIC(0) factors, and with factors fitted to another constrained set.
+TEST(AxisIncompleteCholesky, Avx2SweepsGiveTheSse2Bits) {
+  if (!simd::avx2_supported()) GTEST_SKIP() << "this CPU lacks AVX2: only the SSE2 sweeps run here";
+  const axis_test::System s = axis_test::make_system();
+  const TissueModel& m = s.model;
+  AxisMatrices K;
+  axis_test::gather(s, K);
+  FlagMat other(m.n, 3);  // the bottom cap held on every axis, a patch on top on z
+  for (int d = 0; d < 3; ++d)
+    for (int i = 0; i < m.n; ++i) {
+      const Vec3 x = m.rest.positions.row(i);
+      other(i, d) = x[2] < -0.025 || (d == 2 && x[2] > 0.02 && x[0] > 0.0);
+    }
+  const size_t size = 6 * size_t(m.n);
+  std::vector<double> r(size);
+  for (size_t e = 0; e < size; ++e) r[e] = std::cos(0.21 * double(e)) - 0.1;
+  AxisIncompleteCholesky ic;
+  ic.analyze(K);
+  for (int round = 0; round < 3; ++round) {
+    if (round < 2) {
+      ic.factorize(K, round == 0 ? 0.0 : 0.9);
+    } else {
+      K.gather(s.k, other, nullptr);
+      ASSERT_GT(ic.fit_to_mask(K), 0);
+    }
+    std::vector<double> z[2];
+    double rz[2][6];
+    simd_test::sse2_then_avx2([&](bool avx2) {
+      z[avx2].assign(size, -7.0);
+      ic.apply<6>(r.data(), z[avx2].data(), rz[avx2]);
+    });
+    EXPECT_EQ(std::memcmp(z[0].data(), z[1].data(), size * sizeof(double)), 0) << "round " << round;
+    EXPECT_EQ(std::memcmp(rz[0], rz[1], sizeof rz[0]), 0) << "round " << round;
+  }
 }
 
 }  // namespace

@@ -2,12 +2,15 @@
 // axis's matrix multiplies its own vector.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
+#include <vector>
 
 #include "engine/axis_matrices.hpp"
 #include "engine/geometry.hpp"
 #include "engine/stiffness.hpp"
 #include "support/axis_systems.hpp"
+#include "support/simd_paths.hpp"
 
 namespace vdm {
 namespace {
@@ -145,6 +148,77 @@ TEST(AxisMatrices, RowsHoldTheOffDiagonalEntriesInAscendingColumns) {
         EXPECT_LT(K.column(size_t(p) - 1), K.column(size_t(p)));
       }
     }
+}
+
+// The AVX2 kernels on blocks of 6 (engine/simd4.hpp) give the SSE2 ones' bits: the product
+// (with rows constrained on some axes only, fixed after the pass, and without), the start's
+// residual from a block (apart and in place) and from the source's columns.
+TEST(AxisMatrices, Avx2KernelsGiveTheSse2Bits) {
+  if (!simd::avx2_supported()) GTEST_SKIP() << "this CPU lacks AVX2: only the SSE2 kernels run here";
+  const axis_test::System s = axis_test::make_system();
+  const int n = s.model.n;
+  AxisMatrices partial, full;
+  axis_test::gather(s, partial);
+  FlagMat cap = s.mask;  // the bottom cap alone: rows constrained on every axis only
+  for (int i = 0; i < n; ++i) cap.row(i).setConstant(cap.row(i).minCoeff());
+  full.analyze(s.model.pattern, s.perm);
+  full.gather(s.k, cap, nullptr);
+  ASSERT_GT(partial.partial_count, 0);
+  ASSERT_EQ(full.partial_count, 0);
+  const size_t size = size_t(n) * 6;
+  std::vector<double> x(size), b(size), src(size);
+  for (size_t k = 0; k < size; ++k) {
+    x[k] = std::sin(0.37 * double(k)) + 0.2;
+    b[k] = std::cos(0.11 * double(k)) - 0.3;
+  }
+  std::copy(b.begin(), b.end(), src.begin());  // other values read as two n x 3 column-major systems
+  const std::array<const double*, 2> b_src = {src.data(), src.data() + 3 * size_t(n)};
+  struct Out {
+    std::vector<double> y_partial, y_full, r, r_inplace, r_src;
+    double dot_partial[6], dot_full[6], bn[6], rn[6], bn_inplace[6], rn_inplace[6], bn_src[6], rn_src[6];
+  } out[2];
+  simd_test::sse2_then_avx2([&](bool avx2) {
+    ASSERT_EQ(simd::avx2_enabled(), avx2);
+    Out& o = out[avx2];
+    o.y_partial.assign(size, -7.0);
+    o.y_full.assign(size, -7.0);
+    o.r.assign(size, -7.0);
+    o.r_src.assign(size, -7.0);
+    o.r_inplace = b;
+    multiply_block<6>(partial, x.data(), o.y_partial.data(), o.dot_partial);
+    multiply_block<6>(full, x.data(), o.y_full.data(), o.dot_full);
+    ASSERT_TRUE(residual_block<6>(full, b.data(), x.data(), o.r.data(), o.bn, o.rn));
+    ASSERT_TRUE(residual_block<6>(full, o.r_inplace.data(), x.data(), o.r_inplace.data(), o.bn_inplace, o.rn_inplace));
+    ASSERT_TRUE(residual_block<6>(full, b_src, x.data(), o.r_src.data(), o.bn_src, o.rn_src));
+  });
+  auto same = [](const std::vector<double>& a, const std::vector<double>& b) {
+    return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0;
+  };
+  EXPECT_TRUE(same(out[0].y_partial, out[1].y_partial));
+  EXPECT_TRUE(same(out[0].y_full, out[1].y_full));
+  EXPECT_TRUE(same(out[0].r, out[1].r));
+  EXPECT_TRUE(same(out[0].r_inplace, out[1].r_inplace));
+  EXPECT_TRUE(same(out[0].r_src, out[1].r_src));
+  EXPECT_TRUE(same(out[0].r, out[0].r_inplace));
+  for (int c = 0; c < 6; ++c) {
+    EXPECT_EQ(std::memcmp(&out[0].dot_partial[c], &out[1].dot_partial[c], sizeof(double)), 0) << c;
+    EXPECT_EQ(std::memcmp(&out[0].dot_full[c], &out[1].dot_full[c], sizeof(double)), 0) << c;
+    EXPECT_EQ(std::memcmp(&out[0].bn[c], &out[1].bn[c], sizeof(double)), 0) << c;
+    EXPECT_EQ(std::memcmp(&out[0].rn[c], &out[1].rn[c], sizeof(double)), 0) << c;
+    EXPECT_EQ(std::memcmp(&out[0].bn_inplace[c], &out[1].bn_inplace[c], sizeof(double)), 0) << c;
+    EXPECT_EQ(std::memcmp(&out[0].rn_inplace[c], &out[1].rn_inplace[c], sizeof(double)), 0) << c;
+    EXPECT_EQ(std::memcmp(&out[0].bn_src[c], &out[1].bn_src[c], sizeof(double)), 0) << c;
+    EXPECT_EQ(std::memcmp(&out[0].rn_src[c], &out[1].rn_src[c], sizeof(double)), 0) << c;
+  }
+}
+
+// The choice of variant: set_avx2(false) forces SSE2 everywhere; AVX2 only where supported.
+TEST(AxisMatrices, TheSse2KernelsCanBeForced) {
+  const bool saved = simd::avx2_enabled();
+  EXPECT_FALSE(simd::set_avx2(false));
+  EXPECT_FALSE(simd::avx2_enabled());
+  EXPECT_EQ(simd::set_avx2(true), simd::avx2_supported());
+  simd::set_avx2(saved);
 }
 
 }  // namespace
