@@ -249,12 +249,14 @@ void pin_constrained(const StepWorkspace& w, const NodeMat& rest, NodeMat& u, No
     }
 }
 
-// The solve's result `u_new` with the constrained entries set to their values, minus u: the
+// The solve's result `u_new` with the constrained entries set to their values, minus u0: the
 // fixed-point residual, in place. Returns its largest magnitude. With `x` (a step's first
-// solve, taken whole: omega = 1) also advance_positions() in the same pass: u += r on the
-// free entries, u_fixed on the constrained ones, x = rest + u (the same values, bit for bit).
+// solve, taken whole: omega = 1) also advance_positions() in the same pass: u = u0 + r on
+// the free entries, u_fixed on the constrained ones, x = rest + u (the same values, bit for
+// bit; u0 is the step's start, swapped out of u: u is written whole). Without `x`, u0 is u.
 // The N x 3 arrays as runs of 3 N entries: the few constrained ones set before and after.
-double pin_and_difference(const StepWorkspace& w, NodeMat& u, NodeMat& u_new, const NodeMat& rest, NodeMat* x) {
+double pin_and_difference(const StepWorkspace& w, const NodeMat& u0, NodeMat& u, NodeMat& u_new, const NodeMat& rest,
+                          NodeMat* x) {
   const double* fixed = w.u_fixed.data();
   double* r = u_new.data();
   for (const std::vector<int>* entries : {&w.held_entries, &w.prescribed_entries})
@@ -266,19 +268,21 @@ double pin_and_difference(const StepWorkspace& w, NodeMat& u, NodeMat& u_new, co
   size_t i = 0;
   if (x) {
     const double* X = rest.data();
+    const double* u0d = u0.data();
     double* xd = x->data();
     for (; i + 2 <= count; i += 2) {
-      const V2 ri = simd::load2(r + i) - simd::load2(ud + i);
+      const V2 u0i = simd::load2(u0d + i);
+      const V2 ri = simd::load2(r + i) - u0i;
       simd::store2(r + i, ri);
       largest = simd::max2(largest, simd::abs2(ri));
-      const V2 ui = simd::load2(ud + i) + ri;
+      const V2 ui = u0i + ri;
       simd::store2(ud + i, ui);
       simd::store2(xd + i, simd::load2(X + i) + ui);
     }
     for (; i < count; ++i) {
-      r[i] -= ud[i];
+      r[i] -= u0d[i];
       largest[0] = std::max(largest[0], std::abs(r[i]));
-      ud[i] += r[i];
+      ud[i] = u0d[i] + r[i];
       xd[i] = X[i] + ud[i];
     }
     pin_constrained(w, rest, u, *x);
@@ -552,10 +556,11 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
   st.assemble_ms = st.solve_ms = st.stress_ms = 0;
   s.failed = false;
   s.failure.clear();
-  // The start of the step, for rewind_step(). The velocity is swapped, not copied: the step
-  // reads the start's (w.start.velocity) and writes s.velocity whole at its end; an attempt
-  // that fails is rewound, which copies it back.
-  w.start.u = s.u;
+  // The start of the step, for rewind_step(). u and the velocity are swapped, not copied:
+  // until the first solve's result is taken (pin_and_difference, which writes s.u whole from
+  // w.start.u) the step reads the start's u from w.start.u, and it writes s.velocity whole
+  // at its end; an attempt that fails is rewound, which copies them back.
+  w.start.u.swap(s.u);
   w.start.velocity.swap(s.velocity);
   w.start.pressure = s.pressure;
   w.start.step = s.step;
@@ -612,7 +617,7 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
     if (current_volume <= 0.0) current_volume = packed_geometry(m, s.x, w);
 
     double a_u = 0.0;
-    const bool mask_changed = build_constraints(m, in, s.area_vectors, s.u, w, a_u);
+    const bool mask_changed = build_constraints(m, in, s.area_vectors, it == 0 ? w.start.u : s.u, w, a_u);
     const bool springs = in.spring_k.rows() == m.n;
     if (springs && w.last_springs.rows() != m.n) w.last_springs = NodeMat::Zero(m.n, 3);  // the first step with springs
     const bool springs_changed = springs ? in.spring_k != w.last_springs : w.last_springs_any;
@@ -638,7 +643,8 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
 
     const auto t_solve = Clock::now();
     LinearSolver* solver = w.solver.get();
-    if (w.solver->warm_starts_from_u()) w.u_new = s.u;
+    const NodeMat& u_now = it == 0 ? w.start.u : s.u;  // s.u is written by the first solve's result
+    if (w.solver->warm_starts_from_u()) w.u_new = u_now;
     double p_new = s.pressure;
     SolveReport rep = solver->solve(w.rhs, w.a_free, c, m.volume_constraint, w.u_new, p_new);
     st.iterations += rep.iterations;
@@ -651,7 +657,7 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
       ++st.fallbacks;
       add_warning(s, st.fallback);
       solver = &fallback_solver(m, w);
-      if (solver->warm_starts_from_u()) w.u_new = s.u;
+      if (solver->warm_starts_from_u()) w.u_new = u_now;
       p_new = s.pressure;
       rep = solver->solve(w.rhs, w.a_free, c, m.volume_constraint, w.u_new, p_new);
       st.factorizations += rep.factorizations;
@@ -670,7 +676,7 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
     // from the last two residuals; it saves iterations where the plain iteration converges.
     // u_new becomes the fixed-point residual r = G(u) - u (G(u) pinned), du = max |r|.
     // The first solve is taken whole (omega = 1): u and x move in the same pass.
-    const double du = pin_and_difference(w, s.u, w.u_new, m.rest.positions, it == 0 ? &s.x : nullptr);
+    const double du = pin_and_difference(w, u_now, s.u, w.u_new, m.rest.positions, it == 0 ? &s.x : nullptr);
     if (it >= 2 && du > last_du && du > 10.0 * m.solver.nonlinear_tolerance * m.size) {
       // Diverging: past some deformation the geometric fixed point loses stability (its
       // contraction factor passes 1). Keep the current iterate, the best so far.

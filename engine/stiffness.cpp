@@ -61,12 +61,22 @@ void assemble_stiffness(const TissueModel& m, const NodeMat& A, const Vec& area_
   const size_t edge_count = m.edges.size();
   const double per_area = 0.5 * bc / how.scale;  // w_ij / (|A_i| + |A_j|) where no end is floored
   if (!how.any_floored) {
-    for (size_t e = 0; e < edge_count; ++e) {
-      const int i = edges[e][0], j = edges[e][1];
-      const double w = per_area * (norm[i] + norm[j]);
-      weight[e] = w;
-      lap[i] += w;
-      lap[j] += w;
+    // In runs of edges with the same first node (the model's edges are sorted: one run per
+    // node), whose sum stays in a register through the run: the same additions in the same
+    // order (the run's other ends are other nodes), without a load and a store per edge.
+    size_t e = 0;
+    while (e < edge_count) {
+      const int i = edges[e][0];
+      const double norm_i = norm[i];
+      double lap_i = lap[i];
+      for (; e < edge_count && edges[e][0] == i; ++e) {
+        const int j = edges[e][1];
+        const double w = per_area * (norm_i + norm[j]);
+        weight[e] = w;
+        lap_i += w;
+        lap[j] += w;
+      }
+      lap[i] = lap_i;
     }
   } else {
     for (size_t e = 0; e < edge_count; ++e) {
