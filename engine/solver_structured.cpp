@@ -23,8 +23,6 @@
 #include "engine/block_pcg.hpp"
 #include "engine/linear_solver.hpp"
 #include "engine/node_ordering.hpp"
-#include "engine/node_sums.hpp"
-#include "engine/simd2.hpp"
 
 namespace vdm {
 namespace {
@@ -73,7 +71,7 @@ class StructuredSolver final : public LinearSolver {
 
   const NodeMat& pressure_response(const NodeMat& a) override {
     if (!s_valid_) {
-      solve_block<3>(nullptr, &a);
+      solve_block<3>(nullptr, &a, nullptr);
       s_valid_ = true;
     }
     return s_;
@@ -164,8 +162,8 @@ class StructuredSolver final : public LinearSolver {
     rep.factorizations = pending_factorizations_;
     pending_factorizations_ = 0;
     const bool new_s = volume_constraint && !s_valid_;
-    // r and s stay in the block (x_); u = r + dP s is made from there (finish()).
-    const BlockReport br = new_s ? solve_block<6>(&rhs, &a) : solve_block<3>(&rhs, nullptr);
+    // r straight into u, then u = r + dP s.
+    const BlockReport br = new_s ? solve_block<6>(&rhs, &a, &u) : solve_block<3>(&rhs, nullptr, &u);
     rep.iterations = br.iterations;
     rep.converged = br.converged;
     if (new_s) {  // the first solve on new matrices: the one that tells how well the factors fit
@@ -173,7 +171,8 @@ class StructuredSolver final : public LinearSolver {
       else if (br.iterations > kStaleGrowth * baseline_ + 2) factor_due_ = true;
     }
     if (volume_constraint) s_valid_ = true;
-    dP = finish(a, c, volume_constraint, new_s, u);
+    dP = volume_constraint ? pressure_for_volume(a, u, s_, c) : 0.0;
+    u += dP * s_;
     return rep;
   }
 
@@ -186,13 +185,13 @@ class StructuredSolver final : public LinearSolver {
   // K^d r^d = rhs^d (rhs given) and K^d s^d = a^d (a given) by block PCG with IC(0) in the
   // permuted order, warm-started from the last solutions (x_), each axis until
   // |b - K x| <= tolerance |b_all| / sqrt(3) (b_all: that right-hand side on all axes). The
-  // results stay in x_ (solver order, their lanes); s alone (no rhs) also goes to s_ in node
-  // order (with rhs, finish() makes s_ and u in its passes). W = 3 for one of them, 6 for both.
+  // results go to *r (the caller's) and s_ in node order. W = 3 for one of them, 6 for both.
   template <int W>
-  BlockReport solve_block(const NodeMat* rhs, const NodeMat* a) {
+  BlockReport solve_block(const NodeMat* rhs, const NodeMat* a, NodeMat* r) {
     constexpr int G = W / 3;  // systems per axis: column d G + g is axis d of system g
     const NodeMat* src[2] = {rhs ? rhs : a, rhs ? a : nullptr};
     const size_t lane[2] = {rhs ? 0u : 1u, 1u};  // the system's lane in x_ (0: r, 1: s)
+    NodeMat* out[2] = {rhs ? r : &s_, &s_};
     // The block of both systems is x_ itself; one system alone iterates in x3_, made by the
     // first such solve: a scene that refreshes the geometry every step never has one (1 MB
     // at 40k nodes; a warmed-up step still allocates nothing: the second step has one).
@@ -258,90 +257,17 @@ class StructuredSolver final : public LinearSolver {
     if (W == 3)
       for (size_t i = 0; i < size_t(n_); ++i)
         for (size_t d = 0; d < 3; ++d) x_[6 * i + 2 * d + lane[0]] = x[i * 3 + d];
-    // s alone out in node order (gathering rows of the block: one cache line each, where
-    // scattering into the three columns missed on every store).
-    if (!rhs) {
-      double* o[3] = {s_.col(0).data(), s_.col(1).data(), s_.col(2).data()};
-      for (int node = 0; node < n_; ++node) {
-        const double* row = x + size_t(iperm_[size_t(node)]) * W;
-        for (int d = 0; d < 3; ++d) o[d][node] = row[d];
-      }
+    // Out in node order (gathering rows of the block: one cache line each, where scattering
+    // into the three columns of `out` missed on every store).
+    double* o[2][3];
+    for (int g = 0; g < G; ++g)
+      for (int d = 0; d < 3; ++d) o[g][d] = out[g]->col(d).data();
+    for (int node = 0; node < n_; ++node) {
+      const double* row = x + size_t(iperm_[size_t(node)]) * W;
+      for (int g = 0; g < G; ++g)
+        for (int d = 0; d < 3; ++d) o[g][d][node] = row[d * G + g];
     }
     return rep;
-  }
-
-  // After a solve with rhs: u = r + dP s in node order from the block x_ (r and s its lanes
-  // 0 and 1 of each axis), with dP = pressure_for_volume(a, r, s_, c) (0 without the volume
-  // constraint), and s_ = s when the solve made a new s (`new_s`). Two passes over the
-  // nodes (the first: s_ and the dot products a.r, a.s; the second: u), where r went to u,
-  // then the products read a, u and s_ again, then u += dP s_ read them once more. The
-  // same values bit for bit: the dot products summed in the order of pressure_for_volume's
-  // (NodeSums), u = r + dP s as u += dP * s_ did. Returns dP.
-  double finish(const NodeMat& a, double c, bool volume_constraint, bool new_s, NodeMat& u) {
-    const int n = n_;
-    const int* iperm = iperm_.data();
-    const double* xb = x_.data();
-    double dP = 0.0;
-    if (volume_constraint) {
-      NodeSums ar[3], as[3];
-      double* so[3] = {s_.col(0).data(), s_.col(1).data(), s_.col(2).data()};
-      const double* ad[3] = {a.col(0).data(), a.col(1).data(), a.col(2).data()};
-      using simd::V2;
-      // Nodes i .. i + 1: their r and s on axis d, a pair each.
-      auto pair = [&](int i, const double* r0, const double* r1, int d, V2& rv, V2& sv) {
-        rv = V2{r0[2 * d], r1[2 * d]};
-        sv = V2{r0[2 * d + 1], r1[2 * d + 1]};
-        if (new_s) simd::store2(so[d] + i, sv);
-        rv *= simd::load2(ad[d] + i);
-        sv *= simd::load2(ad[d] + i);
-      };
-      int i = 0;
-      for (; i + 4 <= n; i += 4) {
-        const double* r0 = xb + 6 * size_t(iperm[i]);
-        const double* r1 = xb + 6 * size_t(iperm[i + 1]);
-        const double* r2 = xb + 6 * size_t(iperm[i + 2]);
-        const double* r3 = xb + 6 * size_t(iperm[i + 3]);
-        for (int d = 0; d < 3; ++d) {
-          V2 pr0, ps0, pr1, ps1;
-          pair(i, r0, r1, d, pr0, ps0);
-          pair(i + 2, r2, r3, d, pr1, ps1);
-          ar[d].add4(pr0, pr1);
-          as[d].add4(ps0, ps1);
-        }
-      }
-      if (i + 2 <= n) {
-        const double* r0 = xb + 6 * size_t(iperm[i]);
-        const double* r1 = xb + 6 * size_t(iperm[i + 1]);
-        for (int d = 0; d < 3; ++d) {
-          V2 pr, ps;
-          pair(i, r0, r1, d, pr, ps);
-          ar[d].add2(pr);
-          as[d].add2(ps);
-        }
-        i += 2;
-      }
-      if (i < n) {
-        const double* r0 = xb + 6 * size_t(iperm[i]);
-        for (int d = 0; d < 3; ++d) {
-          if (new_s) so[d][i] = r0[2 * d + 1];
-          ar[d].add1(ad[d][i] * r0[2 * d]);
-          as[d].add1(ad[d][i] * r0[2 * d + 1]);
-        }
-      }
-      double sum_as = 0.0, sum_ar = 0.0;
-      for (int d = 0; d < 3; ++d) {
-        sum_as += as[d].total();
-        sum_ar += ar[d].total();
-      }
-      // a.s > 0 whenever some node can move; otherwise the fluid has nothing to push.
-      dP = (sum_as > 0.0 && std::isfinite(sum_as)) ? (c - sum_ar) / sum_as : 0.0;
-    }
-    double* uo[3] = {u.col(0).data(), u.col(1).data(), u.col(2).data()};
-    for (int node = 0; node < n; ++node) {
-      const double* row = xb + 6 * size_t(iperm[node]);
-      for (int d = 0; d < 3; ++d) uo[d][node] = row[2 * d] + dP * row[2 * d + 1];
-    }
-    return dP;
   }
 
   SolverSettings settings_;
