@@ -73,17 +73,31 @@ void AxisMatrices::classify(const FlagMat& mask) {
   const std::uint8_t* md2 = mask.col(2).data();
   const int rows = n;
   int held = 0, partial = 0;  // rows constrained on all axes (from the end), on some
-  for (int v = 0; v < rows; ++v) {
-    const size_t i = size_t(ro[v]);
+  // Every row free, then the constrained ones set: the source's nodes 16 at a time, a run of
+  // 16 free on every axis (most) passed over without a look at each node.
+  {
+    const size_t bytes = 3 * size_t(rows);
+    size_t b = 0;
+    for (; b + 16 <= bytes; b += 16) _mm_storeu_si128(reinterpret_cast<__m128i*>(rm + b), _mm_setzero_si128());
+    for (; b < bytes; ++b) rm[b] = 0;
+  }
+  auto one = [&](int v) {
     const std::uint8_t h0 = md0[v] != 0, h1 = md1[v] != 0, h2 = md2[v] != 0;
+    if ((h0 | h1 | h2) == 0) return;  // most rows: free on every axis
+    const size_t i = size_t(ro[v]);
     std::uint8_t* mi = rm + 3 * i;
     mi[0] = h0;
     mi[1] = h1;
     mi[2] = h2;
-    if ((h0 | h1 | h2) == 0) continue;  // most rows: free on every axis
     if (h0 & h1 & h2) hr[size_t(rows - 1 - held++)] = int(i);
     else hr[size_t(partial++)] = int(i);
+  };
+  int v = 0;
+  for (; v + 16 <= rows; v += 16) {
+    if (simd::none_set16(md0 + v) && simd::none_set16(md1 + v) && simd::none_set16(md2 + v)) continue;
+    for (int k = v; k < v + 16; ++k) one(k);
   }
+  for (; v < rows; ++v) one(v);
   partial_count = partial;
   full_count = held;
   // The entries in the rows and columns of the nodes constrained on every axis (most of the

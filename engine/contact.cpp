@@ -91,7 +91,6 @@ struct ContactSolver::Fcl {
   // triangles' corners, and every node's positions at the last two refits lie within
   // `slack` of its box: boxes grown by the slack hold every triangle FCL's boxes would.
   NodeMat prev, last, lo, hi;
-  std::vector<long long> outside;  // per node: left its box by more than the slack (0 = no)
   std::vector<int> node_triangles_start, node_triangles;  // triangles of each node (CSR)
   std::vector<int> leaf, parent, post_order;             // leaf of each triangle, parent of each BV node,
                                                           // the tree's nodes children first (the first refit's order; freed after it)
@@ -217,7 +216,6 @@ ContactSolver::ContactSolver(const TissueModel& m, ContactSettings settings)
     Fcl& f = *fcl_;
     const int T = m.rest.triangle_count();
     f.prev = f.last = f.lo = f.hi = m.rest.positions;  // before the first refit: the rest positions (FCL's too)
-    f.outside.assign(static_cast<size_t>(m.n), 0);  // (every entry written before it is read)
     f.node_triangles_start.assign(static_cast<size_t>(m.n) + 1, 0);
     for (int k = 0; k < T; ++k)
       for (int c = 0; c < 3; ++c) ++f.node_triangles_start[static_cast<size_t>(m.rest.triangles(k, c)) + 1];
@@ -301,19 +299,23 @@ ContactSolver::~ContactSolver() = default;
 
 namespace {
 
-typedef long long Mask2 __attribute__((vector_size(16)));  // lane-wise comparison results of two doubles
 
-// a == b entry by entry (as the comparison of doubles: -0 == 0), two lanes at a time,
-// leaving at the first block that differs.
+// a == b entry by entry (as the comparison of doubles: -0 == 0), eight at a time in two
+// lanes each, leaving at the first block that differs.
 bool same_positions(const NodeMat& a, const NodeMat& b) {
   const Eigen::Index n = a.size();
   const double *p = a.data(), *q = b.data();
   constexpr Eigen::Index kBlock = 128;
   Eigen::Index k = 0;
   for (Eigen::Index s = 0; s + kBlock <= n; s += kBlock) {
-    Mask2 differ = {0, 0};
-    for (k = s; k < s + kBlock; k += 2) differ |= simd::load2(p + k) != simd::load2(q + k);
-    if (differ[0] | differ[1]) return false;
+    __m128d d0 = _mm_setzero_pd(), d1 = d0, d2 = d0, d3 = d0;
+    for (k = s; k < s + kBlock; k += 8) {
+      d0 = _mm_or_pd(d0, _mm_cmpneq_pd(simd::load2(p + k), simd::load2(q + k)));
+      d1 = _mm_or_pd(d1, _mm_cmpneq_pd(simd::load2(p + k + 2), simd::load2(q + k + 2)));
+      d2 = _mm_or_pd(d2, _mm_cmpneq_pd(simd::load2(p + k + 4), simd::load2(q + k + 4)));
+      d3 = _mm_or_pd(d3, _mm_cmpneq_pd(simd::load2(p + k + 6), simd::load2(q + k + 6)));
+    }
+    if (_mm_movemask_pd(_mm_or_pd(_mm_or_pd(d0, d1), _mm_or_pd(d2, d3))) != 0) return false;
   }
   for (; k < n; ++k)
     if (p[k] != q[k]) return false;
@@ -363,38 +365,20 @@ void ContactSolver::refit_lazy(const NodeMat& x) {
     refitted_ = true;
     return;
   }
-  // Nodes that left their box by more than the slack (flagged two nodes at a time, without
-  // branches): the box is reset to their last two positions (the earlier one was within
-  // the slack of the old box).
+  // Nodes that left their box by more than the slack, two at a time: by how far the worse
+  // axis lies outside the box, max(x - hi, lo - x) over the three (for finite positions, as
+  // the positions a step leaves are, more than the slack exactly when one of the six
+  // differences is). Their boxes are reset to their last two positions (the earlier one was
+  // within the slack of the old box) and their triangles listed, in node order, in the same
+  // pass.
   const double d = f.slack;
-  long long* const out = f.outside.data();
   const simd::V2 d2 = simd::splat(d);
   const double* p[3] = {x.col(0).data(), x.col(1).data(), x.col(2).data()};
   const double* lo[3] = {f.lo.col(0).data(), f.lo.col(1).data(), f.lo.col(2).data()};
   const double* hi[3] = {f.hi.col(0).data(), f.hi.col(1).data(), f.hi.col(2).data()};
   double* const last[3] = {f.last.col(0).data(), f.last.col(1).data(), f.last.col(2).data()};
-  Eigen::Index i = 0;
-  for (; i + 2 <= n; i += 2) {  // their three axes in one pass: each flag written once
-    Mask2 m = {0, 0};
-    for (int c = 0; c < 3; ++c) {
-      const simd::V2 v = simd::load2(p[c] + i);
-      simd::store2(last[c] + i, v);
-      m |= (v - simd::load2(hi[c] + i) > d2) | (simd::load2(lo[c] + i) - v > d2);
-    }
-    out[i] = m[0];
-    out[i + 1] = m[1];
-  }
-  for (; i < n; ++i) {
-    bool o = false;
-    for (int c = 0; c < 3; ++c) {
-      last[c][i] = p[c][i];
-      o = o || (p[c][i] - hi[c][i] > d) || (lo[c][i] - p[c][i] > d);
-    }
-    out[i] = o;
-  }
   f.dirty.clear();
-  for (Eigen::Index i = 0; i < n; ++i) {
-    if (!out[i]) continue;
+  auto reset = [&](Eigen::Index i) {
     f.lo.row(i) = f.prev.row(i).cwiseMin(f.last.row(i));
     f.hi.row(i) = f.prev.row(i).cwiseMax(f.last.row(i));
     for (int k = f.node_triangles_start[i]; k < f.node_triangles_start[i + 1]; ++k) {
@@ -404,6 +388,27 @@ void ContactSolver::refit_lazy(const NodeMat& x) {
         f.dirty.push_back(tri);
       }
     }
+  };
+  Eigen::Index i = 0;
+  for (; i + 2 <= n; i += 2) {  // their three axes in one pass
+    auto outside = [&](int c) {
+      const simd::V2 v = simd::load2(p[c] + i);
+      simd::store2(last[c] + i, v);
+      return simd::max2(v - simd::load2(hi[c] + i), simd::load2(lo[c] + i) - v);
+    };
+    const simd::V2 worst = simd::max2(simd::max2(outside(0), outside(1)), outside(2));
+    const int flags = _mm_movemask_pd(_mm_cmpgt_pd(worst, d2));
+    if (flags == 0) continue;  // most
+    if (flags & 1) reset(i);
+    if (flags & 2) reset(i + 1);
+  }
+  for (; i < n; ++i) {
+    bool o = false;
+    for (int c = 0; c < 3; ++c) {
+      last[c][i] = p[c][i];
+      o = o || (p[c][i] - hi[c][i] > d) || (lo[c][i] - p[c][i] > d);
+    }
+    if (o) reset(i);
   }
   // Their leaves, and each leaf's ancestors up to the first whose box does not change.
   f.box_updates += static_cast<long>(f.dirty.size());

@@ -249,12 +249,15 @@ void pin_constrained(const StepWorkspace& w, const NodeMat& rest, NodeMat& u, No
     }
 }
 
-// The solve's result `u_new` with the constrained entries set to their values, minus u: the
+// The solve's result `u_new` with the constrained entries set to their values, minus u0: the
 // fixed-point residual, in place. Returns its largest magnitude. With `x` (a step's first
-// solve, taken whole: omega = 1) also advance_positions() in the same pass: u += r on the
-// free entries, u_fixed on the constrained ones, x = rest + u (the same values, bit for bit).
+// solve, taken whole: omega = 1) also advance_positions() in the same pass: u = u0 + r on
+// the free entries, u_fixed on the constrained ones, x = rest + u (the same values, bit for
+// bit; u0 is the step's start, swapped out of u: u is written whole), and the velocity (u -
+// u0) / dt as the step's end makes it (the same bits), with `velocity`. Without `x`, u0 is u.
 // The N x 3 arrays as runs of 3 N entries: the few constrained ones set before and after.
-double pin_and_difference(const StepWorkspace& w, NodeMat& u, NodeMat& u_new, const NodeMat& rest, NodeMat* x) {
+double pin_and_difference(const StepWorkspace& w, const NodeMat& u0, NodeMat& u, NodeMat& u_new, const NodeMat& rest,
+                          NodeMat* x, NodeMat* velocity = nullptr, double inv_dt = 0.0) {
   const double* fixed = w.u_fixed.data();
   double* r = u_new.data();
   for (const std::vector<int>* entries : {&w.held_entries, &w.prescribed_entries})
@@ -266,22 +269,36 @@ double pin_and_difference(const StepWorkspace& w, NodeMat& u, NodeMat& u_new, co
   size_t i = 0;
   if (x) {
     const double* X = rest.data();
+    const double* u0d = u0.data();
     double* xd = x->data();
-    for (; i + 2 <= count; i += 2) {
-      const V2 ri = simd::load2(r + i) - simd::load2(ud + i);
-      simd::store2(r + i, ri);
-      largest = simd::max2(largest, simd::abs2(ri));
-      const V2 ui = simd::load2(ud + i) + ri;
-      simd::store2(ud + i, ui);
-      simd::store2(xd + i, simd::load2(X + i) + ui);
-    }
-    for (; i < count; ++i) {
-      r[i] -= ud[i];
-      largest[0] = std::max(largest[0], std::abs(r[i]));
-      ud[i] += r[i];
-      xd[i] = X[i] + ud[i];
-    }
+    auto pass = [&](double* vd) {
+      const V2 inv2 = simd::splat(inv_dt);
+      for (; i + 2 <= count; i += 2) {
+        const V2 u0i = simd::load2(u0d + i);
+        const V2 ri = simd::load2(r + i) - u0i;
+        simd::store2(r + i, ri);
+        largest = simd::max2(largest, simd::abs2(ri));
+        const V2 ui = u0i + ri;
+        simd::store2(ud + i, ui);
+        simd::store2(xd + i, simd::load2(X + i) + ui);
+        if (vd) simd::store2(vd + i, (ui - u0i) * inv2);
+      }
+      for (; i < count; ++i) {
+        r[i] -= u0d[i];
+        largest[0] = std::max(largest[0], std::abs(r[i]));
+        ud[i] = u0d[i] + r[i];
+        xd[i] = X[i] + ud[i];
+        if (vd) vd[i] = (ud[i] - u0d[i]) * inv_dt;
+      }
+    };
+    if (velocity) pass(velocity->data());  // (two copies of the loop: no test per entry in the other)
+    else pass(nullptr);
     pin_constrained(w, rest, u, *x);
+    if (velocity) {
+      double* vd = velocity->data();
+      for (const std::vector<int>* entries : {&w.held_entries, &w.prescribed_entries})
+        for (const int k : *entries) vd[k] = (ud[k] - u0d[k]) * inv_dt;
+    }
   } else {
     for (; i + 2 <= count; i += 2) {
       const V2 ri = simd::load2(r + i) - simd::load2(ud + i);
@@ -324,7 +341,8 @@ void advance_positions(const StepWorkspace& w, const NodeMat& rest, double omega
 // Which check is made first is a guess, from the last step: volume_along when a correction
 // is likely, else the plain volume (packed_geometry, whose triangle pass the next step's
 // refresh reuses when it passes). Both measure the same volume, bit for bit.
-double correct_volume(const TissueModel& m, SimState& s, StepWorkspace& w, LinearSolver& solver, double& volume) {
+double correct_volume(const TissueModel& m, SimState& s, StepWorkspace& w, LinearSolver& solver, double& volume,
+                      bool& moved) {
   const int max_corr = m.solver.volume_corrections;
   double c_shift = 0.0;
   volume = std::numeric_limits<double>::quiet_NaN();
@@ -362,6 +380,7 @@ double correct_volume(const TissueModel& m, SimState& s, StepWorkspace& w, Linea
       for (int d = 0; d < 3; ++d) as += w.a_free.col(d).dot(response.col(d));
     }
     c_shift += dp * as;
+    moved = true;
     for (int d = 0; d < 3; ++d) {
       const std::uint8_t* mask = w.mask.col(d).data();
       const double* r = response.col(d).data();
@@ -552,10 +571,11 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
   st.assemble_ms = st.solve_ms = st.stress_ms = 0;
   s.failed = false;
   s.failure.clear();
-  // The start of the step, for rewind_step(). The velocity is swapped, not copied: the step
-  // reads the start's (w.start.velocity) and writes s.velocity whole at its end; an attempt
-  // that fails is rewound, which copies it back.
-  w.start.u = s.u;
+  // The start of the step, for rewind_step(). u and the velocity are swapped, not copied:
+  // until the first solve's result is taken (pin_and_difference, which writes s.u whole from
+  // w.start.u) the step reads the start's u from w.start.u, and it writes s.velocity whole
+  // at its end; an attempt that fails is rewound, which copies them back.
+  w.start.u.swap(s.u);
   w.start.velocity.swap(s.velocity);
   w.start.pressure = s.pressure;
   w.start.step = s.step;
@@ -575,6 +595,8 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
   double omega = 1.0;  // Aitken relaxation of the nonlinear (fixed-point) iteration
   double final_volume = std::numeric_limits<double>::quiet_NaN();  // at s.x, when known
   bool loads = false;  // w.force holds this step's loads (false: f = 0)
+  const double inv_dt = 1.0 / m.dt;
+  bool velocity_stale = true;  // s.velocity is not (s.u - w.start.u) / dt
 
   const int max_it = m.solver.nonlinear_iterations;
   for (int it = 0; it < max_it; ++it) {
@@ -612,7 +634,7 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
     if (current_volume <= 0.0) current_volume = packed_geometry(m, s.x, w);
 
     double a_u = 0.0;
-    const bool mask_changed = build_constraints(m, in, s.area_vectors, s.u, w, a_u);
+    const bool mask_changed = build_constraints(m, in, s.area_vectors, it == 0 ? w.start.u : s.u, w, a_u);
     const bool springs = in.spring_k.rows() == m.n;
     if (springs && w.last_springs.rows() != m.n) w.last_springs = NodeMat::Zero(m.n, 3);  // the first step with springs
     const bool springs_changed = springs ? in.spring_k != w.last_springs : w.last_springs_any;
@@ -629,7 +651,8 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
       w.matrix_dirty = false;
     }
     loads = build_loads(m, in, s, w);
-    eliminate_rhs(m.neighbours, w.K, w.mask, loads ? &w.force : nullptr, w.u_fixed, w.rhs);
+    eliminate_rhs(m.neighbours, w.K, w.mask, w.held_entries, w.prescribed_entries, loads ? &w.force : nullptr, w.u_fixed,
+                  w.rhs);
     // Eq (11) as a Newton step on the exact volume: a.u^{n+1} = V_0 - V(x^n) + a.u^n,
     // with the constrained part moved to the right.
     const double c = m.rest_volume - current_volume + a_u;
@@ -638,7 +661,8 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
 
     const auto t_solve = Clock::now();
     LinearSolver* solver = w.solver.get();
-    if (w.solver->warm_starts_from_u()) w.u_new = s.u;
+    const NodeMat& u_now = it == 0 ? w.start.u : s.u;  // s.u is written by the first solve's result
+    if (w.solver->warm_starts_from_u()) w.u_new = u_now;
     double p_new = s.pressure;
     SolveReport rep = solver->solve(w.rhs, w.a_free, c, m.volume_constraint, w.u_new, p_new);
     st.iterations += rep.iterations;
@@ -651,7 +675,7 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
       ++st.fallbacks;
       add_warning(s, st.fallback);
       solver = &fallback_solver(m, w);
-      if (solver->warm_starts_from_u()) w.u_new = s.u;
+      if (solver->warm_starts_from_u()) w.u_new = u_now;
       p_new = s.pressure;
       rep = solver->solve(w.rhs, w.a_free, c, m.volume_constraint, w.u_new, p_new);
       st.factorizations += rep.factorizations;
@@ -670,7 +694,10 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
     // from the last two residuals; it saves iterations where the plain iteration converges.
     // u_new becomes the fixed-point residual r = G(u) - u (G(u) pinned), du = max |r|.
     // The first solve is taken whole (omega = 1): u and x move in the same pass.
-    const double du = pin_and_difference(w, s.u, w.u_new, m.rest.positions, it == 0 ? &s.x : nullptr);
+    // The first solve's pass also makes the velocity; a later move of u makes it stale.
+    const double du = pin_and_difference(w, u_now, s.u, w.u_new, m.rest.positions, it == 0 ? &s.x : nullptr,
+                                         it == 0 ? &s.velocity : nullptr, inv_dt);
+    velocity_stale = it > 0;
     if (it >= 2 && du > last_du && du > 10.0 * m.solver.nonlinear_tolerance * m.size) {
       // Diverging: past some deformation the geometric fixed point loses stability (its
       // contraction factor passes 1). Keep the current iterate, the best so far.
@@ -689,7 +716,7 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
     if (it > 0) advance_positions(w, m.rest.positions, omega, w.u_new, s.u, s.x);
     s.pressure += omega * (p_new - s.pressure);
     if (m.volume_constraint) {
-      last_c += correct_volume(m, s, w, *solver, final_volume);
+      last_c += correct_volume(m, s, w, *solver, final_volume, velocity_stale);
     } else {
       final_volume = std::numeric_limits<double>::quiet_NaN();
     }
@@ -724,7 +751,7 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
     rhs2 += alpha * alpha * last_c * last_c;
   }
   st.residual = rhs2 > 0 ? std::sqrt(res2 / rhs2) : std::sqrt(res2);
-  s.velocity = (s.u - w.start.u) * (1.0 / m.dt);  // one division, not one per entry
+  if (velocity_stale) s.velocity = (s.u - w.start.u) * inv_dt;  // one division, not one per entry
   ++s.step;
   s.time += m.dt;
   st.step_ms = ms_since(t_step);

@@ -188,6 +188,42 @@ void eliminate_rhs(const NeighbourLists& neighbours, const AxisStiffness& K, con
   for (; k < count; ++k) move_value(k);
 }
 
+void eliminate_rhs(const NeighbourLists& neighbours, const AxisStiffness& K, const FlagMat& mask,
+                   const std::vector<int>& held_entries, const std::vector<int>& prescribed_entries, const NodeMat* f,
+                   const NodeMat& u_fixed, NodeMat& rhs) {
+  const size_t n = size_t(K.diagonal.rows()), count = 3 * n;
+  const std::uint8_t* mk = mask.data();
+  const double* uf = u_fixed.data();
+  double* r = rhs.data();
+  // The loads, or zero, everywhere (16 entries at a time: inline stores, where one call of
+  // std::copy or std::fill over the whole array goes to the library's string instructions);
+  // then the values on the constrained entries.
+  const double* fd = f ? f->data() : nullptr;
+  size_t k = 0;
+  for (; k + 16 <= count; k += 16) {
+    if (fd) std::copy(fd + k, fd + k + 16, r + k);
+    else std::fill(r + k, r + k + 16, 0.0);
+  }
+  for (; k < count; ++k) r[k] = fd ? fd[k] : 0.0;
+  for (const std::vector<int>* entries : {&held_entries, &prescribed_entries})
+    for (const int k : *entries) r[k] = uf[k];
+  // Each prescribed entry's value (the held ones' are zero: they move nothing) to its free
+  // neighbours on its axis, the entries in ascending order as the mask's scan takes them.
+  const int* begin = neighbours.begin.data();
+  const NeighbourLists::Entry* list = neighbours.entries.data();
+  const double* w = K.weight.data();
+  for (const int e : prescribed_entries) {
+    const size_t k = size_t(e);
+    if (uf[k] == 0.0) continue;
+    const size_t axis = k / n * n;  // entry of node 0 on k's axis
+    const int j = int(k - axis);
+    for (int s = begin[j]; s < begin[j + 1]; ++s) {
+      const size_t i = axis + size_t(list[s].node);
+      if (!mk[i]) r[i] += w[list[s].edge] * uf[k];
+    }
+  }
+}
+
 void mask_constrained(const SpMat& K, const std::uint8_t* mask, SpMat& Km) {
   const int n = static_cast<int>(K.cols());
   const int* outer = K.outerIndexPtr();

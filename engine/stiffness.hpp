@@ -2,6 +2,7 @@
 // Assembly of the per-axis stiffness K^d = L_w + diag(k^d) (vdm-model.md section 3) into the
 // fixed pattern, and per-axis elimination of constrained entries (Dirichlet rows/columns).
 #include <array>
+#include <vector>
 
 #include "engine/geometry.hpp"
 #include "engine/sparse.hpp"
@@ -41,6 +42,13 @@ void multiply(const StiffnessPattern& pattern, const AxisStiffness& K, const Nod
 // `neighbours`). `f` null: no loads (f = 0, the same bits as a zero array).
 void eliminate_rhs(const NeighbourLists& neighbours, const AxisStiffness& K, const FlagMat& mask,
                    const NodeMat* f, const NodeMat& u_fixed, NodeMat& rhs);
+// The same, bit for bit, with the constrained entries (the set ones of `mask`) listed as
+// indices d N + i into the N x 3 arrays, each once, ascending within each list: the held
+// ones (u_fixed zero there) and the prescribed ones (the step's lists, StepWorkspace). No
+// pass over the flags: the loads are copied whole and the few listed entries set after.
+void eliminate_rhs(const NeighbourLists& neighbours, const AxisStiffness& K, const FlagMat& mask,
+                   const std::vector<int>& held_entries, const std::vector<int>& prescribed_entries, const NodeMat* f,
+                   const NodeMat& u_fixed, NodeMat& rhs);
 
 // K_masked = K with rows and columns of constrained nodes (mask(i) != 0) replaced by the
 // identity. Same pattern, values written in place.
