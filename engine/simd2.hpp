@@ -22,6 +22,12 @@ inline V2 load2f(const float* p) {
   std::memcpy(&t, p, sizeof t);
   return _mm_cvtps_pd(_mm_castpd_ps(_mm_set_sd(t)));
 }
+// {a[0] * b[0], a[1]} (one mulsd: lane 1 of `a` kept as it is).
+inline V2 mul_low(V2 a, V2 b) { return _mm_mul_sd(a, b); }
+// A compiler barrier on three pairs (no instruction): their values exist here, in registers.
+// Keeps an unrolled gather entry after entry instead of grouped by operation with its loads
+// hoisted ahead and spilled (what GCC 12 does with a fixed-count gather otherwise).
+inline void keep_in_registers(V2& a, V2& b, V2& c) { asm("" : "+x"(a), "+x"(b), "+x"(c)); }
 // {a[0], a[0]} and {a[1], a[1]}.
 inline V2 splat_low(V2 a) { return _mm_unpacklo_pd(a, a); }
 inline V2 splat_high(V2 a) { return _mm_unpackhi_pd(a, a); }

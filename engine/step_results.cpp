@@ -19,12 +19,22 @@ inline V2 high_lanes(V2 a, V2 b) { return V2{a[1], b[1]}; }
 inline V2 select(V2i m, V2 a) { return V2(V2i(a) & m); }      // m ? a : +0
 inline V2 select_not(V2i m, V2 a) { return V2(V2i(a) & ~m); }  // m ? +0 : a
 
-// Node-major rows, one per node, that the gather reads: (u_x, u_y), (u_z, dV_x), (dV_y,
-// dV_z) with dV = A o u; without stress (u_x, u_y), (u_z, 0). A neighbour then costs its
-// entry, its edge weight and two or three pair loads. Rows of 6 doubles in the solver's
-// spare scratch, not 8 on cache-line boundaries in an array of the step's: 2.6 MB less at
-// 40k nodes (the peak-memory target) for about 0.4 % more instructions per frame.
-constexpr std::ptrdiff_t kRow = 6;
+// What the gather reads of each node, packed: the pairs (u_x, u_y), (u_z, dV_x), (dV_y, dV_z)
+// with dV = A o u (without stress (u_x, u_y), (u_z, 0) and no third), each kind in a plane of
+// N pairs: pair k of node j at pair[k] + 2 j. One index (2 j, scale 8) serves the three loads
+// (node-major rows of 6 cost a multiply by 3, a shift and an add per neighbour). The planes
+// are the 6 N doubles of the solver's spare scratch (no array of the step's: the peak memory
+// at 40k nodes).
+struct Planes {
+  const double* pair[3];
+};
+inline Planes planes_of(const double* rows, std::ptrdiff_t n) {
+  Planes p{{rows, rows + 2 * n, rows + 4 * n}};
+  // Three base registers: hide from the compiler that they are rows + 2 n k, or it may
+  // rebuild the second and third from the first at every neighbour (one more add each).
+  asm("" : "+r"(p.pair[1]), "+r"(p.pair[2]));
+  return p;
+}
 
 // Per-axis entries of nodes i and i + 1 as a pair (Pair), or of node i alone (lane 1 zero:
 // the last node of an odd count). The N x 3 arrays are read through their data and the
@@ -47,87 +57,122 @@ struct NeighbourSums {
   V2 wu_xy = {0.0, 0.0}, wu_z_dv_x = {0.0, 0.0}, dv_yz = {0.0, 0.0};
 };
 
+// One neighbour j's terms: w_ij u_j on (x, y) and on z in lane 0; mulsd keeps lane 1, dV_x
+// unweighted (the bits of V2{w, 1.0} * row without building that pair), then dV_y, dV_z.
+// Without stress lane 1 of wu_z_dv_x is unused.
+template <bool Stress>
+inline void add_neighbour(NeighbourSums& g, NeighbourLists::Entry e, const double* weight, const Planes& p) {
+  const V2 w = simd::splat(weight[e.edge]);
+  const std::ptrdiff_t j = 2 * std::ptrdiff_t(e.node);
+  g.wu_xy += w * simd::load2(p.pair[0] + j);
+  g.wu_z_dv_x += simd::mul_low(simd::load2(p.pair[1] + j), w);
+  if (Stress) g.dv_yz += simd::load2(p.pair[2] + j);
+  simd::keep_in_registers(g.wu_xy, g.wu_z_dv_x, g.dv_yz);
+}
+
+// Any node's list, in its order.
 template <bool Stress>
 inline NeighbourSums gather(const NeighbourLists::Entry* e, const NeighbourLists::Entry* end, const double* weight,
-                            const double* rows) {
+                            const Planes& p) {
   NeighbourSums g;
-  for (; e != end; ++e) {
-    const double w = weight[e->edge];
-    const double* r = rows + kRow * e->node;
-    g.wu_xy += simd::splat(w) * simd::load2(r);
-    if (Stress) {
-      g.wu_z_dv_x += V2{w, 1.0} * simd::load2(r + 2);
-      g.dv_yz += simd::load2(r + 4);
-    } else {
-      g.wu_z_dv_x += simd::splat(w) * simd::load2(r + 2);
-    }
-  }
+  for (; e != end; ++e) add_neighbour<Stress>(g, *e, weight, p);
   return g;
 }
+
+// The common case of a closed triangulated surface: two nodes of kDegree neighbours each
+// (entries e[0, kDegree) and e[kDegree, 2 kDegree)), the loops unrolled and the two lists
+// interleaved; each node's sums in its list's order (the bits of gather()).
+constexpr int kDegree = 6;
+template <bool Stress>
+inline void gather_pair_fixed(const NeighbourLists::Entry* e, const double* weight, const Planes& p, NeighbourSums& g0,
+                              NeighbourSums& g1) {
+#pragma GCC unroll 6
+  for (int k = 0; k < kDegree; ++k) {
+    add_neighbour<Stress>(g0, e[k], weight, p);
+    add_neighbour<Stress>(g1, e[kDegree + k], weight, p);
+  }
+}
+
+// ResidualSums per axis, lane 0 the even nodes' sum and lane 1 the odd nodes'.
+struct LaneSums {
+  V2 free2[3] = {}, rhs2[3] = {}, volume_row[3] = {};
+};
 
 // The whole pass for one case (stress or not, loads, springs).
 template <bool Stress, bool Loads, bool Springs>
 class ResultsPass {
  public:
   ResultsPass(const TissueModel& m, const StepResultsInput& in, SimState& s, double* rows)
-      : m_(m), rows_(rows), n_(m.n), col_{0, m.n, 2 * std::ptrdiff_t(m.n)}, u_(s.u.data()), a_(s.area_vectors.data()),
-        rhs_(in.rhs.data()), a_free_(in.a_free.data()), begin_(m.neighbours.begin.data()),
-        entries_(m.neighbours.entries.data()), weight_(in.K.weight.data()), diag_(in.K.diagonal.data()),
-        mask_(in.mask.data()), f_(Loads ? in.force->data() : nullptr), k_(Springs ? in.springs->data() : nullptr),
-        reaction_(s.reaction.data()), pressure_(s.reaction_pressure.data()), norms_(in.area_norms.data()),
-        strain_(s.strain.data()), sigma_(s.stress.data()), bulk_(m.bulk.data()), vol_(s.node_volumes.data()),
-        bc_(m.connectivity_modulus), p_(s.pressure) {}
+      : m_(m), rows_(rows), planes_(planes_of(rows, m.n)), n_(m.n), col_{0, m.n, 2 * std::ptrdiff_t(m.n)},
+        u_(s.u.data()), a_(s.area_vectors.data()), rhs_(in.rhs.data()), a_free_(in.a_free.data()),
+        begin_(m.neighbours.begin.data()), entries_(m.neighbours.entries.data()), weight_(in.K.weight.data()),
+        diag_(in.K.diagonal.data()), mask_(in.mask.data()), f_(Loads ? in.force->data() : nullptr),
+        k_(Springs ? in.springs->data() : nullptr), reaction_(s.reaction.data()), pressure_(s.reaction_pressure.data()),
+        norms_(in.area_norms.data()), strain_(s.strain.data()), sigma_(s.stress.data()), bulk_(m.bulk.data()),
+        vol_(s.node_volumes.data()), bc_(m.connectivity_modulus), p_(s.pressure) {}
 
   ResidualSums run(SimState& s) {
-    // Rows first (every neighbour's row is read), two nodes at a time, with the sums that
-    // need no neighbour; then the gather and each node's results, two nodes at a time.
+    // The planes first (every neighbour's pairs are read), two nodes at a time, with the sums
+    // that need no neighbour; then the gather and each node's results, two nodes at a time.
+    // The sums in locals, not members: the compiler may keep them in registers (a store
+    // through a double* could change a member, so a member's sum is stored every pair).
+    LaneSums acc;
     std::ptrdiff_t i = 0;
-    for (; i + 1 < n_; i += 2) pack<true>(i);
-    if (i < n_) pack<false>(i);
-    for (i = 0; i + 1 < n_; i += 2) results<true>(i);
-    if (i < n_) results<false>(i);
+    for (; i + 1 < n_; i += 2) pack<true>(i, acc);
+    if (i < n_) pack<false>(i, acc);
+    for (i = 0; i + 1 < n_; i += 2) results<true>(i, acc);
+    if (i < n_) results<false>(i, acc);
     if (Stress) infinite_bulk(s);
     ResidualSums sums;
     for (int d = 0; d < 3; ++d) {  // even nodes' sum + odd nodes'
-      sums.free2[d] = free2_[d][0] + free2_[d][1];
-      sums.rhs2[d] = rhs2_[d][0] + rhs2_[d][1];
-      sums.volume_row[d] = volume_row_[d][0] + volume_row_[d][1];
+      sums.free2[d] = acc.free2[d][0] + acc.free2[d][1];
+      sums.rhs2[d] = acc.rhs2[d][0] + acc.rhs2[d][1];
+      sums.volume_row[d] = acc.volume_row[d][0] + acc.volume_row[d][1];
     }
     return sums;
   }
 
  private:
-  // The rows of nodes i and i + 1 (Pair) or i alone, and their terms of |rhs|^2 and a_free . u.
+  // The pairs of nodes i and i + 1 (Pair) or i alone in the planes, and their terms of
+  // |rhs|^2 and a_free . u.
   template <bool Pair>
-  void pack(std::ptrdiff_t i) {
+  void pack(std::ptrdiff_t i, LaneSums& acc) const {
     V2 u[3], dv[3];
     for (int d = 0; d < 3; ++d) {
       const std::ptrdiff_t id = i + col_[d];
       u[d] = load<Pair>(u_ + id);
       dv[d] = Stress ? load<Pair>(a_ + id) * u[d] : V2{0.0, 0.0};
       const V2 r = load<Pair>(rhs_ + id);
-      rhs2_[d] += r * r;
-      volume_row_[d] += load<Pair>(a_free_ + id) * u[d];
+      acc.rhs2[d] += r * r;
+      acc.volume_row[d] += load<Pair>(a_free_ + id) * u[d];
     }
-    double* row = rows_ + kRow * i;
-    simd::store2(row, low_lanes(u[0], u[1]));
-    simd::store2(row + 2, low_lanes(u[2], dv[0]));
-    if (Stress) simd::store2(row + 4, low_lanes(dv[1], dv[2]));
+    double* xy = rows_ + 2 * i;  // planes_.pair[0]
+    double* zx = xy + 2 * n_;     // planes_.pair[1]
+    double* yz = zx + 2 * n_;     // planes_.pair[2]
+    simd::store2(xy, low_lanes(u[0], u[1]));
+    simd::store2(zx, low_lanes(u[2], dv[0]));
+    if (Stress) simd::store2(yz, low_lanes(dv[1], dv[2]));
     if (Pair) {
-      row += kRow;
-      simd::store2(row, high_lanes(u[0], u[1]));
-      simd::store2(row + 2, high_lanes(u[2], dv[0]));
-      if (Stress) simd::store2(row + 4, high_lanes(dv[1], dv[2]));
+      simd::store2(xy + 2, high_lanes(u[0], u[1]));
+      simd::store2(zx + 2, high_lanes(u[2], dv[0]));
+      if (Stress) simd::store2(yz + 2, high_lanes(dv[1], dv[2]));
     }
   }
 
   // Nodes i and i + 1 (Pair) or i alone, each axis's two entries as a pair.
   template <bool Pair>
-  void results(std::ptrdiff_t i) {
-    const NeighbourLists::Entry* e = entries_ + begin_[i];
-    const NeighbourSums g0 = gather<Stress>(e, entries_ + begin_[i + 1], weight_, rows_);
-    const NeighbourSums g1 = Pair ? gather<Stress>(entries_ + begin_[i + 1], entries_ + begin_[i + 2], weight_, rows_)
-                                  : NeighbourSums();
+  void results(std::ptrdiff_t i, LaneSums& acc) const {
+    const int b0 = begin_[i], b1 = begin_[i + 1], b2 = Pair ? begin_[i + 2] : b1;
+    NeighbourSums g0, g1;
+    V2 degree;  // of nodes i and i + 1 (or 0)
+    if (Pair && b2 - b0 == 2 * kDegree && b1 - b0 == kDegree) {
+      gather_pair_fixed<Stress>(entries_ + b0, weight_, planes_, g0, g1);
+      degree = simd::splat(double(kDegree));
+    } else {
+      g0 = gather<Stress>(entries_ + b0, entries_ + b1, weight_, planes_);
+      if (Pair) g1 = gather<Stress>(entries_ + b1, entries_ + b2, weight_, planes_);
+      degree = V2{double(b1 - b0), Pair ? double(b2 - b1) : 0.0};
+    }
     const V2 wu[3] = {low_lanes(g0.wu_xy, g1.wu_xy), high_lanes(g0.wu_xy, g1.wu_xy), low_lanes(g0.wu_z_dv_x, g1.wu_z_dv_x)};
     // (K u)_i - dP A_i - f_i; on a free entry plus k_i u_i it is the eliminated system's
     // residual (the constrained u_j are their prescribed values), on a constrained one the
@@ -143,7 +188,7 @@ class ResultsPass {
     }
     if (!any_held<Pair>(i)) {  // most nodes: no reaction, every entry free
       for (int d = 0; d < 3; ++d) {
-        free2_[d] += free_r[d] * free_r[d];
+        acc.free2[d] += free_r[d] * free_r[d];
         store<Pair>(reaction_ + i + col_[d], V2{0.0, 0.0});
       }
       store<Pair>(pressure_ + i, V2{0.0, 0.0});
@@ -152,7 +197,7 @@ class ResultsPass {
       for (int d = 0; d < 3; ++d) {
         const V2i held = held_lanes<Pair>(mask_ + i + col_[d]);
         r[d] = select(held, base[d]);
-        free2_[d] += select_not(held, free_r[d] * free_r[d]);
+        acc.free2[d] += select_not(held, free_r[d] * free_r[d]);
         store<Pair>(reaction_ + i + col_[d], r[d]);
       }
       // The contact pressure |r_i| / |A_i| on a node with a constrained entry.
@@ -169,7 +214,6 @@ class ResultsPass {
       // V_i for the three axes), as for a finite B on every entry (the infinite: below).
       const V2 dv_sums[3] = {high_lanes(g0.wu_z_dv_x, g1.wu_z_dv_x), low_lanes(g0.dv_yz, g1.dv_yz),
                              high_lanes(g0.dv_yz, g1.dv_yz)};
-      const V2 degree = {double(begin_[i + 1] - begin_[i]), Pair ? double(begin_[i + 2] - begin_[i + 1]) : 0.0};
       const V2 inv_v = simd::splat(1.0) / (Pair ? simd::load2(vol_ + i) : V2{vol_[i], 1.0});
       for (int d = 0; d < 3; ++d) {
         const std::ptrdiff_t id = i + col_[d];
@@ -207,6 +251,7 @@ class ResultsPass {
 
   const TissueModel& m_;
   double* rows_;
+  const Planes planes_;
   const std::ptrdiff_t n_;
   const std::ptrdiff_t col_[3];
   const double *u_, *a_, *rhs_, *a_free_;
@@ -220,8 +265,6 @@ class ResultsPass {
   double *strain_, *sigma_;
   const double *bulk_, *vol_;
   const double bc_, p_;
-  // Per axis, lane 0 the even nodes' sum and lane 1 the odd nodes'.
-  V2 free2_[3] = {}, rhs2_[3] = {}, volume_row_[3] = {};
 };
 
 template <bool Stress, bool Loads, bool Springs>

@@ -37,7 +37,7 @@ struct ResidualSums {
 // model.compute_stress, s.strain and s.stress: those of compute_strain_stress() to
 // round-off (the neighbour sums are taken in another order). `rows`: scratch of
 // result_rows_size(N) doubles (the step lends the solver's: LinearSolver::spare_doubles).
-// One pass to pack u and A o u node by node, one gather.
+// One pass to pack u and A o u in planes of pairs, one gather.
 ResidualSums compute_step_results(const TissueModel& model, const StepResultsInput& in, SimState& s, double* rows);
 
 }  // namespace vdm

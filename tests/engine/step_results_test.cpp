@@ -3,6 +3,8 @@
 // entry, and compute_strain_stress().
 #include <gtest/gtest.h>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 #include <vector>
 
@@ -44,6 +46,84 @@ ResidualSums plain_results(const TissueModel& m, const StepResultsInput& in, Sim
   }
   return sums;
 }
+
+// The pass's arithmetic written out node by node, entry by entry: each neighbour sum from +0
+// in list order, the sums of even and of odd nodes apart and then added, 1 / V_i once per
+// node. The pass must give these bits exactly (its unrolled gather of two degree-6 nodes,
+// its loop for others, its pairs of nodes are only another schedule of the same operations).
+ResidualSums list_order_results(const TissueModel& m, const StepResultsInput& in, SimState& s) {
+  const NeighbourLists& l = m.neighbours;
+  double free2[3][2] = {}, rhs2[3][2] = {}, volume_row[3][2] = {};
+  for (int i = 0; i < m.n; ++i) {
+    const int lane = i % 2;
+    double wu[3] = {0, 0, 0}, dv_sum[3] = {0, 0, 0}, r[3];
+    for (int k = l.begin[size_t(i)]; k < l.begin[size_t(i) + 1]; ++k) {
+      const NeighbourLists::Entry e = l.entries[size_t(k)];
+      const double w = in.K.weight[e.edge];
+      for (int d = 0; d < 3; ++d) {
+        wu[d] += w * s.u(e.node, d);
+        dv_sum[d] += s.area_vectors(e.node, d) * s.u(e.node, d);
+      }
+    }
+    bool any = false;
+    for (int d = 0; d < 3; ++d) {
+      double base = in.K.diagonal(i, d) * s.u(i, d) - wu[d] - s.pressure * s.area_vectors(i, d);
+      if (in.force) base -= (*in.force)(i, d);
+      double free_r = base;
+      if (in.springs) free_r += (*in.springs)(i, d) * s.u(i, d);
+      const bool held = in.mask(i, d) != 0;
+      any = any || held;
+      r[d] = held ? base : 0.0;
+      s.reaction(i, d) = r[d];
+      if (!held) free2[d][lane] += free_r * free_r;
+      rhs2[d][lane] += in.rhs(i, d) * in.rhs(i, d);
+      volume_row[d][lane] += in.a_free(i, d) * s.u(i, d);
+    }
+    const double an = in.area_norms[i];
+    s.reaction_pressure[i] = any && an > 0 ? std::sqrt(r[0] * r[0] + r[1] * r[1] + r[2] * r[2]) / an : 0.0;
+    if (m.compute_stress) {
+      const double inv_v = 1.0 / s.node_volumes[i];
+      const double degree = double(l.begin[size_t(i) + 1] - l.begin[size_t(i)]);
+      for (int d = 0; d < 3; ++d) {
+        const double dv = s.area_vectors(i, d) * s.u(i, d);
+        const double eps = dv * inv_v;
+        s.strain(i, d) = eps;
+        s.stress(i, d) = m.bulk(i, d) * eps + m.connectivity_modulus * (degree * dv - dv_sum[d]) * inv_v;
+      }
+    }
+  }
+  if (m.compute_stress)
+    for (const int i : m.infinite_nodes) {
+      const double tiny = 1e-9 * s.area_vectors.row(i).norm();
+      for (int d = 0; d < 3; ++d) {
+        if (!m.infinite(i, d)) continue;
+        s.strain(i, d) = 0.0;
+        const double a = s.area_vectors(i, d);
+        s.stress(i, d) += std::abs(a) > tiny ? -s.reaction(i, d) / a : 0.0;
+      }
+    }
+  ResidualSums sums;
+  for (int d = 0; d < 3; ++d) {
+    sums.free2[d] = free2[d][0] + free2[d][1];
+    sums.rhs2[d] = rhs2[d][0] + rhs2[d][1];
+    sums.volume_row[d] = volume_row[d][0] + volume_row[d][1];
+  }
+  return sums;
+}
+
+// Entries whose bits differ (a NaN equals a NaN of the same bits; -0 differs from +0).
+template <typename Mat>
+int differing_bits(const Mat& a, const Mat& b) {
+  int count = 0;
+  for (Eigen::Index k = 0; k < a.size(); ++k) {
+    std::uint64_t x, y;
+    std::memcpy(&x, a.data() + k, sizeof x);
+    std::memcpy(&y, b.data() + k, sizeof y);
+    count += x != y;
+  }
+  return count;
+}
+bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
 // |a - b| within `rel` of b's largest entry, entry by entry.
 ::testing::AssertionResult close(const NodeMat& a, const NodeMat& b, double rel) {
@@ -131,6 +211,78 @@ TEST(StepResults, MatchThePlainProductResidualLoopAndStress) {
           ++cases;
         }
   EXPECT_EQ(cases, 12);
+}
+
+// The same bits as the node-by-node loop in list order, in every case of the pass, on a ball
+// (an icosphere: degree 6 but at 12 nodes) pressed at its top, with pairs of degree-6 nodes
+// (the unrolled gather) and pairs with a degree-5 node (the loop).
+TEST(StepResults, SameBitsAsTheNodeByNodeLoop) {
+  const double R = 0.05;
+  TissueDef def = default_tissue(make_icosphere(R, 3));
+  const int n = def.mesh.node_count();
+  def.fixed = FlagMat::Zero(n, 3);
+  for (int i = 0; i < n; ++i)
+    if (def.mesh.positions(i, 2) < -0.8 * R) def.fixed.row(i).setOnes();
+  def.bulk_modulus = NodeMat::Constant(n, 3, 20000.0);
+  for (int i = 0; i < n; i += 5) def.bulk_modulus(i, 2) = std::numeric_limits<double>::infinity();
+  TissueModel m = scenario::build(def);
+  int fixed_pairs = 0, other_pairs = 0;
+  for (int i = 0; i + 1 < m.n; i += 2) {
+    const int* b = m.neighbours.begin.data() + i;
+    (b[1] - b[0] == 6 && b[2] - b[1] == 6 ? fixed_pairs : other_pairs) += 1;
+  }
+  EXPECT_GT(fixed_pairs, 0);
+  EXPECT_GT(other_pairs, 0);
+  SimState s = make_sim_state(m);
+  StepInput in = make_step_input(m);
+  in.spring_k = NodeMat::Zero(m.n, 3);
+  in.spring_u = NodeMat::Zero(m.n, 3);
+  for (int i = 0; i < m.n; ++i) {
+    if (m.rest.positions(i, 0) > 0.6 * R) in.force(i, 0) = -0.05;        // pushed along -x
+    if (m.rest.positions(i, 1) > 0.6 * R) in.spring_k(i, 1) = 40.0 + i;  // held along y
+  }
+  for (int k = 1; k <= 2; ++k) {
+    for (int i = 0; i < m.n; ++i)
+      if (m.rest.positions(i, 2) > 0.8 * R) {  // the top pressed down
+        in.prescribed(i, 2) = 1;
+        in.prescribed_u(i, 2) = -0.002 * k;
+      }
+    step(m, in, s);
+  }
+  ASSERT_FALSE(s.failed);
+  const StepWorkspace& w = *s.work;
+  ASSERT_TRUE(w.last_springs_any);
+  std::vector<double> rows(result_rows_size(m.n));
+  for (const bool stress : {true, false})
+    for (const bool loads : {true, false})
+      for (const bool springs : {true, false}) {
+        SCOPED_TRACE(::testing::Message() << "stress " << stress << " loads " << loads << " springs " << springs);
+        m.compute_stress = stress;
+        m.connectivity_modulus = 2000.0;
+        const StepResultsInput input{w.K, w.mask, loads ? &w.force : nullptr, springs ? &w.last_springs : nullptr,
+                                     w.area_norms, w.rhs, w.a_free};
+        s.strain.setConstant(7.0);
+        s.stress.setConstant(7.0);
+        const ResidualSums want = list_order_results(m, input, s);
+        const NodeMat reaction = s.reaction, strain = s.strain, stress_want = s.stress;
+        const Vec pressure = s.reaction_pressure;
+        ASSERT_GT(reaction.cwiseAbs().maxCoeff(), 0.0);
+        s.reaction.setConstant(7.0);
+        s.reaction_pressure.setConstant(7.0);
+        s.strain.setConstant(7.0);
+        s.stress.setConstant(7.0);
+        std::fill(rows.begin(), rows.end(), std::nan(""));
+        const ResidualSums got = compute_step_results(m, input, s, rows.data());
+        EXPECT_EQ(differing_bits(s.reaction, reaction), 0);
+        EXPECT_EQ(differing_bits(s.reaction_pressure, pressure), 0);
+        EXPECT_EQ(differing_bits(s.strain, strain), 0);
+        EXPECT_EQ(differing_bits(s.stress, stress_want), 0);
+        for (int d = 0; d < 3; ++d) {
+          EXPECT_TRUE(same_bits(got.free2[d], want.free2[d])) << "axis " << d;
+          EXPECT_TRUE(same_bits(got.rhs2[d], want.rhs2[d])) << "axis " << d;
+          EXPECT_TRUE(same_bits(got.volume_row[d], want.volume_row[d])) << "axis " << d;
+        }
+      }
 }
 
 // The same numbers run after run, and from a scratch of any content.
