@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "engine/simd2.hpp"
+#include "engine/simd4.hpp"
 
 namespace vdm {
 
@@ -104,10 +105,69 @@ inline void add_to_corners(const Corners& t, size_t to_sums, V2 sxy, double sz) 
   }
 }
 
+// Four triangles' corners of one kind (a, b or c: the rows p0 to p3 of triangles 0 to 3) as the
+// fours of their coordinates: {x, y} of triangles 0, 2 and of 1, 3 (a 128-bit half each) regrouped
+// by lane, and z likewise from {y, z} (no read beyond a row). {p, q} as one four: two_pairs().
+struct FourPoints {
+  simd::V4 x, y, z;
+};
+VDM_AVX2 inline simd::V4 two_pairs(const double* p, const double* q) {
+  return _mm256_insertf128_pd(_mm256_castpd128_pd256(simd::load2(p)), simd::load2(q), 1);
+}
+VDM_AVX2 inline FourPoints four_points(const double* p0, const double* p1, const double* p2, const double* p3) {
+  const simd::V4 xy02 = two_pairs(p0, p2), xy13 = two_pairs(p1, p3);
+  const simd::V4 yz02 = two_pairs(p0 + 1, p2 + 1), yz13 = two_pairs(p1 + 1, p3 + 1);
+  return {_mm256_unpacklo_pd(xy02, xy13), _mm256_unpackhi_pd(xy02, xy13), _mm256_unpackhi_pd(yz02, yz13)};
+}
+
+// Four triangles at a time (from `t` to `end`, whole fours) for the cross products and the volume
+// terms, lane-wise the operations of two_crosses() in the same order (AVX2 without FMA: the same
+// bits); the sums added triangle by triangle in order (add_to_corners()), the volume terms added
+// to `six_v` in triangle order. Returns the new six_v.
+VDM_AVX2 double four_triangle_pass(const double* px, double* pa, const int* t, const int* end, const double* origin,
+                                   double six_v) {
+  using simd::V2;
+  using simd::V4;
+  const V4 ox = simd::splat4(origin[0]), oy = simd::splat4(origin[1]), oz = simd::splat4(origin[2]);
+  // A corner's sums, a's, b's and c's in turn (the row offset 3 i from t again: the twelve rows
+  // need not stay in registers across the arithmetic).
+  const auto add = [pa](const int* tri, V2 sxy, double sz) {
+    for (int j = 0; j < 3; ++j) {
+      double* p = pa + 3 * size_t(tri[j]);
+      simd::store2(p, simd::load2(p) + sxy);
+      p[2] += sz;
+    }
+  };
+  for (; t != end; t += 12) {
+    const auto row = [px, t](int j) { return px + 3 * size_t(t[j]); };
+    const FourPoints a = four_points(row(0), row(3), row(6), row(9));
+    const FourPoints b = four_points(row(1), row(4), row(7), row(10));
+    const FourPoints c = four_points(row(2), row(5), row(8), row(11));
+    const V4 ux = b.x - a.x, uy = b.y - a.y, uz = b.z - a.z;
+    const V4 vx = c.x - a.x, vy = c.y - a.y, vz = c.z - a.z;
+    const V4 sx = uy * vz - uz * vy;
+    const V4 sy = uz * vx - ux * vz;
+    const V4 sz = ux * vy - uy * vx;
+    const V4 v6 = ((a.x - ox) * sx + (a.y - oy) * sy) + (a.z - oz) * sz;
+    const V4 xy02 = _mm256_unpacklo_pd(sx, sy), xy13 = _mm256_unpackhi_pd(sx, sy);  // {sx, sy} of 0, 2 and 1, 3
+    const V2 z01 = simd::low2(sz), z23 = _mm256_extractf128_pd(sz, 1);
+    add(t, simd::low2(xy02), z01[0]);
+    add(t + 3, simd::low2(xy13), z01[1]);
+    add(t + 6, _mm256_extractf128_pd(xy02, 1), z23[0]);
+    add(t + 9, _mm256_extractf128_pd(xy13, 1), z23[1]);
+    six_v += v6[0];
+    six_v += v6[1];
+    six_v += v6[2];
+    six_v += v6[3];
+  }
+  return six_v;
+}
+
 }  // namespace
 
-// Two triangles at a time for the arithmetic, their sums added triangle by triangle in order and
-// the volume terms summed in triangle order: every sum is the one-triangle loop's, term for term.
+// Two triangles at a time for the arithmetic (four with AVX2, the rest two at a time), their sums
+// added triangle by triangle in order and the volume terms summed in triangle order: every sum is
+// the one-triangle loop's, term for term.
 double packed_area_sums_and_volume(const NodeMat& x, const TriMat& tris, const Vec3& origin,
                                    std::vector<double>& packed) {
   const size_t n = size_t(x.rows());
@@ -137,6 +197,11 @@ double packed_area_sums_and_volume(const NodeMat& x, const TriMat& tris, const V
   const int* t = tris.data();  // row-major: a triangle's three indices together
   const int* const pairs_end = t + 6 * (size_t(tris.rows()) / 2);
   double six_v = 0.0;
+  if (simd::avx2_enabled()) {  // the fours first, then what is left as below
+    const int* const fours_end = t + 12 * (size_t(tris.rows()) / 4);
+    six_v = four_triangle_pass(px, pa, t, fours_end, origin.data(), six_v);
+    t = fours_end;
+  }
   for (; t != pairs_end; t += 6) {
     const Corners t0 = corners(px, t), t1 = corners(px, t + 3);
     const TwoCrosses s = two_crosses(t0, t1, o);
@@ -163,16 +228,55 @@ void unpack_area_vectors(const std::vector<double>& packed, NodeMat& area_vector
   }
 }
 
+namespace {
+
+// unpack_area_vectors_and_norms()'s nodes 0 to `end` (a multiple of 4) four at a time: nodes
+// i, i + 2 and i + 1, i + 3 as the pairs of the two-node loop, each 128-bit half regrouped as
+// it regroups a pair of nodes; the lengths added to and compared with `total` and `smallest`
+// pair by pair in node order, so the same bits as that loop.
+VDM_AVX2 void unpack_four_nodes(const double* pa, double* const c[3], double* norm, size_t end, simd::V2& total,
+                                simd::V2& smallest) {
+  using simd::V4;
+  const V4 sixth = simd::splat4(kSixth);
+  double *const cx = c[0], *const cy = c[1], *const cz = c[2];
+  simd::V2 t = total, m = smallest;  // in registers (the caller's may alias the outputs)
+  for (size_t i = 0; i < end; i += 4) {
+    const double* p = pa + 3 * i;
+    const V4 u = two_pairs(p, p + 6), v = two_pairs(p + 2, p + 8), w = two_pairs(p + 4, p + 10);
+    const V4 x = V4(_mm256_shuffle_pd(u, v, 0xA)) * sixth, y = V4(_mm256_shuffle_pd(u, w, 0x5)) * sixth,
+             z = V4(_mm256_shuffle_pd(v, w, 0xA)) * sixth;
+    simd::store4(cx + i, x);
+    simd::store4(cy + i, y);
+    simd::store4(cz + i, z);
+    const V4 length = _mm256_sqrt_pd(x * x + y * y + z * z);
+    simd::store4(norm + i, length);
+    const simd::V2 first = simd::low2(length), second = _mm256_extractf128_pd(length, 1);
+    t += first;
+    t += second;
+    m = simd::min2(m, first);
+    m = simd::min2(m, second);
+  }
+  total = t;
+  smallest = m;
+}
+
+}  // namespace
+
 AreaNormSums unpack_area_vectors_and_norms(const std::vector<double>& packed, NodeMat& area_vectors, Vec& area_norms) {
   using simd::V2;
   const size_t n = size_t(area_vectors.rows());
   const double* pa = packed.data() + 3 * n;
   double* c[3] = {area_vectors.col(0).data(), area_vectors.col(1).data(), area_vectors.col(2).data()};
   double* norm = area_norms.data();
-  // Two nodes at a time: their six packed sums as three pairs, regrouped by axis.
+  // Two nodes at a time: their six packed sums as three pairs, regrouped by axis (with AVX2,
+  // four at a time first).
   const V2 sixth = simd::splat(kSixth);
   V2 total = {0.0, 0.0}, smallest = simd::splat(std::numeric_limits<double>::infinity());
   size_t i = 0;
+  if (simd::avx2_enabled()) {
+    i = n / 4 * 4;
+    unpack_four_nodes(pa, c, norm, i, total, smallest);
+  }
   for (; i + 2 <= n; i += 2) {
     const double* p = pa + 3 * i;
     const V2 u = simd::load2(p), v = simd::load2(p + 2), w = simd::load2(p + 4);  // x0 y0, z0 x1, y1 z1

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <limits>
@@ -10,6 +11,8 @@
 #include "app/mesh_io.hpp"
 #include "engine/geometry.hpp"
 #include "engine/shapes.hpp"
+#include "engine/simd4.hpp"
+#include "support/simd_paths.hpp"
 
 namespace vdm {
 namespace {
@@ -121,58 +124,68 @@ std::uint64_t bits(double v) {
 // The two-triangles-at-a-time pass gives the scalar pass's bits: on the 2.5k and 10k livers
 // (deformed, off the origin), with an odd triangle count, and with triangles that repeat a node
 // (a node's sums then take two terms of one triangle, in corner order).
+// Both variants of the pass (SSE2, two triangles at a time; AVX2, four), the AVX2 half skipped
+// where the CPU lacks AVX2.
 TEST(Geometry, PackedPassIsTheScalarPassBitForBit) {
-  for (const char* name : {"liver_L4.obj", "liver_L5.obj"}) {
-    const auto path = std::filesystem::path(VDMSIM_SOURCE_DIR) / "assets/meshes" / name;
-    const vdmsim::MeshLoadResult mesh = vdmsim::load_surface_mesh(path.string());
-    ASSERT_TRUE(mesh.ok) << mesh.error;
-    NodeMat x = mesh.mesh.positions;
-    for (Eigen::Index i = 0; i < x.rows(); ++i)
-      x.row(i) = Vec3(0.3 + 1.2 * x(i, 0), -0.1 + x(i, 1) * (1 + 3 * x(i, 2)), 0.7 * x(i, 2) - 0.02).transpose();
-    const Vec3 origin(0.31, -0.12, 0.01);
-    const TriMat& all = mesh.mesh.triangles;
-    TriMat repeated(all.rows() + 3, 3);
-    repeated.topRows(all.rows()) = all;
-    repeated.row(all.rows()) << 7, 7, 12;
-    repeated.row(all.rows() + 1) << 12, 7, 12;
-    repeated.row(all.rows() + 2) << 3, 3, 3;
-    const TriMat odd = all.topRows(all.rows() - 1);
-    ASSERT_EQ(odd.rows() % 2, 1);
-    int case_index = 0;
-    for (const TriMat* tris : {&all, static_cast<const TriMat*>(&odd), static_cast<const TriMat*>(&repeated)}) {
-      std::vector<double> expected, packed(5, 1.0);  // a stale packed of another size
-      const double v_expected = scalar_packed_area_sums_and_volume(x, *tris, origin, expected);
-      const double v = packed_area_sums_and_volume(x, *tris, origin, packed);
-      EXPECT_EQ(bits(v), bits(v_expected)) << name << " case " << case_index;
-      ASSERT_EQ(packed.size(), expected.size());
-      size_t differing = 0;
-      for (size_t j = 0; j < packed.size(); ++j) differing += bits(packed[j]) != bits(expected[j]);
-      EXPECT_EQ(differing, 0u) << name << " case " << case_index;
-      // And again into the same packed (sums restarted from zero).
-      EXPECT_EQ(bits(packed_area_sums_and_volume(x, *tris, origin, packed)), bits(v_expected));
-      EXPECT_TRUE(packed == expected);
-      ++case_index;
-    }
-    // An odd node count (the packing's and the comparison's last node alone).
-    const NodeMat fewer = x.topRows(x.rows() - (x.rows() % 2 == 0 ? 1 : 0));
-    ASSERT_EQ(fewer.rows() % 2, 1);
-    TriMat kept(all.rows(), 3);
-    Eigen::Index kept_count = 0;
-    for (Eigen::Index k = 0; k < all.rows(); ++k)
-      if (all.row(k).maxCoeff() < fewer.rows()) kept.row(kept_count++) = all.row(k);
-    const TriMat some = kept.topRows(kept_count);
-    std::vector<double> expected, packed;
-    EXPECT_EQ(bits(packed_area_sums_and_volume(fewer, some, origin, packed)),
-              bits(scalar_packed_area_sums_and_volume(fewer, some, origin, expected)));
-    EXPECT_TRUE(packed == expected);
-    EXPECT_TRUE(packed_positions_equal(fewer, packed));
-    for (Eigen::Index node : {Eigen::Index(0), fewer.rows() - 2, fewer.rows() - 1})
-      for (int d = 0; d < 3; ++d) {
-        NodeMat moved = fewer;
-        moved(node, d) = -moved(node, d);
-        EXPECT_FALSE(packed_positions_equal(moved, packed)) << name << " node " << node << " axis " << d;
+  if (!simd::avx2_supported()) std::printf("[ SKIPPED  ] the AVX2 half: no AVX2 on this CPU\n");
+  simd_test::sse2_then_avx2([](bool avx2) {
+    if (avx2 && !simd::avx2_enabled()) return;
+    SCOPED_TRACE(avx2 ? "AVX2" : "SSE2");
+    for (const char* name : {"liver_L4.obj", "liver_L5.obj"}) {
+      const auto path = std::filesystem::path(VDMSIM_SOURCE_DIR) / "assets/meshes" / name;
+      const vdmsim::MeshLoadResult mesh = vdmsim::load_surface_mesh(path.string());
+      ASSERT_TRUE(mesh.ok) << mesh.error;
+      NodeMat x = mesh.mesh.positions;
+      for (Eigen::Index i = 0; i < x.rows(); ++i)
+        x.row(i) = Vec3(0.3 + 1.2 * x(i, 0), -0.1 + x(i, 1) * (1 + 3 * x(i, 2)), 0.7 * x(i, 2) - 0.02).transpose();
+      const Vec3 origin(0.31, -0.12, 0.01);
+      const TriMat& all = mesh.mesh.triangles;
+      TriMat repeated(all.rows() + 3, 3);
+      repeated.topRows(all.rows()) = all;
+      repeated.row(all.rows()) << 7, 7, 12;
+      repeated.row(all.rows() + 1) << 12, 7, 12;
+      repeated.row(all.rows() + 2) << 3, 3, 3;
+      const TriMat odd = all.topRows(all.rows() - 1);
+      ASSERT_EQ(odd.rows() % 2, 1);
+      // Every remainder of a division by four (the AVX2 pass's fours, then pairs, then one).
+      const TriMat less2 = all.topRows(all.rows() - 2), less3 = all.topRows(all.rows() - 3);
+      int case_index = 0;
+      for (const TriMat* tris : {&all, static_cast<const TriMat*>(&odd), static_cast<const TriMat*>(&repeated),
+                                 static_cast<const TriMat*>(&less2), static_cast<const TriMat*>(&less3)}) {
+        std::vector<double> expected, packed(5, 1.0);  // a stale packed of another size
+        const double v_expected = scalar_packed_area_sums_and_volume(x, *tris, origin, expected);
+        const double v = packed_area_sums_and_volume(x, *tris, origin, packed);
+        EXPECT_EQ(bits(v), bits(v_expected)) << name << " case " << case_index;
+        ASSERT_EQ(packed.size(), expected.size());
+        size_t differing = 0;
+        for (size_t j = 0; j < packed.size(); ++j) differing += bits(packed[j]) != bits(expected[j]);
+        EXPECT_EQ(differing, 0u) << name << " case " << case_index;
+        // And again into the same packed (sums restarted from zero).
+        EXPECT_EQ(bits(packed_area_sums_and_volume(x, *tris, origin, packed)), bits(v_expected));
+        EXPECT_TRUE(packed == expected);
+        ++case_index;
       }
-  }
+      // An odd node count (the packing's and the comparison's last node alone).
+      const NodeMat fewer = x.topRows(x.rows() - (x.rows() % 2 == 0 ? 1 : 0));
+      ASSERT_EQ(fewer.rows() % 2, 1);
+      TriMat kept(all.rows(), 3);
+      Eigen::Index kept_count = 0;
+      for (Eigen::Index k = 0; k < all.rows(); ++k)
+        if (all.row(k).maxCoeff() < fewer.rows()) kept.row(kept_count++) = all.row(k);
+      const TriMat some = kept.topRows(kept_count);
+      std::vector<double> expected, packed;
+      EXPECT_EQ(bits(packed_area_sums_and_volume(fewer, some, origin, packed)),
+                bits(scalar_packed_area_sums_and_volume(fewer, some, origin, expected)));
+      EXPECT_TRUE(packed == expected);
+      EXPECT_TRUE(packed_positions_equal(fewer, packed));
+      for (Eigen::Index node : {Eigen::Index(0), fewer.rows() - 2, fewer.rows() - 1})
+        for (int d = 0; d < 3; ++d) {
+          NodeMat moved = fewer;
+          moved(node, d) = -moved(node, d);
+          EXPECT_FALSE(packed_positions_equal(moved, packed)) << name << " node " << node << " axis " << d;
+        }
+    }
+  });
 }
 
 TEST(Geometry, DistributedVolumesSumToVolume) {
@@ -215,6 +228,28 @@ TEST(Geometry, UnpackedNormsAreTheAreaVectorsLengths) {
     EXPECT_FALSE(std::isfinite(unpack_area_vectors_and_norms(packed, B, norms).total));
   }
   EXPECT_GE(odd, 1);  // both paths of the pass
+}
+
+// The AVX2 unpacking (four nodes at a time) gives the SSE2 one's bits: area vectors, lengths,
+// their sum (summed in the same order) and smallest, for every remainder of a division by four
+// of the node count.
+TEST(Geometry, UnpackingWithAvx2IsTheSse2UnpackingBitForBit) {
+  if (!simd::avx2_supported()) GTEST_SKIP() << "this CPU lacks AVX2: only the SSE2 unpacking runs here";
+  const SurfaceMesh s = make_uv_sphere(0.04, 9, 13);
+  for (int drop = 0; drop < 4; ++drop) {
+    const Eigen::Index n = s.node_count() - drop;
+    std::vector<double> packed(6 * size_t(n));
+    for (size_t j = 0; j < packed.size(); ++j) packed[j] = std::sin(0.37 * double(j)) * (1.0 + double(j % 7));
+    NodeMat a[2] = {NodeMat(n, 3), NodeMat(n, 3)};
+    Vec norms[2] = {Vec(n), Vec(n)};
+    AreaNormSums sums[2];
+    simd_test::sse2_then_avx2(
+        [&](bool avx2) { sums[avx2] = unpack_area_vectors_and_norms(packed, a[avx2], norms[avx2]); });
+    EXPECT_EQ(0, std::memcmp(a[0].data(), a[1].data(), sizeof(double) * 3 * size_t(n))) << "drop " << drop;
+    EXPECT_EQ(0, std::memcmp(norms[0].data(), norms[1].data(), sizeof(double) * size_t(n))) << "drop " << drop;
+    EXPECT_EQ(bits(sums[0].total), bits(sums[1].total)) << "drop " << drop;
+    EXPECT_EQ(bits(sums[0].smallest), bits(sums[1].smallest)) << "drop " << drop;
+  }
 }
 
 // V_i = scale max(|A_i|, floor_area), as the returned VolumeScale says, floored or not.
