@@ -230,9 +230,9 @@ void unpack_area_vectors(const std::vector<double>& packed, NodeMat& area_vector
 
 namespace {
 
-// unpack_area_vectors_and_norms()'s nodes 0 to `end` (a multiple of 4) four at a time: nodes
-// i, i + 2 and i + 1, i + 3 as the pairs of the two-node loop, each 128-bit half regrouped as
-// it regroups a pair of nodes; the lengths added to and compared with `total` and `smallest`
+// unpack_area_vectors_and_norms()'s nodes 0 to `end` (a multiple of 4) four at a time: the
+// low 128-bit halves hold the two-node loop's pair (i, i + 1), the high ones its pair
+// (i + 2, i + 3), each regrouped as that loop regroups a pair; the lengths added to and compared with `total` and `smallest`
 // pair by pair in node order, so the same bits as that loop.
 VDM_AVX2 void unpack_four_nodes(const double* pa, double* const c[3], double* norm, size_t end, simd::V2& total,
                                 simd::V2& smallest) {

@@ -19,9 +19,9 @@ bool from_environment() {
   return !(v && std::strcmp(v, "sse2") == 0);
 }
 
-// Zero (the SSE2 kernels) until initialised: a kernel run from another static initialiser
-// before this one still gives the same bits.
-std::atomic<bool> enabled{from_environment()};
+// -1 until the first question, then 0 (the SSE2 kernels) or 1 (AVX2). Constant-initialised,
+// so a kernel run from another translation unit's static initialiser finds it set up.
+std::atomic<signed char> state{-1};
 
 }  // namespace
 
@@ -30,10 +30,17 @@ bool avx2_supported() {
   return supported;
 }
 
-bool avx2_enabled() { return enabled.load(std::memory_order_relaxed); }
+bool avx2_enabled() {
+  signed char v = state.load(std::memory_order_relaxed);
+  if (v < 0) {  // first use (threads racing here all store the same value)
+    v = from_environment() ? 1 : 0;
+    state.store(v, std::memory_order_relaxed);
+  }
+  return v != 0;
+}
 
 bool set_avx2(bool on) {
-  enabled.store(on && avx2_supported(), std::memory_order_relaxed);
+  state.store(on && avx2_supported() ? 1 : 0, std::memory_order_relaxed);
   return avx2_enabled();
 }
 

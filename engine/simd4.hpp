@@ -40,7 +40,7 @@ VDM_AVX2 inline V4 load4f(const float* p) { return _mm256_cvtps_pd(_mm_loadu_ps(
 // Whether this CPU (and OS) runs AVX2.
 bool avx2_supported();
 // Whether the kernels take their AVX2 variants: where supported, unless the environment
-// variable VDMSIM_SIMD is "sse2" (read once, at start-up) or set_avx2(false) was called.
+// variable VDMSIM_SIMD is "sse2" (read once, at the first use) or set_avx2(false) was called.
 bool avx2_enabled();
 // Chooses the variants from now on (tests compare both); `on` is ignored where AVX2 is not
 // supported. Returns avx2_enabled(). Not while a kernel runs on another thread.

@@ -39,7 +39,8 @@ void multiply(const StiffnessPattern& pattern, const AxisStiffness& K, const Nod
 // rhs_i = f_i - sum_{j constrained} K_ij u_j for free i, rhs_j = u_j for constrained j. Only
 // the edge weights enter, the same on every axis; only the constrained entries with a value
 // (not the held ones, u_j = 0) move anything, along their nodes' edges (the model's
-// `neighbours`). `f` null: no loads (f = 0, the same bits as a zero array).
+// `neighbours`). `f` null: no loads (f = 0, the same bits as a zero array). The step uses the
+// listed variant below; this one, from the flags alone, is its reference in the tests.
 void eliminate_rhs(const NeighbourLists& neighbours, const AxisStiffness& K, const FlagMat& mask,
                    const NodeMat* f, const NodeMat& u_fixed, NodeMat& rhs);
 // The same, bit for bit, with the constrained entries (the set ones of `mask`) listed as
