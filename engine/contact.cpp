@@ -648,7 +648,7 @@ void ContactSolver::step_penalty(const TissueModel& m, const StepInput& base, co
     else input_.force = penalty_force_;
     input_.spring_k = penalty_spring_;
     input_.spring_u = iterate_;
-    vdm::step(m, input_, s);
+    vdm::step(m, input_, s, StepResults::none);  // the results of the last one only (below)
     ++rep.solves;
     rep.iterations += s.stats.iterations;
     if (s.failed) return;  // the caller stops; the state is the step's start
@@ -702,6 +702,7 @@ void ContactSolver::step_penalty(const TissueModel& m, const StepInput& base, co
     penalty_forces(tools, x_iterate_, rep);
     rep.collision_ms += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
   }
+  finish_step_results(m, s);
   t0 = Clock::now();
   const double deepest = penalty_forces(tools, s.x, rep);
   rep.collision_ms += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
@@ -815,8 +816,10 @@ void ContactSolver::step_kinematic(const TissueModel& m, const StepInput& base, 
         rewind_step(m, s);
       }
     }
+    // The engine's results pass only for the solve kept (finish_step_results below): the
+    // set's checks read the reactions of the held nodes alone.
     if (solver_) solver_->step(in, s);
-    else vdm::step(m, in, s);
+    else vdm::step(m, in, s, StepResults::reactions);
     for (size_t k = 0; k < held_.size(); ++k) {
       in.prescribed.row(held_[k]) = saved_flags_[k];
       in.prescribed_u.row(held_[k]) = saved_u_[k];
@@ -867,6 +870,7 @@ void ContactSolver::step_kinematic(const TissueModel& m, const StepInput& base, 
       break;
     }
   }
+  if (!solver_) finish_step_results(m, s);
   std::sort(held_.begin(), held_.end());  // the force summed in node order
   for (int i : held_) {
     ++rep.nodes;

@@ -87,7 +87,23 @@ SimState make_sim_state(const TissueModel& model);
 // (stats.fallbacks, stats.fallback and a warning say so). Quasi-static models only. When
 // that fails too, or the input is malformed, the step fails (state.failed, state.failure)
 // and changes nothing.
-void step(const TissueModel& model, const StepInput& input, SimState& state);
+//
+// `results`: what the step computes after its solve. A caller that may redo the step with
+// other constraints (the contact's active set, the penalty contact's iterations) can leave
+// the results pass out of the steps it will not keep, and then call finish_step_results()
+// for the one it keeps: the state is then the same, bit for bit, as with StepResults::all.
+enum class StepResults {
+  all,        // s.reaction, s.reaction_pressure, s.strain, s.stress and stats.residual
+  reactions,  // s.reaction at the constrained entries only (the same values as `all` gives
+              // there); the rest is left as it was until finish_step_results()
+  none,       // none of them until finish_step_results()
+};
+void step(const TissueModel& model, const StepInput& input, SimState& state, StepResults results = StepResults::all);
+
+// Computes the results a step() with StepResults::reactions or none left out (those of the
+// state's last step). Does nothing when there are none pending: after a step with
+// StepResults::all, or after rewind_step() or a failed step (the state is the step's start).
+void finish_step_results(const TissueModel& model, SimState& state);
 
 // Puts the state back as it was before the last step() call: displacement, velocity,
 // pressure, step count and time, and the engine's geometry, matrices and refresh counter,

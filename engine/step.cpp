@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <type_traits>
 
 #include "engine/all_finite.hpp"
 #include "engine/geometry.hpp"
@@ -249,15 +250,26 @@ void pin_constrained(const StepWorkspace& w, const NodeMat& rest, NodeMat& u, No
     }
 }
 
+// What pin_and_difference() found.
+struct Difference {
+  double largest = 0.0;  // max |r|
+  bool finite = false;   // every free entry of the solve's result was finite
+  bool u_finite = false; // (with `x`) every entry of u as written is finite
+};
+
 // The solve's result `u_new` with the constrained entries set to their values, minus u0: the
-// fixed-point residual, in place. Returns its largest magnitude. With `x` (a step's first
-// solve, taken whole: omega = 1) also advance_positions() in the same pass: u = u0 + r on
-// the free entries, u_fixed on the constrained ones, x = rest + u (the same values, bit for
-// bit; u0 is the step's start, swapped out of u: u is written whole), and the velocity (u -
-// u0) / dt as the step's end makes it (the same bits), with `velocity`. Without `x`, u0 is u.
+// fixed-point residual r, in place (only when `keep_r`: the nonlinear iterations read it;
+// otherwise u_new is left with the result). Also whether the result is finite on the free
+// entries (x * 0 summed, as all_finite(): the constrained ones take their values anyway).
+// With `x` (a step's first solve, taken whole: omega = 1) also advance_positions() in the
+// same pass: u = u0 + r on the free entries, u_fixed on the constrained ones, x = rest + u
+// (the same values, bit for bit; u0 is the step's start, swapped out of u: u is written
+// whole), and the velocity (u - u0) / dt as the step's end makes it (the same bits), with
+// `velocity`; and whether u is finite. Without `x`, u0 is u.
 // The N x 3 arrays as runs of 3 N entries: the few constrained ones set before and after.
-double pin_and_difference(const StepWorkspace& w, const NodeMat& u0, NodeMat& u, NodeMat& u_new, const NodeMat& rest,
-                          NodeMat* x, NodeMat* velocity = nullptr, double inv_dt = 0.0) {
+Difference pin_and_difference(const StepWorkspace& w, const NodeMat& u0, NodeMat& u, NodeMat& u_new,
+                              const NodeMat& rest, bool keep_r, NodeMat* x, NodeMat* velocity = nullptr,
+                              double inv_dt = 0.0) {
   const double* fixed = w.u_fixed.data();
   double* r = u_new.data();
   for (const std::vector<int>* entries : {&w.held_entries, &w.prescribed_entries})
@@ -265,35 +277,48 @@ double pin_and_difference(const StepWorkspace& w, const NodeMat& u0, NodeMat& u,
   const size_t count = size_t(u.size());
   double* ud = u.data();
   using simd::V2;
-  V2 largest = {0.0, 0.0};
+  const V2 zero = {0.0, 0.0};
+  V2 largest = zero, nan_in = zero, nan_u = zero;  // x * 0 summed: 0 while all are finite
   size_t i = 0;
   if (x) {
     const double* X = rest.data();
     const double* u0d = u0.data();
     double* xd = x->data();
-    auto pass = [&](double* vd) {
+    auto pass = [&](double* vd, auto keep) {
       const V2 inv2 = simd::splat(inv_dt);
       for (; i + 2 <= count; i += 2) {
         const V2 u0i = simd::load2(u0d + i);
-        const V2 ri = simd::load2(r + i) - u0i;
-        simd::store2(r + i, ri);
+        const V2 solved = simd::load2(r + i);
+        nan_in += solved * zero;
+        const V2 ri = solved - u0i;
+        if (keep) simd::store2(r + i, ri);
         largest = simd::max2(largest, simd::abs2(ri));
         const V2 ui = u0i + ri;
+        nan_u += ui * zero;
         simd::store2(ud + i, ui);
         simd::store2(xd + i, simd::load2(X + i) + ui);
         if (vd) simd::store2(vd + i, (ui - u0i) * inv2);
       }
       for (; i < count; ++i) {
-        r[i] -= u0d[i];
-        largest[0] = std::max(largest[0], std::abs(r[i]));
-        ud[i] = u0d[i] + r[i];
+        nan_in[0] += r[i] * 0.0;
+        const double ri = r[i] - u0d[i];
+        if (keep) r[i] = ri;
+        largest[0] = std::max(largest[0], std::abs(ri));
+        ud[i] = u0d[i] + ri;
+        nan_u[0] += ud[i] * 0.0;
         xd[i] = X[i] + ud[i];
         if (vd) vd[i] = (ud[i] - u0d[i]) * inv_dt;
       }
     };
-    if (velocity) pass(velocity->data());  // (two copies of the loop: no test per entry in the other)
-    else pass(nullptr);
-    pin_constrained(w, rest, u, *x);
+    // (copies of the loop: no test per entry in them)
+    if (keep_r) {
+      if (velocity) pass(velocity->data(), std::true_type());
+      else pass(nullptr, std::true_type());
+    } else {
+      if (velocity) pass(velocity->data(), std::false_type());
+      else pass(nullptr, std::false_type());
+    }
+    pin_constrained(w, rest, u, *x);  // (finite values: check_input)
     if (velocity) {
       double* vd = velocity->data();
       for (const std::vector<int>* entries : {&w.held_entries, &w.prescribed_entries})
@@ -301,16 +326,23 @@ double pin_and_difference(const StepWorkspace& w, const NodeMat& u0, NodeMat& u,
     }
   } else {
     for (; i + 2 <= count; i += 2) {
-      const V2 ri = simd::load2(r + i) - simd::load2(ud + i);
+      const V2 solved = simd::load2(r + i);
+      nan_in += solved * zero;
+      const V2 ri = solved - simd::load2(ud + i);
       simd::store2(r + i, ri);
       largest = simd::max2(largest, simd::abs2(ri));
     }
     for (; i < count; ++i) {
+      nan_in[0] += r[i] * 0.0;
       r[i] -= ud[i];
       largest[0] = std::max(largest[0], std::abs(r[i]));
     }
   }
-  return std::max(largest[0], largest[1]);
+  Difference d;
+  d.largest = std::max(largest[0], largest[1]);
+  d.finite = nan_in[0] + nan_in[1] == 0.0;
+  d.u_finite = x && nan_u[0] + nan_u[1] == 0.0;
+  return d;
 }
 
 // u += omega r on the free entries, u = u_fixed exactly on the constrained ones, and x = X +
@@ -348,8 +380,9 @@ double correct_volume(const TissueModel& m, SimState& s, StepWorkspace& w, Linea
   volume = std::numeric_limits<double>::quiet_NaN();
   if (max_corr <= 0) return c_shift;
   // With the volume constraint every solver has s from its solve: this costs nothing.
+  // (Not checked for finiteness: a non-finite free entry makes the slope below non-finite,
+  // and the constrained entries are neither read nor moved.)
   const NodeMat& response = solver.pressure_response(w.a_free);
-  if (!all_finite(response)) return c_shift;
   const double tolerance = m.solver.volume_tolerance * m.rest_volume;
   double as = std::numeric_limits<double>::quiet_NaN();  // a . s, on the first correction
   for (int k = 0; k < max_corr; ++k) {
@@ -381,6 +414,7 @@ double correct_volume(const TissueModel& m, SimState& s, StepWorkspace& w, Linea
     }
     c_shift += dp * as;
     moved = true;
+    w.u_verified_finite = false;
     for (int d = 0; d < 3; ++d) {
       const std::uint8_t* mask = w.mask.col(d).data();
       const double* r = response.col(d).data();
@@ -517,6 +551,8 @@ void rebuild_matrices(const TissueModel& m, SimState& s) {
 void rewind_step(const TissueModel& m, SimState& s) {
   StepWorkspace& w = *s.work;
   w.rewound = true;
+  w.results_pending = false;  // those of the step undone
+  w.u_verified_finite = false;
   s.u = w.start.u;
   s.x = m.rest.positions + s.u;
   s.velocity = w.start.velocity;
@@ -554,8 +590,63 @@ enum class Attempt {
   inverted,   // done, but a refresh inside the step found the surface turned inside out
 };
 
+// The results of the step just done (w.results_*): the true residual of its last solve's
+// eliminated 3N+1 system (volume row scaled like the reference solver's), the reactions,
+// contact pressure, strain and stress, in one gather over the neighbour lists with the
+// unmasked K per axis (compute_step_results). The pass does both: its time is reported as
+// the stress's when the model computes stress.
+void step_results(const TissueModel& m, SimState& s, StepWorkspace& w) {
+  const auto t_results = Clock::now();
+  const ResidualSums sums = compute_step_results(
+      m,
+      {w.K, w.mask, w.results_loads ? &w.force : nullptr, w.last_springs_any ? &w.last_springs : nullptr, w.area_norms,
+       w.rhs, w.a_free},
+      s, results_rows(m, w));
+  if (m.compute_stress) s.stats.stress_ms += ms_since(t_results);
+  const double c = w.results_volume_rhs;
+  const double alpha = pressure_scale(w.mean_diagonal, w.a_free);
+  double res2 = 0.0, rhs2 = 0.0, vol_row = -c;
+  for (int d = 0; d < 3; ++d) {
+    res2 += sums.free2[d];
+    rhs2 += sums.rhs2[d];
+    vol_row += sums.volume_row[d];
+  }
+  if (m.volume_constraint) {
+    res2 += alpha * alpha * vol_row * vol_row;
+    rhs2 += alpha * alpha * c * c;
+  }
+  s.stats.residual = rhs2 > 0 ? std::sqrt(res2 / rhs2) : std::sqrt(res2);
+  w.results_pending = false;
+}
+
+// s.reaction at the constrained entries alone: (K u)_i - dP A_i - f_i, each with the
+// operations of the results pass for that entry (its neighbour sum from zero in list order),
+// so the same bits.
+void constrained_reactions(const TissueModel& m, SimState& s, const StepWorkspace& w) {
+  const size_t n = size_t(m.n);
+  const int* begin = m.neighbours.begin.data();
+  const NeighbourLists::Entry* entries = m.neighbours.entries.data();
+  const double* weight = w.K.weight.data();
+  const double* diag = w.K.diagonal.data();
+  const double* u = s.u.data();
+  const double* a = s.area_vectors.data();
+  const double* f = w.results_loads ? w.force.data() : nullptr;
+  double* reaction = s.reaction.data();
+  const double p = s.pressure;
+  for (const std::vector<int>* list : {&w.held_entries, &w.prescribed_entries})
+    for (const int k : *list) {
+      const size_t i = size_t(k) % n;
+      const double* ud = u + (size_t(k) - i);  // the entry's axis column
+      double wu = 0.0;
+      for (int q = begin[i]; q < begin[i + 1]; ++q) wu += weight[entries[q].edge] * ud[entries[q].node];
+      double r = diag[k] * u[k] - wu - p * a[k];
+      if (f) r -= f[k];
+      reaction[k] = r;
+    }
+}
+
 // The VDM step proper (section 4) for one input.
-Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
+Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s, StepResults results) {
   const auto t_step = Clock::now();
   StepWorkspace& w = *s.work;
   StepStats& st = s.stats;
@@ -667,9 +758,32 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
     SolveReport rep = solver->solve(w.rhs, w.a_free, c, m.volume_constraint, w.u_new, p_new);
     st.iterations += rep.iterations;
     st.factorizations += rep.factorizations;
-    bool ok = rep.converged && all_finite(w.u_new) && std::isfinite(p_new);
+    st.solve_ms += ms_since(t_solve);
+    // Constrained entries take their prescribed values exactly (an iterative solve meets
+    // its identity rows only to tolerance).
+    // Nonlinear iterations are a fixed point u <- G(u) on the geometry. Aitken's relaxation
+    // (the first solve, the load increment, is taken whole): u += omega (G(u) - u), omega
+    // from the last two residuals; it saves iterations where the plain iteration converges.
+    // u_new becomes the fixed-point residual r = G(u) - u (G(u) pinned), du = max |r| (r is
+    // kept in u_new only when a later iteration may read it).
+    // The first solve is taken whole (omega = 1): u and x move in the same pass.
+    // The first solve's pass also makes the velocity; a later move of u makes it stale.
+    // The same pass tells whether the solve's result is finite: when it is not (or the solve
+    // did not converge) u, x and the velocity are made again from the fallback's result.
+    const bool keep_r = max_it > 1;
+    auto take_result = [&]() {
+      return pin_and_difference(w, u_now, s.u, w.u_new, m.rest.positions, keep_r, it == 0 ? &s.x : nullptr,
+                                it == 0 ? &s.velocity : nullptr, inv_dt);
+    };
+    Difference diff;
+    bool ok = rep.converged && std::isfinite(p_new);
+    if (ok) {
+      diff = take_result();
+      ok = diff.finite;
+    }
     if (!ok && m.solver.method != SolverMethod::direct) {
       // Fallback: the same system by the direct solver (exact up to round-off).
+      const auto t_fallback = Clock::now();
       st.fallback = rep.converged ? "iterative solve gave a non-finite result: redone by the direct solver"
                                   : "iterative solve did not converge: redone by the direct solver";
       ++st.fallbacks;
@@ -679,24 +793,20 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
       p_new = s.pressure;
       rep = solver->solve(w.rhs, w.a_free, c, m.volume_constraint, w.u_new, p_new);
       st.factorizations += rep.factorizations;
-      ok = rep.converged && all_finite(w.u_new) && std::isfinite(p_new);
+      st.solve_ms += ms_since(t_fallback);
+      ok = rep.converged && std::isfinite(p_new);
+      if (ok) {
+        diff = take_result();
+        ok = diff.finite;
+      }
     }
-    st.solve_ms += ms_since(t_solve);
     ++st.nonlinear_iterations;
     if (!ok) {
       fail_step(m, s, "no solver could solve the step (singular or non-finite system)");
       return Attempt::failed;
     }
-    // Constrained entries take their prescribed values exactly (an iterative solve meets
-    // its identity rows only to tolerance).
-    // Nonlinear iterations are a fixed point u <- G(u) on the geometry. Aitken's relaxation
-    // (the first solve, the load increment, is taken whole): u += omega (G(u) - u), omega
-    // from the last two residuals; it saves iterations where the plain iteration converges.
-    // u_new becomes the fixed-point residual r = G(u) - u (G(u) pinned), du = max |r|.
-    // The first solve is taken whole (omega = 1): u and x move in the same pass.
-    // The first solve's pass also makes the velocity; a later move of u makes it stale.
-    const double du = pin_and_difference(w, u_now, s.u, w.u_new, m.rest.positions, it == 0 ? &s.x : nullptr,
-                                         it == 0 ? &s.velocity : nullptr, inv_dt);
+    w.u_verified_finite = diff.u_finite;
+    const double du = diff.largest;
     velocity_stale = it > 0;
     if (it >= 2 && du > last_du && du > 10.0 * m.solver.nonlinear_tolerance * m.size) {
       // Diverging: past some deformation the geometric fixed point loses stability (its
@@ -713,7 +823,10 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
     st.relaxation = omega;
     st.nonlinear_change = du / m.size;
     if (it + 1 < max_it) w.residual_prev = w.u_new;
-    if (it > 0) advance_positions(w, m.rest.positions, omega, w.u_new, s.u, s.x);
+    if (it > 0) {
+      advance_positions(w, m.rest.positions, omega, w.u_new, s.u, s.x);
+      w.u_verified_finite = false;
+    }
     s.pressure += omega * (p_new - s.pressure);
     if (m.volume_constraint) {
       last_c += correct_volume(m, s, w, *solver, final_volume, velocity_stale);
@@ -730,27 +843,11 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s) {
   // reactions at constrained entries, contact pressure, strain and stress.
   s.volume = std::isnan(final_volume) ? packed_geometry(m, s.x, w) : final_volume;
   s.volume_rel_error = (s.volume - m.rest_volume) / m.rest_volume;
-  // True residual of the last solve's eliminated 3N+1 system (volume row scaled like the
-  // reference solver's), the reactions, contact pressure, strain and stress: one gather over
-  // the neighbour lists with the unmasked K per axis (compute_step_results). The pass does
-  // both: its time is reported as the stress's when the model computes stress.
-  const auto t_results = Clock::now();
-  const ResidualSums sums = compute_step_results(
-      m, {w.K, w.mask, loads ? &w.force : nullptr, w.last_springs_any ? &w.last_springs : nullptr, w.area_norms, w.rhs, w.a_free},
-      s, results_rows(m, w));
-  if (m.compute_stress) st.stress_ms = ms_since(t_results);
-  const double alpha = pressure_scale(w.mean_diagonal, w.a_free);
-  double res2 = 0.0, rhs2 = 0.0, vol_row = -last_c;
-  for (int d = 0; d < 3; ++d) {
-    res2 += sums.free2[d];
-    rhs2 += sums.rhs2[d];
-    vol_row += sums.volume_row[d];
-  }
-  if (m.volume_constraint) {
-    res2 += alpha * alpha * vol_row * vol_row;
-    rhs2 += alpha * alpha * last_c * last_c;
-  }
-  st.residual = rhs2 > 0 ? std::sqrt(res2 / rhs2) : std::sqrt(res2);
+  w.results_loads = loads;
+  w.results_volume_rhs = last_c;
+  w.results_pending = true;
+  if (results == StepResults::all) step_results(m, s, w);
+  else if (results == StepResults::reactions) constrained_reactions(m, s, w);
   if (velocity_stale) s.velocity = (s.u - w.start.u) * inv_dt;  // one division, not one per entry
   ++s.step;
   s.time += m.dt;
@@ -779,7 +876,7 @@ const char* const kHalvedText[kMaxHalvings + 1] = {
 const char* trouble_with(const TissueModel& m, const SimState& s, Attempt a) {
   if (a == Attempt::failed || a == Attempt::bad_input) return s.work->failure_reason;
   if (a == Attempt::inverted) return "the deformed surface turned inside out (no positive enclosed volume)";
-  if (!all_finite(s.u) || !std::isfinite(s.pressure)) return "the step's result is not finite";
+  if (!(s.work->u_verified_finite || all_finite(s.u)) || !std::isfinite(s.pressure)) return "the step's result is not finite";
   if (m.volume_constraint && m.solver.volume_corrections > 0 && !(std::abs(s.volume_rel_error) <= kVolumeDrift))
     return "the volume drifted by more than 1e-4 (the surface turned inside out locally)";
   return nullptr;
@@ -853,13 +950,13 @@ void restore_whole_start(StepWorkspace& w, bool refreshed) {
 
 }  // namespace
 
-void step(const TissueModel& m, const StepInput& in, SimState& s) {
+void step(const TissueModel& m, const StepInput& in, SimState& s, StepResults results) {
   const auto t_step = Clock::now();
   StepWorkspace& w = *s.work;
   StepStats& st = s.stats;
   w.input_remembered = false;
   const long total_factorizations = st.total_factorizations, total_fallbacks = st.total_fallbacks;
-  const Attempt first = step_once(m, in, s);
+  const Attempt first = step_once(m, in, s, results);
   const char* why = trouble_with(m, s, first);
   // Done, or not for smaller increments to mend (malformed input; with inertia the sub-steps
   // would need their own time step: as before, a done step is kept).
@@ -893,7 +990,7 @@ void step(const TissueModel& m, const StepInput& in, SimState& s) {
   while (pos < kParts) {
     const bool last = pos + size == kParts;  // the last part takes the input itself
     if (!last) interpolate_input(m, in, static_cast<double>(pos + size) / kParts, w);
-    const Attempt a = step_once(m, last ? in : w.sub_input, s);
+    const Attempt a = step_once(m, last ? in : w.sub_input, s, results);
     add(st);
     why = trouble_with(m, s, a);
     if (!why) {
@@ -936,6 +1033,11 @@ void step(const TissueModel& m, const StepInput& in, SimState& s) {
   sum.total_fallbacks = total_fallbacks + sum.fallbacks;
   sum.step_ms = ms_since(t_step);
   st = sum;
+}
+
+void finish_step_results(const TissueModel& m, SimState& s) {
+  StepWorkspace& w = *s.work;
+  if (w.results_pending) step_results(m, s, w);
 }
 
 }  // namespace vdm

@@ -44,6 +44,13 @@ struct StepWorkspace {
   bool refreshed_in_step = false;
   bool rewound = false;           // rewind_step() since the last step (the next may find its geometry current)
   bool volume_met = false;        // the last solve met the volume tolerance without a correction
+  bool u_verified_finite = false; // the step's first solve found every entry of the u it wrote finite, and
+                                  // nothing moved u since (else trouble_with() checks u itself)
+  // The last step's results pass, when its caller deferred it (StepResults::reactions or
+  // none): what finish_step_results() needs besides K, mask, force, rhs and a_free.
+  bool results_pending = false;
+  bool results_loads = false;     // w.force holds that step's loads
+  double results_volume_rhs = 0;  // its volume row's right-hand side (c plus the corrections' shift)
   double volume_at_refresh = 0;   // enclosed volume at x_refresh
   // Halved load increments (step() in step.cpp): the loads of the last two completed steps,
   // the input of a part of a step, and the whole step's start while it is done in parts.

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include "engine/step_results.hpp"
@@ -283,6 +284,65 @@ TEST(StepResults, SameBitsAsTheNodeByNodeLoop) {
           EXPECT_TRUE(same_bits(got.volume_row[d], want.volume_row[d])) << "axis " << d;
         }
       }
+}
+
+// A step whose results are deferred (StepResults::reactions or none, then
+// finish_step_results) leaves the state of a step with StepResults::all, bit for bit: with
+// loads, springs, prescribed and held entries, stress on. With `reactions` the constrained
+// entries' reactions are those values already before finish_step_results(); after a
+// rewind_step() there is nothing to finish (the results stay as they were).
+TEST(StepResults, DeferredResultsAreThoseOfAWholeStep) {
+  const double L = 0.1;
+  TissueDef def = scenario::cube_on_table(L, 4);
+  def.solver.tolerance = 1e-8;
+  const TissueModel m = scenario::build(def);
+  ASSERT_TRUE(m.compute_stress);
+  for (const StepResults mode : {StepResults::reactions, StepResults::none}) {
+    SCOPED_TRACE(mode == StepResults::reactions ? "reactions" : "none");
+    SimState whole = make_sim_state(m), deferred = make_sim_state(m);
+    StepInput in = make_step_input(m);
+    in.spring_k = NodeMat::Zero(m.n, 3);
+    in.spring_u = NodeMat::Zero(m.n, 3);
+    for (int i = 0; i < m.n; ++i) {
+      if (m.rest.positions(i, 0) > L / 2 - 1e-12) in.force(i, 0) = -0.05;
+      if (m.rest.positions(i, 1) > L / 2 - 1e-12) in.spring_k(i, 1) = 40.0 + i;
+    }
+    for (int k = 1; k <= 3; ++k) {
+      scenario::press_top(m, L, -0.004 * k, in);
+      // A tentative step first, undone, as the contact's active set does; the same for both.
+      step(m, in, whole);
+      rewind_step(m, whole);
+      step(m, in, whole);
+      step(m, in, deferred, mode);
+      const NodeMat stress_before = deferred.stress;
+      rewind_step(m, deferred);
+      finish_step_results(m, deferred);  // nothing pending: no change
+      EXPECT_TRUE(deferred.stress == stress_before);
+      step(m, in, deferred, mode);
+      ASSERT_FALSE(whole.failed);
+      ASSERT_FALSE(deferred.failed);
+      const StepWorkspace& w = *deferred.work;
+      if (mode == StepResults::reactions) {
+        int constrained = 0;
+        for (int d = 0; d < 3; ++d)
+          for (int i = 0; i < m.n; ++i) {
+            if (!w.mask(i, d)) continue;
+            ++constrained;
+            EXPECT_TRUE(same_bits(deferred.reaction(i, d), whole.reaction(i, d))) << "node " << i << " axis " << d;
+          }
+        EXPECT_GT(constrained, 0);
+      }
+      finish_step_results(m, deferred);
+      EXPECT_TRUE(same_bits(deferred.stats.residual, whole.stats.residual));
+      for (const auto& [got, want] : {std::pair{&deferred.reaction, &whole.reaction}, {&deferred.strain, &whole.strain},
+                                      {&deferred.stress, &whole.stress}, {&deferred.u, &whole.u}})
+        for (Eigen::Index k = 0; k < got->size(); ++k) ASSERT_TRUE(same_bits(got->data()[k], want->data()[k])) << k;
+      for (int i = 0; i < m.n; ++i)
+        ASSERT_TRUE(same_bits(deferred.reaction_pressure[i], whole.reaction_pressure[i])) << i;
+      EXPECT_GT(whole.reaction.cwiseAbs().maxCoeff(), 0.0);
+      EXPECT_GT(whole.stress.cwiseAbs().maxCoeff(), 0.0);
+    }
+  }
 }
 
 // The same numbers run after run, and from a scratch of any content.
