@@ -1,6 +1,7 @@
 #include "engine/contact.hpp"
 #include "engine/organ_solver.hpp"
 #include "engine/simd2.hpp"
+#include "engine/step_workspace.hpp"
 
 #include <fcl/fcl.h>
 
@@ -303,8 +304,7 @@ ContactSolver::ContactSolver(const TissueModel& m, ContactSettings settings)
     input_.spring_k = NodeMat::Zero(m.n, 3);
     input_.spring_u = NodeMat::Zero(m.n, 3);
   }
-  x0_ = NodeMat::Zero(m.n, 3);
-  // u0_, v0_: with a reference model only (set_solver), sized by its first step.
+  // x0_, u0_, v0_: with a reference model only (set_solver), sized by its first step.
 }
 
 ContactSolver::~ContactSolver() = default;
@@ -728,13 +728,21 @@ void ContactSolver::step_penalty(const TissueModel& m, const StepInput& base, co
 void ContactSolver::step_kinematic(const TissueModel& m, const StepInput& base, const std::vector<ToolShape>& tools,
                                    SimState& s, ContactReport& rep, StepInput* borrowed) {
   const auto t0 = Clock::now();
-  x0_ = s.x;  // positions at the step's start: a node's own motion in the step is x - x0_
   // The start of the step, for re-solving it with a reference model (fem, mass_spring); the
   // VDM engine restores itself with rewind_step().
   if (solver_) {
+    x0_ = s.x;
     u0_ = s.u;
     v0_ = s.velocity;
   }
+  // A node's position at the step's start (its own motion in the step is x minus that), once
+  // the step has been solved: the VDM engine keeps the start's u (StepWorkspace::start, the
+  // whole step's when it was done in parts) and its positions are X + u bit for bit (every
+  // pass that moves u writes x so), so no copy of x is made.
+  const NodeMat* start_u = solver_ ? nullptr : &s.work->start.u;
+  auto start_x = [&](int i) -> Vec3 {
+    return solver_ ? Vec3(x0_.row(i).transpose()) : Vec3((m.rest.positions.row(i) + start_u->row(i)).transpose());
+  };
   const long step0 = s.step;
   const double time0 = s.time;
   const bool has_prescribed = base.prescribed.rows() == m.n;
@@ -763,7 +771,7 @@ void ContactSolver::step_kinematic(const TissueModel& m, const StepInput& base, 
       const double limit = allow_touch ? settings_.activation * t.size() : -settings_.tolerance * 0.5 * t.size();
       if (dist < limit) {
         Vec3 dir;
-        const Vec3 node_move = after_solve ? Vec3((s.x.row(i) - x0_.row(i)).transpose()) : Vec3::Zero();
+        const Vec3 node_move = after_solve ? Vec3(s.x.row(i).transpose() - start_x(i)) : Vec3::Zero();
         const Vec3 target = dist < 0.0 ? push_out(t, x, node_move - t.motion_at(x), dir) : p;
         if (dist >= 0.0) dir = nrm;  // touching: held where it is; the tool pushes it along its normal
         active_[i] = 1;  // (classify only sees free nodes)

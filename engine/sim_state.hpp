@@ -94,8 +94,8 @@ SimState make_sim_state(const TissueModel& model);
 // for the one it keeps: the state is then the same, bit for bit, as with StepResults::all.
 enum class StepResults {
   all,        // s.reaction, s.reaction_pressure, s.strain, s.stress and stats.residual
-  reactions,  // s.reaction at the constrained entries only (the same values as `all` gives
-              // there); the rest is left as it was until finish_step_results()
+  reactions,  // s.reaction at the entries the input prescribes only (the same values as
+              // `all` gives there); the rest is left as it was until finish_step_results()
   none,       // none of them until finish_step_results()
 };
 void step(const TissueModel& model, const StepInput& input, SimState& state, StepResults results = StepResults::all);

@@ -619,10 +619,10 @@ void step_results(const TissueModel& m, SimState& s, StepWorkspace& w) {
   w.results_pending = false;
 }
 
-// s.reaction at the constrained entries alone: (K u)_i - dP A_i - f_i, each with the
-// operations of the results pass for that entry (its neighbour sum from zero in list order),
-// so the same bits.
-void constrained_reactions(const TissueModel& m, SimState& s, const StepWorkspace& w) {
+// s.reaction at the entries the input prescribes alone (the held entries among them too):
+// (K u)_i - dP A_i - f_i, each with the operations of the results pass for that entry (its
+// neighbour sum from zero in list order), so the same bits.
+void prescribed_reactions(const TissueModel& m, const StepInput& in, SimState& s, const StepWorkspace& w) {
   const size_t n = size_t(m.n);
   const int* begin = m.neighbours.begin.data();
   const NeighbourLists::Entry* entries = m.neighbours.entries.data();
@@ -633,16 +633,21 @@ void constrained_reactions(const TissueModel& m, SimState& s, const StepWorkspac
   const double* f = w.results_loads ? w.force.data() : nullptr;
   double* reaction = s.reaction.data();
   const double p = s.pressure;
-  for (const std::vector<int>* list : {&w.held_entries, &w.prescribed_entries})
-    for (const int k : *list) {
-      const size_t i = size_t(k) % n;
-      const double* ud = u + (size_t(k) - i);  // the entry's axis column
-      double wu = 0.0;
-      for (int q = begin[i]; q < begin[i + 1]; ++q) wu += weight[entries[q].edge] * ud[entries[q].node];
-      double r = diag[k] * u[k] - wu - p * a[k];
-      if (f) r -= f[k];
-      reaction[k] = r;
-    }
+  auto one = [&](int k) {
+    const size_t i = size_t(k) % n;
+    const double* ud = u + (size_t(k) - i);  // the entry's axis column
+    double wu = 0.0;
+    for (int q = begin[i]; q < begin[i + 1]; ++q) wu += weight[entries[q].edge] * ud[entries[q].node];
+    double r = diag[k] * u[k] - wu - p * a[k];
+    if (f) r -= f[k];
+    reaction[k] = r;
+  };
+  for (const int k : w.prescribed_entries) one(k);
+  if (in.prescribed.rows() == m.n) {
+    const std::uint8_t* prescribed = in.prescribed.data();
+    for (const int k : w.held_entries)
+      if (prescribed[k]) one(k);
+  }
 }
 
 // The VDM step proper (section 4) for one input.
@@ -847,7 +852,7 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s, StepRe
   w.results_volume_rhs = last_c;
   w.results_pending = true;
   if (results == StepResults::all) step_results(m, s, w);
-  else if (results == StepResults::reactions) constrained_reactions(m, s, w);
+  else if (results == StepResults::reactions) prescribed_reactions(m, in, s, w);
   if (velocity_stale) s.velocity = (s.u - w.start.u) * inv_dt;  // one division, not one per entry
   ++s.step;
   s.time += m.dt;

@@ -6,9 +6,13 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
+#include "engine/node_ordering.hpp"
+#include "engine/shapes.hpp"
 #include "engine/step_results.hpp"
 #include "engine/step_workspace.hpp"
 #include "engine/stiffness.hpp"
@@ -214,12 +218,36 @@ TEST(StepResults, MatchThePlainProductResidualLoopAndStress) {
   EXPECT_EQ(cases, 12);
 }
 
+// An icosphere of `level` with one more node at the centroid of triangle 0 (an odd count)
+// when `odd`, renumbered in locality order when `local`.
+SurfaceMesh ball_mesh(double R, int level, bool odd, bool local) {
+  SurfaceMesh mesh = make_icosphere(R, level);
+  if (odd) {
+    const int n = mesh.node_count(), t = mesh.triangle_count();
+    const int a = mesh.triangles(0, 0), b = mesh.triangles(0, 1), c = mesh.triangles(0, 2);
+    mesh.positions.conservativeResize(n + 1, 3);
+    const Vec3 centre = (mesh.positions.row(a) + mesh.positions.row(b) + mesh.positions.row(c)).transpose() / 3.0;
+    mesh.positions.row(n) = (R * centre.normalized()).transpose();
+    mesh.triangles.conservativeResize(t + 2, 3);
+    mesh.triangles.row(0) << a, b, n;
+    mesh.triangles.row(t) << b, c, n;
+    mesh.triangles.row(t + 1) << c, a, n;
+  }
+  if (local) renumber_for_locality(mesh);
+  return mesh;
+}
+
 // The same bits as the node-by-node loop in list order, in every case of the pass, on a ball
 // (an icosphere: degree 6 but at 12 nodes) pressed at its top, with pairs of degree-6 nodes
-// (the unrolled gather) and pairs with a degree-5 node (the loop).
-TEST(StepResults, SameBitsAsTheNodeByNodeLoop) {
+// (the unrolled gather) and pairs with a degree-5 node (the loop); in the icosphere's own
+// order (neighbours far apart in index) and in locality order, with an even and an odd node
+// count (the last node alone).
+class StepResultsBall : public ::testing::TestWithParam<std::tuple<bool, bool>> {};
+
+TEST_P(StepResultsBall, SameBitsAsTheNodeByNodeLoop) {
+  const auto [odd, local] = GetParam();
   const double R = 0.05;
-  TissueDef def = default_tissue(make_icosphere(R, 3));
+  TissueDef def = default_tissue(ball_mesh(R, 3, odd, local));
   const int n = def.mesh.node_count();
   def.fixed = FlagMat::Zero(n, 3);
   for (int i = 0; i < n; ++i)
@@ -227,6 +255,7 @@ TEST(StepResults, SameBitsAsTheNodeByNodeLoop) {
   def.bulk_modulus = NodeMat::Constant(n, 3, 20000.0);
   for (int i = 0; i < n; i += 5) def.bulk_modulus(i, 2) = std::numeric_limits<double>::infinity();
   TissueModel m = scenario::build(def);
+  ASSERT_EQ(m.n % 2, odd ? 1 : 0);
   int fixed_pairs = 0, other_pairs = 0;
   for (int i = 0; i + 1 < m.n; i += 2) {
     const int* b = m.neighbours.begin.data() + i;
@@ -286,10 +315,18 @@ TEST(StepResults, SameBitsAsTheNodeByNodeLoop) {
       }
 }
 
+INSTANTIATE_TEST_SUITE_P(OrdersAndCounts, StepResultsBall,
+                         ::testing::Combine(::testing::Bool(), ::testing::Bool()),
+                         [](const ::testing::TestParamInfo<std::tuple<bool, bool>>& info) {
+                           return std::string(std::get<0>(info.param) ? "Odd" : "Even") +
+                                  (std::get<1>(info.param) ? "LocalityOrder" : "OwnOrder");
+                         });
+
 // A step whose results are deferred (StepResults::reactions or none, then
 // finish_step_results) leaves the state of a step with StepResults::all, bit for bit: with
-// loads, springs, prescribed and held entries, stress on. With `reactions` the constrained
-// entries' reactions are those values already before finish_step_results(); after a
+// loads, springs, prescribed and held entries, stress on. With `reactions` the reactions at
+// the entries the input prescribes are those values already before finish_step_results()
+// (a held node prescribed too included); after a
 // rewind_step() there is nothing to finish (the results stay as they were).
 TEST(StepResults, DeferredResultsAreThoseOfAWholeStep) {
   const double L = 0.1;
@@ -306,6 +343,7 @@ TEST(StepResults, DeferredResultsAreThoseOfAWholeStep) {
     for (int i = 0; i < m.n; ++i) {
       if (m.rest.positions(i, 0) > L / 2 - 1e-12) in.force(i, 0) = -0.05;
       if (m.rest.positions(i, 1) > L / 2 - 1e-12) in.spring_k(i, 1) = 40.0 + i;
+      if (m.rest.positions(i, 2) < -L / 2 + 1e-12 && i % 2 == 0) in.prescribed(i, 0) = 1;  // held (fixed) too
     }
     for (int k = 1; k <= 3; ++k) {
       scenario::press_top(m, L, -0.004 * k, in);
@@ -321,12 +359,11 @@ TEST(StepResults, DeferredResultsAreThoseOfAWholeStep) {
       step(m, in, deferred, mode);
       ASSERT_FALSE(whole.failed);
       ASSERT_FALSE(deferred.failed);
-      const StepWorkspace& w = *deferred.work;
       if (mode == StepResults::reactions) {
         int constrained = 0;
         for (int d = 0; d < 3; ++d)
           for (int i = 0; i < m.n; ++i) {
-            if (!w.mask(i, d)) continue;
+            if (!in.prescribed(i, d)) continue;
             ++constrained;
             EXPECT_TRUE(same_bits(deferred.reaction(i, d), whole.reaction(i, d))) << "node " << i << " axis " << d;
           }
