@@ -51,12 +51,7 @@ TEST(PushOut, AheadOfTheProbeAndBehindIt) {
 // a ball and dragged sideways (its active set changes from solve to solve).
 TEST(ProbeContact, PositionsStayRestPlusDisplacementBitForBit) {
   const double R = 0.05, r = 0.004;
-  TissueDef def = default_tissue(make_icosphere(R, 4));
-  const int n = def.mesh.node_count();
-  def.fixed = FlagMat::Zero(n, 3);
-  for (int i = 0; i < n; ++i)
-    if (def.mesh.positions(i, 2) < -0.04) def.fixed.row(i).setOnes();
-  const TissueModel m = scenario::build(def);
+  const TissueModel m = scenario::ball_on_base(R, 4);
   SimState s = make_sim_state(m);
   const StepInput base = make_step_input(m);
   ContactSolver contact(m);
