@@ -47,8 +47,8 @@ TEST(PushOut, AheadOfTheProbeAndBehindIt) {
 
 // The contact takes a node's position at the step's start as X + u of the step's start (the
 // engine's rewind point) instead of copying x: that holds only while x is X + u bit for bit
-// after every step, rewound attempts and steps done in parts included. A probe pressed into
-// a ball and dragged sideways (its active set changes from solve to solve).
+// after every step and rewound attempt (steps done in parts: load_halving_test). A probe
+// pressed into a ball and dragged sideways (its active set changes from solve to solve).
 TEST(ProbeContact, PositionsStayRestPlusDisplacementBitForBit) {
   const double R = 0.05, r = 0.004;
   const TissueModel m = scenario::ball_on_base(R, 4);

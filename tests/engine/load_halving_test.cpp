@@ -4,9 +4,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <string>
 #include <tuple>
 
+#include "engine/step_workspace.hpp"
 #include "support/hard_cases.hpp"
 #include "support/scenarios.hpp"
 
@@ -203,6 +205,11 @@ TEST(LoadHalving, RewindAfterAHalvedStepGoesBackToTheWholeStepsStart) {
   step(m, in, s);
   ASSERT_FALSE(s.failed) << s.failure;
   ASSERT_NE(s.stats.fallback, nullptr);
+  // What the contact reads for a node's start position (X + the rewind point's u): the whole
+  // step's start, and positions X + u bit for bit after the parts.
+  EXPECT_EQ(s.work->start.u, u0);
+  const NodeMat x = m.rest.positions + s.u;
+  EXPECT_EQ(std::memcmp(x.data(), s.x.data(), sizeof(double) * size_t(x.size())), 0);
   const NodeMat u_once = s.u;
   rewind_step(m, s);
   EXPECT_EQ(s.step, 1);
