@@ -357,10 +357,7 @@ void AxisIncompleteCholesky::apply(const double* r, double* z, double* rz) const
   }
 }
 
-template <int W>
-double AxisIncompleteCholesky::apply_column(int c, const double* r, double* z) const {
-  static_assert(W == 3 || W == 6, "blocks of 3 or 6 vectors");
-  const size_t d = size_t(axis_of<W>(c));
+double AxisIncompleteCholesky::apply_axis(int d, const double* r, double* z) const {
   const int* lo_start = lo_start_.data();
   const int* lo_col = lo_col_.data();
   const float* lo_val = lo_val_.data() + d;
@@ -368,27 +365,23 @@ double AxisIncompleteCholesky::apply_column(int c, const double* r, double* z) c
   const int* up_col = up_col_.data();
   const float* up_val = up_val_.data() + d;
   const double* inv_diag = inv_diag_.data() + d;
-  const double* rc = r + c;
-  double* zc = z + c;
   for (int i = 0; i < n_; ++i) {  // forward: L y = r
-    double a = rc[size_t(i) * W];
-    for (int p = lo_start[i]; p < lo_start[i + 1]; ++p) a -= double(lo_val[3 * size_t(p)]) * *block_row<W>(zc, 6 * lo_col[p]);
-    zc[size_t(i) * W] = a * inv_diag[3 * size_t(i)];
+    double a = r[i];
+    for (int p = lo_start[i]; p < lo_start[i + 1]; ++p) a -= double(lo_val[3 * size_t(p)]) * z[lo_col[p]];
+    z[i] = a * inv_diag[3 * size_t(i)];
   }
   double rz = 0.0;
   for (int i = n_ - 1; i >= 0; --i) {  // backward: L^T z = y
-    double a = zc[size_t(i) * W];
-    for (int p = up_start[i]; p < up_start[i + 1]; ++p) a -= double(up_val[3 * size_t(p)]) * *block_row<W>(zc, 6 * up_col[p]);
+    double a = z[i];
+    for (int p = up_start[i]; p < up_start[i + 1]; ++p) a -= double(up_val[3 * size_t(p)]) * z[up_col[p]];
     a *= inv_diag[3 * size_t(i)];
-    zc[size_t(i) * W] = a;
-    rz += rc[size_t(i) * W] * a;
+    z[i] = a;
+    rz += r[i] * a;
   }
   return rz;
 }
 
 template void AxisIncompleteCholesky::apply<3>(const double*, double*, double*) const;
-template double AxisIncompleteCholesky::apply_column<3>(int, const double*, double*) const;
-template double AxisIncompleteCholesky::apply_column<6>(int, const double*, double*) const;
 template void AxisIncompleteCholesky::apply<6>(const double*, double*, double*) const;
 
 }  // namespace vdm

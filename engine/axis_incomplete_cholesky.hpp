@@ -31,10 +31,10 @@ class AxisIncompleteCholesky {
   // z = (L L^T)^{-1} r on a block of W vectors; also rz[c] = r_c . z_c.
   template <int W>
   void apply(const double* r, double* z, double* rz) const;
-  // Column c of that (z's other columns untouched), with apply()'s operations on it in its
-  // order: the same values bit for bit. Returns r_c . z_c.
-  template <int W>
-  double apply_column(int c, const double* r, double* z) const;
+  // The same for one vector of axis d alone, stored contiguously (a column taken out of a
+  // block), with apply()'s operations on a lane of axis d in its order: the same values bit
+  // for bit. Returns r . z.
+  double apply_axis(int d, const double* r, double* z) const;
   int size() const { return n_; }
   // The factors' values and constrained set, for state snapshots: appended to `out`; read
   // back from `in` at `pos` (advanced) after analyze() of the same pattern. False when `in`

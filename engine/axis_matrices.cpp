@@ -179,17 +179,17 @@ void AxisMatrices::gather(const AxisStiffness& K, const FlagMat& mask, const Nod
 namespace {
 
 // After the product with the stored values: the rows and columns of the entries constrained
-// on some axes only (rare) made the identity's on those axes, for column c of the block. Row i
+// on some axes only (rare) made the identity's on those axes, for one vector of axis d whose
+// row i is at x[i * S] (S = W: column c of a block, from x + c; S = 1: a vector alone). Row i
 // of K^d keeps its diagonal term alone; column i's terms leave the free rows' sums; dot
 // follows.
-template <int W>
-void eliminate_constrained_column(const AxisMatrices& K, int c, const double* x, double* y, double& dot) {
-  const int d = axis_of<W>(c);
+template <int S>
+void eliminate_constrained_vector(const AxisMatrices& K, int d, const double* x, double* y, double& dot) {
   for (int k = 0; k < K.partial_count; ++k) {
     const int i = K.held_rows[size_t(k)];
     if (!K.constrained(i, d)) continue;
-    const double xi = x[size_t(i) * W + size_t(c)];
-    double& yi = y[size_t(i) * W + size_t(c)];
+    const double xi = x[size_t(i) * S];
+    double& yi = y[size_t(i) * S];
     const double now = K.diag[3 * size_t(i) + size_t(d)] * xi;
     dot += xi * (now - yi);
     yi = now;
@@ -197,8 +197,8 @@ void eliminate_constrained_column(const AxisMatrices& K, int c, const double* x,
       const int j = K.column(size_t(p));
       if (K.constrained(j, d)) continue;  // its own row is the identity's (or zeroed)
       const double t = K.off[size_t(p)] * xi;
-      y[size_t(j) * W + size_t(c)] -= t;
-      dot -= x[size_t(j) * W + size_t(c)] * t;
+      y[size_t(j) * S] -= t;
+      dot -= x[size_t(j) * S] * t;
     }
   }
 }
@@ -206,7 +206,7 @@ void eliminate_constrained_column(const AxisMatrices& K, int c, const double* x,
 template <int W>
 void eliminate_constrained(const AxisMatrices& K, const double* x, double* y, double* dot) {
   if (K.partial_count == 0) return;
-  for (int c = 0; c < W; ++c) eliminate_constrained_column<W>(K, c, x, y, dot[c]);
+  for (int c = 0; c < W; ++c) eliminate_constrained_vector<W>(K, axis_of<W>(c), x + c, y + c, dot[c]);
 }
 
 // K's arrays as the row products read them (taken once per product, not per row: GCC
@@ -525,25 +525,20 @@ bool residual_block(const AxisMatrices& K, const std::array<const double*, W / 3
   return true;
 }
 
-template <int W>
-double multiply_column(const AxisMatrices& K, int c, const double* x, double* y) {
-  static_assert(W == 3 || W == 6, "blocks of 3 or 6 vectors");
-  const int d = axis_of<W>(c);
+double multiply_axis(const AxisMatrices& K, int d, const double* x, double* y) {
   const int* start = K.start.data();
-  const int* col6 = K.col6.data();
+  const unsigned* col6 = reinterpret_cast<const unsigned*>(K.col6.data());  // (>= 0: unsigned / 6 is cheaper)
   const double* off = K.off.data();
-  const double* diag = K.diag.data();
-  const double* xc = x + c;
-  double* yc = y + c;
+  const double* diag = K.diag.data() + d;
   double dot = 0.0;
-  for (int i = 0; i < K.n; ++i) {  // multiply_block's operations on lane c, in its order
-    const double xi = xc[size_t(i) * W];
-    double a = diag[3 * size_t(i) + size_t(d)] * xi;
-    for (int p = start[i]; p < start[i + 1]; ++p) a += off[p] * *block_row<W>(xc, col6[p]);
-    yc[size_t(i) * W] = a;
+  for (int i = 0; i < K.n; ++i) {  // multiply_block's operations on one lane of axis d, in its order
+    const double xi = x[i];
+    double a = diag[3 * size_t(i)] * xi;
+    for (int p = start[i]; p < start[i + 1]; ++p) a += off[p] * x[col6[p] / 6u];
+    y[i] = a;
     dot += xi * a;
   }
-  eliminate_constrained_column<W>(K, c, x, y, dot);
+  eliminate_constrained_vector<1>(K, d, x, y, dot);
   return dot;
 }
 
@@ -554,8 +549,6 @@ template bool residual_block<3>(const AxisMatrices&, const std::array<const doub
 template bool residual_block<6>(const AxisMatrices&, const std::array<const double*, 2>&, const double*, double*,
                                 double*, double*);
 template void multiply_block<3>(const AxisMatrices&, const double*, double*, double*);
-template double multiply_column<3>(const AxisMatrices&, int, const double*, double*);
-template double multiply_column<6>(const AxisMatrices&, int, const double*, double*);
 template void multiply_block<6>(const AxisMatrices&, const double*, double*, double*);
 
 }  // namespace vdm

@@ -87,10 +87,10 @@ bool residual_block(const AxisMatrices& K, const double* b, const double* x, dou
 template <int W>
 bool residual_block(const AxisMatrices& K, const std::array<const double*, W / 3>& b_src, const double* x, double* r,
                     double* bn, double* rn);
-// Column c of that product alone (y's other columns untouched): the operations of
-// multiply_block's column c, in its order, so the same values bit for bit, at a fraction of
-// the block's cost. Returns x_c . y_c.
-template <int W>
-double multiply_column(const AxisMatrices& K, int c, const double* x, double* y);
+// K^d x for one vector of axis d alone, stored contiguously (a column taken out of a
+// block): the operations of multiply_block on a lane of axis d, in its order, so the same
+// values bit for bit, touching n values of x and y where a column inside the block touches
+// every cache line of it. Returns x . y.
+double multiply_axis(const AxisMatrices& K, int d, const double* x, double* y);
 
 }  // namespace vdm

@@ -29,11 +29,13 @@ struct BlockPcgWorkspace {
   }
 };
 
-// Optional column kernels for block_pcg(): `multiply(c, in, out)` writes column c of A in
-// into out and returns in_c . out_c, `apply(c, in, out)` the same for P^{-1}, each touching
-// column c only, with the block kernels' operations on that column (the same values bit for
-// bit). Once a single column is still iterating, its iterations run on it alone: the same
-// iterates, without the work on the stopped columns. NoColumnKernels: never.
+// Optional column kernels for block_pcg(): `multiply(c, in, out)` writes A_c in into out
+// and returns in . out, `apply(c, in, out)` the same for P^{-1}, on vectors of n entries
+// stored contiguously (column c taken out of the block), each with the block kernels'
+// operations on column c (the same values bit for bit). Once a single column is still
+// iterating, it is taken out of the block and its iterations run on it alone: the same
+// iterates, touching n values per vector where the block's every cache line was touched.
+// NoColumnKernels: never.
 // The same object may also have `residual(b, x, r, bn, rn)`: r = b - A x on the whole block
 // (r may be b) with bn[c] = |b_c|^2 and rn[c] = |r_c|^2 summed row by row from 0, in one
 // pass (block_pcg's own passes, the product and its dot in three passes otherwise: the same
@@ -53,44 +55,53 @@ struct HasResidual<Col, std::void_t<decltype(std::declval<const Col&>().residual
 // The rest of column c's PCG, alone, from the point where its residual r_c is to be
 // preconditioned: p_c = z_c the first time (`first`), else z_c + (r.z / rz_old) p_c; the
 // iteration counter at `it` (the iterations done). The same recurrence as block_pcg's.
+// The other columns of r, p, z and q are dead (stopped: only x is kept), so column c of r and
+// p moves to the first n entries of its own array (row i's entry to entry i, each read before
+// it is overwritten: i <= i W + c), z and q share the first n of the z/q array and x_c its next
+// n; x_c goes back into the block at the end.
 template <int W, class Col>
 void column_pcg(const Col& col, int c, int n, double* x, double threshold, double bn, int max_iter, int it, bool first,
                 double rz_old, BlockPcgWorkspace& w, KrylovResult& result) {
   double* r = w.r.data();
-  double* z = w.zq.data();
   double* p = w.p.data();
-  double* q = w.zq.data();
+  double* z = w.zq.data();
+  double* q = z;
+  double* xc = z + n;
+  for (int i = 0; i < n; ++i) {
+    const size_t k = size_t(i) * W + size_t(c);
+    r[i] = r[k];
+    xc[i] = x[k];
+  }
+  if (!first)
+    for (int i = 0; i < n; ++i) p[i] = p[size_t(i) * W + size_t(c)];
   for (;;) {
     const double rz = col.apply(c, r, z);
     const double beta = first ? 0.0 : rz / rz_old;
-    for (int i = 0; i < n; ++i) {
-      const size_t k = size_t(i) * W + size_t(c);
-      p[k] = first ? z[k] : z[k] + beta * p[k];
-    }
+    for (int i = 0; i < n; ++i) p[i] = first ? z[i] : z[i] + beta * p[i];
     first = false;
     rz_old = rz;
     if (++it > max_iter) {
       result.converged = false;
-      return;
+      break;
     }
     const double dot = col.multiply(c, p, q);
     if (!(dot > 0.0) || !std::isfinite(dot)) {  // breakdown: A not SPD along p, or NaN
       result.iterations = it;
       result.converged = false;
-      return;
+      break;
     }
     const double alpha = rz / dot;
     double rn = 0.0;
     for (int i = 0; i < n; ++i) {
-      const size_t k = size_t(i) * W + size_t(c);
-      x[k] += alpha * p[k];
-      r[k] -= alpha * q[k];
-      rn += r[k] * r[k];
+      xc[i] += alpha * p[i];
+      r[i] -= alpha * q[i];
+      rn += r[i] * r[i];
     }
     result.iterations = it;
     result.relative_residual = std::sqrt(rn / bn);
-    if (std::sqrt(rn) <= threshold) return;
+    if (std::sqrt(rn) <= threshold) break;
   }
+  for (int i = 0; i < n; ++i) x[size_t(i) * W + size_t(c)] = xc[i];
 }
 
 }  // namespace detail

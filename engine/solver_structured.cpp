@@ -233,16 +233,16 @@ class StructuredSolver final : public LinearSolver {
     const AxisIncompleteCholesky& ic = ic_;
     auto op = [&K](const double* in, double* res, double* dot) { multiply_block<W>(K, in, res, dot); };
     auto pre = [&ic](const double* in, double* res, double* dot) { ic.apply<W>(in, res, dot); };
-    // A column left iterating alone (usually r^z under a vertical probe) runs on the column
-    // kernels: the same iterates, bit for bit. The start's residual and norms in one pass.
+    // A column left iterating alone (usually r^z under a vertical probe) is taken out of the
+    // block and runs on the one-vector kernels: the same iterates, bit for bit. The start's residual and norms in one pass.
     // The start's residual takes b from the node-order columns (block_pcg() reads b only when
     // residual() fails: with b_in_block).
     struct Columns {
       const AxisMatrices& K;
       const AxisIncompleteCholesky& ic;
       const std::array<const double*, G>& b_src;
-      double multiply(int c, const double* in, double* out) const { return multiply_column<W>(K, c, in, out); }
-      double apply(int c, const double* in, double* out) const { return ic.apply_column<W>(c, in, out); }
+      double multiply(int c, const double* in, double* out) const { return multiply_axis(K, axis_of<W>(c), in, out); }
+      double apply(int c, const double* in, double* out) const { return ic.apply_axis(axis_of<W>(c), in, out); }
       bool residual(const double*, const double* in, double* r, double* bn, double* rn) const {
         return residual_block<W>(K, b_src, in, r, bn, rn);
       }
