@@ -185,23 +185,48 @@ bool AxisIncompleteCholesky::load_values(const std::vector<double>& in, size_t& 
 
 namespace {
 
+typedef long long V2i __attribute__((vector_size(16)));
+typedef long long V4i __attribute__((vector_size(32)));
+
+// apply()'s `live` as bit masks, one per vector of the block: all ones for a vector whose r is
+// read, zero for one whose r is taken as +0 (an AND of the loaded values: the same bits as
+// zeroing those entries of r first).
+template <int W>
+struct LaneMasks {
+  long long m[W];
+  explicit LaneMasks(const double* live) {
+    for (int c = 0; c < W; ++c) m[c] = !live || live[c] != 0.0 ? -1LL : 0LL;
+  }
+};
+
+// v, or +0 when the mask is zero.
+inline double masked(double v, long long mask) {
+  long long bits;
+  std::memcpy(&bits, &v, sizeof bits);
+  bits &= mask;
+  std::memcpy(&v, &bits, sizeof v);
+  return v;
+}
+
 // apply<6> with AVX2 (simd4.hpp): a row of 6 as lanes 0-3 (a0 and a1 of the SSE2 sweeps) and
 // 4-5 (a2), each lane with the same operations in the same order (so the same bits). An
 // entry's three values are read as four floats (the arrays have one float to spare after the
 // last entry) and spread over the lanes.
 VDM_AVX2 void apply6_avx2(int n, const int* lo_start, const int* lo_col, const float* lo_val, const int* up_start,
                           const int* up_col, const float* up_val, const double* inv_diag, const double* r, double* z,
-                          double* rz) {
+                          double* rz, const LaneMasks<6>& lanes) {
   using simd::V2;
   using simd::V4;
   using simd::load2;
   using simd::load4;
+  const V4i m01 = {lanes.m[0], lanes.m[1], lanes.m[2], lanes.m[3]};
+  const V2i m2 = {lanes.m[4], lanes.m[5]};
   // Forward: L y = r (y stored in z). Rows are written and read back in the same two parts
   // (4 + 2 doubles): a row loaded right after its store is then forwarded from it.
   for (int i = 0; i < n; ++i) {
     const double* ri = r + size_t(i) * 6;
-    V4 a01 = load4(ri);
-    V2 a2 = load2(ri + 4);
+    V4 a01 = V4(V4i(load4(ri)) & m01);
+    V2 a2 = V2(V2i(load2(ri + 4)) & m2);
     for (int p = lo_start[i]; p < lo_start[i + 1]; ++p) {
       const V4 v = simd::load4f(lo_val + 3 * size_t(p));
       const double* zj = block_row<6>(z, 6 * lo_col[p]);
@@ -232,8 +257,8 @@ VDM_AVX2 void apply6_avx2(int n, const int* lo_start, const int* lo_col, const f
     simd::store4(zi, a01);
     simd::store2(zi + 4, a2);
     const double* ri = r + size_t(i) * 6;
-    d01 += load4(ri) * a01;
-    d2 += load2(ri + 4) * a2;
+    d01 += V4(V4i(load4(ri)) & m01) * a01;
+    d2 += V2(V2i(load2(ri + 4)) & m2) * a2;
   }
   simd::store4(rz, d01);
   simd::store2(rz + 4, d2);
@@ -242,12 +267,14 @@ VDM_AVX2 void apply6_avx2(int n, const int* lo_start, const int* lo_col, const f
 }  // namespace
 
 template <int W>
-void AxisIncompleteCholesky::apply(const double* r, double* z, double* rz) const {
+void AxisIncompleteCholesky::apply(const double* r, double* z, double* rz, const double* live) const {
   static_assert(W == 3 || W == 6, "blocks of 3 or 6 vectors");
+  const LaneMasks<W> lanes(live);
   // The variant chosen first (nothing live across the call: the SSE2 sweeps compile as alone).
   if (W == 6 && simd::avx2_enabled()) {
-    apply6_avx2(n_, lo_start_.data(), lo_col_.data(), lo_val_.data(), up_start_.data(), up_col_.data(),
-                up_val_.data(), inv_diag_.data(), r, z, rz);
+    if constexpr (W == 6)
+      apply6_avx2(n_, lo_start_.data(), lo_col_.data(), lo_val_.data(), up_start_.data(), up_col_.data(),
+                  up_val_.data(), inv_diag_.data(), r, z, rz, lanes);
     return;
   }
   using simd::V2;
@@ -269,9 +296,10 @@ void AxisIncompleteCholesky::apply(const double* r, double* z, double* rz) const
     // then spread over the lanes.
     // Lanes: the two vectors of an axis (axis_matrices.hpp) share the value of L^d.
     // Forward: L y = r (y stored in z).
+    const V2i m0 = {lanes.m[0], lanes.m[1]}, m1 = {lanes.m[2], lanes.m[3]}, m2 = {lanes.m[4], lanes.m[5]};
     for (int i = 0; i < n_; ++i) {
       const double* ri = r + size_t(i) * 6;
-      V2 a0 = load2(ri), a1 = load2(ri + 2), a2 = load2(ri + 4);
+      V2 a0 = V2(V2i(load2(ri)) & m0), a1 = V2(V2i(load2(ri + 2)) & m1), a2 = V2(V2i(load2(ri + 4)) & m2);
       for (int p = lo_start[i]; p < lo_start[i + 1]; ++p) {
         const float* v = lo_val + 3 * size_t(p);
         const V2 v01 = load2f(v), v12 = load2f(v + 1);
@@ -307,19 +335,21 @@ void AxisIncompleteCholesky::apply(const double* r, double* z, double* rz) const
       store2(zi + 2, a1);
       store2(zi + 4, a2);
       const double* ri = r + size_t(i) * 6;
-      d0 += load2(ri) * a0;
-      d1 += load2(ri + 2) * a1;
-      d2 += load2(ri + 4) * a2;
+      d0 += V2(V2i(load2(ri)) & m0) * a0;
+      d1 += V2(V2i(load2(ri + 2)) & m1) * a1;
+      d2 += V2(V2i(load2(ri + 4)) & m2) * a2;
     }
     store2(rz, d0);
     store2(rz + 2, d1);
     store2(rz + 4, d2);
   } else {
     // Lanes: x and y together (their values are adjacent), z alone.
+    const V2i mxy = {lanes.m[0], lanes.m[1]};
+    const long long mz = lanes.m[2];
     for (int i = 0; i < n_; ++i) {
       const double* ri = r + size_t(i) * 3;
-      V2 axy = load2(ri);
-      double az = ri[2];
+      V2 axy = V2(V2i(load2(ri)) & mxy);
+      double az = masked(ri[2], mz);
       for (int p = lo_start[i]; p < lo_start[i + 1]; ++p) {
         const float* v = lo_val + 3 * size_t(p);
         const double* zj = block_row<3>(z, 6 * lo_col[p]);
@@ -349,8 +379,8 @@ void AxisIncompleteCholesky::apply(const double* r, double* z, double* rz) const
       store2(zi, axy);
       zi[2] = az;
       const double* ri = r + size_t(i) * 3;
-      dxy += load2(ri) * axy;
-      dz += ri[2] * az;
+      dxy += V2(V2i(load2(ri)) & mxy) * axy;
+      dz += masked(ri[2], mz) * az;
     }
     store2(rz, dxy);
     rz[2] = dz;
@@ -381,7 +411,7 @@ double AxisIncompleteCholesky::apply_axis(int d, const double* r, double* z) con
   return rz;
 }
 
-template void AxisIncompleteCholesky::apply<3>(const double*, double*, double*) const;
-template void AxisIncompleteCholesky::apply<6>(const double*, double*, double*) const;
+template void AxisIncompleteCholesky::apply<3>(const double*, double*, double*, const double*) const;
+template void AxisIncompleteCholesky::apply<6>(const double*, double*, double*, const double*) const;
 
 }  // namespace vdm

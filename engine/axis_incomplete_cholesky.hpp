@@ -28,9 +28,11 @@ class AxisIncompleteCholesky {
   // lower triangular with a positive diagonal, so L L^T is SPD: a valid preconditioner, made
   // from older matrices. Returns the number of entries changed.
   int fit_to_mask(const AxisMatrices& K);
-  // z = (L L^T)^{-1} r on a block of W vectors; also rz[c] = r_c . z_c.
+  // z = (L L^T)^{-1} r on a block of W vectors; also rz[c] = r_c . z_c. With `live` (W
+  // values), vector c's r is taken as zero where live[c] is 0 (the same bits as zeroing it
+  // first: block_pcg's stopped columns, whose r is left as it is).
   template <int W>
-  void apply(const double* r, double* z, double* rz) const;
+  void apply(const double* r, double* z, double* rz, const double* live = nullptr) const;
   // The same for one vector of axis d alone, stored contiguously (a column taken out of a
   // block), with apply()'s operations on a lane of axis d in its order: the same values bit
   // for bit. Returns r . z.

@@ -108,8 +108,9 @@ void column_pcg(const Col& col, int c, int n, double* x, double threshold, doubl
 
 // Solves A_c x_c = b_c for c < W from the guesses in x, column c until |b_c - A_c x_c| <=
 // threshold[c] (absolute), or max_iter iterations. `op(in, out, dot)`: out = A in on the
-// block and dot[c] = in_c . out_c; `pre(in, out, dot)`: out = P^{-1} in and dot[c] = in_c .
-// out_c. A column with b_c = 0 gets x_c = 0. result[c]: iterations and convergence per
+// block and dot[c] = in_c . out_c; `pre(in, out, dot, live)`: out = P^{-1} in and dot[c] =
+// in_c . out_c, with in_c taken as zero where live[c] is 0 (a stopped column: its residual is
+// left in place, not zeroed by a pass of its own). A column with b_c = 0 gets x_c = 0. result[c]: iterations and convergence per
 // column (breakdown: A_c not SPD along the direction, or not finite). b may be w.r itself
 // (sized n W beforehand): each entry is read before the residual overwrites it.
 template <int W, class Op, class Pre, class Col = NoColumnKernels>
@@ -175,10 +176,11 @@ void block_pcg(const Op& op, const Pre& pre, int n, const double* b, double* x, 
       detail::column_pcg<W>(col, c, n, x, threshold[c], bn[c], max_iter, 0, true, 0.0, w, result[size_t(c)]);
     return;
   }
-  // A stopped column has r = p = q = 0 (then z = 0 and nothing changes it), unless the
-  // preconditioner is not finite there: its direction is zeroed again after each update.
-  // Columns are zeroed together, in one pass over the block (a pass per column and vector
-  // cost as much as the iteration itself on large blocks).
+  // A stopped column has p = q = 0, and z = 0 (pre() takes its r as zero: r itself is left
+  // as it was), so nothing changes it, unless the preconditioner is not finite there (its
+  // direction is zeroed again after each update) or it broke down (r, p and q are zeroed:
+  // p may not be finite). Columns are zeroed together, in one pass over the block (a pass
+  // per column and vector cost as much as the iteration itself on large blocks).
   bool cut[W];
   auto zero = [&](std::initializer_list<double*> vs) {
     bool any = false;
@@ -189,14 +191,11 @@ void block_pcg(const Op& op, const Pre& pre, int n, const double* b, double* x, 
         for (int c = 0; c < W; ++c)
           if (cut[c]) v[size_t(i) * W + c] = 0.0;
   };
-  auto freeze = [&](int c) {  // zeroed by the next zero() with cut[c] set
+  auto stop = [&](int c) {
     live[c] = 0.0;
     --active;
-    cut[c] = true;
   };
-  for (int c = 0; c < W; ++c) cut[c] = live[c] == 0.0;
-  zero({r});
-  pre(r, p, rz);  // p = z the first time: made in place (z is not needed before the next one)
+  pre(r, p, rz, live);  // p = z the first time: made in place (z is not needed before the next one)
   for (int c = 0; c < W; ++c) cut[c] = live[c] == 0.0 && rz[c] != 0.0;  // rz = 0 . z: not 0 only when z is not finite
   zero({p});
   for (int it = 1; it <= max_iter; ++it) {
@@ -208,7 +207,8 @@ void block_pcg(const Op& op, const Pre& pre, int n, const double* b, double* x, 
       if (!(dot[c] > 0.0) || !std::isfinite(dot[c])) {  // breakdown: A not SPD along p, or NaN
         result[size_t(c)].iterations = it;
         result[size_t(c)].converged = false;
-        freeze(c);
+        stop(c);
+        cut[c] = true;  // zeroed below
         continue;
       }
       alpha[c] = rz[c] / dot[c];
@@ -223,11 +223,10 @@ void block_pcg(const Op& op, const Pre& pre, int n, const double* b, double* x, 
         rn[c] += r[k] * r[k];
       }
     for (int c = 0; c < W; ++c) {
-      cut[c] = false;
       if (live[c] == 0.0) continue;
       result[size_t(c)].iterations = it;
       result[size_t(c)].relative_residual = std::sqrt(rn[c] / bn[c]);
-      if (std::sqrt(rn[c]) <= threshold[c]) freeze(c);
+      if (std::sqrt(rn[c]) <= threshold[c]) stop(c);
     }
     if (active == 0) return;
     if (const int c = alone(); c >= 0) {
@@ -235,9 +234,8 @@ void block_pcg(const Op& op, const Pre& pre, int n, const double* b, double* x, 
         detail::column_pcg<W>(col, c, n, x, threshold[c], bn[c], max_iter, it, false, rz[c], w, result[size_t(c)]);
       return;
     }
-    zero({r, p, q});
     double rz_new[W];
-    pre(r, z, rz_new);
+    pre(r, z, rz_new, live);
     for (int c = 0; c < W; ++c) {
       beta[c] = live[c] != 0.0 ? rz_new[c] / rz[c] : 0.0;
       rz[c] = rz_new[c];

@@ -156,7 +156,7 @@ TEST(AxisIncompleteCholesky, FittedToAnotherConstrainedSetPreconditionsItsSystem
   // The same system solved with both: the same solution to the tolerance.
   auto solve = [&](const AxisIncompleteCholesky& ic, std::vector<double>& x) {
     auto op = [&K](const double* in, double* out, double* dot) { multiply_block<3>(K, in, out, dot); };
-    auto pre = [&ic](const double* in, double* out, double* dot) { ic.apply<3>(in, out, dot); };
+    auto pre = [&ic](const double* in, double* out, double* dot, const double* live) { ic.apply<3>(in, out, dot, live); };
     double norm = 0;
     for (double b : r) norm += b * b;
     const double t = 1e-12 * std::sqrt(norm);
@@ -220,6 +220,45 @@ TEST(AxisIncompleteCholesky, Avx2SweepsGiveTheSse2Bits) {
     EXPECT_EQ(std::memcmp(z[0].data(), z[1].data(), size * sizeof(double)), 0) << "round " << round;
     EXPECT_EQ(std::memcmp(rz[0], rz[1], sizeof rz[0]), 0) << "round " << round;
   }
+}
+
+// Stopped vectors (live = 0): their r is taken as zero, the same bits as zeroing those entries
+// of r first, in every variant (W = 3; W = 6 with SSE2 and AVX2), r itself untouched; the live
+// ones as without the mask; also masks of all live (nothing changes) and of none (z = 0).
+template <int W>
+void expect_live_lanes_match(const AxisIncompleteCholesky& ic, int n, bool avx2) {
+  const size_t size = size_t(n) * W;
+  std::vector<double> r(size);
+  for (size_t e = 0; e < size; ++e) r[e] = std::cos(0.29 * double(e)) - 0.2;
+  const double patterns[3][6] = {{1, 0, 0, 1, 1, 0}, {1, 1, 1, 1, 1, 1}, {0, 0, 0, 0, 0, 0}};
+  for (const double* live : patterns) {
+    std::vector<double> zeroed = r, z_masked(size, -7.0), z_zeroed(size, -7.0);
+    for (size_t e = 0; e < size; ++e)
+      if (live[e % W] == 0.0) zeroed[e] = 0.0;
+    const std::vector<double> r_before = r;
+    double rz_masked[W], rz_zeroed[W];
+    ic.apply<W>(r.data(), z_masked.data(), rz_masked, live);
+    ic.apply<W>(zeroed.data(), z_zeroed.data(), rz_zeroed);
+    EXPECT_EQ(std::memcmp(z_masked.data(), z_zeroed.data(), size * sizeof(double)), 0) << "W " << W << " avx2 " << avx2;
+    EXPECT_EQ(std::memcmp(rz_masked, rz_zeroed, sizeof rz_masked), 0) << "W " << W << " avx2 " << avx2;
+    EXPECT_EQ(r, r_before);
+    for (int c = 0; c < W; ++c) {
+      if (live[c] == 0.0) {
+        EXPECT_EQ(z_masked[size_t(c)], 0.0) << "W " << W << " column " << c;
+      }
+    }
+  }
+}
+
+TEST(AxisIncompleteCholesky, StoppedVectorsAreTakenAsZero) {
+  const axis_test::System s = axis_test::make_system();
+  AxisMatrices K;
+  axis_test::gather(s, K);
+  AxisIncompleteCholesky ic;
+  ic.analyze(K);
+  ic.factorize(K, 0.9);
+  expect_live_lanes_match<3>(ic, s.model.n, false);
+  simd_test::sse2_then_avx2([&](bool avx2) { expect_live_lanes_match<6>(ic, s.model.n, avx2); });
 }
 
 }  // namespace

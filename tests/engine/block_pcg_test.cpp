@@ -30,7 +30,7 @@ void solve_block(const Fixture& f, const std::vector<double>& b, std::vector<dou
                  std::array<KrylovResult, W>& res, int max_iter = 500) {
   BlockPcgWorkspace w;
   auto op = [&f](const double* in, double* out, double* dot) { multiply_block<W>(f.K, in, out, dot); };
-  auto pre = [&f](const double* in, double* out, double* dot) { f.ic.apply<W>(in, out, dot); };
+  auto pre = [&f](const double* in, double* out, double* dot, const double* live) { f.ic.apply<W>(in, out, dot, live); };
   block_pcg<W>(op, pre, f.s.model.n, b.data(), x.data(), thr, max_iter, w, res);
 }
 
@@ -52,7 +52,7 @@ void solve_with_columns(const Fixture& f, const std::vector<double>& b, std::vec
                         std::array<KrylovResult, W>& res, int* calls) {
   BlockPcgWorkspace w;
   auto op = [&f](const double* in, double* out, double* dot) { multiply_block<W>(f.K, in, out, dot); };
-  auto pre = [&f](const double* in, double* out, double* dot) { f.ic.apply<W>(in, out, dot); };
+  auto pre = [&f](const double* in, double* out, double* dot, const double* live) { f.ic.apply<W>(in, out, dot, live); };
   block_pcg<W>(op, pre, f.s.model.n, b.data(), x.data(), thr, 500, w, res, CountedColumns<W>{f, calls});
 }
 
@@ -251,7 +251,7 @@ TEST(BlockPcg, TheOnePassResidualGivesTheSameIterates) {
   w.resize(size_t(n) * W);
   std::copy(b.begin(), b.end(), w.r.begin());
   auto op = [&f](const double* in, double* out, double* dot) { multiply_block<W>(f.K, in, out, dot); };
-  auto pre = [&f](const double* in, double* out, double* dot) { f.ic.apply<W>(in, out, dot); };
+  auto pre = [&f](const double* in, double* out, double* dot, const double* live) { f.ic.apply<W>(in, out, dot, live); };
   int calls = 0, residuals = 0;
   block_pcg<W>(op, pre, n, w.r.data(), x_fused.data(), thr, 500, w, fused,
                ResidualColumns<W>{{f, &calls}, &residuals});
