@@ -280,6 +280,58 @@ SideBySide bench_side_by_side(const std::string& mesh, int pairs) {
   return r;
 }
 
+// The slope of log y against log x, least squares.
+double loglog_slope(const std::vector<double>& x, const std::vector<double>& y) {
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  const double n = double(x.size());
+  for (size_t i = 0; i < x.size(); ++i) {
+    const double lx = std::log(x[i]), ly = std::log(y[i]);
+    sx += lx;
+    sy += ly;
+    sxx += lx * lx;
+    sxy += lx * ly;
+  }
+  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
+}
+
+// VDM's probe step on every mesh in turn, round after round in one process (a round runs the
+// 60 frames on each mesh, smallest first), so that the scaling exponent compares runs made
+// seconds apart: the isolated rows of bench.csv run minutes apart on a shared machine, and one
+// busy minute moves their fit by 0.1. Every run is timed alike: its frames in contact after
+// the 20th (an isolated row times those of its first run and every frame in contact of its
+// later runs; the 40k row has one run).
+struct ScalingInTurn {
+  std::vector<double> nodes, median_ms;  // per mesh; medians of all rounds' timed frames
+  std::vector<double> round_exponent;    // each round's fit of its own medians
+  double exponent = 0;                   // the fit of median_ms
+};
+
+ScalingInTurn bench_scaling_in_turn(const std::vector<std::string>& meshes, int rounds) {
+  std::vector<PreparedScene> scenes;
+  scenes.reserve(meshes.size());  // (SceneSimulation keeps a reference)
+  for (const std::string& mesh : meshes) scenes.push_back(probe_scene(mesh, 60, false));
+  std::vector<std::vector<double>> all(meshes.size());
+  ScalingInTurn r;
+  for (const PreparedScene& ps : scenes) r.nodes.push_back(double(ps.model.n));
+  for (int round = 0; round < rounds; ++round) {
+    std::vector<double> medians;
+    for (size_t k = 0; k < scenes.size(); ++k) {
+      std::vector<double> ms;
+      SceneSimulation sim(scenes[k]);
+      for (int f = 0; f < 60; ++f) {
+        sim.advance(f);
+        if (sim.contact_report().nodes > 0 && f > 20) ms.push_back(sim.frame_step_ms());
+      }
+      medians.push_back(quantile(ms, 0.5));
+      all[k].insert(all[k].end(), ms.begin(), ms.end());
+    }
+    r.round_exponent.push_back(loglog_slope(r.nodes, medians));
+  }
+  for (const std::vector<double>& ms : all) r.median_ms.push_back(quantile(ms, 0.5));
+  r.exponent = loglog_slope(r.nodes, r.median_ms);
+  return r;
+}
+
 Row bench_grasp(int repeats) {
   Row r{"grasp_lift", "vdm"};
   PreparedScene ps;
@@ -472,6 +524,31 @@ int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::os
       return 1;
     }
   }
+  // The scaling exponent from VDM's probe on every size in turn (40k only in the full bench).
+  if (only.empty() || std::string("liver_probe sizes in turn").find(only) != std::string::npos) {
+    std::vector<std::string> meshes = {"liver_L4.obj", "liver_L5.obj"};
+    if (!quick) meshes.push_back("liver_L6.obj");
+    out << "bench: liver_probe sizes in turn ..." << std::flush;
+    const ScalingInTurn r = bench_scaling_in_turn(meshes, quick ? 2 : 5);
+    std::vector<double> sorted = r.round_exponent;
+    std::sort(sorted.begin(), sorted.end());
+    const double round_median = quantile(sorted, 0.5);
+    std::ofstream st(dir / "bench_scaling.csv");
+    st << "nodes,rounds,median_ms,exponent,round_exponent_median,round_exponent_min,round_exponent_max\n";
+    for (size_t k = 0; k < r.nodes.size(); ++k)
+      st << std::lround(r.nodes[k]) << ',' << r.round_exponent.size() << ',' << std::setprecision(6) << r.median_ms[k]
+         << ',' << r.exponent << ',' << round_median << ',' << sorted.front() << ',' << sorted.back() << '\n';
+    st.flush();
+    if (!st) {
+      err << "vdmsim: error: " << (dir / "bench_scaling.csv").string() << ": write failed\n";
+      return 1;
+    }
+    out << " " << r.round_exponent.size() << " rounds, median ms";
+    for (size_t k = 0; k < r.nodes.size(); ++k)
+      out << (k ? " / " : " ") << std::setprecision(3) << r.median_ms[k] << " at " << std::lround(r.nodes[k]);
+    out << " nodes: ms per step grows as nodes^" << std::setprecision(3) << r.exponent << " (rounds: median "
+        << round_median << ", " << sorted.front() << " to " << sorted.back() << ")\n";
+  }
   // The displacement error of the bench's solver tolerance, against a tight one.
   if (only.empty() || std::string("liver_probe tolerance").find(only) != std::string::npos) {
     constexpr double kReference = 1e-10;
@@ -525,16 +602,12 @@ int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::os
     for (size_t i = 0; i < s.x.size(); ++i)
       if (s.x[i] >= 2000) fit.push_back(i);
     if (fit.size() >= 2) {
-      double sx = 0, sy = 0, sxx = 0, sxy = 0;
-      const double n = double(fit.size());
+      std::vector<double> fx, fy;
       for (size_t i : fit) {
-        const double lx = std::log(s.x[i]), ly = std::log(s.y[i]);
-        sx += lx;
-        sy += ly;
-        sxx += lx * lx;
-        sxy += lx * ly;
+        fx.push_back(s.x[i]);
+        fy.push_back(s.y[i]);
       }
-      const double slope = (n * sxy - sx * sy) / (n * sxx - sx * sx);
+      const double slope = loglog_slope(fx, fy);
       out << "scaling: " << model << " ms per step grows as nodes^" << std::setprecision(3) << slope
           << " (log-log fit over " << fit.size() << " sizes, 2.5k nodes and up)\n";
       s.label += " (nodes^" + render::format_number(slope, 3) + ")";

@@ -11,6 +11,7 @@
 #include <fstream>
 #include <set>
 #include <sstream>
+#include <vector>
 
 #include "render/png_io.hpp"
 
@@ -81,6 +82,31 @@ TEST(Bench, QuickRunWritesTheContractCsvAndThePlot) {
     ++sizes;
   }
   EXPECT_EQ(sizes, 2) << "2.5k and 10k nodes (--quick: 40k only in the full bench)";
+  // The scaling exponent from the sizes run in turn: per mesh its median, and the fit of those
+  // (with two sizes the slope between them), with each round's own fit around it.
+  std::ifstream scaling(out / "bench_scaling.csv");
+  ASSERT_TRUE(std::getline(scaling, line));
+  EXPECT_EQ(line, "nodes,rounds,median_ms,exponent,round_exponent_median,round_exponent_min,round_exponent_max");
+  std::vector<double> scaling_nodes, scaling_ms;
+  while (std::getline(scaling, line)) {
+    std::stringstream s(line);
+    std::string nodes, rounds, median, exponent, round_median, round_min, round_max;
+    for (std::string* f : {&nodes, &rounds, &median, &exponent, &round_median, &round_min, &round_max})
+      std::getline(s, *f, ',');
+    EXPECT_EQ(std::stol(rounds), 2) << line;  // --quick: two rounds
+    EXPECT_GT(std::stod(median), 0) << line;
+    EXPECT_LE(std::stod(round_min), std::stod(round_median)) << line;
+    EXPECT_LE(std::stod(round_median), std::stod(round_max)) << line;
+    EXPECT_TRUE(std::isfinite(std::stod(round_min)) && std::isfinite(std::stod(round_max))) << line;
+    scaling_nodes.push_back(std::stod(nodes));
+    scaling_ms.push_back(std::stod(median));
+    if (scaling_nodes.size() == 2) {
+      const double slope = std::log(scaling_ms[1] / scaling_ms[0]) / std::log(scaling_nodes[1] / scaling_nodes[0]);
+      EXPECT_NEAR(std::stod(exponent), slope, 1e-4 * std::abs(slope) + 1e-5) << line;
+    }
+  }
+  ASSERT_EQ(scaling_nodes.size(), 2u) << "2.5k and 10k nodes in turn (--quick)";
+  EXPECT_LT(scaling_nodes[0], scaling_nodes[1]);
 #ifdef VDMSIM_HAVE_BULLET
   // Bullet and VDM run after run in turn: both medians and their ratios, per mesh.
   std::ifstream sc(out / "bench_side_by_side.csv");
