@@ -110,8 +110,9 @@ void column_pcg(const Col& col, int c, int n, double* x, double threshold, doubl
 // threshold[c] (absolute), or max_iter iterations. `op(in, out, dot)`: out = A in on the
 // block and dot[c] = in_c . out_c; `pre(in, out, dot, live)`: out = P^{-1} in and dot[c] =
 // in_c . out_c, with in_c taken as zero where live[c] is 0 (a stopped column: its residual is
-// left in place, not zeroed by a pass of its own). A column with b_c = 0 gets x_c = 0. result[c]: iterations and convergence per
-// column (breakdown: A_c not SPD along the direction, or not finite). b may be w.r itself
+// left in place, not zeroed by a pass of its own). A column with b_c = 0 gets x_c = 0.
+// result[c]: iterations and convergence per column (breakdown: A_c not SPD along the
+// direction, or not finite). b may be w.r itself
 // (sized n W beforehand): each entry is read before the residual overwrites it.
 template <int W, class Op, class Pre, class Col = NoColumnKernels>
 void block_pcg(const Op& op, const Pre& pre, int n, const double* b, double* x, const double* threshold,
