@@ -232,9 +232,12 @@ class StructuredSolver final : public LinearSolver {
     const AxisMatrices& K = K_;
     const AxisIncompleteCholesky& ic = ic_;
     auto op = [&K](const double* in, double* res, double* dot) { multiply_block<W>(K, in, res, dot); };
-    auto pre = [&ic](const double* in, double* res, double* dot, const double* live) { ic.apply<W>(in, res, dot, live); };
+    auto pre = [&ic](const double* in, double* res, double* dot, const double* live) {
+      ic.apply<W>(in, res, dot, live);
+    };
     // A column left iterating alone (usually r^z under a vertical probe) is taken out of the
-    // block and runs on the one-vector kernels: the same iterates, bit for bit. The start's residual and norms in one pass.
+    // block and runs on the one-vector kernels: the same iterates, bit for bit. The start's
+    // residual and norms in one pass.
     // The start's residual takes b from the node-order columns (block_pcg() reads b only when
     // residual() fails: with b_in_block).
     struct Columns {

@@ -41,15 +41,22 @@ void check_apply(const axis_test::System& s, const AxisIncompleteCholesky& ic) {
   }
 }
 
-TEST(AxisIncompleteCholesky, EachAxisIsTheSingleAxisFactorisation) {
+// The test system gathered, its factors analysed (not yet factorised).
+struct Analysed {
   const axis_test::System s = axis_test::make_system();
   AxisMatrices K;
-  axis_test::gather(s, K);
   AxisIncompleteCholesky ic;
-  ic.analyze(K);
-  EXPECT_EQ(ic.factorize(K), 0);  // M-matrices: no pivot repaired
-  check_apply<3>(s, ic);
-  check_apply<6>(s, ic);
+  Analysed() {
+    axis_test::gather(s, K);
+    ic.analyze(K);
+  }
+};
+
+TEST(AxisIncompleteCholesky, EachAxisIsTheSingleAxisFactorisation) {
+  Analysed a;
+  EXPECT_EQ(a.ic.factorize(a.K), 0);  // M-matrices: no pivot repaired
+  check_apply<3>(a.s, a.ic);
+  check_apply<6>(a.s, a.ic);
 }
 
 TEST(AxisIncompleteCholesky, NonPositivePivotsAreRepairedAndCountedAsForOneAxis) {
@@ -156,7 +163,9 @@ TEST(AxisIncompleteCholesky, FittedToAnotherConstrainedSetPreconditionsItsSystem
   // The same system solved with both: the same solution to the tolerance.
   auto solve = [&](const AxisIncompleteCholesky& ic, std::vector<double>& x) {
     auto op = [&K](const double* in, double* out, double* dot) { multiply_block<3>(K, in, out, dot); };
-    auto pre = [&ic](const double* in, double* out, double* dot, const double* live) { ic.apply<3>(in, out, dot, live); };
+    auto pre = [&ic](const double* in, double* out, double* dot, const double* live) {
+      ic.apply<3>(in, out, dot, live);
+    };
     double norm = 0;
     for (double b : r) norm += b * b;
     const double t = 1e-12 * std::sqrt(norm);
@@ -251,14 +260,11 @@ void expect_live_lanes_match(const AxisIncompleteCholesky& ic, int n, bool avx2)
 }
 
 TEST(AxisIncompleteCholesky, StoppedVectorsAreTakenAsZero) {
-  const axis_test::System s = axis_test::make_system();
-  AxisMatrices K;
-  axis_test::gather(s, K);
-  AxisIncompleteCholesky ic;
-  ic.analyze(K);
-  ic.factorize(K, 0.9);
-  expect_live_lanes_match<3>(ic, s.model.n, false);
-  simd_test::sse2_then_avx2([&](bool avx2) { expect_live_lanes_match<6>(ic, s.model.n, avx2); });
+  Analysed a;
+  a.ic.factorize(a.K, 0.9);
+  const int n = a.s.model.n;
+  expect_live_lanes_match<3>(a.ic, n, false);
+  simd_test::sse2_then_avx2([&](bool avx2) { expect_live_lanes_match<6>(a.ic, n, avx2); });
 }
 
 }  // namespace

@@ -30,7 +30,9 @@ void solve_block(const Fixture& f, const std::vector<double>& b, std::vector<dou
                  std::array<KrylovResult, W>& res, int max_iter = 500) {
   BlockPcgWorkspace w;
   auto op = [&f](const double* in, double* out, double* dot) { multiply_block<W>(f.K, in, out, dot); };
-  auto pre = [&f](const double* in, double* out, double* dot, const double* live) { f.ic.apply<W>(in, out, dot, live); };
+  auto pre = [&f](const double* in, double* out, double* dot, const double* live) {
+    f.ic.apply<W>(in, out, dot, live);
+  };
   block_pcg<W>(op, pre, f.s.model.n, b.data(), x.data(), thr, max_iter, w, res);
 }
 
@@ -52,7 +54,9 @@ void solve_with_columns(const Fixture& f, const std::vector<double>& b, std::vec
                         std::array<KrylovResult, W>& res, int* calls) {
   BlockPcgWorkspace w;
   auto op = [&f](const double* in, double* out, double* dot) { multiply_block<W>(f.K, in, out, dot); };
-  auto pre = [&f](const double* in, double* out, double* dot, const double* live) { f.ic.apply<W>(in, out, dot, live); };
+  auto pre = [&f](const double* in, double* out, double* dot, const double* live) {
+    f.ic.apply<W>(in, out, dot, live);
+  };
   block_pcg<W>(op, pre, f.s.model.n, b.data(), x.data(), thr, 500, w, res, CountedColumns<W>{f, calls});
 }
 
@@ -75,7 +79,8 @@ void expect_column_kernels_match(const Fixture& f) {
     const double d = multiply_axis(f.K, axis_of<W>(c), in_c.data(), narrow.data());
     EXPECT_EQ(d, dot[c]) << "W " << W << " column " << c;
     for (int i = 0; i < n; ++i)
-      ASSERT_EQ(narrow[size_t(i)], wide[size_t(i) * W + size_t(c)]) << "product, W " << W << " column " << c << " row " << i;
+      ASSERT_EQ(narrow[size_t(i)], wide[size_t(i) * W + size_t(c)])
+          << "product, W " << W << " column " << c << " row " << i;
     EXPECT_EQ(narrow[size_t(n)], -7.0);
   }
   f.ic.apply<W>(in.data(), wide.data(), dot);
@@ -84,7 +89,8 @@ void expect_column_kernels_match(const Fixture& f) {
     const double d = f.ic.apply_axis(axis_of<W>(c), in_c.data(), narrow.data());
     EXPECT_EQ(d, dot[c]) << "W " << W << " column " << c;
     for (int i = 0; i < n; ++i)
-      ASSERT_EQ(narrow[size_t(i)], wide[size_t(i) * W + size_t(c)]) << "MIC(0), W " << W << " column " << c << " row " << i;
+      ASSERT_EQ(narrow[size_t(i)], wide[size_t(i) * W + size_t(c)])
+          << "MIC(0), W " << W << " column " << c << " row " << i;
     EXPECT_EQ(narrow[size_t(n)], -7.0);
   }
 }
@@ -121,7 +127,8 @@ void expect_column_left_alone_matches(const Fixture& f, int last) {
     int calls = 0;
     solve_block<W>(f, b, x_wide, thr, wide);
     solve_with_columns<W>(f, b, x_narrow, thr, narrow, &calls);
-    EXPECT_GT(calls, 3) << "W " << W << ": the column kernels took over (alone from the start: " << alone_from_start << ")";
+    EXPECT_GT(calls, 3) << "W " << W << ": the column kernels took over (alone from the start: " << alone_from_start
+                        << ")";
     EXPECT_EQ(x_narrow, x_wide) << "W " << W << ", alone from the start: " << alone_from_start;
     for (int c = 0; c < W; ++c) {
       EXPECT_EQ(narrow[size_t(c)].iterations, wide[size_t(c)].iterations) << c;
@@ -251,7 +258,9 @@ TEST(BlockPcg, TheOnePassResidualGivesTheSameIterates) {
   w.resize(size_t(n) * W);
   std::copy(b.begin(), b.end(), w.r.begin());
   auto op = [&f](const double* in, double* out, double* dot) { multiply_block<W>(f.K, in, out, dot); };
-  auto pre = [&f](const double* in, double* out, double* dot, const double* live) { f.ic.apply<W>(in, out, dot, live); };
+  auto pre = [&f](const double* in, double* out, double* dot, const double* live) {
+    f.ic.apply<W>(in, out, dot, live);
+  };
   int calls = 0, residuals = 0;
   block_pcg<W>(op, pre, n, w.r.data(), x_fused.data(), thr, 500, w, fused,
                ResidualColumns<W>{{f, &calls}, &residuals});
