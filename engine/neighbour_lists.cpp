@@ -1,11 +1,13 @@
 #include "engine/neighbour_lists.hpp"
 
 #include <algorithm>
+#include <cstdlib>
 
 namespace vdm {
 
 NeighbourLists build_neighbour_lists(int n, const std::vector<std::array<int, 2>>& edges) {
   NeighbourLists l;
+  l.reach = 0;
   // Count each node's edges, then place them (counting sort by node).
   l.begin.assign(size_t(n) + 1, 0);
   for (const auto& e : edges) {
@@ -19,6 +21,7 @@ NeighbourLists build_neighbour_lists(int n, const std::vector<std::array<int, 2>
     const int i = edges[k][0], j = edges[k][1];
     l.entries[size_t(next[size_t(i)]++)] = {j, int(k)};
     l.entries[size_t(next[size_t(j)]++)] = {i, int(k)};
+    l.reach = std::max(l.reach, std::abs(i - j));
   }
   // Ascending neighbours: the pattern's order (already so for edges sorted as unique_edges
   // gives them).

@@ -14,6 +14,7 @@ struct NeighbourLists {
   };
   std::vector<int> begin;      // N + 1: node i's entries are [begin[i], begin[i + 1])
   std::vector<Entry> entries;  // 2 E, each node's in ascending neighbour order
+  int reach = -1;              // the largest |i - j| over the edges (-1: not measured)
 };
 
 // The lists of `n` nodes joined by `edges` (each pair once, i != j).

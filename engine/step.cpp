@@ -600,7 +600,7 @@ void step_results(const TissueModel& m, SimState& s, StepWorkspace& w) {
   const ResidualSums sums = compute_step_results(
       m,
       {w.K, w.mask, w.results_loads ? &w.force : nullptr, w.last_springs_any ? &w.last_springs : nullptr, w.area_norms,
-       w.rhs, w.a_free},
+       w.rhs},
       s, results_rows(m, w));
   if (m.compute_stress) s.stats.stress_ms += ms_since(t_results);
   const double c = w.results_volume_rhs;

@@ -1,5 +1,6 @@
 #include "engine/step_results.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -21,19 +22,40 @@ inline V2 select_not(V2i m, V2 a) { return V2(V2i(a) & ~m); }  // m ? +0 : a
 
 // What the gather reads of each node, packed: the pairs (u_x, u_y), (u_z, dV_x), (dV_y, dV_z)
 // with dV = A o u (without stress (u_x, u_y), (u_z, 0) and no third), each kind in a plane of
-// N pairs: pair k of node j at pair[k] + 2 j. One index (2 j, scale 8) serves the three loads
-// (node-major rows of 6 cost a multiply by 3, a shift and an add per neighbour). The planes
-// are the 6 N doubles of the solver's spare scratch (no array of the step's: the peak memory
-// at 40k nodes).
+// R pairs: pair k of node j at pair[k] + 2 (j & wrap). One index (2 j, scale 8) serves the
+// three loads (node-major rows of 6 cost a multiply by 3, a shift and an add per neighbour).
+// The planes are in the solver's spare scratch (6 N doubles; no array of the step's: the peak
+// memory at 40k nodes).
+//
+// When every node's neighbours are within `reach` of it in node order (the generated livers:
+// 321 at 40k nodes) the planes are a ring of R nodes, R a power of two (wrap = R - 1), packed
+// `lead` nodes ahead of the gather: the pairs it reads are those just written, in the core's
+// first caches, and the ring (48 KB at 40k nodes) is not written back to memory; nor are u
+// and A read from it twice. Otherwise (an unordered mesh) R = N, wrap = -1 (every bit), and
+// the planes are packed before the gather starts.
 struct Planes {
   const double* pair[3];
+  std::ptrdiff_t wrap;
 };
-inline Planes planes_of(const double* rows, std::ptrdiff_t n) {
-  Planes p{{rows, rows + 2 * n, rows + 4 * n}};
-  // Three base registers: hide from the compiler that they are rows + 2 n k, or it may
+inline Planes planes_of(const double* rows, std::ptrdiff_t ring, std::ptrdiff_t wrap) {
+  Planes p{{rows, rows + 2 * ring, rows + 4 * ring}, wrap};
+  // Three base registers: hide from the compiler that they are rows + 2 R k, or it may
   // rebuild the second and third from the first at every neighbour (one more add each).
   asm("" : "+r"(p.pair[1]), "+r"(p.pair[2]));
   return p;
+}
+
+// The ring's size in nodes: a power of two of at least 2 reach + 4 (the gather of nodes i and
+// i + 1 reads nodes i - reach to i + 1 + reach while the packing is at most at i + reach + 2),
+// up to kMaxRing nodes (192 KB); else N (see Planes).
+constexpr std::ptrdiff_t kMaxRing = 4096;
+constexpr std::ptrdiff_t kChunk = 64;  // nodes whose results follow one packing (even)
+inline std::ptrdiff_t lead_nodes(int reach) { return (std::ptrdiff_t(reach) + 3) / 2 * 2; }
+std::ptrdiff_t ring_nodes(int reach, std::ptrdiff_t n) {
+  if (reach < 0) return n;
+  std::ptrdiff_t r = 4;
+  while (r < kChunk + lead_nodes(reach) + std::ptrdiff_t(reach) + 2) r *= 2;
+  return r <= kMaxRing && r < n ? r : n;
 }
 
 // Per-axis entries of nodes i and i + 1 as a pair (Pair), or of node i alone (lane 1 zero:
@@ -63,7 +85,7 @@ struct NeighbourSums {
 template <bool Stress>
 inline void add_neighbour(NeighbourSums& g, NeighbourLists::Entry e, const double* weight, const Planes& p) {
   const V2 w = simd::splat(weight[e.edge]);
-  const std::ptrdiff_t j = 2 * std::ptrdiff_t(e.node);
+  const std::ptrdiff_t j = 2 * (std::ptrdiff_t(e.node) & p.wrap);
   g.wu_xy += w * simd::load2(p.pair[0] + j);
   g.wu_z_dv_x += simd::mul_low(simd::load2(p.pair[1] + j), w);
   if (Stress) g.dv_yz += simd::load2(p.pair[2] + j);
@@ -103,8 +125,10 @@ template <bool Stress, bool Loads, bool Springs>
 class ResultsPass {
  public:
   ResultsPass(const TissueModel& m, const StepResultsInput& in, SimState& s, double* rows)
-      : m_(m), rows_(rows), planes_(planes_of(rows, m.n)), n_(m.n), col_{0, m.n, 2 * std::ptrdiff_t(m.n)},
-        u_(s.u.data()), a_(s.area_vectors.data()), rhs_(in.rhs.data()), a_free_(in.a_free.data()),
+      : m_(m), rows_(rows), n_(m.n), ring_(ring_nodes(m.neighbours.reach, n_)),
+        lead_(ring_ < n_ ? lead_nodes(m.neighbours.reach) : n_),
+        planes_(planes_of(rows, ring_, ring_ < n_ ? ring_ - 1 : -1)), col_{0, m.n, 2 * std::ptrdiff_t(m.n)},
+        u_(s.u.data()), a_(s.area_vectors.data()), rhs_(in.rhs.data()),
         begin_(m.neighbours.begin.data()), entries_(m.neighbours.entries.data()), weight_(in.K.weight.data()),
         diag_(in.K.diagonal.data()), mask_(in.mask.data()), f_(Loads ? in.force->data() : nullptr),
         k_(Springs ? in.springs->data() : nullptr), reaction_(s.reaction.data()), pressure_(s.reaction_pressure.data()),
@@ -112,16 +136,22 @@ class ResultsPass {
         vol_(s.node_volumes.data()), bc_(m.connectivity_modulus), p_(s.pressure) {}
 
   ResidualSums run(SimState& s) {
-    // The planes first (every neighbour's pairs are read), two nodes at a time, with the sums
-    // that need no neighbour; then the gather and each node's results, two nodes at a time.
-    // The sums in locals, not members: the compiler may keep them in registers (a store
-    // through a double* could change a member, so a member's sum is stored every pair).
+    // The nodes' results in chunks of kChunk, each once the planes hold its nodes'
+    // neighbours: the nodes packed lead_ ahead, two at a time, with the sums that need no
+    // neighbour. The sums in locals, not members: the compiler may keep them in registers
+    // (a store through a double* could change a member, so a member's sum is stored every
+    // pair).
     LaneSums acc;
-    std::ptrdiff_t i = 0;
-    for (; i + 1 < n_; i += 2) pack<true>(i, acc);
-    if (i < n_) pack<false>(i, acc);
-    for (i = 0; i + 1 < n_; i += 2) results<true>(i, acc);
-    if (i < n_) results<false>(i, acc);
+    std::ptrdiff_t packed = std::min(lead_, n_);
+    pack_range(0, packed, acc);
+    for (std::ptrdiff_t i = 0; i < n_; i += kChunk) {
+      const std::ptrdiff_t end = std::min(i + kChunk, n_), ahead = std::min(end + lead_, n_);
+      pack_range(packed, ahead, acc);
+      packed = ahead;
+      std::ptrdiff_t k = i;
+      for (; k + 1 < end; k += 2) results<true>(k, acc);
+      if (k < end) results<false>(k, acc);
+    }
     if (Stress) infinite_bulk(s);
     ResidualSums sums;
     for (int d = 0; d < 3; ++d) {  // even nodes' sum + odd nodes'
@@ -133,22 +163,34 @@ class ResultsPass {
   }
 
  private:
+  // Nodes [begin, end) into the planes, two at a time from an even `begin` (one alone at the
+  // end of an odd count).
+  void pack_range(std::ptrdiff_t begin, std::ptrdiff_t end, LaneSums& acc) const {
+    std::ptrdiff_t i = begin;
+    for (; i + 1 < end; i += 2) pack<true>(i, acc);
+    if (i < end) pack<false>(i, acc);
+  }
+
   // The pairs of nodes i and i + 1 (Pair) or i alone in the planes, and their terms of
   // |rhs|^2 and a_free . u.
   template <bool Pair>
   void pack(std::ptrdiff_t i, LaneSums& acc) const {
     V2 u[3], dv[3];
+    const bool held = any_held<Pair>(i);
     for (int d = 0; d < 3; ++d) {
       const std::ptrdiff_t id = i + col_[d];
       u[d] = load<Pair>(u_ + id);
-      dv[d] = Stress ? load<Pair>(a_ + id) * u[d] : V2{0.0, 0.0};
+      const V2 a = load<Pair>(a_ + id);
+      dv[d] = Stress ? a * u[d] : V2{0.0, 0.0};
       const V2 r = load<Pair>(rhs_ + id);
       acc.rhs2[d] += r * r;
-      acc.volume_row[d] += load<Pair>(a_free_ + id) * u[d];
+      // The volume row's A u on the free entries: (A o u)_i there (a constrained entry's
+      // +0, where 0 u_i may be -0, adds nothing: the sums start at +0).
+      acc.volume_row[d] += (held ? select_not(held_lanes<Pair>(mask_ + id), a) : a) * u[d];
     }
-    double* xy = rows_ + 2 * i;  // planes_.pair[0]
-    double* zx = xy + 2 * n_;     // planes_.pair[1]
-    double* yz = zx + 2 * n_;     // planes_.pair[2]
+    double* xy = rows_ + 2 * (i & planes_.wrap);  // planes_.pair[0]
+    double* zx = xy + 2 * ring_;                   // planes_.pair[1]
+    double* yz = zx + 2 * ring_;                   // planes_.pair[2]
     simd::store2(xy, low_lanes(u[0], u[1]));
     simd::store2(zx, low_lanes(u[2], dv[0]));
     if (Stress) simd::store2(yz, low_lanes(dv[1], dv[2]));
@@ -251,10 +293,12 @@ class ResultsPass {
 
   const TissueModel& m_;
   double* rows_;
-  const Planes planes_;
   const std::ptrdiff_t n_;
+  const std::ptrdiff_t ring_;  // nodes in each plane (Planes)
+  const std::ptrdiff_t lead_;  // how far ahead of the gather the planes are packed
+  const Planes planes_;
   const std::ptrdiff_t col_[3];
-  const double *u_, *a_, *rhs_, *a_free_;
+  const double *u_, *a_, *rhs_;
   const int* begin_;
   const NeighbourLists::Entry* entries_;
   const double *weight_, *diag_;
@@ -282,6 +326,8 @@ ResidualSums results_pass(const TissueModel& m, const StepResultsInput& in, SimS
 }
 
 }  // namespace
+
+std::ptrdiff_t result_ring_nodes(int reach, std::ptrdiff_t n) { return ring_nodes(reach, n); }
 
 ResidualSums compute_step_results(const TissueModel& m, const StepResultsInput& in, SimState& s, double* rows) {
   return m.compute_stress ? results_pass<true>(m, in, s, rows) : results_pass<false>(m, in, s, rows);

@@ -3,6 +3,7 @@
 // neighbour lists: K u, the reactions at constrained entries and the residual of the free
 // ones, the contact pressure, strain and stress (vdm-model.md sections 3, 5, 7).
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "engine/sim_state.hpp"
@@ -17,18 +18,22 @@ struct StepResultsInput {
   const NodeMat* springs;  // spring constants k on the free rows' diagonal; null: none
   const Vec& area_norms;   // |A_i| of s.area_vectors
   const NodeMat& rhs;      // the eliminated right-hand side (for its norm)
-  const NodeMat& a_free;   // area vectors, zero on constrained entries (the volume row)
 };
 
 // Doubles of compute_step_results()'s scratch for `n` nodes.
 inline size_t result_rows_size(int n) { return 6 * size_t(n); }
+
+// The nodes whose packed values the pass keeps in that scratch at a time: fewer than `n` (a
+// ring, in the core's caches) when every node's neighbours are within `reach` of it in node
+// order and the ring is small (the generated livers), else n.
+std::ptrdiff_t result_ring_nodes(int reach, std::ptrdiff_t n);
 
 // Per-axis sums for the step's relative residual (each the even nodes' sum plus the odd
 // nodes': the pass takes two nodes at a time).
 struct ResidualSums {
   double free2[3] = {0, 0, 0};       // free entries' ((K^d + diag k^d) u - dP A - f)_i^2
   double rhs2[3] = {0, 0, 0};        // rhs_i^2
-  double volume_row[3] = {0, 0, 0};  // a_free_i u_i
+  double volume_row[3] = {0, 0, 0};  // A_i u_i on the free entries (the volume row)
 };
 
 // Writes s.reaction ((K u)_i - dP A_i - f_i on constrained entries, 0 on free ones: the

@@ -1,6 +1,7 @@
 // The neighbour lists against the stiffness pattern they mirror.
 #include <gtest/gtest.h>
 #include <algorithm>
+#include <cstdlib>
 
 #include "engine/mesh_topology.hpp"
 #include "engine/neighbour_lists.hpp"
@@ -11,7 +12,8 @@ namespace vdm {
 namespace {
 
 // Every node's entries are the pattern's column without its diagonal, in its order, and
-// each names the edge that joins the two nodes.
+// each names the edge that joins the two nodes; the lists know how far apart in index two
+// neighbours are at most.
 TEST(NeighbourLists, ArePatternRowsWithoutTheDiagonalWithTheirEdges) {
   const SurfaceMesh mesh = make_icosphere(1.0, 2);
   std::vector<std::array<int, 2>> edges = unique_edges(mesh.triangles);
@@ -23,6 +25,10 @@ TEST(NeighbourLists, ArePatternRowsWithoutTheDiagonalWithTheirEdges) {
   ASSERT_EQ(l.entries.size(), 2 * edges.size());
   const int* outer = p.matrix.outerIndexPtr();
   const int* inner = p.matrix.innerIndexPtr();
+  int reach = 0;  // the largest |i - j| over the edges
+  for (const auto& e : edges) reach = std::max(reach, std::abs(e[0] - e[1]));
+  EXPECT_EQ(l.reach, reach);
+  EXPECT_GT(reach, 0);
   for (int i = 0; i < n; ++i) {
     std::vector<int> column;
     for (int k = outer[i]; k < outer[i + 1]; ++k)
