@@ -45,9 +45,11 @@ inline Planes planes_of(const double* rows, std::ptrdiff_t ring, std::ptrdiff_t 
   return p;
 }
 
-// The ring's size in nodes: a power of two of at least 2 reach + 4 (the gather of nodes i and
-// i + 1 reads nodes i - reach to i + 1 + reach while the packing is at most at i + reach + 2),
-// up to kMaxRing nodes (192 KB); else N (see Planes).
+// The ring's size in nodes: a power of two above kChunk + lead + reach (the results of nodes
+// [i, i + kChunk) read nodes i - reach to i + kChunk - 1 + reach, and the packing before them
+// goes up to node i + kChunk + lead - 1, so it must not yet have overwritten node i - reach),
+// up to kMaxRing nodes (192 KB); else N (see Planes). lead: reach + 2 or 3 (even), past the
+// last neighbour of the chunk's last node.
 constexpr std::ptrdiff_t kMaxRing = 4096;
 constexpr std::ptrdiff_t kChunk = 64;  // nodes whose results follow one packing (even)
 inline std::ptrdiff_t lead_nodes(int reach) { return (std::ptrdiff_t(reach) + 3) / 2 * 2; }
@@ -172,7 +174,7 @@ class ResultsPass {
   }
 
   // The pairs of nodes i and i + 1 (Pair) or i alone in the planes, and their terms of
-  // |rhs|^2 and a_free . u.
+  // |rhs|^2 and of the volume row (A u on the free entries).
   template <bool Pair>
   void pack(std::ptrdiff_t i, LaneSums& acc) const {
     V2 u[3], dv[3];

@@ -3,7 +3,6 @@
 // neighbour lists: K u, the reactions at constrained entries and the residual of the free
 // ones, the contact pressure, strain and stress (vdm-model.md sections 3, 5, 7).
 #include <cstddef>
-#include <cstdint>
 #include <vector>
 
 #include "engine/sim_state.hpp"
