@@ -48,17 +48,11 @@ inline Planes planes_of(const double* rows, std::ptrdiff_t ring, std::ptrdiff_t 
 // The ring's size in nodes: a power of two above kChunk + lead + reach (the results of nodes
 // [i, i + kChunk) read nodes i - reach to i + kChunk - 1 + reach, and the packing before them
 // goes up to node i + kChunk + lead - 1, so it must not yet have overwritten node i - reach),
-// up to kMaxRing nodes (192 KB); else N (see Planes). lead: reach + 2 or 3 (even), past the
-// last neighbour of the chunk's last node.
+// up to kMaxRing nodes (192 KB); else N (see Planes; result_ring_nodes(), below). lead:
+// reach + 2 or 3 (even), past the last neighbour of the chunk's last node.
 constexpr std::ptrdiff_t kMaxRing = 4096;
 constexpr std::ptrdiff_t kChunk = 64;  // nodes whose results follow one packing (even)
 inline std::ptrdiff_t lead_nodes(int reach) { return (std::ptrdiff_t(reach) + 3) / 2 * 2; }
-std::ptrdiff_t ring_nodes(int reach, std::ptrdiff_t n) {
-  if (reach < 0) return n;
-  std::ptrdiff_t r = 4;
-  while (r < kChunk + lead_nodes(reach) + std::ptrdiff_t(reach) + 2) r *= 2;
-  return r <= kMaxRing && r < n ? r : n;
-}
 
 // Per-axis entries of nodes i and i + 1 as a pair (Pair), or of node i alone (lane 1 zero:
 // the last node of an odd count). The N x 3 arrays are read through their data and the
@@ -127,7 +121,7 @@ template <bool Stress, bool Loads, bool Springs>
 class ResultsPass {
  public:
   ResultsPass(const TissueModel& m, const StepResultsInput& in, SimState& s, double* rows)
-      : m_(m), rows_(rows), n_(m.n), ring_(ring_nodes(m.neighbours.reach, n_)),
+      : m_(m), rows_(rows), n_(m.n), ring_(result_ring_nodes(m.neighbours.reach, n_)),
         lead_(ring_ < n_ ? lead_nodes(m.neighbours.reach) : n_),
         planes_(planes_of(rows, ring_, ring_ < n_ ? ring_ - 1 : -1)), col_{0, m.n, 2 * std::ptrdiff_t(m.n)},
         u_(s.u.data()), a_(s.area_vectors.data()), rhs_(in.rhs.data()),
@@ -329,7 +323,12 @@ ResidualSums results_pass(const TissueModel& m, const StepResultsInput& in, SimS
 
 }  // namespace
 
-std::ptrdiff_t result_ring_nodes(int reach, std::ptrdiff_t n) { return ring_nodes(reach, n); }
+std::ptrdiff_t result_ring_nodes(int reach, std::ptrdiff_t n) {
+  if (reach < 0) return n;
+  std::ptrdiff_t r = 4;
+  while (r < kChunk + lead_nodes(reach) + std::ptrdiff_t(reach) + 2) r *= 2;
+  return r <= kMaxRing && r < n ? r : n;
+}
 
 ResidualSums compute_step_results(const TissueModel& m, const StepResultsInput& in, SimState& s, double* rows) {
   return m.compute_stress ? results_pass<true>(m, in, s, rows) : results_pass<false>(m, in, s, rows);
