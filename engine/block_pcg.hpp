@@ -41,6 +41,11 @@ struct BlockPcgWorkspace {
 // pass (block_pcg's own passes, the product and its dot in three passes otherwise: the same
 // bits); it returns false, having written nothing, when it cannot. b is read only when there
 // is no residual() or it returns false (a residual() may read the same b from elsewhere).
+// And `project(c, x, r, rn, bn, threshold, scratch)`: called for each column whose starting
+// residual is over its threshold, before the first iteration; it may improve the guess x_c
+// along a direction of its own (a Galerkin step: x_c += t v, r_c -= t A v, t = v.r / v.A v),
+// writing rn (|r_c|^2) when it does, and returns whether it did. bn = |b_c|^2. `scratch`:
+// 2 n doubles free until the iterations start.
 struct NoColumnKernels {};
 
 namespace detail {
@@ -51,6 +56,13 @@ template <class Col>
 struct HasResidual<Col, std::void_t<decltype(std::declval<const Col&>().residual(
                             std::declval<const double*>(), std::declval<const double*>(), std::declval<double*>(),
                             std::declval<double*>(), std::declval<double*>()))>> : std::true_type {};
+
+template <class Col, class = void>
+struct HasProject : std::false_type {};
+template <class Col>
+struct HasProject<Col, std::void_t<decltype(std::declval<const Col&>().project(
+                           0, std::declval<double*>(), std::declval<double*>(), std::declval<double&>(), 0.0,
+                           0.0, std::declval<double*>()))>> : std::true_type {};
 
 // The rest of column c's PCG, alone, from the point where its residual r_c is to be
 // preconditioned: p_c = z_c the first time (`first`), else z_c + (r.z / rz_old) p_c; the
@@ -146,6 +158,10 @@ void block_pcg(const Op& op, const Pre& pre, int n, const double* b, double* x, 
         r[size_t(i) * W + c] = v;
         rn[c] += v * v;
       }
+  }
+  if constexpr (detail::HasProject<Col>::value) {
+    for (int c = 0; c < W; ++c)
+      if (bn[c] != 0.0 && !(std::sqrt(rn[c]) <= threshold[c])) col.project(c, x, r, rn[c], bn[c], threshold[c], w.zq.data());
   }
   int active = 0;
   for (int c = 0; c < W; ++c) {

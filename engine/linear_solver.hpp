@@ -28,6 +28,9 @@ struct AxisSystem {
   const StiffnessPattern* pattern = nullptr;
   const FlagMat* mask = nullptr;
   const NodeMat* springs = nullptr;
+  // The first system of a step (not a step redone, not a later nonlinear iteration): the
+  // change of its solution from the last step's first is a good guess of the next change.
+  bool step_start = false;
 };
 
 class LinearSolver {

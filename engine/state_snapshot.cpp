@@ -9,7 +9,8 @@
 namespace vdm {
 namespace {
 
-constexpr char kMagic[8] = {'V', 'D', 'M', 'S', 'T', 'A', 'T', '2'};  // 2: the preconditioner's constrained set
+// 2: the preconditioner's constrained set; 3: the structured solver's Galerkin step directions.
+constexpr char kMagic[8] = {'V', 'D', 'M', 'S', 'T', 'A', 'T', '3'};
 
 // Raw bytes in this machine's order (a snapshot is read back by the same build).
 class Writer {

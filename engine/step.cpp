@@ -201,8 +201,9 @@ AxisSystem axis_system(const TissueModel& m, const StepWorkspace& w) {
 
 // The solver told of the system (K, last_mask, last_springs); the free area vectors and the
 // eliminated matrices' mean diagonal, in one pass.
-void update_solver_system(const TissueModel& m, const SimState& s, StepWorkspace& w) {
-  const AxisSystem system = axis_system(m, w);
+void update_solver_system(const TissueModel& m, const SimState& s, StepWorkspace& w, bool step_start = false) {
+  AxisSystem system = axis_system(m, w);
+  system.step_start = step_start;
   w.mean_diagonal = eliminated_mean_diagonal(system, &s.area_vectors, &w.a_free);
   w.solver->matrices_changed(system);
   w.fallback_stale = true;
@@ -710,6 +711,7 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s, StepRe
       w.steps_since_refresh = 0;
       st.refreshed = true;
     }
+    const bool step_start = it == 0 && !w.rewound;  // (the solver's guess of the change: AxisSystem)
     w.rewound = false;
     if (refresh) {
       current_volume = refresh_geometry(m, s.x, s, w);
@@ -743,7 +745,7 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s, StepRe
         w.last_springs.setZero();  // zero already otherwise
         w.last_springs_any = false;
       }
-      update_solver_system(m, s, w);
+      update_solver_system(m, s, w, step_start);
       w.matrix_dirty = false;
     }
     loads = build_loads(m, in, s, w);

@@ -273,6 +273,71 @@ TEST(BlockPcg, TheOnePassResidualGivesTheSameIterates) {
   }
 }
 
+// A Galerkin step along a given direction (block_pcg's project hook): here the true error of
+// column 0, so that column starts at its solution; column 1 declines; column 2 is solved
+// already and is not asked.
+struct ProjectingColumns : CountedColumns<3> {
+  const std::vector<double>* solution;
+  int* asked;
+  bool project(int c, double* x, double* r, double& rn, double bn, double threshold, double*) const {
+    const int W = 3, n = f.s.model.n;
+    ++asked[c];
+    EXPECT_GT(std::sqrt(rn), threshold);
+    EXPECT_GT(bn, 0.0);
+    if (c != 0) return false;
+    std::vector<double> v(static_cast<size_t>(n)), kv(static_cast<size_t>(n));
+    for (int i = 0; i < n; ++i) v[size_t(i)] = (*solution)[size_t(i) * W] - x[size_t(i) * W];
+    const double vkv = multiply_axis(f.K, 0, v.data(), kv.data());
+    double vr = 0;
+    for (int i = 0; i < n; ++i) vr += v[size_t(i)] * r[size_t(i) * W];
+    const double t = vr / vkv;
+    rn = 0;
+    for (int i = 0; i < n; ++i) {
+      x[size_t(i) * W] += t * v[size_t(i)];
+      r[size_t(i) * W] -= t * kv[size_t(i)];
+      rn += r[size_t(i) * W] * r[size_t(i) * W];
+    }
+    return true;
+  }
+};
+
+TEST(BlockPcg, AProjectedColumnStartsFromItsGalerkinStep) {
+  const Fixture f;
+  const int n = f.s.model.n, W = 3;
+  std::vector<double> solution(size_t(n) * W), b(size_t(n) * W), x(size_t(n) * W, 0.0);
+  for (int i = 0; i < n; ++i)
+    for (int c = 0; c < W; ++c) solution[size_t(i) * W + c] = std::cos(0.11 * i + c) + 0.2;
+  double dot[W];
+  multiply_block<W>(f.K, solution.data(), b.data(), dot);
+  for (int i = 0; i < n; ++i) x[size_t(i) * W + 2] = solution[size_t(i) * W + 2];
+  double thr[W];
+  for (int c = 0; c < W; ++c) {
+    double bn = 0;
+    for (int i = 0; i < n; ++i) bn += b[size_t(i) * W + c] * b[size_t(i) * W + c];
+    thr[c] = 1e-8 * std::sqrt(bn);
+  }
+  std::vector<double> x_plain = x;
+  std::array<KrylovResult, W> plain, projected;
+  solve_block<W>(f, b, x_plain, thr, plain);
+  BlockPcgWorkspace w;
+  auto op = [&f](const double* in, double* out, double* d) { multiply_block<W>(f.K, in, out, d); };
+  auto pre = [&f](const double* in, double* out, double* d, const double* live) { f.ic.apply<W>(in, out, d, live); };
+  int calls = 0, asked[W] = {0, 0, 0};
+  block_pcg<W>(op, pre, n, b.data(), x.data(), thr, 500, w, projected,
+               ProjectingColumns{{f, &calls}, &solution, asked});
+  EXPECT_EQ(asked[0], 1);
+  EXPECT_EQ(asked[1], 1);
+  EXPECT_EQ(asked[2], 0);
+  EXPECT_GT(plain[0].iterations, 3);
+  EXPECT_EQ(projected[0].iterations, 0);
+  EXPECT_EQ(projected[1].iterations, plain[1].iterations);  // declined: its own PCG
+  EXPECT_EQ(projected[2].iterations, 0);
+  for (int i = 0; i < n; ++i) {
+    EXPECT_NEAR(x[size_t(i) * W], solution[size_t(i) * W], 1e-9);
+    EXPECT_EQ(x[size_t(i) * W + 1], x_plain[size_t(i) * W + 1]);
+  }
+}
+
 TEST(BlockPcg, EveryColumnIsItsOwnPcg) {
   const Fixture f;
   const int n = f.s.model.n, W = 6;
