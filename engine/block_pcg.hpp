@@ -161,7 +161,8 @@ void block_pcg(const Op& op, const Pre& pre, int n, const double* b, double* x, 
   }
   if constexpr (detail::HasProject<Col>::value) {
     for (int c = 0; c < W; ++c)
-      if (bn[c] != 0.0 && !(std::sqrt(rn[c]) <= threshold[c])) col.project(c, x, r, rn[c], bn[c], threshold[c], w.zq.data());
+      if (bn[c] != 0.0 && !(std::sqrt(rn[c]) <= threshold[c]))
+        col.project(c, x, r, rn[c], bn[c], threshold[c], w.zq.data());
   }
   int active = 0;
   for (int c = 0; c < W; ++c) {

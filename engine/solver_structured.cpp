@@ -157,7 +157,8 @@ class StructuredSolver final : public LinearSolver {
     pos += 2;
     if (!ic_.load_values(in, pos) || in.size() <= pos) return false;
     const double rows = in[pos++];
-    if (!(rows == 0.0 || rows == double(n_)) || in.size() != pos + size_t(3 * rows) + 3 + r_last_.size() + 6) return false;
+    const size_t rest = size_t(3 * rows) + 3 + r_last_.size() + 6;  // mask, reuse state, Galerkin steps
+    if (!(rows == 0.0 || rows == double(n_)) || in.size() != pos + rest) return false;
     factor_mask_.resize(Eigen::Index(rows), 3);
     for (Eigen::Index k = 0; k < factor_mask_.size(); ++k) factor_mask_.data()[k] = static_cast<std::uint8_t>(in[pos++]);
     stale_ = static_cast<int>(in[pos]);
@@ -271,7 +272,8 @@ class StructuredSolver final : public LinearSolver {
       const std::array<const double*, G>& b_src;
       StructuredSolver& solver;
       bool project_r;  // Galerkin steps for the columns of r
-      double* start;   // per column of r: |r_c| / |b_c| when the iterations start (0: converged before)
+      double* start;   // per column of r: |r_c| / |b_c| when its iterations start (0: not at a
+                       // step's first solve, or under its threshold)
       double multiply(int c, const double* in, double* out) const { return multiply_axis(K, axis_of<W>(c), in, out); }
       double apply(int c, const double* in, double* out) const { return ic.apply_axis(axis_of<W>(c), in, out); }
       bool residual(const double*, const double* in, double* r, double* bn, double* rn) const {
@@ -287,8 +289,8 @@ class StructuredSolver final : public LinearSolver {
     std::array<KrylovResult, W> kr;
     block_pcg<W>(op, pre, n_, bw, x, threshold, settings_.max_iterations, work_, kr,
                  Columns{K, ic, b_src, *this, project, start});
-    // Each column of r that iterated: its convergence factor per iteration, for the next
-    // step's choice.
+    // Each column of r that iterated at a step's first solve: its convergence factor per
+    // iteration, for the next step's choice (project_along_step).
     for (int c = 0; c < W; c += G)
       if (start[c] > 0.0 && kr[size_t(c)].iterations > 0 && kr[size_t(c)].relative_residual > 0.0)
         rate_[size_t(axis_of<W>(c))] =
