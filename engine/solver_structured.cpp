@@ -180,10 +180,10 @@ class StructuredSolver final : public LinearSolver {
     rep.factorizations = pending_factorizations_;
     pending_factorizations_ = 0;
     const bool new_s = volume_constraint && !s_valid_;
-    project_ = step_start_ && settings_.warm_start;  // (only the first solve after the step's matrices)
+    const bool project = step_start_ && settings_.warm_start;  // (only the first solve after the step's matrices)
     step_start_ = false;
     // r straight into u, then u = r + dP s.
-    const BlockReport br = new_s ? solve_block<6>(&rhs, &a, &u) : solve_block<3>(&rhs, nullptr, &u);
+    const BlockReport br = new_s ? solve_block<6>(&rhs, &a, &u, project) : solve_block<3>(&rhs, nullptr, &u, project);
     rep.iterations = br.iterations;
     rep.converged = br.converged;
     if (new_s) {  // the first solve on new matrices: the one that tells how well the factors fit
@@ -206,8 +206,9 @@ class StructuredSolver final : public LinearSolver {
   // permuted order, warm-started from the last solutions (x_), each axis until
   // |b - K x| <= tolerance |b_all| / sqrt(3) (b_all: that right-hand side on all axes). The
   // results go to *r (the caller's) and s_ in node order. W = 3 for one of them, 6 for both.
+  // project_r: a step's first solve, whose columns of r may take a Galerkin step first.
   template <int W>
-  BlockReport solve_block(const NodeMat* rhs, const NodeMat* a, NodeMat* r) {
+  BlockReport solve_block(const NodeMat* rhs, const NodeMat* a, NodeMat* r, bool project_r = false) {
     constexpr int G = W / 3;  // systems per axis: column d G + g is axis d of system g
     const NodeMat* src[2] = {rhs ? rhs : a, rhs ? a : nullptr};
     const size_t lane[2] = {rhs ? 0u : 1u, 1u};  // the system's lane in x_ (0: r, 1: s)
@@ -264,7 +265,7 @@ class StructuredSolver final : public LinearSolver {
     // takes a Galerkin step along its change since the last such step (project_along_step):
     // while an instrument holds or moves steadily the solution changes from one step to the
     // next by about the same shape.
-    const bool project = rhs != nullptr && project_;
+    const bool project = rhs != nullptr && project_r;
     double start[W] = {};
     struct Columns {
       const AxisMatrices& K;
@@ -375,7 +376,6 @@ class StructuredSolver final : public LinearSolver {
   std::array<bool, 3> have_last_ = {false, false, false};
   std::array<double, 3> rate_ = {0.0, 0.0, 0.0};
   bool step_start_ = false;  // the matrices are a step's first (AxisSystem::step_start)
-  bool project_ = false;     // this solve projects (solve_block)
   BlockPcgWorkspace work_;
   bool s_valid_ = false;
   int pending_factorizations_ = 0;
