@@ -149,7 +149,9 @@ bool build_constraints(const TissueModel& m, const StepInput& in, const NodeMat&
                        double& a_u) {
   const bool has_prescribed = in.prescribed.rows() == m.n && in.prescribed_u.rows() == m.n;
   double* fixed = w.u_fixed.data();
-  for (const int k : w.prescribed_entries) fixed[k] = 0.0;  // the last step's values
+  // The last step's values, and what they moved into rhs (eliminate_rhs()).
+  if (w.rhs_zero_elsewhere) clear_prescribed_support(m.neighbours, w.prescribed_entries, w.rhs);
+  for (const int k : w.prescribed_entries) fixed[k] = 0.0;
   w.prescribed_entries.clear();
   const size_t count = 3 * size_t(m.n);
   const std::uint8_t* held = m.held.data();
@@ -750,7 +752,8 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s, StepRe
     }
     loads = build_loads(m, in, s, w);
     eliminate_rhs(m.neighbours, w.K, w.mask, w.held_entries, w.prescribed_entries, loads ? &w.force : nullptr, w.u_fixed,
-                  w.rhs);
+                  w.rhs, w.rhs_zero_elsewhere);
+    w.rhs_zero_elsewhere = !loads;
     // Eq (11) as a Newton step on the exact volume: a.u^{n+1} = V_0 - V(x^n) + a.u^n,
     // with the constrained part moved to the right.
     const double c = m.rest_volume - current_volume + a_u;

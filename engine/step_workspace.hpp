@@ -37,6 +37,7 @@ struct StepWorkspace {
   NodeMat a_free;                 // area vectors, zero on constrained entries
   NodeMat force;                  // total load f this step (N)
   NodeMat rhs;                    // eliminated right-hand side
+  bool rhs_zero_elsewhere = false;  // rhs is zero but at prescribed_entries and their neighbours (eliminate_rhs())
   NodeMat u_new;                  // solver output
   NodeMat x_refresh;              // positions at the last refresh: the geometry of K, A, V_i, loads
   NodeMat residual_prev;          // previous fixed-point residual (Aitken relaxation; nonlinear_iterations > 1 only)

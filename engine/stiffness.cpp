@@ -190,23 +190,31 @@ void eliminate_rhs(const NeighbourLists& neighbours, const AxisStiffness& K, con
 
 void eliminate_rhs(const NeighbourLists& neighbours, const AxisStiffness& K, const FlagMat& mask,
                    const std::vector<int>& held_entries, const std::vector<int>& prescribed_entries, const NodeMat* f,
-                   const NodeMat& u_fixed, NodeMat& rhs) {
+                   const NodeMat& u_fixed, NodeMat& rhs, bool zero_elsewhere) {
   const size_t n = size_t(K.diagonal.rows()), count = 3 * n;
   const std::uint8_t* mk = mask.data();
   const double* uf = u_fixed.data();
   double* r = rhs.data();
-  // The loads, or zero, everywhere (16 entries at a time: inline stores, where one call of
-  // std::copy or std::fill over the whole array goes to the library's string instructions);
-  // then the values on the constrained entries.
-  const double* fd = f ? f->data() : nullptr;
-  size_t k = 0;
-  for (; k + 16 <= count; k += 16) {
-    if (fd) std::copy(fd + k, fd + k + 16, r + k);
-    else std::fill(r + k, r + k + 16, 0.0);
+  if (f) {
+    // The loads everywhere (16 entries at a time: inline stores, where one call of std::copy
+    // over the whole array goes to the library's string instructions); then the values on
+    // the constrained entries.
+    const double* fd = f->data();
+    size_t k = 0;
+    for (; k + 16 <= count; k += 16) std::copy(fd + k, fd + k + 16, r + k);
+    for (; k < count; ++k) r[k] = fd[k];
+    for (const int e : held_entries) r[e] = uf[e];
+  } else if (zero_elsewhere) {
+    clear_prescribed_support(neighbours, prescribed_entries, rhs);
+  } else {
+    // Zeros everywhere (the held entries' values among them), as vector stores: GCC turns a
+    // fill of a constant 16 entries into a `rep stos` per block, slow to start.
+    const simd::V2 zero = {0.0, 0.0};
+    size_t k = 0;
+    for (; k + 2 <= count; k += 2) simd::store2(r + k, zero);
+    for (; k < count; ++k) r[k] = 0.0;
   }
-  for (; k < count; ++k) r[k] = fd ? fd[k] : 0.0;
-  for (const std::vector<int>* entries : {&held_entries, &prescribed_entries})
-    for (const int k : *entries) r[k] = uf[k];
+  for (const int e : prescribed_entries) r[e] = uf[e];
   // Each prescribed entry's value (the held ones' are zero: they move nothing) to its free
   // neighbours on its axis, the entries in ascending order as the mask's scan takes them.
   const int* begin = neighbours.begin.data();
@@ -221,6 +229,21 @@ void eliminate_rhs(const NeighbourLists& neighbours, const AxisStiffness& K, con
       const size_t i = axis + size_t(list[s].node);
       if (!mk[i]) r[i] += w[list[s].edge] * uf[k];
     }
+  }
+}
+
+void clear_prescribed_support(const NeighbourLists& neighbours, const std::vector<int>& prescribed_entries,
+                              NodeMat& rhs) {
+  const size_t n = size_t(rhs.rows());
+  double* r = rhs.data();
+  const int* begin = neighbours.begin.data();
+  const NeighbourLists::Entry* list = neighbours.entries.data();
+  for (const int e : prescribed_entries) {
+    const size_t k = size_t(e);
+    r[k] = 0.0;
+    const size_t axis = k / n * n;
+    const int j = int(k - axis);
+    for (int s = begin[j]; s < begin[j + 1]; ++s) r[axis + size_t(list[s].node)] = 0.0;
   }
 }
 

@@ -81,6 +81,47 @@ TEST(StateSnapshot, ALoadedStateContinuesBitForBit) {
   }
 }
 
+// Without loads, and with the pressed nodes moving from step to step (one half of the top,
+// then the other): the state that kept its right-hand side from step to step (only the
+// entries the last pressed nodes moved written again, eliminate_rhs()) goes on bit for bit
+// like the loaded one, whose right-hand side is made whole.
+TEST(StateSnapshot, ALoadedStateContinuesBitForBitWithoutLoadsAsThePressedNodesMove) {
+  for (const SolverMethod method : {SolverMethod::structured, SolverMethod::direct}) {
+    const TissueModel m = build(scenario::cube_on_table(0.1, 5, method));
+    auto press = [&](int k, StepInput& in) {
+      in.clear();
+      for (int i = 0; i < m.n; ++i)
+        if (m.rest.positions(i, 2) > 0.05 - 1e-12 && (m.rest.positions(i, 0) < 0.0) == (k % 2 == 0)) {
+          in.prescribed(i, 2) = 1;
+          in.prescribed_u(i, 2) = -0.002 * k;
+        }
+    };
+    SimState a = make_sim_state(m);
+    StepInput in = make_step_input(m);
+    in.force.resize(0, 3);  // no loads (as a scene without forces gives the step)
+    in.pressure.resize(0);
+    for (int k = 1; k <= 3; ++k) {
+      press(k, in);
+      step(m, in, a);
+    }
+    std::string bytes;
+    save_state(m, a, bytes);
+    SimState b = make_sim_state(m);
+    size_t pos = 0;
+    std::string error;
+    ASSERT_TRUE(load_state(m, bytes, pos, b, error)) << error;
+    for (int k = 4; k <= 6; ++k) {
+      press(k, in);
+      step(m, in, a);
+      step(m, in, b);
+      ASSERT_FALSE(a.failed || b.failed);
+      ASSERT_EQ(b.u, a.u) << to_string(method) << " step " << k;
+      ASSERT_EQ(b.reaction, a.reaction) << to_string(method) << " step " << k;
+    }
+    EXPECT_LT(a.u.col(2).minCoeff(), -0.01);
+  }
+}
+
 TEST(StateSnapshot, AHalvedStepAfterLoadingInterpolatesFromTheSavedLoads) {
   // The step after the snapshot is too large and done in halves: its forces interpolate from
   // the loads of the step before the snapshot, which the snapshot carries.

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <algorithm>
 #include <cstring>
+#include <limits>
 #include <vector>
 
 #include "engine/stiffness.hpp"
@@ -99,6 +100,55 @@ TEST(Stiffness, EliminatedRightHandSideFromEntryListsIsTheMasksBitForBit) {
     eliminate_rhs(m.neighbours, t.s.k, t.s.mask, held, prescribed, f, t.u_fixed, by_lists);
     EXPECT_EQ(std::memcmp(by_mask.data(), by_lists.data(), sizeof(double) * size_t(by_mask.size())), 0);
   }
+}
+
+// Without loads, a right-hand side kept from the last call (zero_elsewhere: only the
+// prescribed entries and their neighbours rewritten) is the whole array's bit for bit: again
+// with the same entries and other weights (a later nonlinear iteration), and with other
+// entries once the last ones were cleared (the next step), from a start of NaN everywhere
+// but where the first call wrote (the full path zeroes it all).
+TEST(Stiffness, EliminatedRightHandSideKeptFromTheLastCallIsTheWholeOnesBitForBit) {
+  const Kernels t;
+  const TissueModel& m = t.s.model;
+  std::vector<int> held, first, second;
+  for (int d = 0; d < 3; ++d)
+    for (int i = 0; i < m.n; ++i) {
+      if (!t.s.mask(i, d)) continue;
+      if (i % 3 == 0) held.push_back(d * m.n + i);
+      else (i % 2 == 0 ? first : second).push_back(d * m.n + i);
+    }
+  ASSERT_FALSE(first.empty());
+  ASSERT_FALSE(second.empty());
+  // Masks and values of the two sets of prescribed entries (held ones in both).
+  auto masked = [&](const std::vector<int>& prescribed, FlagMat& mask, NodeMat& u) {
+    mask = FlagMat::Zero(m.n, 3);
+    u = NodeMat::Zero(m.n, 3);
+    for (int k : held) mask.data()[k] = 1;
+    for (int k : prescribed) {
+      mask.data()[k] = 1;
+      u.data()[k] = t.u_fixed.data()[k];
+    }
+  };
+  FlagMat mask_a, mask_b;
+  NodeMat u_a, u_b;
+  masked(first, mask_a, u_a);
+  masked(second, mask_b, u_b);
+  AxisStiffness other = t.s.k;
+  for (Eigen::Index e = 0; e < other.weight.size(); ++e) other.weight[e] *= 1.0 + 0.1 * std::sin(0.3 * double(e));
+  NodeMat kept(m.n, 3), whole(m.n, 3);
+  kept.setConstant(std::numeric_limits<double>::quiet_NaN());
+  eliminate_rhs(m.neighbours, t.s.k, mask_a, held, first, nullptr, u_a, kept, false);
+  eliminate_rhs(m.neighbours, t.s.k, mask_a, nullptr, u_a, whole);
+  EXPECT_EQ(std::memcmp(kept.data(), whole.data(), sizeof(double) * size_t(whole.size())), 0);
+  eliminate_rhs(m.neighbours, other, mask_a, held, first, nullptr, u_a, kept, true);
+  eliminate_rhs(m.neighbours, other, mask_a, nullptr, u_a, whole);
+  EXPECT_EQ(std::memcmp(kept.data(), whole.data(), sizeof(double) * size_t(whole.size())), 0);
+  clear_prescribed_support(m.neighbours, first, kept);
+  EXPECT_EQ(kept.cwiseAbs().maxCoeff(), 0.0);
+  eliminate_rhs(m.neighbours, t.s.k, mask_b, held, second, nullptr, u_b, kept, true);
+  eliminate_rhs(m.neighbours, t.s.k, mask_b, nullptr, u_b, whole);
+  EXPECT_EQ(std::memcmp(kept.data(), whole.data(), sizeof(double) * size_t(whole.size())), 0);
+  EXPECT_GT(whole.cwiseAbs().maxCoeff(), 0.0);
 }
 
 // The edge weights without a division, w_ij = (B_ij / (2 scale)) (|A_i| + |A_j|), and the
