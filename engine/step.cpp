@@ -269,14 +269,22 @@ struct Difference {
 // (the same values, bit for bit; u0 is the step's start, swapped out of u: u is written
 // whole), and the velocity (u - u0) / dt as the step's end makes it (the same bits), with
 // `velocity`; and whether u is finite. Without `x`, u0 is u.
-// The N x 3 arrays as runs of 3 N entries: the few constrained ones set before and after.
-Difference pin_and_difference(const StepWorkspace& w, const NodeMat& u0, NodeMat& u, NodeMat& u_new,
-                              const NodeMat& rest, bool keep_r, NodeMat* x, NodeMat* velocity = nullptr,
+// The N x 3 arrays as runs of 3 N entries: the few prescribed ones set before and after, the
+// held ones (many) through their flags in the pass (`held`: the model's).
+Difference pin_and_difference(const StepWorkspace& w, const FlagMat& held, const NodeMat& u0, NodeMat& u,
+                              NodeMat& u_new, const NodeMat& rest, bool keep_r, NodeMat* x, NodeMat* velocity = nullptr,
                               double inv_dt = 0.0) {
   const double* fixed = w.u_fixed.data();
   double* r = u_new.data();
-  for (const std::vector<int>* entries : {&w.held_entries, &w.prescribed_entries})
-    for (const int k : *entries) r[k] = fixed[k];
+  // The held entries' value (+0) is taken in the pass below when there is one (`x`): their
+  // list is long (a fixed underside: a fifth of the entries), and writing them one by one
+  // before the pass and again after it cost more than the pass's look at their flags. (The
+  // solvers leave them at +0 anyway: their rows and columns are the identity's and their
+  // right-hand side 0; like the prescribed ones they take their value whatever the solve
+  // gave.)
+  for (const int k : w.prescribed_entries) r[k] = fixed[k];
+  if (!x)
+    for (const int k : w.held_entries) r[k] = fixed[k];
   const size_t count = size_t(u.size());
   double* ud = u.data();
   using simd::V2;
@@ -287,21 +295,36 @@ Difference pin_and_difference(const StepWorkspace& w, const NodeMat& u0, NodeMat
     const double* X = rest.data();
     const double* u0d = u0.data();
     double* xd = x->data();
+    const std::uint8_t* hd = held.data();
     auto pass = [&](double* vd, auto keep) {
       const V2 inv2 = simd::splat(inv_dt);
-      for (; i + 2 <= count; i += 2) {
-        const V2 u0i = simd::load2(u0d + i);
-        const V2 solved = simd::load2(r + i);
+      auto two = [&](size_t k, V2 solved) {  // entries k and k + 1
+        const V2 u0i = simd::load2(u0d + k);
         nan_in += solved * zero;
         const V2 ri = solved - u0i;
-        if (keep) simd::store2(r + i, ri);
+        if (keep) simd::store2(r + k, ri);
         largest = simd::max2(largest, simd::abs2(ri));
         const V2 ui = u0i + ri;
         nan_u += ui * zero;
-        simd::store2(ud + i, ui);
-        simd::store2(xd + i, simd::load2(X + i) + ui);
-        if (vd) simd::store2(vd + i, (ui - u0i) * inv2);
+        simd::store2(ud + k, ui);
+        simd::store2(xd + k, simd::load2(X + k) + ui);
+        if (vd) simd::store2(vd + k, (ui - u0i) * inv2);
+      };
+      // 16 entries at a time: most blocks hold no held entry; in the others a held entry's
+      // solved value is taken as +0 (u_fixed there).
+      for (; i + 16 <= count; i += 16) {
+        if (simd::none_set16(hd + i)) {
+          for (size_t j = i; j < i + 16; j += 2) two(j, simd::load2(r + j));
+        } else {
+          for (size_t j = i; j < i + 16; j += 2) {
+            const V2 solved = simd::load2(r + j);
+            two(j, V2{hd[j] ? 0.0 : solved[0], hd[j + 1] ? 0.0 : solved[1]});
+          }
+        }
       }
+      for (size_t j = i; j < count; ++j)
+        if (hd[j]) r[j] = 0.0;  // the last entries: taken by the loops below
+      for (; i + 2 <= count; i += 2) two(i, simd::load2(r + i));
       for (; i < count; ++i) {
         nan_in[0] += r[i] * 0.0;
         const double ri = r[i] - u0d[i];
@@ -321,11 +344,14 @@ Difference pin_and_difference(const StepWorkspace& w, const NodeMat& u0, NodeMat
       if (velocity) pass(velocity->data(), std::false_type());
       else pass(nullptr, std::false_type());
     }
-    pin_constrained(w, rest, u, *x);  // (finite values: check_input)
-    if (velocity) {
-      double* vd = velocity->data();
-      for (const std::vector<int>* entries : {&w.held_entries, &w.prescribed_entries})
-        for (const int k : *entries) vd[k] = (ud[k] - u0d[k]) * inv_dt;
+    // The prescribed entries pinned to their values (u0 + (u_fixed - u0) may be an ulp off);
+    // a held one's u0 + (+0 - u0) is +0 exactly, its x X + 0 and its velocity -u0 / dt as
+    // pinning would make them.
+    double* vd = velocity ? velocity->data() : nullptr;
+    for (const int k : w.prescribed_entries) {  // (finite values: check_input)
+      ud[k] = fixed[k];
+      xd[k] = X[k] + ud[k];
+      if (vd) vd[k] = (ud[k] - u0d[k]) * inv_dt;
     }
   } else {
     for (; i + 2 <= count; i += 2) {
@@ -782,7 +808,7 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s, StepRe
     // did not converge) u, x and the velocity are made again from the fallback's result.
     const bool keep_r = max_it > 1;
     auto take_result = [&]() {
-      return pin_and_difference(w, u_now, s.u, w.u_new, m.rest.positions, keep_r, it == 0 ? &s.x : nullptr,
+      return pin_and_difference(w, m.held, u_now, s.u, w.u_new, m.rest.positions, keep_r, it == 0 ? &s.x : nullptr,
                                 it == 0 ? &s.velocity : nullptr, inv_dt);
     };
     Difference diff;
