@@ -279,10 +279,9 @@ Difference pin_and_difference(const StepWorkspace& w, const FlagMat& held, const
   // The held entries' value (+0) is taken in the pass below when there is one (`x`): their
   // list is long (a fixed underside: 13 % of the entries in the probe scene), and writing
   // them one by one before the pass and again after it cost more than the pass's look at
-  // their flags. (The
-  // solvers leave them at +0 anyway: their rows and columns are the identity's and their
-  // right-hand side 0; like the prescribed ones they take their value whatever the solve
-  // gave.)
+  // their flags. (The solvers leave them at +0 anyway: their rows and columns are the
+  // identity's and their right-hand side 0; like the prescribed ones they take their value
+  // whatever the solve gave.)
   for (const int k : w.prescribed_entries) r[k] = fixed[k];
   if (!x)
     for (const int k : w.held_entries) r[k] = fixed[k];
