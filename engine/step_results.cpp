@@ -238,14 +238,14 @@ class ResultsPass {
         acc.free2[d] += select_not(held, free_r[d] * free_r[d]);
         store<Pair>(reaction_ + i + col_[d], r[d]);
       }
-      // The contact pressure |r_i| / |A_i| on a node with a constrained entry.
-      for (int lane = 0; lane < (Pair ? 2 : 1); ++lane) {
-        const std::ptrdiff_t node = i + lane;
-        const bool any = (mask_[node] | mask_[node + col_[1]] | mask_[node + col_[2]]) != 0;
-        const double an = norms_[node];
-        const double r2 = r[0][lane] * r[0][lane] + r[1][lane] * r[1][lane] + r[2][lane] * r[2][lane];
-        pressure_[node] = any && an > 0 ? std::sqrt(r2) / an : 0.0;
-      }
+      // The contact pressure |r_i| / |A_i| on a node with a constrained entry, both lanes at
+      // once (the same operations as lane by lane: the same bits; one square root and one
+      // division for the pair).
+      const V2i any = {(mask_[i] | mask_[i + col_[1]] | mask_[i + col_[2]]) != 0 ? -1LL : 0LL,
+                       Pair && (mask_[i + 1] | mask_[i + 1 + col_[1]] | mask_[i + 1 + col_[2]]) != 0 ? -1LL : 0LL};
+      const V2 an = load<Pair>(norms_ + i);
+      const V2 r2 = r[0] * r[0] + r[1] * r[1] + r[2] * r[2];
+      store<Pair>(pressure_ + i, select(any & V2i(an > simd::splat(0.0)), simd::sqrt2(r2) / an));
     }
     if (Stress) {
       // eps = dV_i / V_i; sigma = B eps + B_c sum_j (dV_i - dV_j) / V_i (one division by
