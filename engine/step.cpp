@@ -269,22 +269,19 @@ struct Difference {
 // (the same values, bit for bit; u0 is the step's start, swapped out of u: u is written
 // whole), and the velocity (u - u0) / dt as the step's end makes it (the same bits), with
 // `velocity`; and whether u is finite. Without `x`, u0 is u.
-// The N x 3 arrays as runs of 3 N entries: the few prescribed ones set before and after, the
-// held ones (many) through their flags in the pass (`held`: the model's).
-Difference pin_and_difference(const StepWorkspace& w, const FlagMat& held, const NodeMat& u0, NodeMat& u,
-                              NodeMat& u_new, const NodeMat& rest, bool keep_r, NodeMat* x, NodeMat* velocity = nullptr,
+// The N x 3 arrays as runs of 3 N entries: the constrained ones set before, and the few
+// prescribed ones again after (a held one's u0 + (+0 - u0) is +0 exactly already).
+Difference pin_and_difference(const StepWorkspace& w, const NodeMat& u0, NodeMat& u, NodeMat& u_new,
+                              const NodeMat& rest, bool keep_r, NodeMat* x, NodeMat* velocity = nullptr,
                               double inv_dt = 0.0) {
   const double* fixed = w.u_fixed.data();
   double* r = u_new.data();
-  // The held entries' value (+0) is taken in the pass below when there is one (`x`): their
-  // list is long (a fixed underside: 13 % of the entries in the probe scene), and writing
-  // them one by one before the pass and again after it cost more than the pass's look at
-  // their flags. (The solvers leave them at +0 anyway: their rows and columns are the
-  // identity's and their right-hand side 0; like the prescribed ones they take their value
-  // whatever the solve gave.)
+  // The held entries' value is +0 (u_fixed there; the solvers leave them at +0 anyway: their
+  // rows and columns are the identity's and their right-hand side 0, but like the prescribed
+  // ones they take their value whatever the solve gave). Their list is long (a fixed
+  // underside: 13 % of the entries in the probe scene): written without reading u_fixed.
   for (const int k : w.prescribed_entries) r[k] = fixed[k];
-  if (!x)
-    for (const int k : w.held_entries) r[k] = fixed[k];
+  for (const int k : w.held_entries) r[k] = 0.0;
   const size_t count = size_t(u.size());
   double* ud = u.data();
   using simd::V2;
@@ -295,7 +292,6 @@ Difference pin_and_difference(const StepWorkspace& w, const FlagMat& held, const
     const double* X = rest.data();
     const double* u0d = u0.data();
     double* xd = x->data();
-    const std::uint8_t* hd = held.data();
     auto pass = [&](double* vd, auto keep) {
       const V2 inv2 = simd::splat(inv_dt);
       auto two = [&](size_t k, V2 solved) {  // entries k and k + 1
@@ -310,20 +306,6 @@ Difference pin_and_difference(const StepWorkspace& w, const FlagMat& held, const
         simd::store2(xd + k, simd::load2(X + k) + ui);
         if (vd) simd::store2(vd + k, (ui - u0i) * inv2);
       };
-      // 16 entries at a time: most blocks hold no held entry; in the others a held entry's
-      // solved value is taken as +0 (u_fixed there).
-      for (; i + 16 <= count; i += 16) {
-        if (simd::none_set16(hd + i)) {
-          for (size_t j = i; j < i + 16; j += 2) two(j, simd::load2(r + j));
-        } else {
-          for (size_t j = i; j < i + 16; j += 2) {
-            const V2 solved = simd::load2(r + j);
-            two(j, V2{hd[j] ? 0.0 : solved[0], hd[j + 1] ? 0.0 : solved[1]});
-          }
-        }
-      }
-      for (size_t j = i; j < count; ++j)
-        if (hd[j]) r[j] = 0.0;  // the last entries: taken by the loops below
       for (; i + 2 <= count; i += 2) two(i, simd::load2(r + i));
       for (; i < count; ++i) {
         nan_in[0] += r[i] * 0.0;
@@ -808,7 +790,7 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s, StepRe
     // did not converge) u, x and the velocity are made again from the fallback's result.
     const bool keep_r = max_it > 1;
     auto take_result = [&]() {
-      return pin_and_difference(w, m.held, u_now, s.u, w.u_new, m.rest.positions, keep_r, it == 0 ? &s.x : nullptr,
+      return pin_and_difference(w, u_now, s.u, w.u_new, m.rest.positions, keep_r, it == 0 ? &s.x : nullptr,
                                 it == 0 ? &s.velocity : nullptr, inv_dt);
     };
     Difference diff;
