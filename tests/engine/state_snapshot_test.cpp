@@ -40,6 +40,18 @@ void load(const TissueModel& m, int k, StepInput& in, bool springs = false) {
   }
 }
 
+// A fresh state loaded from a snapshot of `a` (the whole snapshot read).
+SimState reloaded(const TissueModel& m, const SimState& a) {
+  std::string bytes;
+  save_state(m, a, bytes);
+  SimState b = make_sim_state(m);
+  size_t pos = 0;
+  std::string error;
+  EXPECT_TRUE(load_state(m, bytes, pos, b, error)) << error;
+  EXPECT_EQ(pos, bytes.size());
+  return b;
+}
+
 TEST(StateSnapshot, ALoadedStateContinuesBitForBit) {
   for (const Case& c : {Case{SolverMethod::structured, 1, 1, false}, Case{SolverMethod::structured, 3, 3, true},
                         Case{SolverMethod::reference, 1, 1, true}, Case{SolverMethod::reference, 2, 3, false},
@@ -104,12 +116,7 @@ TEST(StateSnapshot, ALoadedStateContinuesBitForBitWithoutLoadsAsThePressedNodesM
       press(k, in);
       step(m, in, a);
     }
-    std::string bytes;
-    save_state(m, a, bytes);
-    SimState b = make_sim_state(m);
-    size_t pos = 0;
-    std::string error;
-    ASSERT_TRUE(load_state(m, bytes, pos, b, error)) << error;
+    SimState b = reloaded(m, a);
     for (int k = 4; k <= 6; ++k) {
       press(k, in);
       step(m, in, a);
@@ -135,12 +142,7 @@ TEST(StateSnapshot, AHalvedStepAfterLoadingInterpolatesFromTheSavedLoads) {
   SimState a = make_sim_state(m);
   pull(10);
   step(m, in, a);
-  std::string bytes;
-  save_state(m, a, bytes);
-  SimState b = make_sim_state(m);
-  size_t pos = 0;
-  std::string error;
-  ASSERT_TRUE(load_state(m, bytes, pos, b, error)) << error;
+  SimState b = reloaded(m, a);
   pull(400);
   step(m, in, a);
   step(m, in, b);
