@@ -47,6 +47,7 @@ vdm::TissueModel surface_model(const vdm::SurfaceMesh& surface, const VdmParams&
   vdm::TissueDef def = vdm::default_tissue(surface);
   def.bulk = p.bulk;
   def.connectivity_modulus = p.connectivity;
+  def.capsule = p.capsule;
   def.solver = p.solver;
   def.fixed = c.fixed;
   def.compute_stress = false;

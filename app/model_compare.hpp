@@ -9,6 +9,7 @@
 #include "engine/fem/fem_model.hpp"
 #include "engine/mass_spring.hpp"
 #include "engine/settings.hpp"
+#include "engine/tissue_model.hpp"
 #include "engine/types.hpp"
 
 namespace vdmsim {
@@ -36,6 +37,7 @@ struct CaseResult {
 struct VdmParams {
   double bulk = 20000;                 // B (Pa)
   double connectivity = 2000;          // B_ij (Pa)
+  vdm::CapsuleForm capsule = vdm::CapsuleForm::membrane;
   double bending = 0;                  // unused by this engine version (kept for the interface)
   vdm::SolverSettings solver;
 };

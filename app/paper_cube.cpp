@@ -21,6 +21,7 @@ CubeResult run_cube(const CubeCompression& cfg, const vdm::NodeMat* bulk_overrid
   def.bulk = cfg.bulk;
   if (bulk_override) def.bulk_modulus = *bulk_override;
   def.connectivity_modulus = cfg.connectivity;
+  def.capsule = cfg.capsule;
   def.solver = cfg.solver;
   def.fixed = vdm::FlagMat::Zero(n, 3);
   const double tol = 1e-9 * L;

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "engine/settings.hpp"
+#include "engine/tissue_model.hpp"
 #include "engine/types.hpp"
 
 namespace vdmsim {
@@ -20,6 +21,7 @@ struct CubeCompression {
   int steps = 30;              // quasi-static steps to reach it
   double bulk = 20000.0;       // Pa
   double connectivity = 2000.0;  // Pa
+  vdm::CapsuleForm capsule = vdm::CapsuleForm::paper;  // the paper's experiments as published
   double preferred_ratio = 0.25;  // prefer_y: B^y = ratio x B
   vdm::SolverSettings solver = default_solver();
   static vdm::SolverSettings default_solver();

@@ -287,7 +287,7 @@ void read_organ(Reader& r, const YAML::Node& organ, SceneDef& s, const std::file
   if (const YAML::Node n = organ["tet_size"]) r.number(n, "organ.tet_size", s.tet_size, 0, kInf, "m");
   if (const YAML::Node mat = organ["material"]) {
     if (r.require_map(mat, "organ.material")) {
-      r.check_keys(mat, "organ.material", {"bulk_modulus", "connectivity_modulus", "density", "damping", "young_modulus",
+      r.check_keys(mat, "organ.material", {"bulk_modulus", "connectivity_modulus", "capsule", "density", "damping", "young_modulus",
                                            "poisson_ratio", "thickness", "volume_modulus"});
       if (const YAML::Node n = mat["young_modulus"])
         r.number(n, "organ.material.young_modulus", s.young_modulus, 0, 1e12, "Pa", false, true);
@@ -318,6 +318,11 @@ void read_organ(Reader& r, const YAML::Node& organ, SceneDef& s, const std::file
       }
       if (const YAML::Node n = mat["connectivity_modulus"])
         r.number(n, "organ.material.connectivity_modulus", s.connectivity_modulus, 0, 1e12, "Pa");
+      if (const YAML::Node n = mat["capsule"]) {
+        std::string form;
+        if (r.text(n, "organ.material.capsule", form) && !vdm::parse_capsule_form(form, s.capsule))
+          r.error(n, "organ.material.capsule", "unknown capsule '" + form + "'; expected membrane, corotational or paper");
+      }
       if (const YAML::Node n = mat["density"]) r.number(n, "organ.material.density", s.density, 0, 1e5, "kg/m^3", false, true);
       if (const YAML::Node n = mat["damping"]) r.number(n, "organ.material.damping", s.damping, 0, 1e6, "1/s");
     }

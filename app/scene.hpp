@@ -102,6 +102,7 @@ struct SceneDef {
   double scale = 1.0;
   vdm::Vec3 bulk_modulus = vdm::Vec3::Constant(20000.0);  // Pa per axis; inf allowed
   double connectivity_modulus = 2000.0;
+  vdm::CapsuleForm capsule = vdm::CapsuleForm::membrane;  // vdm: membrane | paper
   double density = 1060.0;
   double damping = 0.0;        // 1/s, with the inertia effect
   std::string model = "vdm";   // vdm | fem | mass_spring

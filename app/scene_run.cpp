@@ -238,6 +238,7 @@ bool prepare_scene_def(const SceneDef& scene, PreparedScene& out, std::vector<Sc
   def.bulk_modulus = vdm::NodeMat(n, 3);
   for (int d = 0; d < 3; ++d) def.bulk_modulus.col(d).setConstant(s.bulk_modulus[d]);
   def.connectivity_modulus = s.connectivity_modulus;
+  def.capsule = s.capsule;
   def.density = s.density;
   def.dt = s.dt;
   def.gravity = s.gravity;
@@ -658,6 +659,14 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
      << "\",\n  \"effects\": [";
   for (size_t i = 0; i < s.effects.size(); ++i) js << (i ? ", " : "") << '"' << to_string(s.effects[i]) << '"';
   js << "],\n";
+  if (s.model == "vdm") {  // the moduli the model used
+    auto modulus = [](double b) { return std::isfinite(b) ? std::to_string(b) : std::string("\"inf\""); };
+    js << "  \"material\": {\"bulk_modulus_pa\": [" << modulus(s.bulk_modulus[0]) << ", " << modulus(s.bulk_modulus[1])
+       << ", " << modulus(s.bulk_modulus[2]) << "], \"connectivity_modulus_pa\": " << s.connectivity_modulus << ", \"capsule\": \""
+       << vdm::to_string(m.capsule) << '"';
+    if (m.membrane_capsule()) js << ", \"capsule_tension_n_per_m\": " << m.capsule_tension;
+    js << "},\n";
+  }
   if (s.has(Effect::contact)) {
     const bool penalty = s.contact.method == vdm::ContactSettings::Method::penalty;
     js << "  \"contact\": {\"method\": \"" << (penalty ? "penalty" : "kinematic") << '"';

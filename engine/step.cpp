@@ -7,6 +7,7 @@
 #include <type_traits>
 
 #include "engine/all_finite.hpp"
+#include "engine/capsule_rotations.hpp"
 #include "engine/geometry.hpp"
 #include "engine/loads.hpp"
 #include "engine/sim_state.hpp"
@@ -215,8 +216,9 @@ void update_solver_system(const TissueModel& m, const SimState& s, StepWorkspace
 // Returns false, and leaves w.force as it was, when there are none (f = 0: most contact
 // steps), so that no pass zeroes it and none reads it.
 bool build_loads(const TissueModel& m, const StepInput& in, SimState& s, StepWorkspace& w) {
+  const bool corotational = m.capsule == CapsuleForm::corotational;
   const bool any = in.force.rows() == m.n || in.pressure.size() == m.n || in.spring_k.rows() == m.n ||
-                   m.use_gravity || m.use_inertia;
+                   m.use_gravity || m.use_inertia || corotational;
   if (!any) return false;
   const NodeMat& A = s.area_vectors;
   if (in.force.rows() == m.n) w.force = in.force;
@@ -228,6 +230,11 @@ bool build_loads(const TissueModel& m, const StepInput& in, SimState& s, StepWor
   // Area vectors and depths of the same geometry (the last refresh), so that between
   // refreshes the load is that of one surface: summed, exactly the weight.
   if (m.use_gravity) add_hydrostatic_loads(m, w.x_refresh, A, w.scratch, w.force);
+  // The corotational capsule's rotations, fitted at the current positions (docs/model.md).
+  if (corotational) {
+    fit_capsule_rotations(m, s.x, w.rotations);
+    add_corotation_load(m, w.rotations, w.force);
+  }
   if (m.use_inertia) {
     const double h = m.dt;
     for (int i = 0; i < m.n; ++i) {
@@ -493,6 +500,7 @@ SimState make_sim_state(const TissueModel& m) {
   w->u_fixed = NodeMat::Zero(n, 3);
   w->a_free = NodeMat::Zero(n, 3);
   w->force = NodeMat::Zero(n, 3);
+  if (m.capsule == CapsuleForm::corotational) w->rotations.assign(9 * size_t(n), 0.0);
   w->rhs = NodeMat::Zero(n, 3);
   w->start.u = NodeMat::Zero(n, 3);
   w->u_new = NodeMat::Zero(n, 3);

@@ -36,6 +36,7 @@ struct StepWorkspace {
   NodeMat u_fixed;                // values of constrained entries (m), zero on the others
   NodeMat a_free;                 // area vectors, zero on constrained entries
   NodeMat force;                  // total load f this step (N)
+  std::vector<double> rotations;  // the corotational capsule's node rotations (NodeRotations; 9 N, else empty)
   NodeMat rhs;                    // eliminated right-hand side
   bool rhs_zero_elsewhere = false;  // rhs is zero but at prescribed_entries and their neighbours (eliminate_rhs())
   NodeMat u_new;                  // solver output

@@ -60,7 +60,11 @@ void assemble_stiffness(const TissueModel& m, const NodeMat& A, const Vec& area_
   const std::array<int, 2>* edges = m.edges.data();
   const size_t edge_count = m.edges.size();
   const double per_area = 0.5 * bc / how.scale;  // w_ij / (|A_i| + |A_j|) where no end is floored
-  if (!how.any_floored) {
+  if (m.membrane_capsule()) {
+    // The membrane's weights are fixed at the rest surface (docs/model.md).
+    std::copy(m.capsule_weight.data(), m.capsule_weight.data() + edge_count, weight);
+    std::copy(m.capsule_diagonal.data(), m.capsule_diagonal.data() + m.n, lap);
+  } else if (!how.any_floored) {
     for (size_t e = 0; e < edge_count; ++e) {
       const int i = edges[e][0], j = edges[e][1];
       const double w = per_area * (norm[i] + norm[j]);

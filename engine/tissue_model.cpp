@@ -3,6 +3,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "engine/cotangent_laplacian.hpp"
 #include "engine/geometry.hpp"
 #include "engine/mesh_topology.hpp"
 
@@ -21,6 +22,23 @@ bool parse_solver_method(const std::string& text, SolverMethod& out) {
   if (text == "reference" || text == "bicgstab") out = SolverMethod::reference;
   else if (text == "structured" || text == "cg") out = SolverMethod::structured;
   else if (text == "direct" || text == "cholesky") out = SolverMethod::direct;
+  else return false;
+  return true;
+}
+
+const char* to_string(CapsuleForm c) {
+  switch (c) {
+    case CapsuleForm::membrane: return "membrane";
+    case CapsuleForm::corotational: return "corotational";
+    case CapsuleForm::paper: return "paper";
+  }
+  return "unknown";
+}
+
+bool parse_capsule_form(const std::string& text, CapsuleForm& out) {
+  if (text == "membrane") out = CapsuleForm::membrane;
+  else if (text == "corotational") out = CapsuleForm::corotational;
+  else if (text == "paper") out = CapsuleForm::paper;
   else return false;
   return true;
 }
@@ -80,7 +98,16 @@ bool build_tissue_model(const TissueDef& def, TissueModel& m, std::string& error
   m = TissueModel();
   m.rest = def.mesh;
   m.n = n;
-  m.edges = unique_edges(def.mesh.triangles);
+  m.capsule = def.capsule;
+  if (m.capsule != CapsuleForm::paper) {
+    CotangentWeights cot = cotangent_weights(def.mesh.positions, def.mesh.triangles, def.capsule_delaunay);
+    m.edges = std::move(cot.edges);
+    m.capsule_flips = cot.flips;
+    m.capsule_weight.resize(Eigen::Index(m.edges.size()));
+    for (size_t e = 0; e < m.edges.size(); ++e) m.capsule_weight[Eigen::Index(e)] = cot.weights[e];
+  } else {
+    m.edges = unique_edges(def.mesh.triangles);
+  }
   m.origin = def.mesh.positions.colwise().mean().transpose();
   m.rest_volume = enclosed_volume(def.mesh.positions, def.mesh.triangles, m.origin);
   m.rest_area = surface_area(def.mesh.positions, def.mesh.triangles);
@@ -111,6 +138,15 @@ bool build_tissue_model(const TissueDef& def, TissueModel& m, std::string& error
   for (int i = 0; i < n; ++i)
     if (m.infinite.row(i).any()) m.infinite_nodes.push_back(i);
   m.connectivity_modulus = def.connectivity_modulus;
+  if (m.membrane_capsule()) {
+    m.capsule_tension = def.connectivity_modulus * m.rest_volume / m.rest_area;
+    m.capsule_weight *= m.capsule_tension;
+    m.capsule_diagonal = Vec::Zero(n);
+    for (size_t e = 0; e < m.edges.size(); ++e) {
+      m.capsule_diagonal[m.edges[e][0]] += m.capsule_weight[Eigen::Index(e)];
+      m.capsule_diagonal[m.edges[e][1]] += m.capsule_weight[Eigen::Index(e)];
+    }
+  }
   m.axis_stiffness_floor = def.axis_stiffness_floor;
   m.density = def.density;
   m.gravity = def.gravity;

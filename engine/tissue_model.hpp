@@ -14,6 +14,22 @@
 
 namespace vdm {
 
+// The capsule (skin) term of the model (docs/model.md, "the capsule").
+enum class CapsuleForm {
+  // A membrane under tension T = B_ij V_0 / A_0 (N/m): energy ½ T ∫ |∇u|² dA, discretised by
+  // the cotangent weights of the rest surface (linear finite elements). Converges under mesh
+  // refinement (the default).
+  membrane,
+  // The membrane with per-node rotations fitted to the neighbourhood (corotational, as-rigid-
+  // as-possible): a rigid rotation of a patch costs nothing, so twists and large bends carry.
+  corotational,
+  // The paper's edge weights w_ij = B_ij a_ij² / V_ij at the current geometry (eq 4): a
+  // stiffness per edge, not per metre, which fades against the bulk term as the mesh is
+  // refined. Kept so that the paper's experiments run as published.
+  paper,
+};
+const char* to_string(CapsuleForm c);
+bool parse_capsule_form(const std::string& text, CapsuleForm& out);
 
 struct TissueDef {
   SurfaceMesh mesh;                     // closed, outward; metres
@@ -21,6 +37,12 @@ struct TissueDef {
                                         // (a constraint u_i^d = 0). Empty: use `bulk`.
   double bulk = 20000.0;                // uniform B (Pa) when bulk_modulus is empty
   double connectivity_modulus = 2000.0; // B_ij (Pa), eq (4)
+  CapsuleForm capsule = CapsuleForm::membrane;
+  // Membrane capsules: the cotangent weights of the mesh's own triangles (false: the P1 finite
+  // element membrane, whose thin triangles resist being turned over; weights may be negative
+  // on obtuse triangles, the matrix stays SPD) or of its intrinsic Delaunay triangulation
+  // (true: every weight >= 0, but a sliver's nodes are then held only loosely in line).
+  bool capsule_delaunay = false;
   // Floor of the per-axis bulk stiffness, as a fraction of the node's full-area stiffness:
   // k_i^d = B_i^d max((A_i^d)^2, floor |A_i|^2) / V_i. Without it a node whose area vector
   // has almost no component along d (a flat face, d in its plane) is held along d by the
@@ -44,7 +66,8 @@ TissueDef default_tissue(SurfaceMesh mesh);
 struct TissueModel {
   SurfaceMesh rest;                      // rest surface X (m)
   int n = 0;                             // nodes
-  std::vector<std::array<int, 2>> edges; // unique edges (i < j)
+  std::vector<std::array<int, 2>> edges; // unique edges (i < j): the mesh's (paper capsule) or
+                                         // the intrinsic Delaunay triangulation's (membrane)
   Vec3 origin;                           // rest centroid, reference point for volumes
   double rest_volume = 0;                // V_0 (m^3)
   double rest_area = 0;                  // m^2
@@ -54,6 +77,15 @@ struct TissueModel {
   std::vector<int> infinite_nodes;       // the nodes with an infinite B_i^d on some axis, in order
   FlagMat held;                          // N x 3: fixed or infinite: always constrained
   double connectivity_modulus = 0;
+  CapsuleForm capsule = CapsuleForm::membrane;
+  bool membrane_capsule() const { return capsule != CapsuleForm::paper; }
+  // Membrane capsules only (empty for the paper's): the tension T = B_ij V_0 / A_0 (N/m), the
+  // fixed edge weights w_e = T c_e (N/m; c_e the cotangent weights, on `edges`) and their
+  // sums per node (the Laplacian's diagonal, N/m).
+  double capsule_tension = 0;
+  Vec capsule_weight;
+  Vec capsule_diagonal;
+  int capsule_flips = 0;                 // edges flipped to the intrinsic Delaunay triangulation
   double axis_stiffness_floor = 0;
   double density = 0;
   Vec3 gravity = Vec3::Zero();

@@ -561,3 +561,32 @@ TEST(ExampleScenes, AllPassCheck) {
 
 }  // namespace
 }  // namespace vdmsim
+
+namespace vdmsim {
+namespace {
+
+// The capsule's form reaches the model: the default membrane (tension B_ij V_0 / A_0), the
+// paper's; an unknown form is an error naming the key.
+TEST(Scene, CapsuleFormReachesTheModel) {
+  for (const std::string form : {"", "membrane", "corotational", "paper"}) {
+    std::string t = scene_text();
+    if (!form.empty()) t.replace(t.find("density: 1060}"), 14, "density: 1060, capsule: " + form + "}");
+    const std::string path = write_scene("capsule_" + (form.empty() ? std::string("default") : form) + ".yaml", t);
+    PreparedScene ps;
+    std::vector<SceneProblem> problems;
+    ASSERT_TRUE(prepare_scene(path, ps, problems)) << form;
+    const std::string want = form.empty() ? "membrane" : form;
+    EXPECT_EQ(vdm::to_string(ps.model.capsule), want);
+    if (want == "paper") {
+      EXPECT_EQ(ps.model.capsule_tension, 0.0);
+    } else {
+      EXPECT_NEAR(ps.model.capsule_tension, 2000.0 * ps.model.rest_volume / ps.model.rest_area, 1e-9);
+    }
+  }
+  std::string t = scene_text();
+  t.replace(t.find("density: 1060}"), 14, "density: 1060, capsule: skin}");
+  expect_error("capsule_bad.yaml", t, "organ.material.capsule: unknown capsule 'skin'; expected membrane, corotational or paper");
+}
+
+}  // namespace
+}  // namespace vdmsim

@@ -95,13 +95,16 @@ TEST(HardStiffness, ConnectivityModulusNearZero) {
   }
 }
 
-TEST(HardDeformation, CubeCompressedBy60Percent) {
+// The cube compressed by `fraction` of its side in 1 % steps, with the capsule `form`.
+void compress_cube(CapsuleForm form, double fraction) {
   const double L = 0.1;
-  const TissueModel m = build(scenario::cube_on_table(L, 6));
+  TissueDef def = scenario::cube_on_table(L, 6);
+  def.capsule = form;
+  const TissueModel m = build(def);
   SimState s = make_sim_state(m);
   // Past 50 % the bulging side folds under onto the table near the fixed bottom edge (no
   // self-contact in the model): folds checked to 50 %.
-  compress(m, s, L, 0.6, 60, "60 % compression", 0.5);
+  compress(m, s, L, fraction, int(std::lround(fraction * 100)), std::string(to_string(form)) + " compression", 0.5);
   // Mirror symmetry of the load and the mesh (x -> -x, y -> -y).
   const auto mx = hard::mirror_map(m.rest.positions, Vec3(-1, 1, 1).asDiagonal(), 1e-9);
   const double umax = s.u.cwiseAbs().maxCoeff();
@@ -112,12 +115,26 @@ TEST(HardDeformation, CubeCompressedBy60Percent) {
   }
 }
 
-TEST(HardDeformation, NonlinearIterationsOnA60PercentCompression) {
-  // Nonlinear iterations (Aitken-relaxed fixed point on the geometry) converge to 1e-8 up to
-  // 30 % on this cube; past about 32 % the fixed point loses stability, and the iteration
-  // stops at its best iterate instead of oscillating: the shape stays sensible.
+TEST(HardDeformation, CubeCompressedBy60Percent) {
+  // The paper's capsule: to 60 %.
+  compress_cube(CapsuleForm::paper, 0.6);
+}
+
+TEST(HardDeformation, CubeCompressedBy54PercentWithTheMembraneCapsule) {
+  // The membrane's cotangent weights are zero on this box's lattice edges (right angles
+  // opposite them), so its skin holds the corners less than the paper's per-edge weights on
+  // this coarse mesh: at 55 % a corner under the bulge turns inside out and the step fails
+  // (cleanly, the state kept). Measured limit: 54 %.
+  compress_cube(CapsuleForm::membrane, 0.54);
+}
+
+// Nonlinear iterations (Aitken-relaxed fixed point on the geometry) converge to 1e-8 up to
+// `converged_to` of the side on this cube; past it the fixed point loses stability, and the
+// iteration stops at its best iterate instead of oscillating: the shape stays sensible.
+void nonlinear_compression(CapsuleForm form, double converged_to) {
   const double L = 0.1;
   TissueDef def = scenario::cube_on_table(L, 5);
+  def.capsule = form;
   def.solver.nonlinear_iterations = 40;
   def.solver.nonlinear_tolerance = 1e-8;
   const TissueModel m = build(def);
@@ -127,12 +144,18 @@ TEST(HardDeformation, NonlinearIterationsOnA60PercentCompression) {
     scenario::press_top(m, L, -0.6 * L * k / 30, in);
     step(m, in, s);
     expect_sensible(m, s, 1.5 * L, "nonlinear step " + std::to_string(k), k <= 25);
-    if (k <= 15) {
+    if (0.6 * k / 30 <= converged_to + 1e-12) {
       EXPECT_LE(s.stats.nonlinear_change, 1e-8) << "step " << k << " did not converge in "
                                                  << s.stats.nonlinear_iterations << " iterations";
     }
     EXPECT_LT(s.stats.nonlinear_iterations, 40) << "step " << k;
   }
+}
+
+TEST(HardDeformation, NonlinearIterationsOnA60PercentCompression) {
+  nonlinear_compression(CapsuleForm::paper, 0.30);
+  // The membrane's weaker skin on this mesh (above): converged to 20 %, sensible to 50 %.
+  nonlinear_compression(CapsuleForm::membrane, 0.20);
 }
 
 TEST(HardDeformation, BeamStretchedBy50Percent) {

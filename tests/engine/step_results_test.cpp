@@ -96,7 +96,11 @@ ResidualSums list_order_results(const TissueModel& m, const StepResultsInput& in
         const double dv = s.area_vectors(i, d) * s.u(i, d);
         const double eps = dv * inv_v;
         s.strain(i, d) = eps;
-        s.stress(i, d) = m.bulk(i, d) * eps + m.connectivity_modulus * (degree * dv - dv_sum[d]) * inv_v;
+        // The membrane's force per patch area, or the paper's volumic tension.
+        const double capsule = m.membrane_capsule()
+                                   ? (m.capsule_diagonal[i] * s.u(i, d) - wu[d]) * (1.0 / in.area_norms[i])
+                                   : m.connectivity_modulus * (degree * dv - dv_sum[d]) * inv_v;
+        s.stress(i, d) = m.bulk(i, d) * eps + capsule;
       }
     }
   }
@@ -147,6 +151,7 @@ bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; 
 TEST(StepResults, MatchThePlainProductResidualLoopAndStress) {
   const double L = 0.1;
   TissueDef def = scenario::cube_on_table(L, 4);
+  def.capsule = CapsuleForm::paper;  // B_c varies below (the membrane's pass: StepResultsBall)
   const int n = def.mesh.node_count();
   def.bulk_modulus = NodeMat::Constant(n, 3, 20000.0);
   for (int i = 0; i < n; i += 3) def.bulk_modulus(i, 0) = std::numeric_limits<double>::infinity();

@@ -155,7 +155,7 @@ TEST(Stiffness, EliminatedRightHandSideKeptFromTheLastCallIsTheWholeOnesBitForBi
 // diagonals, against eq (3)-(4) as written (w_ij = B_ij a_ij^2 / V_ij), with no node floored
 // and with some (their edges by the plain formula): the same to round-off.
 TEST(Stiffness, DivisionFreeWeightsAreThePlainFormula) {
-  const axis_test::System sys = axis_test::make_system();
+  const axis_test::System sys = axis_test::make_system(CapsuleForm::paper);
   TissueModel m = sys.model;
   m.axis_stiffness_floor = 0.1;  // the diagonals' floor term too
   NodeMat a(m.n, 3);

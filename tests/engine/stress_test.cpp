@@ -49,6 +49,7 @@ bool same_bits(const NodeMat& a, const NodeMat& b) {
 TEST(StrainStress, EqualsThePlainFormulasBitForBit) {
   const double L = 0.1;
   TissueDef def = cube_on_table(L, 4);
+  def.capsule = CapsuleForm::paper;  // eq (6) as the paper writes it
   const int n = def.mesh.node_count();
   def.bulk_modulus = NodeMat::Constant(n, 3, 20000.0);
   for (int i = 0; i < n; i += 3) def.bulk_modulus(i, 0) = std::numeric_limits<double>::infinity();
@@ -79,4 +80,59 @@ TEST(StrainStress, EqualsThePlainFormulasBitForBit) {
     EXPECT_TRUE(same_bits(strain, s.strain)) << "B_c " << bc;
     EXPECT_TRUE(same_bits(stress, s.stress)) << "B_c " << bc;
   }
+}
+
+// The membrane capsule's stress: B eps plus the membrane's force per patch area,
+// sum_j w_ij (u_i - u_j) / |A_i| (docs/model.md). The step's own to round-off (it sums
+// lap_i u_i - sum_j w_ij u_j), compute_strain_stress() bit for bit.
+TEST(StrainStress, MembraneCapsuleEqualsThePlainFormula) {
+  const double L = 0.1;
+  TissueDef def = cube_on_table(L, 4);
+  def.capsule = CapsuleForm::membrane;
+  const int n = def.mesh.node_count();
+  def.bulk_modulus = NodeMat::Constant(n, 3, 20000.0);
+  for (int i = 0; i < n; i += 3) def.bulk_modulus(i, 0) = std::numeric_limits<double>::infinity();
+  const TissueModel m = build(def);
+  SimState s = make_sim_state(m);
+  StepInput in = make_step_input(m);
+  for (int k = 1; k <= 3; ++k) {
+    press_top(m, L, -0.004 * k, in);
+    step(m, in, s);
+  }
+  ASSERT_FALSE(s.failed);
+  NodeMat strain(m.n, 3), stress(m.n, 3);
+  const NodeMat& A = s.area_vectors;
+  for (int i = 0; i < m.n; ++i)
+    for (int d = 0; d < 3; ++d) {
+      double force = 0.0;
+      for (int k = m.neighbours.begin[i]; k < m.neighbours.begin[i + 1]; ++k) {
+        const auto e = m.neighbours.entries[size_t(k)];
+        force += m.capsule_weight[e.edge] * (s.u(i, d) - s.u(e.node, d));
+      }
+      strain(i, d) = m.infinite(i, d) ? 0.0 : A(i, d) * s.u(i, d) / s.node_volumes[i];
+      const double tiny = 1e-9 * A.row(i).norm();
+      const double bulk = m.infinite(i, d) ? (std::abs(A(i, d)) > tiny ? -s.reaction(i, d) / A(i, d) : 0.0)
+                                           : m.bulk(i, d) * strain(i, d);
+      stress(i, d) = (m.infinite(i, d) ? force / A.row(i).norm() + bulk : bulk + force / A.row(i).norm());
+    }
+  EXPECT_LE((strain - s.strain).cwiseAbs().maxCoeff(), 1e-13 * strain.cwiseAbs().maxCoeff());
+  EXPECT_LE((stress - s.stress).cwiseAbs().maxCoeff(), 1e-9 * stress.cwiseAbs().maxCoeff());
+  std::vector<double> scratch(3 * size_t(m.n), -1.0);
+  SimState again = make_sim_state(m);
+  again.u = s.u;
+  again.area_vectors = s.area_vectors;
+  again.node_volumes = s.node_volumes;
+  again.reaction = s.reaction;
+  compute_strain_stress(m, again, scratch.data());
+  EXPECT_LE((stress - again.stress).cwiseAbs().maxCoeff(), 1e-12 * stress.cwiseAbs().maxCoeff());
+  EXPECT_LE((strain - again.strain).cwiseAbs().maxCoeff(), 1e-13 * strain.cwiseAbs().maxCoeff());
+  // The capsule's share is not nothing: without it the stress differs.
+  double capsule_share = 0.0, largest = 0.0;
+  for (int i = 0; i < m.n; ++i)
+    for (int d = 0; d < 3; ++d)
+      if (!m.infinite(i, d)) {
+        capsule_share = std::max(capsule_share, std::abs(stress(i, d) - m.bulk(i, d) * strain(i, d)));
+        largest = std::max(largest, std::abs(stress(i, d)));
+      }
+  EXPECT_GT(capsule_share, 0.01 * largest);
 }

@@ -34,9 +34,10 @@ struct System {
   std::vector<int> perm;    // solver index -> node
 };
 
-inline System make_system() {
+inline System make_system(CapsuleForm capsule = CapsuleForm::membrane) {
   System s;
   TissueDef def = default_tissue(make_icosphere(0.05, 3));
+  def.capsule = capsule;
   // Squash the sphere so that the three axes' diagonals differ.
   for (int i = 0; i < def.mesh.node_count(); ++i) def.mesh.positions(i, 2) *= 0.6;
   s.model = scenario::build(def);
