@@ -9,7 +9,7 @@
 #include "engine/contact.hpp"
 #include "engine/settings.hpp"
 #include "engine/types.hpp"
-#include "render/renderer.hpp"
+#include "render/view_settings.hpp"
 #include "tools_scripted/instrument.hpp"
 
 namespace vdmsim {

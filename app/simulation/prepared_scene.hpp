@@ -9,6 +9,7 @@
 #include "app/scene/scene.hpp"
 #include "engine/organ_solver.hpp"
 #include "engine/tissue_model.hpp"
+#include "render/render_scene.hpp"
 
 namespace vdmsim {
 

@@ -26,6 +26,7 @@
 #include "render/number_format.hpp"
 #include "render/plot.hpp"
 #include "render/png_io.hpp"
+#include "render/renderer.hpp"
 
 namespace vdmsim {
 namespace {
