@@ -1,6 +1,5 @@
 #include "app/cli/commands.hpp"
 
-#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -16,6 +15,7 @@
 #include "app/studies/calibrate.hpp"
 #include "app/simulation/tet_mesher.hpp"
 #include "engine/geometry.hpp"
+#include "engine/stopwatch.hpp"
 
 namespace vdmsim {
 
@@ -166,7 +166,7 @@ int cmd_paper(const std::string& experiment, const std::string& out_dir, std::os
   namespace fs = std::filesystem;
   const CubeCompression cfg;
   if (all || experiment == "cube-stress") {
-    const auto t0 = std::chrono::steady_clock::now();
+    const auto t0 = vdm::Clock::now();
     const CubeResult r = run_cube_stress(cfg);
     const std::string path = (fs::path(out_dir) / "cube-stress.csv").string();
     if (!write_cube_stress_csv(path, r, error) ||
@@ -178,11 +178,11 @@ int cmd_paper(const std::string& experiment, const std::string& out_dir, std::os
     for (double v : r.volume_rel_error) worst = std::max(worst, std::abs(v));
     out << "cube-stress: " << r.volume_rel_error.size() - 1 << " steps, " << cfg.compression * 100
         << " % compression, max |volume error| " << worst << ", "
-        << std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() << " s -> "
+        << vdm::ms_since(t0) / 1000 << " s -> "
         << path << " and cube-stress.png\n";
   }
   if (all || experiment == "anisotropy") {
-    const auto t0 = std::chrono::steady_clock::now();
+    const auto t0 = vdm::Clock::now();
     const std::vector<AnisotropyCase> cases = {AnisotropyCase::uniform, AnisotropyCase::x_infinite,
                                                AnisotropyCase::prefer_y};
     std::vector<CubeResult> results;
@@ -194,7 +194,7 @@ int cmd_paper(const std::string& experiment, const std::string& out_dir, std::os
       return 1;
     }
     out << "anisotropy: 3 cases x " << results[0].volume_rel_error.size() - 1 << " steps, "
-        << std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() << " s -> "
+        << vdm::ms_since(t0) / 1000 << " s -> "
         << path << "\n";
     for (size_t c = 0; c < cases.size(); ++c) {
       const auto& p = results[c].points;
@@ -210,7 +210,7 @@ int cmd_paper(const std::string& experiment, const std::string& out_dir, std::os
 int paper_beams(const std::vector<BeamCase>& beams, const BeamConfig& cfg, const std::string& out_dir,
                 std::ostream& out, std::ostream& err) {
   namespace fs = std::filesystem;
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = vdm::Clock::now();
   const BeamStudy study = run_beam_study(cfg, beams);
   out << "beam " << cfg.length * 100 << " x " << cfg.width * 100 << " x " << cfg.width * 100 << " cm, "
       << cfg.cells_across << " x " << cfg.cells_along << " cells (" << 24 * cfg.cells_across * cfg.cells_across * cfg.cells_along
@@ -236,7 +236,7 @@ int paper_beams(const std::vector<BeamCase>& beams, const BeamConfig& cfg, const
     err << "vdmsim: error: " << error << "\n";
     return 1;
   }
-  out << "beam experiments: " << std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() << " s\n";
+  out << "beam experiments: " << vdm::ms_since(t0) / 1000 << " s\n";
   return 0;
 }
 
@@ -265,7 +265,7 @@ int cmd_calibrate(const std::string& mesh_path, double scale, double young, doub
     err << "vdmsim: error: " << mesh.error << "\n";
     return 2;
   }
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = vdm::Clock::now();
   vdm::fem::TetMesh tets;
   std::string error;
   if (!tetrahedralize(mesh.mesh, tet_size, tets, error)) {
@@ -297,7 +297,7 @@ int cmd_calibrate(const std::string& mesh_path, double scale, double young, doub
       << r.params.bulk << " Pa, connectivity_modulus " << r.params.connectivity << " Pa; RMS displacement difference "
       << 100 * r.rms_displacement << " % of the largest, mean |u| difference press " << 100 * r.mean_relative_difference[0]
       << " %, pull " << 100 * r.mean_relative_difference[1] << " %; "
-      << std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() << " s -> " << out_path << "\n";
+      << vdm::ms_since(t0) / 1000 << " s -> " << out_path << "\n";
   return 0;
 }
 

@@ -4,15 +4,15 @@
 #include <pthread.h>
 
 #include <algorithm>
-#include <chrono>
 
+#include "engine/stopwatch.hpp"
 #include "render/png_io.hpp"
 #include <cstdio>
 
 namespace vdmsim {
 namespace {
-using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+using vdm::Clock;
+using vdm::ms_since;
 
 // Removes prefix_*.png (and unfinished .png.tmp) left in `folder` by an earlier run.
 void remove_old_frames(const std::filesystem::path& folder, const std::string& prefix) {

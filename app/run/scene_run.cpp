@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <atomic>
 #include <csignal>
-#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -18,6 +17,7 @@
 #include "app/run/frame_output.hpp"
 #include "app/run/output_dir.hpp"
 #include "app/simulation/scene_simulation.hpp"
+#include "engine/stopwatch.hpp"
 #include "render/video.hpp"
 #include "engine/contact.hpp"
 #include "engine/sim_state.hpp"
@@ -55,8 +55,8 @@ class StopSignals {
   void (*old_term_)(int) = SIG_DFL;
 };
 
-using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+using vdm::Clock;
+using vdm::ms_since;
 
 std::string json_escape(const std::string& s) {
   std::string o;

@@ -2,9 +2,9 @@
 
 #include "app/simulation/organ_models.hpp"
 #include "engine/state_snapshot.hpp"
+#include "engine/stopwatch.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -13,8 +13,8 @@
 namespace vdmsim {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+using vdm::Clock;
+using vdm::ms_since;
 
 double ramp(double t, double t0, double t1) {
   if (t1 <= t0) return t >= t0 ? 1.0 : 0.0;

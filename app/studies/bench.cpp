@@ -4,7 +4,6 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -23,6 +22,7 @@
 #include "app/scene/organ_generator.hpp"
 #include "app/studies/quantile.hpp"
 #include "app/simulation/scene_simulation.hpp"
+#include "engine/stopwatch.hpp"
 #include "render/number_format.hpp"
 #include "render/plot.hpp"
 #include "render/png_io.hpp"
@@ -32,8 +32,8 @@ namespace vdmsim {
 namespace {
 
 namespace fs = std::filesystem;
-using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
+using vdm::Clock;
+using vdm::ms_since;
 
 struct Row {
   std::string name, model;

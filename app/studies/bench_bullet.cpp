@@ -1,13 +1,13 @@
 #include "app/studies/bench_bullet.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <memory>
 #include <sstream>
 #include <stdexcept>
 
 #include "engine/geometry.hpp"
+#include "engine/stopwatch.hpp"
 #include "tools_scripted/instrument.hpp"
 
 #ifdef VDMSIM_HAVE_BULLET
@@ -50,7 +50,8 @@ bool bullet_available() { return true; }
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
+using vdm::Clock;
+using vdm::ms_since;
 
 // The capsule's Bullet transform: btCapsuleShapeZ is centred at the origin along z.
 btTransform capsule_transform(const vdm::Capsule& c) {
@@ -164,7 +165,7 @@ struct BulletProbe::Impl {
       probe_motion->setWorldTransform(capsule_transform(cap));
       world.stepSimulation(btScalar(h), 0);
     }
-    const double ms = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+    const double ms = ms_since(start);
     // Measured outside the timed part: the deformed surface's volume, and contact.
     double closest = 1e30;
     for (int i = 0; i < m.n; ++i) {

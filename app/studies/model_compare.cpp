@@ -1,18 +1,19 @@
 #include "app/studies/model_compare.hpp"
 
-#include <chrono>
 #include <cmath>
 #include <stdexcept>
 
 #include "engine/fem/fem_state.hpp"
 #include "engine/organ_solver.hpp"
 #include "engine/sim_state.hpp"
+#include "engine/stopwatch.hpp"
 #include "engine/tissue_model.hpp"
 
 namespace vdmsim {
 namespace {
 
-using Clock = std::chrono::steady_clock;
+using vdm::Clock;
+using vdm::ms_since;
 
 // Steps `solver` through the case on a SimState of `model`'s surface.
 CaseResult drive(const vdm::TissueModel& model, vdm::OrganSolver& solver, const LoadCase& c) {
@@ -38,7 +39,7 @@ CaseResult drive(const vdm::TissueModel& model, vdm::OrganSolver& solver, const 
     const auto t0 = Clock::now();
     solver.step(input, state);
     r.converged = r.converged && state.stats.converged;
-    record(std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+    record(ms_since(t0));
   }
   return r;
 }
