@@ -472,7 +472,7 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
     js << "  \"resumed_from_frame\": " << start << ",\n  \"resumed_by\": \""
        << (first > 0 ? "state snapshot" : "re-simulation") << "\",\n";
   js << "  \"frames\": " << done << ",\n  \"frames_requested\": " << frames << ",\n  \"nodes\": " << m.n
-     << ",\n  \"model\": \"" << s.model << "\",\n  \"solver\": \"" << vdm::to_string(m.solver.method)
+     << ",\n  \"model\": \"" << vdm::to_string(s.model) << "\",\n  \"solver\": \"" << vdm::to_string(m.solver.method)
      << "\",\n  \"effects\": [";
   for (size_t i = 0; i < s.effects.size(); ++i) js << (i ? ", " : "") << '"' << to_string(s.effects[i]) << '"';
   js << "],\n";

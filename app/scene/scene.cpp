@@ -278,9 +278,10 @@ void read_organ(Reader& r, const YAML::Node& organ, SceneDef& s, const std::file
   }
   if (const YAML::Node n = organ["scale"]) r.number(n, "organ.scale", s.scale, 0, kInf, "mesh units to metres", false, true);
   if (const YAML::Node n = organ["model"]) {
-    if (r.text(n, "organ.model", s.model) && s.model != "vdm" && s.model != "fem" && s.model != "mass_spring") {
-      const std::string near = closest(s.model, {"vdm", "fem", "mass_spring"});
-      r.error(n, "organ.model", "unknown model '" + s.model + "'" + (near.empty() ? "" : " (did you mean '" + near + "'?)") +
+    std::string model;
+    if (r.text(n, "organ.model", model) && !vdm::parse_model_kind(model, s.model)) {
+      const std::string near = closest(model, {"vdm", "fem", "mass_spring"});
+      r.error(n, "organ.model", "unknown model '" + model + "'" + (near.empty() ? "" : " (did you mean '" + near + "'?)") +
                                     "; expected vdm, fem or mass_spring");
     }
   }
@@ -438,9 +439,10 @@ void read_simulation(Reader& r, const YAML::Node& sim, SceneDef& s) {
             cs.method = vdm::ContactSettings::Method::kinematic;
           } else if (m == "penalty") {
             cs.method = vdm::ContactSettings::Method::penalty;
-            if (s.model != "vdm")
+            if (s.model != vdm::ModelKind::vdm)
               r.error(n, fc + ".method",
-                      "penalty contact needs organ.model vdm (" + s.model + " takes kinematic contact)");
+                      std::string("penalty contact needs organ.model vdm (") + vdm::to_string(s.model) +
+                          " takes kinematic contact)");
           } else {
             const std::string near = closest(m, methods);
             r.error(n, fc + ".method", "unknown contact method '" + m + "'" +
@@ -755,10 +757,10 @@ void read_render(Reader& r, const YAML::Node& n, SceneDef& s) {
       d.stress_view.quantity == render::Quantity::stress_magnitude || d.stress_view.quantity == render::Quantity::stress_x ||
       d.stress_view.quantity == render::Quantity::stress_y || d.stress_view.quantity == render::Quantity::stress_z ||
       d.stress_view.quantity == render::Quantity::volumetric_strain;
-  if (d.stress && stress_quantity && s.model != "vdm")
+  if (d.stress && stress_quantity && s.model != vdm::ModelKind::vdm)
     r.error(n["views"], "render.views",
             std::string("the stress view of '") + render::to_string(d.stress_view.quantity) + "' needs organ.model vdm (" +
-                s.model + " computes no VDM stress): colour by displacement or contact_pressure");
+                vdm::to_string(s.model) + " computes no VDM stress): colour by displacement or contact_pressure");
   if (d.stress && !s.has(Effect::stress) &&
       (d.stress_view.quantity == render::Quantity::stress_magnitude || d.stress_view.quantity == render::Quantity::stress_x ||
        d.stress_view.quantity == render::Quantity::stress_y || d.stress_view.quantity == render::Quantity::stress_z ||

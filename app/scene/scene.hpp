@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "engine/contact.hpp"
+#include "engine/organ_solver.hpp"
 #include "engine/settings.hpp"
 #include "engine/types.hpp"
 #include "render/view_settings.hpp"
@@ -104,7 +105,7 @@ struct SceneDef {
   double connectivity_modulus = 2000.0;
   double density = 1060.0;
   double damping = 0.0;        // 1/s, with the inertia effect
-  std::string model = "vdm";   // vdm | fem | mass_spring
+  vdm::ModelKind model = vdm::ModelKind::vdm;  // organ.model: vdm | fem | mass_spring
   double young_modulus = 3000;  // fem, mass_spring (Pa)
   double poisson_ratio = 0.45;  // fem, in [0, 0.5)
   double thickness = 0.005;     // mass_spring: skin thickness giving the springs' stiffness (m)

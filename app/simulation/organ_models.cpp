@@ -1,14 +1,14 @@
 #include "app/simulation/organ_models.hpp"
 
 #include "app/simulation/tet_mesher.hpp"
-#include "engine/fem/fem_model.hpp"
 
 namespace vdmsim {
 
-bool make_organ_solver(const SceneDef& s, const vdm::TissueModel& m, std::unique_ptr<vdm::OrganSolver>& out,
-                       std::string& error) {
-  out.reset();
-  if (s.model == "fem") {
+bool build_reference_model(const SceneDef& s, const vdm::TissueModel& m, ReferenceModel& out, std::string& error) {
+  out = ReferenceModel{};
+  out.kind = s.model;
+  out.dt = s.dt;
+  if (s.model == vdm::ModelKind::fem) {
     vdm::fem::FemDef def;
     if (!tetrahedralize(m.rest, s.tet_size, def.mesh, error)) return false;
     def.young_modulus = s.young_modulus;
@@ -17,10 +17,8 @@ bool make_organ_solver(const SceneDef& s, const vdm::TissueModel& m, std::unique
     def.gravity = s.gravity;
     def.use_gravity = s.has(Effect::gravity);
     def.fixed = m.held;
-    vdm::fem::FemModel fm;
-    if (!vdm::fem::build_fem_model(def, fm, error)) return false;
-    out = vdm::make_fem_solver(std::move(fm), s.dt);
-  } else if (s.model == "mass_spring") {
+    if (!vdm::fem::build_fem_model(def, out.fem, error)) return false;
+  } else if (s.model == vdm::ModelKind::mass_spring) {
     vdm::MassSpringDef def;
     def.positions = m.rest.positions;
     def.triangles = m.rest.triangles;
@@ -28,11 +26,18 @@ bool make_organ_solver(const SceneDef& s, const vdm::TissueModel& m, std::unique
     def.thickness = s.thickness;
     def.volume_modulus = s.volume_modulus;
     def.fixed = m.held;
-    vdm::MassSpringModel msm;
-    if (!vdm::build_mass_spring_model(def, msm, error)) return false;
-    out = vdm::make_mass_spring_solver(std::move(msm), s.dt);
+    if (!vdm::build_mass_spring_model(def, out.mass_spring, error)) return false;
   }
   return true;
+}
+
+std::unique_ptr<vdm::OrganSolver> make_organ_solver(const ReferenceModel& r) {
+  switch (r.kind) {
+    case vdm::ModelKind::fem: return vdm::make_fem_solver(r.fem, r.dt);
+    case vdm::ModelKind::mass_spring: return vdm::make_mass_spring_solver(r.mass_spring, r.dt);
+    case vdm::ModelKind::vdm: break;
+  }
+  return nullptr;
 }
 
 }  // namespace vdmsim

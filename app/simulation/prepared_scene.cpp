@@ -160,7 +160,7 @@ bool prepare_scene_def(const SceneDef& scene, PreparedScene& out, std::vector<Sc
   def.compute_stress = s.has(Effect::stress);
   def.damping = s.damping;
   def.volume_constraint = s.volume_constraint;
-  if (s.model != "vdm") def.compute_stress = false;  // fem and mass_spring report no VDM stress
+  if (s.model != vdm::ModelKind::vdm) def.compute_stress = false;  // fem and mass_spring report no VDM stress
   def.solver = s.solver;
   def.fixed = vdm::FlagMat::Zero(n, 3);
   for (size_t k = 0; k < s.fixed.size(); ++k)
@@ -183,7 +183,7 @@ bool prepare_scene_def(const SceneDef& scene, PreparedScene& out, std::vector<Sc
     problems.push_back({s.file, "organ", error, false});
     return false;
   }
-  if (!make_organ_solver(s, out.model, out.organ, error)) {
+  if (!build_reference_model(s, out.model, out.reference, error)) {
     problems.push_back({s.file, "organ.model", error, false});
     return false;
   }

@@ -1,13 +1,13 @@
 #pragma once
 // A scene made ready to simulate: the scene as loaded and validated, its organ's tissue model,
 // the nodes its loads and motions act on, its instruments' skins and convex hulls, and the
-// reference model's solver when organ.model is fem or mass_spring.
+// reference model when organ.model is fem or mass_spring.
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "app/scene/scene.hpp"
-#include "engine/organ_solver.hpp"
+#include "app/simulation/organ_models.hpp"
 #include "engine/tissue_model.hpp"
 #include "render/render_scene.hpp"
 
@@ -30,7 +30,7 @@ struct PreparedScene {
   std::vector<std::vector<int>> prescribed_nodes;  // per organ.prescribed entry
   std::vector<vdm::Vec3> prescribed_about;         // rotation centre per entry (m)
   std::vector<InstrumentSkin> skins;               // per instrument
-  std::unique_ptr<vdm::OrganSolver> organ;         // organ.model fem or mass_spring; null: vdm::step
+  ReferenceModel reference;                        // organ.model fem or mass_spring (vdm: vdm::step)
 };
 
 // Loads and validates the scene and its mesh and builds the model. On failure returns false

@@ -8,7 +8,6 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <stdexcept>
 
 namespace vdmsim {
 namespace {
@@ -35,10 +34,7 @@ SceneSimulation::SceneSimulation(const PreparedScene& ps)
   if (s.loads.empty()) input_.force.resize(0, 3);
   // A reference model keeps its own state: every simulation (a colour-range pass, the run, a
   // benchmark repeat) builds its own, so that none starts where another ended.
-  if (ps.organ) {
-    std::string error;
-    if (!make_organ_solver(s, ps.model, organ_, error)) throw std::runtime_error("organ.model: " + error);
-  }
+  organ_ = make_organ_solver(ps.reference);
   if (s.has(Effect::contact) && !s.instruments.empty()) contact_ = std::make_unique<vdm::ContactSolver>(ps.model, s.contact);
   if (contact_) contact_->set_solver(organ_.get());  // organ.model fem or mass_spring
   tools_.resize(probes_.size() + 3 * graspers_.size());  // probes, then each grasper's two jaws and shaft

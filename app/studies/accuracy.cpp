@@ -42,8 +42,8 @@ std::string level_mesh(int level) { return "liver_L" + std::to_string(level) + "
 
 std::string config_name(const AccuracyConfig& c) {
   std::ostringstream s;
-  s << c.scenario << "_" << c.varied << "_" << c.model << "_L" << c.level;
-  if (c.model == "vdm")
+  s << c.scenario << "_" << c.varied << "_" << vdm::to_string(c.model) << "_L" << c.level;
+  if (c.model == vdm::ModelKind::vdm)
     s << "_" << vdm::to_string(c.method) << "_tol" << std::setprecision(0) << std::scientific << c.tolerance << "_r"
       << c.refresh_every << "_n" << c.nonlinear_iterations;
   return s.str();
@@ -57,10 +57,10 @@ std::string scene_yaml(const AccuracyConfig& c, int frames) {
     << "name: " << config_name(c) << "\n"
     << "organ:\n"
     << "  mesh: ../meshes/" << level_mesh(c.level) << "\n"
-    << "  model: " << c.model << "\n";
-  if (c.model == "vdm")
+    << "  model: " << vdm::to_string(c.model) << "\n";
+  if (c.model == vdm::ModelKind::vdm)
     y << "  material: {bulk_modulus: 20000, connectivity_modulus: 2000, density: 1060}\n";
-  else if (c.model == "fem")
+  else if (c.model == vdm::ModelKind::fem)
     y << "  material: {young_modulus: " << kRefYoung << ", poisson_ratio: " << kPoisson << ", density: 1060}\n";
   else
     y << "  material: {young_modulus: " << kRefYoung << ", volume_modulus: " << kVolumeToYoung * kRefYoung
@@ -245,11 +245,11 @@ std::vector<AccuracyConfig> accuracy_configs(bool quick) {
     // The reference models on the coarse liver: their Newton solves cost seconds per step on
     // finer ones (mass_spring converges slowly where its membrane is pushed along its normal).
     vary("model", [&](AccuracyConfig& c) {
-      c.model = "mass_spring";
+      c.model = vdm::ModelKind::mass_spring;
       c.level = 3;
     });
     vary("model", [&](AccuracyConfig& c) {
-      c.model = "fem";
+      c.model = vdm::ModelKind::fem;
       c.level = 3;
     });
   }
@@ -346,7 +346,7 @@ int run_accuracy(const AccuracyOptions& options, std::ostream& out, std::ostream
       row.note = tr.failure;
     } else {
       double scale = 1;
-      if (c.model != "vdm") {
+      if (c.model != vdm::ModelKind::vdm) {
         scale = matching_scale(ref, loaded, tr);
         row.young_modulus = scale * kRefYoung;
       }
@@ -356,7 +356,7 @@ int run_accuracy(const AccuracyOptions& options, std::ostream& out, std::ostream
         base_level = c.level;
       }
       // The solver's own error: against the baseline on the same mesh (mesh error left out).
-      if (c.model == "vdm" && !base.u.empty() && c.level == base_level)
+      if (c.model == vdm::ModelKind::vdm && !base.u.empty() && c.level == base_level)
         row.rms_vs_baseline_mm = rms_difference_mm(tr, base, loaded);
       if (tr.unconverged > 0) row.note = std::to_string(tr.unconverged) + " steps did not converge";
     }

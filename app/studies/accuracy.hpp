@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "engine/organ_solver.hpp"
 #include "engine/settings.hpp"
 
 namespace vdmsim {
@@ -15,7 +16,7 @@ namespace vdmsim {
 struct AccuracyConfig {
   std::string scenario;        // probe_poke | grasp_lift
   std::string varied;          // reference | baseline | solver | tolerance | refresh | nonlinear | mesh | model
-  std::string model = "vdm";   // vdm | mass_spring | fem
+  vdm::ModelKind model = vdm::ModelKind::vdm;
   int level = 5;               // liver mesh level (3: 642, 4: 2562, 5: 10242, 6: 40962 nodes)
   vdm::SolverMethod method = vdm::SolverMethod::structured;
   double tolerance = 1e-8;

@@ -6,6 +6,7 @@
 #include <iomanip>
 #include <limits>
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include "render/plot.hpp"
@@ -16,8 +17,8 @@ namespace {
 
 std::string knobs(const AccuracyConfig& c) {
   std::ostringstream s;
-  s << c.model << ", liver L" << c.level;
-  if (c.model == "vdm")
+  s << vdm::to_string(c.model) << ", liver L" << c.level;
+  if (c.model == vdm::ModelKind::vdm)
     s << ", " << vdm::to_string(c.method) << ", tolerance " << c.tolerance << ", refresh every " << c.refresh_every
       << ", " << c.nonlinear_iterations << " nonlinear iteration" << (c.nonlinear_iterations > 1 ? "s" : "");
   return s.str();
@@ -33,8 +34,8 @@ bool write_accuracy_csv(const std::string& path, const std::vector<AccuracyRow>&
   f << std::setprecision(6);
   for (const AccuracyRow& r : rows) {
     const AccuracyConfig& c = r.config;
-    f << c.scenario << ',' << c.varied << ',' << c.model << ',' << r.nodes << ',';
-    if (c.model == "vdm")
+    f << c.scenario << ',' << c.varied << ',' << vdm::to_string(c.model) << ',' << r.nodes << ',';
+    if (c.model == vdm::ModelKind::vdm)
       f << vdm::to_string(c.method) << ',' << c.tolerance << ',' << c.refresh_every << ',' << c.nonlinear_iterations;
     else
       f << ",,,";
@@ -72,14 +73,16 @@ bool write_accuracy_plot(const std::string& path, const std::vector<AccuracyRow>
   constexpr double kFloor = 1e-6;
   struct Family {
     const char* varied;
-    const char* model;  // "" for any
+    std::optional<vdm::ModelKind> model;  // empty: any
     const char* label;
     int colour;
   };
   const std::vector<Family> families = {
-      {"baseline", "", "baseline", 0},      {"solver", "", "solver", 1},        {"tolerance", "", "tolerance", 2},
-      {"refresh", "", "refresh period", 3}, {"nonlinear", "", "nonlinear iterations", 4},
-      {"mesh", "", "mesh", 5},              {"model", "fem", "model fem", 6},   {"model", "mass_spring", "model mass_spring", 7},
+      {"baseline", {}, "baseline", 0},      {"solver", {}, "solver", 1},        {"tolerance", {}, "tolerance", 2},
+      {"refresh", {}, "refresh period", 3}, {"nonlinear", {}, "nonlinear iterations", 4},
+      {"mesh", {}, "mesh", 5},
+      {"model", vdm::ModelKind::fem, "model fem", 6},
+      {"model", vdm::ModelKind::mass_spring, "model mass_spring", 7},
   };
   for (const char* scenario : {"probe_poke", "grasp_lift"}) {
     render::Panel p;
@@ -96,7 +99,7 @@ bool write_accuracy_plot(const std::string& path, const std::vector<AccuracyRow>
       s.color = fam.colour;
       for (const AccuracyRow& r : rows) {
         if (r.failed || r.config.scenario != scenario || r.config.varied != fam.varied) continue;
-        if (*fam.model && r.config.model != fam.model) continue;
+        if (fam.model && r.config.model != *fam.model) continue;
         s.x.push_back(r.median_ms);
         s.y.push_back(std::max(r.rms_mm, kFloor));
         if (r.pareto) front.emplace_back(r.median_ms, std::max(r.rms_mm, kFloor));

@@ -204,7 +204,7 @@ Row bench_fem(const fs::path& dir, int frames) {
   {
     PreparedScene vdm_scene = probe_scene(mesh, frames, false);
     SceneDef s = vdm_scene.scene;
-    s.model = "fem";
+    s.model = vdm::ModelKind::fem;
     s.young_modulus = 5000;
     s.poisson_ratio = 0.45;
     if (!prepare_scene_def(s, ps, problems))

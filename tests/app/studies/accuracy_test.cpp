@@ -39,7 +39,7 @@ TEST(Accuracy, EveryScenarioHasAReferenceFirstAndEveryKnobVaried) {
       EXPECT_EQ(ref->refresh_every, 1);
       EXPECT_GT(ref->nonlinear_iterations, 1);
       for (const AccuracyConfig& c : configs)
-        if (c.scenario == scenario && c.model == "vdm") {
+        if (c.scenario == scenario && c.model == vdm::ModelKind::vdm) {
           EXPECT_LE(ref->tolerance, c.tolerance);
         }
       for (const char* knob : {"baseline", "solver", "tolerance", "refresh", "nonlinear", "mesh", "model"})
