@@ -14,10 +14,10 @@
 #include <string>
 #include <vector>
 
-#include "app/bench.hpp"
-#include "app/mesh_io.hpp"
-#include "app/quantile.hpp"
-#include "app/scene_simulation.hpp"
+#include "app/studies/bench.hpp"
+#include "app/scene/mesh_io.hpp"
+#include "app/studies/quantile.hpp"
+#include "app/simulation/scene_simulation.hpp"
 #include "engine/contact.hpp"
 #include "engine/geometry.hpp"
 #include "engine/volume_along.hpp"

@@ -2,6 +2,8 @@
 #include "engine/organ_solver.hpp"
 #include "engine/simd2.hpp"
 #include "engine/step_workspace.hpp"
+#include "engine/stopwatch.hpp"
+#include "engine/warnings.hpp"
 
 #include <fcl/fcl.h>
 
@@ -11,8 +13,6 @@
 #include <limits>
 
 namespace vdm {
-
-using Clock = std::chrono::steady_clock;
 
 double capsule_distance(const Capsule& c, const Vec3& x, Vec3& surface_point, Vec3& normal) {
   const Vec3 d = c.p1 - c.p0;
@@ -711,7 +711,7 @@ void ContactSolver::step_penalty(const TissueModel& m, const StepInput& base, co
   // Deeper than half the tool, a penalty this soft lets the surface slip round it.
   static const char* const kTooSoft =
       "penalty contact too soft: an instrument sank more than half its size into the surface";
-  if (deepest > 0.5 * smallest && s.warnings.size() < 64 &&
+  if (deepest > 0.5 * smallest && s.warnings.size() < kMaxWarnings &&
       std::find(s.warnings.begin(), s.warnings.end(), kTooSoft) == s.warnings.end())
     s.warnings.emplace_back(kTooSoft);
   for (int i = 0; i < m.n; ++i) {

@@ -3,11 +3,11 @@
 #include <chrono>
 
 #include "engine/fem/fem_state.hpp"
+#include "engine/stopwatch.hpp"
+#include "engine/warnings.hpp"
 
 namespace vdm {
 namespace {
-
-using Clock = std::chrono::steady_clock;
 
 class VdmSolver final : public OrganSolver {
  public:
@@ -47,7 +47,7 @@ class FemSolver final : public OrganSolver {
     s.stats.residual = s_.stats.residual;
     s.stats.converged = s_.stats.converged;
     s.stats.step_ms = s.stats.solve_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-    for (size_t k = warned; k < s_.warnings.size() && s.warnings.size() < 64; ++k) s.warnings.push_back(s_.warnings[k]);
+    for (size_t k = warned; k < s_.warnings.size() && s.warnings.size() < kMaxWarnings; ++k) s.warnings.push_back(s_.warnings[k]);
   }
 
  private:
@@ -72,7 +72,7 @@ class MassSpringSolver final : public OrganSolver {
     s.stats.residual = s_.residual;
     s.stats.converged = s_.converged;
     s.stats.step_ms = s.stats.solve_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-    if (!s_.converged && s.warnings.size() < 64) s.warnings.emplace_back("mass_spring: a step did not converge");
+    if (!s_.converged && s.warnings.size() < kMaxWarnings) s.warnings.emplace_back("mass_spring: a step did not converge");
   }
 
  private:

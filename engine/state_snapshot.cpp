@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "engine/step_workspace.hpp"
+#include "engine/warnings.hpp"
 
 namespace vdm {
 namespace {
@@ -147,7 +148,7 @@ bool load_state(const TissueModel& m, std::string_view in, size_t& pos, SimState
       !r.integer(s.stats.total_fallbacks))
     return fail("truncated");
   std::int64_t warnings = 0;
-  if (!r.i64(warnings) || warnings < 0 || warnings > 64) return fail("bad warning count");
+  if (!r.i64(warnings) || warnings < 0 || warnings > static_cast<std::int64_t>(kMaxWarnings)) return fail("bad warning count");
   s.warnings.clear();
   for (std::int64_t k = 0; k < warnings; ++k) {
     std::string t;

@@ -14,22 +14,19 @@
 #include "engine/simd2.hpp"
 #include "engine/step_results.hpp"
 #include "engine/step_workspace.hpp"
+#include "engine/stopwatch.hpp"
 #include "engine/stiffness.hpp"
 #include "engine/volume_along.hpp"
+#include "engine/warnings.hpp"
 
 namespace vdm {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double ms_since(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
 
 // Each distinct trouble is listed once (a repeat allocates nothing).
 void add_warning(SimState& s, const char* what) {
   for (const std::string& w : s.warnings)
     if (w == what) return;
-  if (s.warnings.size() < 64) s.warnings.emplace_back(what);
+  if (s.warnings.size() < kMaxWarnings) s.warnings.emplace_back(what);
 }
 
 // The volume enclosed at x, with x and its area sums left in w.packed: a volume check at the
@@ -488,7 +485,7 @@ SimState make_sim_state(const TissueModel& m) {
   s.reaction_pressure = Vec::Zero(n);
   s.strain = NodeMat::Zero(n, 3);
   s.stress = NodeMat::Zero(n, 3);
-  s.warnings.reserve(64);
+  s.warnings.reserve(kMaxWarnings);
   auto w = std::make_unique<StepWorkspace>();
   w->K.weight = Vec::Zero(Eigen::Index(m.edges.size()));
   w->K.diagonal = NodeMat::Zero(n, 3);

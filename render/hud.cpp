@@ -5,7 +5,7 @@
 #include <cstdio>
 
 #include "render/colormap.hpp"
-#include "render/renderer.hpp"
+#include "render/view_settings.hpp"
 
 namespace render {
 

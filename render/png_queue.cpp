@@ -2,8 +2,7 @@
 
 #include <pthread.h>
 
-#include <chrono>
-
+#include "engine/stopwatch.hpp"
 #include "render/png_io.hpp"
 
 namespace render {
@@ -63,9 +62,9 @@ void PngQueue::run() {
     lock.unlock();
     changed_.notify_all();
     std::string err;
-    const auto t0 = std::chrono::steady_clock::now();
+    const auto t0 = vdm::Clock::now();
     const bool ok = failed_before || write_png_spending(job.second, job.first, level_, err);
-    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    const double ms = vdm::ms_since(t0);
     lock.lock();
     busy_ = false;
     encode_ms_ += ms;

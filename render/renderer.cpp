@@ -767,15 +767,6 @@ void Renderer::Impl::draw_hud_layer(const RenderScene& scene, const StressView* 
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
 }
 
-const char* to_string(Antialias a) {
-  switch (a) {
-    case Antialias::edge: return "edge";
-    case Antialias::msaa: return "msaa";
-    case Antialias::none: return "none";
-  }
-  return "edge";
-}
-
 std::unique_ptr<Renderer> Renderer::create(const RenderSettings& settings, const vdm::SurfaceMesh& rest, std::string& error) {
   std::unique_ptr<Renderer> r(new Renderer());
   r->impl_ = std::make_unique<Impl>();

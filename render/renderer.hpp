@@ -9,36 +9,11 @@
 
 #include "engine/types.hpp"
 #include "render/camera.hpp"
-#include "render/colormap.hpp"
 #include "render/image.hpp"
 #include "render/render_scene.hpp"
+#include "render/view_settings.hpp"
 
 namespace render {
-
-// How edges are anti-aliased: `edge` draws one sample per pixel and smooths the edges'
-// staircases on the CPU (render/edge_aa.hpp; the HUD is drawn after it, untouched), `msaa`
-// multisamples with `samples` per pixel (llvmpipe's multisampling costs about twice the
-// single-sample drawing, plus the resolve), `none` draws one sample per pixel as it is.
-enum class Antialias { none, edge, msaa };
-
-const char* to_string(Antialias a);  // "edge", "msaa", "none"
-
-struct RenderSettings {
-  int width = 1280, height = 720;
-  Antialias antialias = Antialias::edge;
-  int samples = 4;           // MSAA samples per pixel, used when antialias == msaa
-  int msaa_samples() const { return antialias == Antialias::msaa ? samples : 1; }
-  bool auto_camera = true;   // frame the organ's rest bounding box
-  Camera camera;             // used when !auto_camera
-  bool floor = true;         // a floor under the organ, with the key light's shadow
-  bool shadows = true;
-};
-
-struct StressView {
-  Quantity quantity = Quantity::stress_magnitude;
-  ColorMapName colormap = ColorMapName::viridis;
-  double lo = 0, hi = 1;  // colour range, fixed across a sequence
-};
 
 class Renderer {
  public:

@@ -11,6 +11,8 @@
 
 #include "engine/fem/fem_state.hpp"
 #include "engine/geometry.hpp"
+#include "engine/stopwatch.hpp"
+#include "engine/warnings.hpp"
 
 namespace vdm::fem {
 
@@ -48,7 +50,6 @@ FemState& FemState::operator=(FemState&&) noexcept = default;
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 Eigen::Matrix3d deformation_gradient(const FemModel& m, const NodeMat& u, int t) {
@@ -391,7 +392,7 @@ void step(const FemModel& m, const StepInput& in, FemState& s) {
       h /= 2;
       if (h < h_min) {
         s.stats.converged = false;
-        if (s.warnings.size() < 64) s.warnings.emplace_back("fem: a step did not converge (kept the last equilibrium)");
+        if (s.warnings.size() < kMaxWarnings) s.warnings.emplace_back("fem: a step did not converge (kept the last equilibrium)");
         break;
       }
     }

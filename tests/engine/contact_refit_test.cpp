@@ -11,8 +11,8 @@
 #include <functional>
 #include <string>
 
-#include "app/bench.hpp"
-#include "app/scene_simulation.hpp"
+#include "app/studies/bench.hpp"
+#include "app/simulation/scene_simulation.hpp"
 #include "engine/contact.hpp"
 #include "support/scenarios.hpp"
 #include "tools_scripted/instrument.hpp"

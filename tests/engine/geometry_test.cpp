@@ -8,7 +8,7 @@
 #include <limits>
 #include <vector>
 
-#include "app/mesh_io.hpp"
+#include "app/scene/mesh_io.hpp"
 #include "engine/geometry.hpp"
 #include "engine/shapes.hpp"
 #include "engine/simd4.hpp"

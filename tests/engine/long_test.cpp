@@ -5,7 +5,7 @@
 #include <cmath>
 #include <filesystem>
 
-#include "app/mesh_io.hpp"
+#include "app/scene/mesh_io.hpp"
 #include "support/hard_cases.hpp"
 #include "support/scenarios.hpp"
 

@@ -6,8 +6,8 @@
 #include <filesystem>
 #include <string>
 
-#include "app/mesh_io.hpp"
-#include "app/scene.hpp"
+#include "app/scene/mesh_io.hpp"
+#include "app/scene/scene.hpp"
 
 namespace vdmsim::fuzz {
 namespace {

@@ -6,7 +6,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "app/scene_run.hpp"
+#include "app/run/scene_run.hpp"
 #include "render/image_compare.hpp"
 #include "render/png_io.hpp"
 

@@ -6,8 +6,8 @@
 #include <fstream>
 #include <sstream>
 
-#include "app/scene_run.hpp"
-#include "app/scene_simulation.hpp"
+#include "app/run/scene_run.hpp"
+#include "app/simulation/scene_simulation.hpp"
 
 namespace fs = std::filesystem;
 

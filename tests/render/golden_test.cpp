@@ -9,7 +9,7 @@
 #include <filesystem>
 #include <sstream>
 
-#include "app/scene_run.hpp"
+#include "app/run/scene_run.hpp"
 #include "render/image_compare.hpp"
 #include "render/png_io.hpp"
 

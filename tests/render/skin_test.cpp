@@ -6,8 +6,8 @@
 #include <fstream>
 #include <sstream>
 
-#include "app/mesh_io.hpp"
-#include "app/scene_run.hpp"
+#include "app/scene/mesh_io.hpp"
+#include "app/run/scene_run.hpp"
 #include "engine/shapes.hpp"
 #include "render/image_compare.hpp"
 #include "render/png_io.hpp"

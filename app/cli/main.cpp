@@ -1,0 +1,108 @@
+// vdmsim: command-line entry point. Exit codes: 0 success, 2 bad input or usage (with a
+// message naming the file or field), 1 runtime failure.
+#include <CLI/CLI.hpp>
+
+#include <cstdio>
+#include <exception>
+#include <iostream>
+#include <string>
+#include <unistd.h>
+
+#include "app/studies/accuracy.hpp"
+#include "app/studies/bench.hpp"
+#include "app/cli/commands.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"vdmsim: soft-tissue surgical simulation with the Volume Distribution Method"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "vdmsim 0.1.0");
+
+  std::string mesh_path;
+  double mesh_scale = 1.0;
+  auto* mesh_info = app.add_subcommand("mesh-info", "Print a mesh's nodes, triangles, closedness, volume, area and bounding box");
+  mesh_info->add_option("MESH", mesh_path, "Mesh file (OBJ, STL, PLY, glTF, ...)")->required();
+  mesh_info->add_option("--scale", mesh_scale, "Multiply coordinates by this factor");
+
+  std::string experiment, out_dir;
+  auto* paper = app.add_subcommand("paper", "Reproduce an experiment of the VDM paper");
+  paper->add_option("EXPERIMENT", experiment, "cube-stress | anisotropy | beam-stretch | beam-bend | beam-twist | all")->required();
+  paper->add_option("--out", out_dir, "Output folder")->required();
+
+  std::string organ = "liver", organ_out;
+  int organ_level = 4;
+  auto* make_organ = app.add_subcommand("make-organ", "Generate the project's organ mesh (OBJ, metres)");
+  make_organ->add_option("ORGAN", organ, "Organ to generate: liver")->required();
+  make_organ->add_option("--level", organ_level, "Subdivision level: 4, 5, 6 give 2562, 10242, 40962 nodes");
+  make_organ->add_option("--out", organ_out, "Output OBJ file")->required();
+
+  std::string calib_mesh, calib_out;
+  double calib_scale = 1.0, calib_young = 3000, calib_poisson = 0.45, calib_tet = 0;
+  int calib_steps = 5;
+  auto* calibrate = app.add_subcommand("calibrate", "Fit VDM's bulk and connectivity moduli to an FEM reference");
+  calibrate->add_option("--mesh", calib_mesh, "Organ surface mesh (closed)")->required();
+  calibrate->add_option("--scale", calib_scale, "Mesh units to metres");
+  calibrate->add_option("--young", calib_young, "FEM Young's modulus (Pa)");
+  calibrate->add_option("--poisson", calib_poisson, "FEM Poisson's ratio, [0, 0.5)");
+  calibrate->add_option("--steps", calib_steps, "Steps of each load case");
+  calibrate->add_option("--tet-size", calib_tet, "Largest tet edge (m); 0: graded from the surface");
+  calibrate->add_option("--out", calib_out, "Output YAML with the fitted material")->required();
+
+  std::string scene_path, run_out;
+  int run_frames = -1;
+  bool no_render = false, video = false, resume = false;
+  auto* run = app.add_subcommand("run", "Simulate and render a scene: PNG frames, metrics.csv, run.json");
+  run->add_option("SCENE", scene_path, "Scene file (YAML)")->required();
+  run->add_option("--out", run_out, "Output folder (default: out/<scene name>)");
+  run->add_option("--frames", run_frames, "Simulate only this many frames")->check(CLI::PositiveNumber);
+  run->add_flag("--no-render", no_render, "Do not render images (metrics.csv and run.json only)");
+  run->add_flag("--video", video, "Also write video.mp4 (H.264, needs the ffmpeg program)");
+  run->add_flag("--resume", resume, "Continue an interrupted run in --out DIR from its last checkpoint");
+  int checkpoint_every = 30;
+  run->add_option("--checkpoint-every", checkpoint_every, "Frames between checkpoints (default 30)")
+      ->check(CLI::PositiveNumber);
+  std::string bench_out = "out/bench";
+  bool bench_quick = false;
+  std::string bench_only;
+  auto* bench = app.add_subcommand("bench", "Performance cases: writes bench.csv and scaling.png");
+  bench->add_option("--out", bench_out, "Output folder (default: out/bench)");
+  bench->add_flag("--quick", bench_quick, "Fewer cases and repeats (under 2 minutes)");
+  bench->add_option("--only", bench_only, "Only the cases whose label contains this text (e.g. 'liver_probe 10k')");
+  int bench_case_fd = -1;  // internal: the process of one case writes its row there
+  bench->add_option("--case-fd", bench_case_fd)->group("");
+  vdmsim::AccuracyOptions accuracy_opt;
+  auto* accuracy = app.add_subcommand("accuracy",
+                                      "Accuracy against time: knobs swept on the liver probe and grasp scenes; "
+                                      "writes accuracy.csv, accuracy.png, recommendations.md");
+  accuracy->add_option("--out", accuracy_opt.out_dir, "Output folder (default: out/accuracy)");
+  accuracy->add_flag("--quick", accuracy_opt.quick, "Coarser meshes, fewer knob values (under 2 minutes)");
+  auto* check = app.add_subcommand("check", "Validate a scene and its mesh without simulating");
+  check->add_option("SCENE", scene_path, "Scene file (YAML)")->required();
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "vdmsim: " << e.what() << "\n" << "Run 'vdmsim --help' for usage.\n";
+    return 2;
+  }
+  try {
+    if (mesh_info->parsed()) return vdmsim::cmd_mesh_info(mesh_path, mesh_scale, std::cout, std::cerr);
+    if (run->parsed())
+      return vdmsim::cmd_run(scene_path, run_out, run_frames, !no_render, video, resume, checkpoint_every, std::cout, std::cerr, isatty(2) != 0);
+    if (bench->parsed()) return vdmsim::cmd_bench(bench_out, bench_quick, std::cout, std::cerr, bench_only, bench_case_fd);
+    if (accuracy->parsed()) return vdmsim::run_accuracy(accuracy_opt, std::cout, std::cerr);
+    if (check->parsed()) return vdmsim::cmd_check(scene_path, std::cout, std::cerr);
+    if (make_organ->parsed()) return vdmsim::cmd_make_organ(organ, organ_level, organ_out, std::cout, std::cerr);
+    if (calibrate->parsed())
+      return vdmsim::cmd_calibrate(calib_mesh, calib_scale, calib_young, calib_poisson, calib_steps, calib_tet, calib_out,
+                                   std::cout, std::cerr);
+    if (paper->parsed()) return vdmsim::cmd_paper(experiment, out_dir, std::cout, std::cerr);
+  } catch (const std::exception& e) {
+    std::cerr << "vdmsim: error: " << e.what() << "\n";
+    return 1;
+  }
+  return 2;
+}

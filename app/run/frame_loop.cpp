@@ -1,0 +1,96 @@
+#include "app/run/frame_loop.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <csignal>
+
+namespace vdmsim {
+
+void RunTally::add_step(double ms) {
+  sum_step += ms;
+  max_step = std::max(max_step, ms);
+  step_ms.push_back(ms);
+}
+
+double RunTally::median_step() const {
+  std::vector<double> sorted = step_ms;
+  std::sort(sorted.begin(), sorted.end());
+  return sorted.empty() ? 0.0 : sorted[sorted.size() / 2];
+}
+
+void FrameLoop::run(int first, RunTally& tally, RunOutcome& outcome) {
+  tally.step_ms.reserve(static_cast<size_t>(setup.frames));
+  outcome.done = first;
+  outcome.state_frame = first - 1;
+  progress.restart();
+  for (int f = first; f < setup.frames; ++f) {
+    if (const int sig = signals.received()) {
+      outcome.status = "interrupted";
+      outcome.reason = std::string(sig == SIGINT ? "SIGINT (Ctrl-C)" : "SIGTERM") + " before frame " + std::to_string(f) +
+                       "; every frame before it is complete";
+      break;
+    }
+    sim.advance(f);
+    const vdm::SimState& state = sim.state();
+    if (state.failed) {  // the engine could not do this frame: stop, keeping every frame so far
+      outcome.fail("frame " + std::to_string(f) + ": " + state.failure);
+      break;
+    }
+    if (!state.u.allFinite()) {
+      outcome.fail("non-finite displacement at frame " + std::to_string(f));
+      break;
+    }
+    tally.add_step(sim.frame_step_ms());
+    tally.max_volume_error = std::max(tally.max_volume_error, std::abs(state.volume_rel_error));
+    if (!(f < setup.start ? replay(f, outcome) : write(f, tally, outcome))) break;
+  }
+  progress.end_line();
+}
+
+bool FrameLoop::replay(int f, RunOutcome& outcome) {
+  const Checkpoint& cp = setup.resume_from;
+  if (f == cp.frame && state_hash(sim.state()) != cp.state_hash) {
+    outcome.fail("resuming: re-simulating up to frame " + std::to_string(f) +
+                 " did not reproduce the checkpoint's state (was the program or a mesh changed?)");
+    return false;
+  }
+  outcome.done = f + 1;
+  progress.show("replay", outcome.done, setup.start);
+  if (outcome.done == setup.start) progress.restart();
+  return true;
+}
+
+bool FrameLoop::write(int f, RunTally& tally, RunOutcome& outcome) {
+  const auto t_io = vdm::Clock::now();
+  std::string reason;
+  if (!metrics.write(f, sim, reason)) {
+    outcome.fail(reason);
+    return false;
+  }
+  tally.io_ms += vdm::ms_since(t_io);
+  if (setup.rendering && !output.write(f, setup.frames, sim)) {
+    outcome.fail(output.error());
+    return false;
+  }
+  outcome.done = f + 1;
+  outcome.state_frame = f;
+  outcome.last_hash = state_hash(sim.state());
+  if (options.frame_done_ms) options.frame_done_ms->push_back(vdm::ms_since(run_start));
+  progress.show(setup.rendering ? "render" : "simulate", outcome.done, setup.frames);
+  // A checkpoint every K frames, once this frame's images are on disk.
+  if (outcome.done % std::max(1, options.checkpoint_every) == 0 && outcome.done < setup.frames) {
+    metrics.flush();
+    if (setup.rendering && !output.flush()) {
+      outcome.fail(output.error());
+      return false;
+    }
+    std::string error;
+    if (!checkpoints.write(f, outcome.last_hash, sim, tally.max_volume_error, error)) {
+      outcome.fail(error);
+      return false;
+    }
+  }
+  return true;
+}
+
+}  // namespace vdmsim

@@ -1,0 +1,122 @@
+#include "app/run/run_json.hpp"
+
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+
+namespace vdmsim {
+namespace {
+
+std::string json_escape(const std::string& s) {
+  std::string o;
+  for (char c : s) {
+    if (c == '"' || c == '\\') o += '\\';
+    if (static_cast<unsigned char>(c) < 0x20) {
+      o += ' ';
+      continue;
+    }
+    o += c;
+  }
+  return o;
+}
+
+void write_contact(const SceneDef& s, std::ostream& js) {
+  const bool penalty = s.contact.method == vdm::ContactSettings::Method::penalty;
+  js << "  \"contact\": {\"method\": \"" << (penalty ? "penalty" : "kinematic") << '"';
+  if (penalty) js << ", \"stiffness_pa_per_m\": " << s.contact.penalty_stiffness;
+  js << "},\n";
+}
+
+void write_times(const RunRecord& r, std::ostream& js) {
+  const RunTally& t = r.tally;
+  const StageTimes& st = r.stage_times;
+  js << "  \"wall_time_s\": " << r.wall_s << ",\n  \"mean_step_ms\": "
+     << (t.step_ms.empty() ? 0.0 : t.sum_step / double(t.step_ms.size()))
+     << ",\n  \"median_step_ms\": " << t.median_step() << ",\n  \"max_step_ms\": " << t.max_step
+     << ",\n  \"max_volume_rel_error\": " << t.max_volume_error << ",\n  \"stage_ms\": {\"loads\": " << st.loads
+     << ", \"assemble\": " << st.assemble << ", \"solve\": " << st.solve << ", \"stress\": " << st.stress
+     << ", \"grasp\": " << st.grasp << ", \"collision\": " << st.collision << ", \"metrics_io\": " << t.io_ms;
+  if (r.setup.rendering)
+    js << ", \"colour_range_pass\": " << r.colour_range_ms << ", \"render\": " << r.output.render_ms()
+       << ", \"png_encode\": " << r.output.encode_ms();
+  js << "},\n  \"collision_queries\": " << st.collision_queries << ",\n";
+}
+
+void write_render(const RunRecord& r, std::ostream& js) {
+  if (!r.setup.rendering) {
+    js << "  \"render\": null,\n";
+    return;
+  }
+  const RenderDef& rd = r.prepared.scene.render;
+  const render::StressView& view = r.output.stress_view();
+  js << "  \"render\": {\"width\": " << rd.settings.width << ", \"height\": " << rd.settings.height
+     << ", \"antialias\": \"" << render::to_string(rd.settings.antialias) << "\", \"samples\": "
+     << rd.settings.msaa_samples() << ", \"views\": [" << (rd.shaded ? "\"shaded\"" : "")
+     << (rd.shaded && rd.stress ? ", " : "") << (rd.stress ? "\"stress\"" : "") << "], \"images_written\": "
+     << r.output.images_written();
+  if (rd.stress)
+    js << ", \"stress_quantity\": \"" << render::to_string(view.quantity) << "\", \"stress_range\": [" << view.lo << ", "
+       << view.hi << "], \"stress_range_source\": \"" << (rd.range_auto ? "first pass" : "scene") << "\"";
+  js << ", \"video\": \"" << json_escape(r.video_status) << "\"},\n";
+}
+
+// The moduli the VDM model used (an infinite bulk modulus as the string "inf").
+void write_material(const SceneDef& s, const vdm::TissueModel& m, std::ostringstream& js) {
+  auto modulus = [](double b) { return std::isfinite(b) ? std::to_string(b) : std::string("\"inf\""); };
+  js << "  \"material\": {\"bulk_modulus_pa\": [" << modulus(s.bulk_modulus[0]) << ", " << modulus(s.bulk_modulus[1])
+     << ", " << modulus(s.bulk_modulus[2]) << "], \"connectivity_modulus_pa\": " << s.connectivity_modulus
+     << ", \"capsule\": \"" << vdm::to_string(m.capsule) << '"';
+  if (m.membrane_capsule()) js << ", \"capsule_tension_n_per_m\": " << m.capsule_tension;
+  js << "},\n";
+}
+
+}  // namespace
+
+std::string run_json(const RunRecord& r) {
+  const SceneDef& s = r.prepared.scene;
+  const vdm::TissueModel& m = r.prepared.model;
+  std::ostringstream js;
+  js << std::setprecision(9);
+  js << "{\n  \"scene\": \"" << json_escape(s.name) << "\",\n  \"scene_file\": \"" << json_escape(s.file)
+     << "\",\n  \"status\": \"" << r.outcome.status << "\",\n";
+  if (!r.outcome.reason.empty()) js << "  \"reason\": \"" << json_escape(r.outcome.reason) << "\",\n";
+  if (r.setup.resume)
+    js << "  \"resumed_from_frame\": " << r.setup.start << ",\n  \"resumed_by\": \""
+       << (r.resumed_by_snapshot ? "state snapshot" : "re-simulation") << "\",\n";
+  js << "  \"frames\": " << r.outcome.done << ",\n  \"frames_requested\": " << r.setup.frames << ",\n  \"nodes\": " << m.n
+     << ",\n  \"model\": \"" << vdm::to_string(s.model) << "\",\n  \"solver\": \"" << vdm::to_string(m.solver.method)
+     << "\",\n  \"effects\": [";
+  for (size_t i = 0; i < s.effects.size(); ++i) js << (i ? ", " : "") << '"' << to_string(s.effects[i]) << '"';
+  js << "],\n";
+  if (s.model == vdm::ModelKind::vdm) write_material(s, m, js);
+  if (s.has(Effect::contact)) write_contact(s, js);
+  write_times(r, js);
+  write_render(r, js);
+  js << "  \"warnings\": [";
+  for (size_t i = 0; i < r.warnings.size(); ++i) js << (i ? ", " : "") << '"' << json_escape(r.warnings[i]) << '"';
+  js << "]\n}\n";
+  return js.str();
+}
+
+bool write_run_json(const std::filesystem::path& path, const std::string& body, std::string& error) {
+  const std::filesystem::path tmp = path.string() + ".tmp";
+  {
+    std::ofstream f(tmp);
+    f << body;
+    f.flush();
+    if (!f) {
+      error = tmp.string() + ": write failed";
+      return false;
+    }
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    error = path.string() + ": " + ec.message();
+    return false;
+  }
+  return true;
+}
+
+}  // namespace vdmsim

@@ -1,0 +1,31 @@
+#pragma once
+// DIR/run.json: what a run did (scene, status, frames, model, effects), how long its stages
+// took, what it rendered and the simulation's warnings.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "app/run/frame_loop.hpp"
+
+namespace vdmsim {
+
+struct RunRecord {
+  RunRecord(const PreparedScene& p, const RunSetup& s, const RunOutcome& o, const RunTally& t, const FrameOutput& out)
+      : prepared(p), setup(s), outcome(o), tally(t), output(out) {}
+  const PreparedScene& prepared;
+  const RunSetup& setup;
+  const RunOutcome& outcome;
+  const RunTally& tally;
+  const FrameOutput& output;
+  bool resumed_by_snapshot = false;
+  StageTimes stage_times;
+  std::vector<std::string> warnings;
+  double wall_s = 0, colour_range_ms = 0;
+  std::string video_status;
+};
+
+std::string run_json(const RunRecord& record);
+// Writes `body` atomically (a temporary file, then a rename), so a reader never sees half.
+bool write_run_json(const std::filesystem::path& path, const std::string& body, std::string& error);
+
+}  // namespace vdmsim

@@ -1,0 +1,81 @@
+#include "app/run/run_setup.hpp"
+
+#include <sstream>
+
+#include "app/run/output_dir.hpp"
+#include "render/video.hpp"
+
+namespace vdmsim {
+namespace {
+
+namespace fs = std::filesystem;
+
+void note_inert_instruments(const SceneDef& s, std::ostream& err) {
+  bool has_probe = false, has_grasper = false;
+  for (const InstrumentDef& in : s.instruments) (in.type == InstrumentDef::Type::probe ? has_probe : has_grasper) = true;
+  if (has_probe && !s.has(Effect::contact))
+    err << "vdmsim: note: the scene has probes but does not list the contact effect: they pass through the organ\n";
+  if (has_grasper && !s.has(Effect::grasp))
+    err << "vdmsim: note: the scene has graspers but does not list the grasp effect: they hold nothing\n";
+}
+
+// Resuming: the checkpoint must belong to this scene and these options.
+int read_resume_point(RunSetup& setup, std::ostream& err) {
+  std::string error;
+  if (!read_checkpoint(setup.checkpoint_path().string(), setup.resume_from, error)) {
+    err << "vdmsim: error: " << error << "\n";
+    return 2;
+  }
+  if (setup.resume_from.run_hash != setup.run_hash) {
+    err << "vdmsim: error: " << setup.checkpoint_path().string()
+        << ": the checkpoint belongs to another scene or other options (frames, --no-render): cannot resume\n";
+    return 2;
+  }
+  setup.start = setup.resume_from.frame + 1;
+  if (setup.start >= setup.frames) {
+    err << "vdmsim: note: " << setup.dir.string() << ": the run was already complete (" << setup.frames
+        << " frames): nothing to do\n";
+    return 0;
+  }
+  return -1;
+}
+
+// A fresh run: outputs of an earlier run in this folder would be stale.
+void remove_earlier_outputs(const fs::path& dir) {
+  std::error_code ec;
+  for (const char* old : {"checkpoint.json", "state.bin", "video.mp4", "stress.mp4", "contact_sheet.png", "ffmpeg.log"})
+    fs::remove(dir / old, ec);
+}
+
+}  // namespace
+
+int set_up_run(const PreparedScene& ps, const RunOptions& opt, RunSetup& setup, std::ostream& err) {
+  const SceneDef& s = ps.scene;
+  setup.frames = opt.frames > 0 ? opt.frames : s.frames;
+  setup.dir = opt.out_dir.empty() ? fs::path("out") / s.name : fs::path(opt.out_dir);
+  setup.rendering = opt.render && s.has_render && (s.render.shaded || s.render.stress);
+  setup.resume = opt.resume;
+  if (opt.video && !setup.rendering) {
+    err << "vdmsim: error: --video needs rendered frames: " << (opt.render ? s.file + " has no render: section" : "drop --no-render")
+        << "\n";
+    return 2;
+  }
+  if (opt.video && render::find_program("ffmpeg").empty()) {
+    err << "vdmsim: error: --video needs the ffmpeg program, which is not installed (apt-get install ffmpeg)\n";
+    return 1;
+  }
+  std::string error;
+  if (!prepare_output_dir(setup.dir.string(), error)) {
+    err << "vdmsim: error: " << error << "\n";
+    return 2;
+  }
+  note_inert_instruments(s, err);
+  std::ostringstream options;
+  options << "frames=" << setup.frames << ";render=" << setup.rendering;
+  setup.run_hash = run_hash(s.file, options.str());
+  if (opt.resume) return read_resume_point(setup, err);
+  remove_earlier_outputs(setup.dir);
+  return -1;
+}
+
+}  // namespace vdmsim

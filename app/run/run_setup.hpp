@@ -1,0 +1,30 @@
+#pragma once
+// What a scene run starts from: the frame count, the output folder and whether it renders,
+// checked against the options; and, when resuming, the checkpoint it continues from.
+#include <filesystem>
+#include <ostream>
+#include <string>
+
+#include "app/run/checkpoint.hpp"
+#include "app/run/scene_run.hpp"
+
+namespace vdmsim {
+
+struct RunSetup {
+  int frames = 0;
+  std::filesystem::path dir;
+  bool rendering = false;     // the scene has views and the options render them
+  bool resume = false;
+  std::string run_hash;       // of the scene file and the options that change results
+  Checkpoint resume_from;     // when resuming: the interrupted run's last checkpoint
+  int start = 0;              // the first frame to write
+  std::filesystem::path checkpoint_path() const { return dir / "checkpoint.json"; }
+};
+
+// Checks the options, prepares the output folder (a fresh run removes an earlier run's
+// outputs there) and, when resuming, reads and checks the checkpoint. Notes on stderr for
+// instruments whose effect the scene does not list. Returns -1 when the run goes on,
+// otherwise its exit code (after a message on `err`).
+int set_up_run(const PreparedScene& prepared, const RunOptions& options, RunSetup& setup, std::ostream& err);
+
+}  // namespace vdmsim

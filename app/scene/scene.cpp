@@ -1,0 +1,846 @@
+#include "app/scene/scene.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <limits>
+#include <sstream>
+
+namespace vdmsim {
+namespace {
+
+const double kInf = std::numeric_limits<double>::infinity();
+
+size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<size_t> prev(b.size() + 1), cur(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) prev[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    cur[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j)
+      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] != b[j - 1])});
+    std::swap(prev, cur);
+  }
+  return prev[b.size()];
+}
+
+std::string closest(const std::string& word, const std::vector<std::string>& known) {
+  std::string best;
+  size_t best_d = 1000;
+  for (const auto& k : known) {
+    const size_t d = edit_distance(word, k);
+    if (d < best_d) {
+      best_d = d;
+      best = k;
+    }
+  }
+  return best_d <= std::max<size_t>(2, word.size() / 3) ? best : "";
+}
+
+std::string join(const std::vector<std::string>& words) {
+  std::string s;
+  for (size_t i = 0; i < words.size(); ++i) s += (i ? ", " : "") + words[i];
+  return s;
+}
+
+// Reads typed values out of YAML nodes, recording every problem with its position.
+class Reader {
+ public:
+  Reader(std::string file, std::vector<SceneProblem>& out) : file_(std::move(file)), out_(out) {}
+
+  std::string where(const YAML::Node& n) const {
+    const YAML::Mark m = n.Mark();
+    std::ostringstream s;
+    s << file_;
+    if (m.line >= 0) s << ':' << m.line + 1 << ':' << m.column + 1;
+    return s.str();
+  }
+  void error(const YAML::Node& at, const std::string& field, const std::string& msg) {
+    out_.push_back({where(at), field, msg, false});
+  }
+  void warn(const YAML::Node& at, const std::string& field, const std::string& msg) {
+    out_.push_back({where(at), field, msg, true});
+  }
+  static std::string sub(const std::string& parent, const std::string& key) {
+    return parent.empty() ? key : parent + "." + key;
+  }
+  static std::string item(const std::string& parent, size_t i) {
+    return parent + "[" + std::to_string(i) + "]";
+  }
+
+  // Warns about keys that `map` should not have, suggesting the closest known one.
+  void check_keys(const YAML::Node& map, const std::string& field, const std::vector<std::string>& known) {
+    if (!map.IsMap()) return;
+    for (auto it = map.begin(); it != map.end(); ++it) {
+      const std::string key = it->first.Scalar();
+      if (std::find(known.begin(), known.end(), key) != known.end()) continue;
+      const std::string near = closest(key, known);
+      warn(it->first, sub(field, key),
+           "unknown key '" + key + "', ignored" + (near.empty() ? "" : " (did you mean '" + near + "'?)") +
+               "; known keys: " + join(known));
+    }
+  }
+
+  bool require_map(const YAML::Node& n, const std::string& field) {
+    if (n.IsMap()) return true;
+    error(n, field, std::string("expected a mapping (key: value lines), got ") + kind(n));
+    return false;
+  }
+  bool require_sequence(const YAML::Node& n, const std::string& field) {
+    if (n.IsSequence()) return true;
+    error(n, field, std::string("expected a list, got ") + kind(n));
+    return false;
+  }
+  static const char* kind(const YAML::Node& n) {
+    switch (n.Type()) {
+      case YAML::NodeType::Null: return "nothing";
+      case YAML::NodeType::Scalar: return "a single value";
+      case YAML::NodeType::Sequence: return "a list";
+      case YAML::NodeType::Map: return "a mapping";
+      default: return "an undefined value";
+    }
+  }
+
+  // A number in [lo, hi] (SI units, said in `unit`); "inf" only when `allow_inf`.
+  bool number(const YAML::Node& n, const std::string& field, double& out, double lo, double hi,
+              const char* unit, bool allow_inf = false, bool lo_open = false) {
+    if (!n.IsScalar()) {
+      error(n, field, std::string("expected a number") + unit_text(unit) + ", got " + kind(n));
+      return false;
+    }
+    const std::string text = n.Scalar();
+    double v = 0;
+    if (allow_inf && (text == "inf" || text == ".inf" || text == "infinity")) {
+      v = kInf;
+    } else {
+      char* end = nullptr;
+      errno = 0;
+      v = std::strtod(text.c_str(), &end);
+      if (end == text.c_str() || *end != '\0' || !std::isfinite(v)) {
+        std::string msg = std::string("expected a number") + unit_text(unit) + ", got '" + text + "'";
+        if (end != text.c_str() && *end != '\0') msg += " (write plain SI numbers, without units)";
+        error(n, field, msg);
+        return false;
+      }
+    }
+    if (!(lo_open ? v > lo : v >= lo) || v > hi) {
+      std::ostringstream m;
+      m << "value " << text << " is out of range: expected " << (lo_open ? "> " : ">= ") << lo;
+      if (hi < kInf) m << " and <= " << hi;
+      if (allow_inf) m << " (or inf)";
+      m << unit_text(unit);
+      error(n, field, m.str());
+      return false;
+    }
+    out = v;
+    return true;
+  }
+
+  bool integer(const YAML::Node& n, const std::string& field, int& out, long lo, long hi) {
+    double v = 0;
+    if (!number(n, field, v, static_cast<double>(lo), static_cast<double>(hi), "")) return false;
+    if (v != std::floor(v)) {
+      error(n, field, "expected a whole number, got '" + n.Scalar() + "'");
+      return false;
+    }
+    out = static_cast<int>(v);
+    return true;
+  }
+
+  bool vec3(const YAML::Node& n, const std::string& field, vdm::Vec3& out, const char* unit) {
+    if (!n.IsSequence() || n.size() != 3) {
+      error(n, field, std::string("expected three numbers [x, y, z]") + unit_text(unit) + ", got " +
+                          (n.IsSequence() ? std::to_string(n.size()) + " values" : kind(n)));
+      return false;
+    }
+    bool ok = true;
+    for (int d = 0; d < 3; ++d)
+      ok = number(n[d], item(field, d), out[d], -kInf, kInf, unit) && ok;
+    return ok;
+  }
+
+  bool text(const YAML::Node& n, const std::string& field, std::string& out) {
+    if (!n.IsScalar()) {
+      error(n, field, std::string("expected a text value, got ") + kind(n));
+      return false;
+    }
+    out = n.Scalar();
+    return true;
+  }
+
+  bool boolean(const YAML::Node& n, const std::string& field, bool& out) {
+    if (n.IsScalar()) {
+      const std::string t = n.Scalar();
+      if (t == "true" || t == "yes" || t == "on") return out = true, true;
+      if (t == "false" || t == "no" || t == "off") return out = false, true;
+    }
+    error(n, field, "expected true or false");
+    return false;
+  }
+
+  // A required key: reports its absence at the parent's position.
+  YAML::Node required(const YAML::Node& map, const char* key, const std::string& field, const char* what) {
+    const YAML::Node n = map[key];
+    if (!n) error(map, sub(field, key), std::string("missing required field '") + key + "': " + what);
+    return n;
+  }
+
+ private:
+  static std::string unit_text(const char* unit) {
+    return unit && *unit ? std::string(" (") + unit + ")" : std::string();
+  }
+  std::string file_;
+  std::vector<SceneProblem>& out_;
+};
+
+void read_region(Reader& r, const YAML::Node& n, const std::string& field, Region& out,
+                 const std::vector<std::string>& extra_keys) {
+  out.where = r.where(n);
+  std::vector<std::string> known = {"box", "sphere", "nodes", "all"};
+  known.insert(known.end(), extra_keys.begin(), extra_keys.end());
+  r.check_keys(n, field, known);
+  int kinds = 0;
+  if (const YAML::Node b = n["box"]) {
+    ++kinds;
+    out.kind = Region::Kind::box;
+    if (r.require_map(b, Reader::sub(field, "box"))) {
+      r.check_keys(b, Reader::sub(field, "box"), {"min", "max"});
+      const YAML::Node mn = r.required(b, "min", Reader::sub(field, "box"), "the box's lower corner [x, y, z] (m)");
+      const YAML::Node mx = r.required(b, "max", Reader::sub(field, "box"), "the box's upper corner [x, y, z] (m)");
+      if (mn && mx && r.vec3(mn, Reader::sub(field, "box.min"), out.min, "m") &&
+          r.vec3(mx, Reader::sub(field, "box.max"), out.max, "m") && (out.max - out.min).minCoeff() < 0)
+        r.error(mx, Reader::sub(field, "box.max"), "each coordinate of max must be >= the same coordinate of min");
+    }
+  }
+  if (const YAML::Node s = n["sphere"]) {
+    ++kinds;
+    out.kind = Region::Kind::sphere;
+    if (r.require_map(s, Reader::sub(field, "sphere"))) {
+      r.check_keys(s, Reader::sub(field, "sphere"), {"center", "radius"});
+      const YAML::Node c = r.required(s, "center", Reader::sub(field, "sphere"), "[x, y, z] (m)");
+      const YAML::Node rad = r.required(s, "radius", Reader::sub(field, "sphere"), "a radius > 0 (m)");
+      if (c) r.vec3(c, Reader::sub(field, "sphere.center"), out.center, "m");
+      if (rad) r.number(rad, Reader::sub(field, "sphere.radius"), out.radius, 0, kInf, "m", false, true);
+    }
+  }
+  if (const YAML::Node list = n["nodes"]) {
+    ++kinds;
+    out.kind = Region::Kind::nodes;
+    if (r.require_sequence(list, Reader::sub(field, "nodes"))) {
+      for (size_t i = 0; i < list.size(); ++i) {
+        int id = 0;
+        if (r.integer(list[i], Reader::item(Reader::sub(field, "nodes"), i), id, 0, 1 << 30)) out.nodes.push_back(id);
+      }
+      if (list.size() == 0) r.error(list, Reader::sub(field, "nodes"), "the node list is empty");
+    }
+  }
+  if (const YAML::Node a = n["all"]) {
+    ++kinds;
+    out.kind = Region::Kind::all;
+    bool yes = false;
+    if (r.boolean(a, Reader::sub(field, "all"), yes) && !yes)
+      r.error(a, Reader::sub(field, "all"), "'all: false' selects nothing; remove the entry instead");
+  }
+  if (kinds != 1)
+    r.error(n, field,
+            kinds == 0 ? "expected a region: one of box: {min, max}, sphere: {center, radius}, nodes: [...], all: true"
+                       : "give exactly one region (box, sphere, nodes or all), not several");
+}
+
+void read_ramp(Reader& r, const YAML::Node& n, const std::string& field, double& t0, double& t1) {
+  const YAML::Node t = n["t"];
+  if (!t) return;  // default [0, 0]: applied in full from the start
+  if (!t.IsSequence() || t.size() != 2) {
+    r.error(t, Reader::sub(field, "t"), "expected [t_start, t_end] (s)");
+    return;
+  }
+  if (r.number(t[0], Reader::sub(field, "t[0]"), t0, 0, kInf, "s") &&
+      r.number(t[1], Reader::sub(field, "t[1]"), t1, 0, kInf, "s") && t1 < t0)
+    r.error(t, Reader::sub(field, "t"), "t_end must not come before t_start");
+}
+
+void read_organ(Reader& r, const YAML::Node& organ, SceneDef& s, const std::filesystem::path& base) {
+  const std::string f = "organ";
+  if (!r.require_map(organ, f)) return;
+  r.check_keys(organ, f, {"mesh", "scale", "material", "fixed", "model", "loads", "prescribed", "tet_size"});
+  if (const YAML::Node m = r.required(organ, "mesh", f, "the organ's surface mesh file (relative to the scene)")) {
+    std::string rel;
+    if (r.text(m, "organ.mesh", rel)) {
+      const std::filesystem::path p = std::filesystem::path(rel).is_absolute() ? std::filesystem::path(rel) : base / rel;
+      s.mesh_path = p.lexically_normal().string();
+      std::error_code ec;
+      if (!std::filesystem::is_regular_file(s.mesh_path, ec))
+        r.error(m, "organ.mesh", "mesh file not found: " + s.mesh_path);
+    }
+  }
+  if (const YAML::Node n = organ["scale"]) r.number(n, "organ.scale", s.scale, 0, kInf, "mesh units to metres", false, true);
+  if (const YAML::Node n = organ["model"]) {
+    std::string model;
+    if (r.text(n, "organ.model", model) && !vdm::parse_model_kind(model, s.model)) {
+      const std::string near = closest(model, {"vdm", "fem", "mass_spring"});
+      r.error(n, "organ.model", "unknown model '" + model + "'" + (near.empty() ? "" : " (did you mean '" + near + "'?)") +
+                                    "; expected vdm, fem or mass_spring");
+    }
+  }
+  if (const YAML::Node n = organ["tet_size"]) r.number(n, "organ.tet_size", s.tet_size, 0, kInf, "m");
+  if (const YAML::Node mat = organ["material"]) {
+    if (r.require_map(mat, "organ.material")) {
+      r.check_keys(mat, "organ.material", {"bulk_modulus", "connectivity_modulus", "capsule", "density", "damping", "young_modulus",
+                                           "poisson_ratio", "thickness", "volume_modulus"});
+      if (const YAML::Node n = mat["young_modulus"])
+        r.number(n, "organ.material.young_modulus", s.young_modulus, 0, 1e12, "Pa", false, true);
+      if (const YAML::Node n = mat["poisson_ratio"]) {
+        double nu = 0;
+        if (r.number(n, "organ.material.poisson_ratio", nu, 0, 0.5, "")) {
+          if (nu >= 0.5)
+            r.error(n, "organ.material.poisson_ratio",
+                    "value " + n.Scalar() + " is out of range: expected >= 0 and < 0.5 (0.5 is exactly incompressible; use up to 0.49)");
+          else
+            s.poisson_ratio = nu;
+        }
+      }
+      if (const YAML::Node n = mat["thickness"]) r.number(n, "organ.material.thickness", s.thickness, 0, 10, "m", false, true);
+      if (const YAML::Node n = mat["volume_modulus"]) r.number(n, "organ.material.volume_modulus", s.volume_modulus, 0, 1e12, "Pa");
+      if (const YAML::Node b = mat["bulk_modulus"]) {
+        if (b.IsSequence()) {
+          if (b.size() != 3) {
+            r.error(b, "organ.material.bulk_modulus", "expected one modulus or three [bx, by, bz] (Pa)");
+          } else {
+            for (int d = 0; d < 3; ++d)
+              r.number(b[d], Reader::item("organ.material.bulk_modulus", d), s.bulk_modulus[d], 0, kInf, "Pa", true, true);
+          }
+        } else {
+          double v = 0;
+          if (r.number(b, "organ.material.bulk_modulus", v, 0, kInf, "Pa", true, true)) s.bulk_modulus.setConstant(v);
+        }
+      }
+      if (const YAML::Node n = mat["connectivity_modulus"])
+        r.number(n, "organ.material.connectivity_modulus", s.connectivity_modulus, 0, 1e12, "Pa");
+      if (const YAML::Node n = mat["capsule"]) {
+        std::string form;
+        if (r.text(n, "organ.material.capsule", form) && !vdm::parse_capsule_form(form, s.capsule))
+          r.error(n, "organ.material.capsule", "unknown capsule '" + form + "'; expected membrane, corotational or paper");
+      }
+      if (const YAML::Node n = mat["density"]) r.number(n, "organ.material.density", s.density, 0, 1e5, "kg/m^3", false, true);
+      if (const YAML::Node n = mat["damping"]) r.number(n, "organ.material.damping", s.damping, 0, 1e6, "1/s");
+    }
+  }
+  if (const YAML::Node list = organ["fixed"]) {
+    if (r.require_sequence(list, "organ.fixed"))
+      for (size_t i = 0; i < list.size(); ++i) {
+        const std::string fi = Reader::item("organ.fixed", i);
+        if (!r.require_map(list[i], fi)) continue;
+        FixedDef fd;
+        read_region(r, list[i], fi, fd.region, {"axes"});
+        if (const YAML::Node axes = list[i]["axes"]) {
+          fd.axes = {false, false, false};
+          if (r.require_sequence(axes, Reader::sub(fi, "axes")))
+            for (size_t a = 0; a < axes.size(); ++a) {
+              const std::string name = axes[a].IsScalar() ? axes[a].Scalar() : "";
+              if (name == "x" || name == "y" || name == "z") fd.axes[name[0] - 'x'] = true;
+              else r.error(axes[a], Reader::item(Reader::sub(fi, "axes"), a), "expected x, y or z");
+            }
+        }
+        s.fixed.push_back(fd);
+      }
+  }
+  if (const YAML::Node list = organ["loads"]) {
+    if (r.require_sequence(list, "organ.loads"))
+      for (size_t i = 0; i < list.size(); ++i) {
+        const std::string fi = Reader::item("organ.loads", i);
+        if (!r.require_map(list[i], fi)) continue;
+        LoadDef ld;
+        read_region(r, list[i], fi, ld.region, {"force", "t"});
+        if (const YAML::Node fo = r.required(list[i], "force", fi, "the total force [fx, fy, fz] (N)"))
+          r.vec3(fo, Reader::sub(fi, "force"), ld.force, "N");
+        read_ramp(r, list[i], fi, ld.t0, ld.t1);
+        s.loads.push_back(ld);
+      }
+  }
+  if (const YAML::Node list = organ["prescribed"]) {
+    if (r.require_sequence(list, "organ.prescribed"))
+      for (size_t i = 0; i < list.size(); ++i) {
+        const std::string fi = Reader::item("organ.prescribed", i);
+        if (!r.require_map(list[i], fi)) continue;
+        PrescribedDef pd;
+        read_region(r, list[i], fi, pd.region, {"translate", "rotate_deg", "about", "t"});
+        if (const YAML::Node n = list[i]["translate"]) r.vec3(n, Reader::sub(fi, "translate"), pd.translate, "m");
+        if (const YAML::Node n = list[i]["rotate_deg"]) r.vec3(n, Reader::sub(fi, "rotate_deg"), pd.rotate_deg, "degrees");
+        if (const YAML::Node n = list[i]["about"]) {
+          vdm::Vec3 c;
+          if (r.vec3(n, Reader::sub(fi, "about"), c, "m")) pd.about = c;
+        }
+        if (!list[i]["translate"] && !list[i]["rotate_deg"])
+          r.error(list[i], fi, "a prescribed motion needs translate: [dx, dy, dz] (m) and/or rotate_deg: [ax, ay, az]");
+        read_ramp(r, list[i], fi, pd.t0, pd.t1);
+        s.prescribed.push_back(pd);
+      }
+  }
+}
+
+void read_simulation(Reader& r, const YAML::Node& sim, SceneDef& s) {
+  const std::string f = "simulation";
+  if (!r.require_map(sim, f)) return;
+  r.check_keys(sim, f, {"frames", "dt", "effects", "solver", "gravity", "volume_constraint", "contact"});
+  if (const YAML::Node n = sim["frames"]) r.integer(n, "simulation.frames", s.frames, 1, 10000000);
+  if (const YAML::Node n = sim["dt"]) r.number(n, "simulation.dt", s.dt, 0, 10, "s", false, true);
+  if (const YAML::Node n = sim["gravity"]) r.vec3(n, "simulation.gravity", s.gravity, "m/s^2");
+  if (const YAML::Node n = sim["volume_constraint"]) r.boolean(n, "simulation.volume_constraint", s.volume_constraint);
+  if (const YAML::Node list = sim["effects"]) {
+    const std::vector<std::string> known = {"contact", "grasp", "gravity", "inertia", "stress"};
+    if (r.require_sequence(list, "simulation.effects"))
+      for (size_t i = 0; i < list.size(); ++i) {
+        const std::string fi = Reader::item("simulation.effects", i);
+        std::string name;
+        if (!r.text(list[i], fi, name)) continue;
+        const auto it = std::find(known.begin(), known.end(), name);
+        if (it == known.end()) {
+          const std::string near = closest(name, known);
+          r.error(list[i], fi, "unknown effect '" + name + "'" + (near.empty() ? "" : " (did you mean '" + near + "'?)") +
+                                   "; known effects: " + join(known));
+          continue;
+        }
+        const Effect e = static_cast<Effect>(it - known.begin());
+        if (std::find(s.effects.begin(), s.effects.end(), e) == s.effects.end()) s.effects.push_back(e);
+      }
+  }
+  if (const YAML::Node sol = sim["solver"]) {
+    if (r.require_map(sol, "simulation.solver")) {
+      r.check_keys(sol, "simulation.solver",
+                   {"method", "tolerance", "max_iterations", "refresh_every", "nonlinear_iterations",
+                    "volume_corrections", "volume_tolerance", "warm_start"});
+      if (const YAML::Node n = sol["method"]) {
+        std::string m;
+        if (r.text(n, "simulation.solver.method", m) && !vdm::parse_solver_method(m, s.solver.method))
+          r.error(n, "simulation.solver.method", "unknown solver '" + m + "' (expected reference, structured or direct)");
+      }
+      if (const YAML::Node n = sol["tolerance"])
+        r.number(n, "simulation.solver.tolerance", s.solver.tolerance, 0, 0.1, "relative residual", false, true);
+      if (const YAML::Node n = sol["max_iterations"]) r.integer(n, "simulation.solver.max_iterations", s.solver.max_iterations, 1, 1000000);
+      if (const YAML::Node n = sol["refresh_every"]) r.integer(n, "simulation.solver.refresh_every", s.solver.refresh_every, 1, 1000000);
+      if (const YAML::Node n = sol["nonlinear_iterations"])
+        r.integer(n, "simulation.solver.nonlinear_iterations", s.solver.nonlinear_iterations, 1, 1000);
+      if (const YAML::Node n = sol["volume_corrections"])
+        r.integer(n, "simulation.solver.volume_corrections", s.solver.volume_corrections, 0, 100);
+      if (const YAML::Node n = sol["volume_tolerance"])
+        r.number(n, "simulation.solver.volume_tolerance", s.solver.volume_tolerance, 0, 1e-2, "relative volume error",
+                 false, true);
+      if (const YAML::Node n = sol["warm_start"]) r.boolean(n, "simulation.solver.warm_start", s.solver.warm_start);
+    }
+  }
+  if (const YAML::Node con = sim["contact"]) {
+    const std::string fc = "simulation.contact";
+    if (r.require_map(con, fc)) {
+      r.check_keys(con, fc, {"method", "stiffness", "max_iterations"});
+      vdm::ContactSettings& cs = s.contact;
+      if (const YAML::Node n = con["method"]) {
+        std::string m;
+        const std::vector<std::string> methods = {"kinematic", "penalty"};
+        if (r.text(n, fc + ".method", m)) {
+          if (m == "kinematic") {
+            cs.method = vdm::ContactSettings::Method::kinematic;
+          } else if (m == "penalty") {
+            cs.method = vdm::ContactSettings::Method::penalty;
+            if (s.model != vdm::ModelKind::vdm)
+              r.error(n, fc + ".method",
+                      std::string("penalty contact needs organ.model vdm (") + vdm::to_string(s.model) +
+                          " takes kinematic contact)");
+          } else {
+            const std::string near = closest(m, methods);
+            r.error(n, fc + ".method", "unknown contact method '" + m + "'" +
+                                           (near.empty() ? "" : " (did you mean '" + near + "'?)") +
+                                           "; expected kinematic or penalty");
+          }
+        }
+      }
+      if (const YAML::Node n = con["stiffness"]) {
+        r.number(n, fc + ".stiffness", cs.penalty_stiffness, 0, 1e15, "Pa/m (contact pressure per metre of penetration)",
+                 false, true);
+        if (cs.method != vdm::ContactSettings::Method::penalty)
+          r.warn(n, fc + ".stiffness", "used by the penalty method only (method: penalty)");
+      }
+      if (const YAML::Node n = con["max_iterations"])
+        r.integer(n, fc + ".max_iterations", cs.max_penalty_iterations, 1, 1000);
+      if (!s.has(Effect::contact))
+        r.warn(con, fc, "has no effect: contact is not in simulation.effects");
+    }
+  }
+}
+
+// A probe's collision shape: capsule | cylinder | box | convex, or a mapping {type, ...}.
+void read_shape(Reader& r, const YAML::Node& n, const std::string& f, InstrumentDef& in, ConvexDef& convex,
+                const std::filesystem::path& base) {
+  using Kind = tools::ProbeShape::Kind;
+  const std::vector<std::string> kinds = {"capsule", "cylinder", "box", "convex"};
+  // (A YAML::Node assigned to another changes the node it refers to: one const per node.)
+  const YAML::Node type_node = n.IsMap() ? r.required(n, "type", f, "capsule, cylinder, box or convex") : n;
+  if (!type_node) return;
+  if (!n.IsMap() && !n.IsScalar()) {
+    r.error(n, f, std::string("expected capsule, cylinder, box or convex, or a mapping {type: ..., ...}, got ") + Reader::kind(n));
+    return;
+  }
+  std::string type;
+  if (!r.text(type_node, n.IsMap() ? Reader::sub(f, "type") : f, type)) return;
+  const auto it = std::find(kinds.begin(), kinds.end(), type);
+  if (it == kinds.end()) {
+    const std::string near = closest(type, kinds);
+    r.error(type_node, n.IsMap() ? Reader::sub(f, "type") : f,
+            "unknown shape '" + type + "'" + (near.empty() ? "" : " (did you mean '" + near + "'?)") +
+                "; expected capsule, cylinder, box or convex");
+    return;
+  }
+  in.shape.kind = static_cast<Kind>(it - kinds.begin());
+  if (in.type != InstrumentDef::Type::probe) {
+    r.error(n, f, "a shape is for probes only (a grasper's jaws are boxes of its radius and jaw_length)");
+    return;
+  }
+  switch (in.shape.kind) {
+    case Kind::capsule: r.check_keys(n, f, {"type"}); break;
+    case Kind::cylinder: r.check_keys(n, f, {"type", "rounding"}); break;
+    case Kind::box: r.check_keys(n, f, {"type", "size", "rounding"}); break;
+    case Kind::convex: r.check_keys(n, f, {"type", "mesh", "scale", "origin", "rotate_deg"}); break;
+  }
+  if (in.shape.kind == Kind::box) {
+    if (!n.IsMap()) r.error(n, f, "a box needs its sizes: shape: {type: box, size: [x, y, z]} (m)");
+    if (const YAML::Node size = n.IsMap() ? r.required(n, "size", f, "the box's sizes [x, y, z] (m), z along the axis")
+                                          : YAML::Node(YAML::NodeType::Undefined);
+        size.IsDefined()) {
+      if (!size.IsSequence() || size.size() != 3) {
+        r.error(size, Reader::sub(f, "size"), "expected three sizes [x, y, z] (m)");
+      } else {
+        for (int d = 0; d < 3; ++d)
+          r.number(size[d], Reader::item(Reader::sub(f, "size"), d), in.shape.size[d], 0, 10, "m", false, true);
+      }
+    }
+  }
+  if (in.shape.kind == Kind::cylinder || in.shape.kind == Kind::box) {
+    if (const YAML::Node v = n.IsMap() ? n["rounding"] : YAML::Node(YAML::NodeType::Undefined); v.IsDefined()) {
+      const double limit = in.shape.kind == Kind::cylinder ? std::min(in.radius, 0.5 * std::max(in.length, 2 * in.radius))
+                                                          : 0.5 * in.shape.size.minCoeff();
+      if (r.number(v, Reader::sub(f, "rounding"), in.shape.rounding, 0, kInf, "m") && in.shape.rounding > limit) {
+        std::ostringstream m;
+        m << "value " << v.Scalar() << " is out of range: the rounding must be <= "
+          << (in.shape.kind == Kind::cylinder ? "the radius (" : "half the smallest size (") << limit << " m)";
+        r.error(v, Reader::sub(f, "rounding"), m.str());
+      }
+    }
+  }
+  if (in.shape.kind == Kind::convex) {
+    convex.present = true;
+    if (!n.IsMap()) {
+      r.error(n, f, "a convex shape needs its mesh: shape: {type: convex, mesh: FILE} (the mesh's convex hull collides)");
+      return;
+    }
+    if (const YAML::Node m = r.required(n, "mesh", f, "the mesh file whose convex hull is the shape (relative to the scene)")) {
+      std::string rel;
+      if (r.text(m, Reader::sub(f, "mesh"), rel)) {
+        const std::filesystem::path p = std::filesystem::path(rel).is_absolute() ? std::filesystem::path(rel) : base / rel;
+        convex.mesh = p.lexically_normal().string();
+        convex.where = r.where(m);
+        std::error_code ec;
+        if (!std::filesystem::is_regular_file(convex.mesh, ec))
+          r.error(m, Reader::sub(f, "mesh"), "no such mesh file: " + convex.mesh);
+      }
+    }
+    if (const YAML::Node v = n["scale"]) r.number(v, Reader::sub(f, "scale"), convex.scale, 0, kInf, "mesh units -> m", false, true);
+    if (const YAML::Node v = n["origin"]) r.vec3(v, Reader::sub(f, "origin"), convex.origin, "m");
+    if (const YAML::Node v = n["rotate_deg"]) r.vec3(v, Reader::sub(f, "rotate_deg"), convex.rotate_deg, "degrees");
+  }
+}
+
+void read_instruments(Reader& r, const YAML::Node& list, SceneDef& s, const std::filesystem::path& base) {
+  if (!r.require_sequence(list, "instruments")) return;
+  for (size_t i = 0; i < list.size(); ++i) {
+    const std::string fi = Reader::item("instruments", i);
+    const YAML::Node n = list[i];
+    if (!r.require_map(n, fi)) continue;
+    r.check_keys(n, fi, {"type", "radius", "length", "jaw_length", "grasp_width", "script", "skin", "path", "shape"});
+    InstrumentDef in;
+    s.instrument_where.push_back(r.where(n));
+    if (const YAML::Node t = r.required(n, "type", fi, "probe or grasper")) {
+      std::string type;
+      if (r.text(t, Reader::sub(fi, "type"), type)) {
+        if (type == "probe") in.type = InstrumentDef::Type::probe;
+        else if (type == "grasper") in.type = InstrumentDef::Type::grasper;
+        else {
+          const std::string near = closest(type, {"probe", "grasper"});
+          r.error(t, Reader::sub(fi, "type"), "unknown instrument '" + type + "'" +
+                                                  (near.empty() ? "" : " (did you mean '" + near + "'?)") +
+                                                  "; expected probe or grasper");
+        }
+      }
+    }
+    if (const YAML::Node v = n["radius"]) r.number(v, Reader::sub(fi, "radius"), in.radius, 0, 1, "m", false, true);
+    if (const YAML::Node v = n["length"]) r.number(v, Reader::sub(fi, "length"), in.length, 0, 10, "m", false, true);
+    if (const YAML::Node v = n["jaw_length"]) r.number(v, Reader::sub(fi, "jaw_length"), in.jaw_length, 0, 1, "m", false, true);
+    if (const YAML::Node v = n["grasp_width"]) r.number(v, Reader::sub(fi, "grasp_width"), in.grasp_width, 0, 1, "m", false, true);
+    if (const YAML::Node v = n["path"]) {
+      std::string p;
+      if (r.text(v, Reader::sub(fi, "path"), p)) {
+        if (p == "linear") in.path = InstrumentDef::Path::linear;
+        else if (p == "spline") in.path = InstrumentDef::Path::spline;
+        else r.error(v, Reader::sub(fi, "path"), "unknown path '" + p + "': expected linear or spline");
+      }
+    }
+    ConvexDef convex;
+    if (const YAML::Node sh = n["shape"]) read_shape(r, sh, Reader::sub(fi, "shape"), in, convex, base);
+    SkinDef skin;
+    if (const YAML::Node sk = n["skin"]; sk && r.require_map(sk, Reader::sub(fi, "skin"))) {
+      const std::string fs = Reader::sub(fi, "skin");
+      r.check_keys(sk, fs, {"body", "jaws", "scale", "origin", "rotate_deg"});
+      skin.present = true;
+      skin.where = r.where(sk);
+      auto file = [&](const YAML::Node& v, const std::string& field, std::string& out) {
+        std::string rel;
+        if (!r.text(v, field, rel)) return;
+        out = (base / rel).lexically_normal().string();
+        std::error_code ec;
+        if (!std::filesystem::is_regular_file(out, ec)) r.error(v, field, "no such mesh file: " + out);
+      };
+      if (const YAML::Node v = sk["body"]) file(v, Reader::sub(fs, "body"), skin.body);
+      if (const YAML::Node j = sk["jaws"]) {
+        if (!j.IsSequence() || j.size() != 2) r.error(j, Reader::sub(fs, "jaws"), "expected two mesh files [upper, lower]");
+        else
+          for (size_t k = 0; k < 2; ++k) file(j[k], Reader::item(Reader::sub(fs, "jaws"), k), skin.jaws[k]);
+      }
+      if (const YAML::Node v = sk["scale"]) r.number(v, Reader::sub(fs, "scale"), skin.scale, 0, kInf, "mesh units -> m", false, true);
+      if (const YAML::Node v = sk["origin"]) r.vec3(v, Reader::sub(fs, "origin"), skin.origin, "m");
+      if (const YAML::Node v = sk["rotate_deg"]) r.vec3(v, Reader::sub(fs, "rotate_deg"), skin.rotate_deg, "degrees");
+      if (!sk["body"] && !sk["jaws"]) r.error(sk, fs, "give body: MESH and/or jaws: [MESH, MESH]");
+    }
+    const YAML::Node script = r.required(n, "script", fi, "a timeline of keyframes [{t, tip, axis, jaw}, ...]");
+    if (!script || !r.require_sequence(script, Reader::sub(fi, "script"))) continue;
+    if (script.size() == 0) r.error(script, Reader::sub(fi, "script"), "the timeline is empty: give at least one keyframe");
+    for (size_t k = 0; k < script.size(); ++k) {
+      const std::string fk = Reader::item(Reader::sub(fi, "script"), k);
+      const YAML::Node kf = script[k];
+      if (!r.require_map(kf, fk)) continue;
+      r.check_keys(kf, fk, {"t", "tip", "axis", "jaw"});
+      Keyframe key;
+      if (const YAML::Node t = r.required(kf, "t", fk, "the keyframe's time (s)"))
+        r.number(t, Reader::sub(fk, "t"), key.t, 0, kInf, "s");
+      if (!in.script.empty() && !(key.t > in.script.back().t))
+        r.error(kf["t"] ? kf["t"] : kf, Reader::sub(fk, "t"),
+                "keyframe times must increase: " + std::to_string(key.t) + " s does not come after " +
+                    std::to_string(in.script.back().t) + " s");
+      vdm::Vec3 v;
+      if (const YAML::Node tip = kf["tip"]; tip && r.vec3(tip, Reader::sub(fk, "tip"), v, "m")) key.tip = v;
+      if (const YAML::Node ax = kf["axis"]; ax && r.vec3(ax, Reader::sub(fk, "axis"), v, "unit vector")) {
+        if (v.norm() < 1e-9) r.error(ax, Reader::sub(fk, "axis"), "the axis must not be zero");
+        else key.axis = v.normalized();
+      }
+      if (const YAML::Node jaw = kf["jaw"]) {
+        const std::string j = jaw.IsScalar() ? jaw.Scalar() : "";
+        if (j == "open" || j == "closed") key.jaw_closed = j == "closed";
+        else r.error(jaw, Reader::sub(fk, "jaw"), "expected open or closed");
+      }
+      in.script.push_back(key);
+    }
+    if (!in.script.empty() && !in.script.front().tip)
+      r.error(script[0], Reader::sub(Reader::item(Reader::sub(fi, "script"), 0), "tip"),
+              "the first keyframe must give the tip position [x, y, z] (m)");
+    s.instruments.push_back(in);
+    s.instrument_skins.push_back(skin);
+    s.instrument_convex.push_back(convex);
+  }
+}
+
+// render.antialias (edge, msaa or none; default edge) and render.samples (MSAA samples per
+// pixel). A scene from before `antialias` existed gave `samples` alone: samples 2-16 still
+// mean multisampling, samples 1 no anti-aliasing.
+void read_antialias(Reader& r, const YAML::Node& n, render::RenderSettings& rs) {
+  const YAML::Node aa = n["antialias"], samples = n["samples"];
+  bool samples_ok = false;
+  if (samples) {
+    samples_ok = r.integer(samples, "render.samples", rs.samples, 1, 16);
+    if (samples_ok && (rs.samples & (rs.samples - 1))) {
+      r.error(samples, "render.samples", "expected 1, 2, 4, 8 or 16 (samples per pixel for anti-aliasing)");
+      samples_ok = false;
+    }
+  }
+  if (!aa) {
+    if (samples_ok) rs.antialias = rs.samples > 1 ? render::Antialias::msaa : render::Antialias::none;
+    return;
+  }
+  std::string t;
+  if (!r.text(aa, "render.antialias", t)) return;
+  if (t == "edge") {
+    rs.antialias = render::Antialias::edge;
+  } else if (t == "msaa") {
+    rs.antialias = render::Antialias::msaa;
+  } else if (t == "none") {
+    rs.antialias = render::Antialias::none;
+  } else {
+    r.error(aa, "render.antialias", "unknown method '" + t + "': expected edge (smoothed edges, the default), msaa (multisampling, with samples) or none");
+    return;
+  }
+  if (!samples_ok) return;
+  if (rs.antialias == render::Antialias::msaa && rs.samples < 2)
+    r.error(samples, "render.samples", "antialias: msaa needs 2, 4, 8 or 16 samples per pixel");
+  else if (rs.antialias != render::Antialias::msaa && rs.samples > 1)
+    r.error(samples, "render.samples", "samples are for antialias: msaa (antialias is " + t + ")");
+}
+
+void read_render(Reader& r, const YAML::Node& n, SceneDef& s) {
+  RenderDef& d = s.render;
+  if (!r.require_map(n, "render")) return;
+  r.check_keys(n, "render",
+               {"width", "height", "antialias", "samples", "camera", "views", "stress", "hud", "hud_step_time", "floor", "shadows",
+                "png_compression", "fps"});
+  if (const YAML::Node v = n["width"]) r.integer(v, "render.width", d.settings.width, 16, 8192);
+  if (const YAML::Node v = n["height"]) r.integer(v, "render.height", d.settings.height, 16, 8192);
+  read_antialias(r, n, d.settings);
+  if (const YAML::Node v = n["hud"]) r.boolean(v, "render.hud", d.hud);
+  if (const YAML::Node v = n["hud_step_time"]) r.boolean(v, "render.hud_step_time", d.hud_step_time);
+  if (const YAML::Node v = n["floor"]) r.boolean(v, "render.floor", d.settings.floor);
+  if (const YAML::Node v = n["shadows"]) r.boolean(v, "render.shadows", d.settings.shadows);
+  if (const YAML::Node v = n["png_compression"]) r.integer(v, "render.png_compression", d.png_compression, 0, 9);
+  if (const YAML::Node v = n["fps"]) r.number(v, "render.fps", d.fps, 0, 240, "frames per second", false, true);
+  if (const YAML::Node cam = n["camera"]; cam && r.require_map(cam, "render.camera")) {
+    r.check_keys(cam, "render.camera", {"eye", "target", "up", "fov_deg"});
+    render::Camera& c = d.settings.camera;
+    if (const YAML::Node v = cam["fov_deg"]) r.number(v, "render.camera.fov_deg", c.fov_deg, 1, 170, "degrees");
+    const YAML::Node eye = cam["eye"], target = cam["target"];
+    if (eye || target) {
+      d.settings.auto_camera = false;
+      if (!eye) r.error(cam, "render.camera.eye", "missing: give eye and target together (or neither, for automatic framing)");
+      if (!target) r.error(cam, "render.camera.target", "missing: give eye and target together (or neither, for automatic framing)");
+      if (eye) r.vec3(eye, "render.camera.eye", c.eye, "m");
+      if (target) r.vec3(target, "render.camera.target", c.target, "m");
+      if (eye && target && (c.eye - c.target).norm() < 1e-9)
+        r.error(target, "render.camera.target", "the target must differ from the eye");
+    }
+    if (const YAML::Node up = cam["up"]; up && r.vec3(up, "render.camera.up", c.up, "unit vector") && c.up.norm() < 1e-9)
+      r.error(up, "render.camera.up", "the up vector must not be zero");
+  }
+  if (const YAML::Node views = n["views"]; views && r.require_sequence(views, "render.views")) {
+    d.shaded = d.stress = false;
+    for (size_t i = 0; i < views.size(); ++i) {
+      std::string v;
+      if (!r.text(views[i], Reader::item("render.views", i), v)) continue;
+      if (v == "shaded") d.shaded = true;
+      else if (v == "stress") d.stress = true;
+      else {
+        const std::string near = closest(v, {"shaded", "stress"});
+        r.error(views[i], Reader::item("render.views", i),
+                "unknown view '" + v + "': expected shaded or stress" + (near.empty() ? "" : " (did you mean '" + near + "'?)"));
+      }
+    }
+  }
+  if (const YAML::Node st = n["stress"]; st && r.require_map(st, "render.stress")) {
+    r.check_keys(st, "render.stress", {"quantity", "range", "colormap"});
+    render::StressView& v = d.stress_view;
+    if (const YAML::Node q = st["quantity"]) {
+      std::string t;
+      if (r.text(q, "render.stress.quantity", t) && !render::parse_quantity(t, v.quantity))
+        r.error(q, "render.stress.quantity", "unknown quantity '" + t + "': expected one of " + join(render::quantity_names()));
+    }
+    if (quantity_is_signed(v.quantity)) v.colormap = render::ColorMapName::coolwarm;
+    if (const YAML::Node c = st["colormap"]) {
+      std::string t;
+      if (r.text(c, "render.stress.colormap", t) && !render::parse_colormap(t, v.colormap))
+        r.error(c, "render.stress.colormap", "unknown colour map '" + t + "': expected one of " + join(render::colormap_names()));
+    }
+    if (const YAML::Node range = st["range"]) {
+      if (range.IsScalar() && range.Scalar() == "auto") {
+        d.range_auto = true;
+      } else if (!range.IsSequence() || range.size() != 2) {
+        r.error(range, "render.stress.range", "expected [low, high] in the quantity's SI unit, or auto");
+      } else if (r.number(range[0], "render.stress.range[0]", v.lo, -kInf, kInf, "") &&
+                 r.number(range[1], "render.stress.range[1]", v.hi, -kInf, kInf, "")) {
+        d.range_auto = false;
+        if (!(v.hi > v.lo)) r.error(range[1], "render.stress.range[1]", "the high end must be above the low end");
+        else if (v.hi - v.lo < 1e-9 * std::max(std::abs(v.lo), std::abs(v.hi)))
+          r.error(range[1], "render.stress.range[1]", "the range is too narrow to colour (less than 1e-9 of its values)");
+      }
+    }
+  }
+  const bool stress_quantity =
+      d.stress_view.quantity == render::Quantity::stress_magnitude || d.stress_view.quantity == render::Quantity::stress_x ||
+      d.stress_view.quantity == render::Quantity::stress_y || d.stress_view.quantity == render::Quantity::stress_z ||
+      d.stress_view.quantity == render::Quantity::volumetric_strain;
+  if (d.stress && stress_quantity && s.model != vdm::ModelKind::vdm)
+    r.error(n["views"], "render.views",
+            std::string("the stress view of '") + render::to_string(d.stress_view.quantity) + "' needs organ.model vdm (" +
+                vdm::to_string(s.model) + " computes no VDM stress): colour by displacement or contact_pressure");
+  if (d.stress && !s.has(Effect::stress) &&
+      (d.stress_view.quantity == render::Quantity::stress_magnitude || d.stress_view.quantity == render::Quantity::stress_x ||
+       d.stress_view.quantity == render::Quantity::stress_y || d.stress_view.quantity == render::Quantity::stress_z ||
+       d.stress_view.quantity == render::Quantity::volumetric_strain))
+    r.error(n["views"], "render.views",
+            std::string("the stress view of '") + render::to_string(d.stress_view.quantity) +
+                "' needs the stress effect: add stress to simulation.effects (or colour by displacement or "
+                "contact_pressure)");
+}
+
+}  // namespace
+
+Eigen::Matrix3d rotation_from_degrees(const vdm::Vec3& deg) {
+  const double k = 3.14159265358979323846 / 180.0;
+  return (Eigen::AngleAxisd(deg.z() * k, vdm::Vec3::UnitZ()) * Eigen::AngleAxisd(deg.y() * k, vdm::Vec3::UnitY()) *
+          Eigen::AngleAxisd(deg.x() * k, vdm::Vec3::UnitX()))
+      .toRotationMatrix();
+}
+
+const char* to_string(Effect e) {
+  switch (e) {
+    case Effect::contact: return "contact";
+    case Effect::grasp: return "grasp";
+    case Effect::gravity: return "gravity";
+    case Effect::inertia: return "inertia";
+    case Effect::stress: return "stress";
+  }
+  return "unknown";
+}
+
+bool SceneDef::has(Effect e) const { return std::find(effects.begin(), effects.end(), e) != effects.end(); }
+
+std::string SceneProblem::text() const {
+  return where + ": " + (warning ? "warning: " : "") + field + ": " + message;
+}
+
+bool SceneLoadResult::ok() const {
+  return std::none_of(problems.begin(), problems.end(), [](const SceneProblem& p) { return !p.warning; });
+}
+
+SceneLoadResult load_scene(const std::string& path) {
+  SceneLoadResult res;
+  SceneDef& s = res.scene;
+  s.file = path;
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) {
+    res.problems.push_back({path, "scene", "no such scene file", false});
+    return res;
+  }
+  YAML::Node root;
+  try {
+    root = YAML::LoadFile(path);
+  } catch (const YAML::Exception& e) {
+    std::ostringstream where;
+    where << path << ':' << e.mark.line + 1 << ':' << e.mark.column + 1;
+    res.problems.push_back({where.str(), "scene", "not valid YAML: " + e.msg, false});
+    return res;
+  }
+  Reader r(path, res.problems);
+  if (!root.IsMap()) {
+    r.error(root, "scene", std::string("expected a mapping with name, organ, simulation, ... at the top, got ") + Reader::kind(root));
+    return res;
+  }
+  r.check_keys(root, "", {"name", "organ", "simulation", "instruments", "render"});
+  const std::filesystem::path base = std::filesystem::path(path).parent_path();
+  if (const YAML::Node n = root["name"]) r.text(n, "name", s.name);
+  if (s.name.empty()) s.name = std::filesystem::path(path).stem().string();
+  if (const YAML::Node organ = r.required(root, "organ", "", "the organ: {mesh, material, ...}")) read_organ(r, organ, s, base);
+  if (const YAML::Node sim = root["simulation"]) read_simulation(r, sim, s);
+  if (const YAML::Node ins = root["instruments"]) read_instruments(r, ins, s, base);
+  if (const YAML::Node render = root["render"]) {
+    s.has_render = true;
+    read_render(r, render, s);
+  }
+  return res;
+}
+
+}  // namespace vdmsim

@@ -1,0 +1,153 @@
+#pragma once
+// Scene files (YAML, architecture.md): parsed into plain, immutable data, validated before
+// anything runs. Every problem is reported as "file:line:col: field: what was expected".
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "engine/contact.hpp"
+#include "engine/organ_solver.hpp"
+#include "engine/settings.hpp"
+#include "engine/types.hpp"
+#include "render/view_settings.hpp"
+#include "tools_scripted/instrument.hpp"
+
+namespace vdmsim {
+
+// A set of organ nodes, chosen on the rest mesh (in scene units after `scale`, i.e. metres).
+struct Region {
+  enum class Kind { box, sphere, nodes, all } kind = Kind::all;
+  vdm::Vec3 min = vdm::Vec3::Zero(), max = vdm::Vec3::Zero();  // box
+  vdm::Vec3 center = vdm::Vec3::Zero();                        // sphere
+  double radius = 0;                                           // sphere
+  std::vector<int> nodes;                                      // explicit node indices
+  std::string where;                                           // "file:line:col" for messages
+};
+
+struct FixedDef {
+  Region region;
+  std::array<bool, 3> axes = {true, true, true};
+};
+
+// A total force spread equally over the region's nodes, ramped linearly over t = [t0, t1]
+// and held after t1.
+struct LoadDef {
+  Region region;
+  vdm::Vec3 force = vdm::Vec3::Zero();  // N
+  double t0 = 0, t1 = 0;
+};
+
+// A rigid motion of the region's nodes from rest, ramped over [t0, t1]: rotation by
+// `rotate_deg` (x, then y, then z) about `about` (default: the region's centroid), then
+// translation.
+struct PrescribedDef {
+  Region region;
+  vdm::Vec3 translate = vdm::Vec3::Zero();  // m
+  vdm::Vec3 rotate_deg = vdm::Vec3::Zero();
+  std::optional<vdm::Vec3> about;
+  double t0 = 0, t1 = 0;
+};
+
+// An instrument's optional mesh skin, for the picture only (collision and grasping keep the
+// parametric shape). Mesh files (any format assimp reads, e.g. STL) are placed in the
+// instrument frame (origin at the tip, +z from the handle toward the tip): scaled by `scale`,
+// rotated by `rotate_deg` (x, then y, then z), and their origin moved to `origin`.
+struct SkinDef {
+  bool present = false;
+  std::string body;                 // probe, or grasper shaft (resolved path; may be empty)
+  std::array<std::string, 2> jaws;  // grasper jaws (upper, lower), closed pose, pivot at the origin
+  double scale = 1.0;
+  vdm::Vec3 origin = vdm::Vec3::Zero();      // m, in the instrument frame
+  vdm::Vec3 rotate_deg = vdm::Vec3::Zero();
+  std::string where;                // file:line:col
+};
+
+// A convex probe's mesh: its convex hull is the collision shape (and the picture). Placed in
+// the instrument frame like a skin: scaled, rotated (x, then y, then z), origin at `origin`.
+struct ConvexDef {
+  bool present = false;
+  std::string mesh;                 // resolved path
+  double scale = 1.0;
+  vdm::Vec3 origin = vdm::Vec3::Zero();      // m, in the instrument frame
+  vdm::Vec3 rotate_deg = vdm::Vec3::Zero();
+  std::string where;                // file:line:col of the mesh field
+};
+
+using Keyframe = tools::Keyframe;
+using InstrumentDef = tools::InstrumentDef;
+
+// The scene's `render:` section.
+struct RenderDef {
+  render::RenderSettings settings;     // size, samples, camera (auto unless given), floor, shadows
+  bool shaded = true, stress = false;  // views
+  render::StressView stress_view;      // quantity, colour map, range
+  bool range_auto = true;              // range computed in a first pass over the sequence
+  bool hud = true;
+  bool hud_step_time = true;           // the HUD's step time (varies run to run)
+  int png_compression = 1;             // zlib level 0-9 (1: fast)
+  double fps = 30;                     // video frame rate
+};
+
+// The rotation of a `rotate_deg` field: about x, then y, then z (degrees).
+Eigen::Matrix3d rotation_from_degrees(const vdm::Vec3& deg);
+
+enum class Effect { contact, grasp, gravity, inertia, stress };
+const char* to_string(Effect e);
+
+struct SceneDef {
+  std::string file;            // the scene file as given
+  std::string name;
+  // organ
+  std::string mesh_path;       // resolved against the scene file's folder
+  double scale = 1.0;
+  vdm::Vec3 bulk_modulus = vdm::Vec3::Constant(20000.0);  // Pa per axis; inf allowed
+  double connectivity_modulus = 2000.0;
+  vdm::CapsuleForm capsule = vdm::CapsuleForm::membrane;  // vdm: membrane | paper
+  double density = 1060.0;
+  double damping = 0.0;        // 1/s, with the inertia effect
+  vdm::ModelKind model = vdm::ModelKind::vdm;  // organ.model: vdm | fem | mass_spring
+  double young_modulus = 3000;  // fem, mass_spring (Pa)
+  double poisson_ratio = 0.45;  // fem, in [0, 0.5)
+  double thickness = 0.005;     // mass_spring: skin thickness giving the springs' stiffness (m)
+  double volume_modulus = 0;    // mass_spring: volume spring K_v (Pa), 0 = none
+  double tet_size = 0;          // fem: largest tet edge (m) for gmsh, 0 = graded from the surface
+  std::vector<FixedDef> fixed;
+  std::vector<LoadDef> loads;
+  std::vector<PrescribedDef> prescribed;
+  // simulation
+  int frames = 120;
+  double dt = 1.0 / 30.0;
+  std::vector<Effect> effects;
+  vdm::Vec3 gravity = vdm::Vec3(0, 0, -9.81);
+  bool volume_constraint = true;
+  vdm::SolverSettings solver;
+  vdm::ContactSettings contact;  // simulation.contact: method (kinematic | penalty), stiffness, max_iterations
+  // instruments and rendering
+  std::vector<InstrumentDef> instruments;
+  std::vector<std::string> instrument_where;  // file:line:col of each instrument
+  std::vector<SkinDef> instrument_skins;      // one per instrument
+  std::vector<ConvexDef> instrument_convex;   // one per instrument (present: shape convex)
+  bool has_render = false;     // the scene has a render: section
+  RenderDef render;
+
+  bool has(Effect e) const;
+};
+
+struct SceneProblem {
+  std::string where;    // file:line:col
+  std::string field;    // dotted path, e.g. organ.material.bulk_modulus
+  std::string message;  // what was expected / what is wrong
+  bool warning = false; // unknown keys are warnings
+  std::string text() const;
+};
+
+struct SceneLoadResult {
+  SceneDef scene;
+  std::vector<SceneProblem> problems;  // errors and warnings, in file order
+  bool ok() const;
+};
+
+SceneLoadResult load_scene(const std::string& path);
+
+}  // namespace vdmsim

@@ -1,0 +1,43 @@
+#include "app/simulation/organ_models.hpp"
+
+#include "app/simulation/tet_mesher.hpp"
+
+namespace vdmsim {
+
+bool build_reference_model(const SceneDef& s, const vdm::TissueModel& m, ReferenceModel& out, std::string& error) {
+  out = ReferenceModel{};
+  out.kind = s.model;
+  out.dt = s.dt;
+  if (s.model == vdm::ModelKind::fem) {
+    vdm::fem::FemDef def;
+    if (!tetrahedralize(m.rest, s.tet_size, def.mesh, error)) return false;
+    def.young_modulus = s.young_modulus;
+    def.poisson_ratio = s.poisson_ratio;
+    def.density = s.density;
+    def.gravity = s.gravity;
+    def.use_gravity = s.has(Effect::gravity);
+    def.fixed = m.held;
+    if (!vdm::fem::build_fem_model(def, out.fem, error)) return false;
+  } else if (s.model == vdm::ModelKind::mass_spring) {
+    vdm::MassSpringDef def;
+    def.positions = m.rest.positions;
+    def.triangles = m.rest.triangles;
+    def.young_modulus = s.young_modulus;
+    def.thickness = s.thickness;
+    def.volume_modulus = s.volume_modulus;
+    def.fixed = m.held;
+    if (!vdm::build_mass_spring_model(def, out.mass_spring, error)) return false;
+  }
+  return true;
+}
+
+std::unique_ptr<vdm::OrganSolver> make_organ_solver(const ReferenceModel& r) {
+  switch (r.kind) {
+    case vdm::ModelKind::fem: return vdm::make_fem_solver(r.fem, r.dt);
+    case vdm::ModelKind::mass_spring: return vdm::make_mass_spring_solver(r.mass_spring, r.dt);
+    case vdm::ModelKind::vdm: break;
+  }
+  return nullptr;
+}
+
+}  // namespace vdmsim

@@ -1,0 +1,42 @@
+#pragma once
+// A scene made ready to simulate: the scene as loaded and validated, its organ's tissue model,
+// the nodes its loads and motions act on, its instruments' skins and convex hulls, and the
+// reference model when organ.model is fem or mass_spring.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "app/scene/scene.hpp"
+#include "app/simulation/organ_models.hpp"
+#include "engine/tissue_model.hpp"
+#include "render/render_scene.hpp"
+
+namespace vdmsim {
+
+// Nodes of the rest mesh selected by `region` (sorted). Errors (a node index out of range, a
+// region that selects nothing) are appended to `problems`, naming the region's position.
+std::vector<int> select_nodes(const Region& region, const vdm::NodeMat& rest, const std::string& field,
+                              std::vector<SceneProblem>& problems);
+
+// An instrument's skin meshes, loaded and placed in the instrument frame (empty: parametric).
+struct InstrumentSkin {
+  std::shared_ptr<render::SkinMesh> body, jaws[2];
+};
+
+struct PreparedScene {
+  SceneDef scene;
+  vdm::TissueModel model;
+  std::vector<std::vector<int>> load_nodes;        // per organ.loads entry
+  std::vector<std::vector<int>> prescribed_nodes;  // per organ.prescribed entry
+  std::vector<vdm::Vec3> prescribed_about;         // rotation centre per entry (m)
+  std::vector<InstrumentSkin> skins;               // per instrument
+  ReferenceModel reference;                        // organ.model fem or mass_spring (vdm: vdm::step)
+};
+
+// Loads and validates the scene and its mesh and builds the model. On failure returns false
+// with every problem in `problems` (warnings are there too on success).
+bool prepare_scene(const std::string& path, PreparedScene& out, std::vector<SceneProblem>& problems);
+// The same from an already loaded (and possibly edited) scene.
+bool prepare_scene_def(const SceneDef& scene, PreparedScene& out, std::vector<SceneProblem>& problems);
+
+}  // namespace vdmsim

@@ -1,0 +1,160 @@
+#include "app/simulation/scene_simulation.hpp"
+
+#include "app/simulation/organ_models.hpp"
+#include "engine/state_snapshot.hpp"
+#include "engine/stopwatch.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+
+namespace vdmsim {
+namespace {
+
+using vdm::Clock;
+using vdm::ms_since;
+
+double ramp(double t, double t0, double t1) {
+  if (t1 <= t0) return t >= t0 ? 1.0 : 0.0;
+  return std::clamp((t - t0) / (t1 - t0), 0.0, 1.0);
+}
+
+}  // namespace
+
+SceneSimulation::SceneSimulation(const PreparedScene& ps)
+    : ps_(ps), state_(vdm::make_sim_state(ps.model)), input_(vdm::make_step_input(ps.model)) {
+  const SceneDef& s = ps.scene;
+  // Contact runs only when listed, against probes and graspers' jaws; grasping only when
+  // listed, by graspers.
+  for (const tools::InstrumentDef& in : s.instruments)
+    (in.type == tools::InstrumentDef::Type::probe ? probes_ : graspers_).push_back(&in);
+  if (s.has(Effect::grasp)) grasps_.resize(graspers_.size());
+  // External forces only when the scene has loads: an empty force is none (1 MB at 40k nodes).
+  if (s.loads.empty()) input_.force.resize(0, 3);
+  // A reference model keeps its own state: every simulation (a colour-range pass, the run, a
+  // benchmark repeat) builds its own, so that none starts where another ended.
+  organ_ = make_organ_solver(ps.reference);
+  if (s.has(Effect::contact) && !s.instruments.empty()) contact_ = std::make_unique<vdm::ContactSolver>(ps.model, s.contact);
+  if (contact_) contact_->set_solver(organ_.get());  // organ.model fem or mass_spring
+  tools_.resize(probes_.size() + 3 * graspers_.size());  // probes, then each grasper's two jaws and shaft
+}
+
+std::vector<tools::InstrumentPose> SceneSimulation::poses(double t) const {
+  std::vector<tools::InstrumentPose> out;
+  for (const tools::InstrumentDef& in : ps_.scene.instruments) out.push_back(tools::pose_at(in, t));
+  return out;
+}
+
+bool SceneSimulation::save(std::string& out) const {
+  if (organ_) return false;
+  vdm::save_state(ps_.model, state_, out);
+  const std::int64_t grasps = static_cast<std::int64_t>(grasps_.size());
+  out.append(reinterpret_cast<const char*>(&grasps), sizeof grasps);
+  for (const tools::Grasp& g : grasps_) g.save(out);
+  return true;
+}
+
+bool SceneSimulation::load(std::string_view in, std::string& error) {
+  if (organ_) {
+    error = "state snapshot: a reference model's state is not saved";
+    return false;
+  }
+  size_t pos = 0;
+  if (!vdm::load_state(ps_.model, in, pos, state_, error)) return false;
+  std::int64_t grasps = -1;
+  if (in.size() - pos >= sizeof grasps) std::memcpy(&grasps, in.data() + pos, sizeof grasps);
+  pos += sizeof grasps;
+  if (grasps != static_cast<std::int64_t>(grasps_.size())) {
+    error = "state snapshot: of a scene with other graspers";
+    return false;
+  }
+  for (tools::Grasp& g : grasps_)
+    if (!g.load(in, pos, ps_.model.n)) {
+      error = "state snapshot: a grasp is truncated";
+      return false;
+    }
+  if (pos != in.size()) {
+    error = "state snapshot: bytes after the end";
+    return false;
+  }
+  return true;
+}
+
+void SceneSimulation::advance(int f) {
+  const SceneDef& s = ps_.scene;
+  const vdm::TissueModel& m = ps_.model;
+  const double t = (f + 1) * s.dt;
+  time_ = t;
+  // Scripted loads and motions for this frame.
+  const auto t_loads = Clock::now();
+  input_.force.setZero();
+  input_.prescribed.setZero();
+  for (size_t k = 0; k < s.loads.size(); ++k) {
+    const auto& nodes = ps_.load_nodes[k];
+    const vdm::Vec3 per_node = ramp(t, s.loads[k].t0, s.loads[k].t1) * s.loads[k].force / double(nodes.size());
+    for (int i : nodes) input_.force.row(i) += per_node.transpose();
+  }
+  for (size_t k = 0; k < s.prescribed.size(); ++k) {
+    const PrescribedDef& p = s.prescribed[k];
+    const double a = ramp(t, p.t0, p.t1);
+    const Eigen::Matrix3d R = rotation_from_degrees(a * p.rotate_deg);
+    const vdm::Vec3 c = ps_.prescribed_about[k];
+    for (int i : ps_.prescribed_nodes[k]) {
+      const vdm::Vec3 X = m.rest.positions.row(i);
+      input_.prescribed.row(i).setOnes();
+      input_.prescribed_u.row(i) = (R * (X - c) + c + a * p.translate - X).transpose();
+    }
+  }
+  times_.loads += ms_since(t_loads);
+  const auto t_grasp = Clock::now();
+  for (size_t k = 0; k < grasps_.size(); ++k) {
+    const tools::InstrumentPose pose = tools::pose_at(*graspers_[k], t);
+    grasps_[k].update(*graspers_[k], pose, state_.x);
+    grasps_[k].apply(pose, m.rest.positions, input_);
+  }
+  if (!grasps_.empty()) times_.grasp += ms_since(t_grasp);
+
+  frame_step_ms_ = 0;
+  frame_iterations_ = 0;
+  frame_fallbacks_ = 0;
+  if (contact_) {
+    // Sub-step when an instrument moves more than its size in a frame, so it cannot tunnel.
+    double substeps = 1;
+    for (const tools::InstrumentDef& in : s.instruments) {
+      const double move = tools::instrument_motion(in, tools::pose_at(in, t), tools::pose_at(in, t - s.dt));
+      substeps = std::max(substeps, std::ceil(move / tools::instrument_size(in)));
+    }
+    const int n_sub = static_cast<int>(std::min(substeps, 1000.0));
+    for (int j = 1; j <= n_sub; ++j) {
+      const double tj = t - s.dt + s.dt * j / n_sub, tprev = t - s.dt + s.dt * (j - 1) / n_sub;
+      for (size_t k = 0; k < probes_.size(); ++k)
+        tools_[k] = tools::probe_shape(*probes_[k], tools::pose_at(*probes_[k], tj), tools::pose_at(*probes_[k], tprev));
+      for (size_t k = 0; k < graspers_.size(); ++k) {
+        const tools::InstrumentPose now = tools::pose_at(*graspers_[k], tj), before = tools::pose_at(*graspers_[k], tprev);
+        for (int side = 0; side < 2; ++side)
+          tools_[probes_.size() + 3 * k + side] = tools::jaw_shape(*graspers_[k], now, before, side ? -1 : +1);
+        tools_[probes_.size() + 3 * k + 2] = tools::shaft_shape(*graspers_[k], now, before);
+      }
+      const auto t_contact = Clock::now();
+      contact_->step(m, input_, tools_, state_, report_);
+      frame_step_ms_ += ms_since(t_contact);
+      frame_iterations_ += report_.iterations;  // every active-set solve, not only the last
+      frame_fallbacks_ += state_.stats.fallbacks;
+      times_.collision += report_.collision_ms;
+      times_.collision_queries += report_.queries;
+      if (state_.failed) break;  // the caller stops the run
+    }
+  } else {
+    if (organ_) organ_->step(input_, state_);  // organ.model fem or mass_spring
+    else vdm::step(m, input_, state_);
+    frame_step_ms_ = state_.stats.step_ms;
+    frame_iterations_ = state_.stats.iterations;
+    frame_fallbacks_ = state_.stats.fallbacks;
+  }
+  times_.assemble += state_.stats.assemble_ms;
+  times_.solve += state_.stats.solve_ms;
+  times_.stress += state_.stats.stress_ms;
+}
+
+}  // namespace vdmsim

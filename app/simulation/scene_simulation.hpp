@@ -1,0 +1,62 @@
+#pragma once
+// The simulation side of a scene run, one frame at a time: scripted loads and motions,
+// grasping, contact (with sub-steps against tunnelling) and the VDM step. Only the effects
+// the scene lists run. Deterministic: the same scene gives the same numbers every time.
+#include <memory>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "app/simulation/prepared_scene.hpp"
+#include "engine/contact.hpp"
+#include "engine/organ_solver.hpp"
+#include "engine/sim_state.hpp"
+#include "tools_scripted/grasp.hpp"
+
+namespace vdmsim {
+
+// Time spent in each stage, summed over the frames so far (ms).
+struct StageTimes {
+  double loads = 0, assemble = 0, solve = 0, stress = 0, grasp = 0, collision = 0;
+  long collision_queries = 0;
+};
+
+class SceneSimulation {
+ public:
+  explicit SceneSimulation(const PreparedScene& prepared);
+  // Simulates frame f, which ends at time (f + 1) dt.
+  void advance(int f);
+
+  const vdm::SimState& state() const { return state_; }
+  double time() const { return time_; }
+  double frame_step_ms() const { return frame_step_ms_; }   // engine time of the last frame
+  int frame_iterations() const { return frame_iterations_; }
+  int frame_fallbacks() const { return frame_fallbacks_; }  // solves redone by the direct solver
+  bool contact_simulated() const { return contact_ != nullptr; }
+  const vdm::ContactReport& contact_report() const { return report_; }
+  const StageTimes& stage_times() const { return times_; }
+  // A snapshot of the simulation between frames (the engine's state with its warm starts and
+  // the grasps), appended to `out`, for resuming a run bit for bit. False when this run's
+  // state cannot be saved (organ.model fem or mass_spring: a resume re-simulates instead).
+  bool save(std::string& out) const;
+  // Reads a snapshot written by save() for the same prepared scene.
+  bool load(std::string_view in, std::string& error);
+  // Every instrument's pose at time t (in the scene's order).
+  std::vector<tools::InstrumentPose> poses(double t) const;
+
+ private:
+  const PreparedScene& ps_;
+  std::vector<const tools::InstrumentDef*> probes_, graspers_;
+  std::vector<tools::Grasp> grasps_;
+  std::unique_ptr<vdm::OrganSolver> organ_;  // organ.model fem or mass_spring: this run's own
+  std::unique_ptr<vdm::ContactSolver> contact_;
+  std::vector<vdm::ToolShape> tools_;  // probes' shapes, then two jaw boxes per grasper
+  vdm::ContactReport report_;
+  vdm::SimState state_;
+  vdm::StepInput input_;
+  StageTimes times_;
+  double time_ = 0, frame_step_ms_ = 0;
+  int frame_iterations_ = 0, frame_fallbacks_ = 0;
+};
+
+}  // namespace vdmsim

@@ -1,0 +1,629 @@
+#include "app/studies/bench.hpp"
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iomanip>
+#include <sstream>
+#include <stdexcept>
+#include <vector>
+
+#include "app/studies/bench_bullet.hpp"
+#include "app/run/frame_output.hpp"
+#include "app/run/output_dir.hpp"
+#include "app/run/scene_run.hpp"
+#include "app/scene/mesh_io.hpp"
+#include "app/scene/organ_generator.hpp"
+#include "app/studies/quantile.hpp"
+#include "app/simulation/scene_simulation.hpp"
+#include "engine/stopwatch.hpp"
+#include "render/number_format.hpp"
+#include "render/plot.hpp"
+#include "render/png_io.hpp"
+#include "render/renderer.hpp"
+
+namespace vdmsim {
+namespace {
+
+namespace fs = std::filesystem;
+using vdm::Clock;
+using vdm::ms_since;
+
+struct Row {
+  std::string name, model;
+  long nodes = 0;
+  double median_ms = 0, p95_ms = 0, iterations = 0, volume_rel_error = 0, peak_mb = 0;
+};
+
+double peak_mb() {
+  std::ifstream f("/proc/self/status");
+  std::string line;
+  while (std::getline(f, line))
+    if (line.rfind("VmHWM:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;
+  return 0;
+}
+
+std::string format_row(const Row& r) {
+  std::ostringstream s;
+  s << std::setprecision(9) << r.name << ',' << r.model << ',' << r.nodes << ',' << r.median_ms << ',' << r.p95_ms << ','
+    << r.iterations << ',' << r.volume_rel_error << ',' << r.peak_mb << '\n';
+  return s.str();
+}
+
+// Runs one case in a new process: this program exec'd again as `bench --only LABEL --case-fd
+// N`, which runs the case and writes its CSV row to descriptor N (a pipe). A new program, not
+// only a fork: its peak memory counts every page it touches itself, the shared libraries'
+// included (a forked child inherits the parent's resident library pages without counting
+// them: at 40k nodes with rendering that hid about 65 MB).
+bool run_isolated(const std::string& label, const std::string& out_dir, bool quick, Row& row, std::string& error) {
+  int fd[2];
+  if (pipe(fd) != 0) {
+    error = "pipe failed";
+    return false;
+  }
+  const pid_t pid = fork();
+  if (pid == 0) {
+    close(fd[0]);
+    const std::string fd_text = std::to_string(fd[1]);
+    std::vector<const char*> args = {"vdmsim", "bench", "--out", out_dir.c_str(), "--only", label.c_str(), "--case-fd",
+                                     fd_text.c_str()};
+    if (quick) args.push_back("--quick");
+    args.push_back(nullptr);
+    execv("/proc/self/exe", const_cast<char* const*>(args.data()));
+    std::fprintf(stderr, "vdmsim: bench: cannot run /proc/self/exe\n");
+    _exit(1);
+  }
+  close(fd[1]);
+  std::string text;
+  char buf[512];
+  ssize_t n;
+  while ((n = read(fd[0], buf, sizeof buf)) > 0) text.append(buf, size_t(n));
+  close(fd[0]);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0 || text.empty()) {
+    error = "the benchmark process failed";
+    return false;
+  }
+  std::stringstream s(text);
+  std::string field;
+  std::vector<std::string> f;
+  while (std::getline(s, field, ',')) f.push_back(field);
+  if (f.size() != 8) {
+    error = "bad benchmark output: " + text;
+    return false;
+  }
+  row = {f[0], f[1], std::stol(f[2]), std::stod(f[3]), std::stod(f[4]), std::stod(f[5]), std::stod(f[6]), std::stod(f[7])};
+  return true;
+}
+
+}  // namespace
+
+PreparedScene bench_probe_scene(const std::string& mesh, int frames, bool render, double tolerance,
+                                double volume_tolerance) {
+  PreparedScene ps;
+  std::vector<SceneProblem> problems;
+  const std::string path = (fs::path(VDMSIM_SOURCE_DIR_STR) / "assets" / "scenes" / "probe_poke.yaml").string();
+  SceneLoadResult loaded = load_scene(path);
+  if (!loaded.ok()) throw std::runtime_error(path + ": cannot load");
+  SceneDef s = loaded.scene;
+  s.mesh_path = mesh.find('/') != std::string::npos ? mesh : (fs::path(VDMSIM_SOURCE_DIR_STR) / "assets" / "meshes" / mesh).string();
+  s.frames = frames;
+  s.solver.tolerance = tolerance;
+  s.solver.volume_tolerance = volume_tolerance;
+  for (auto& in : s.instruments) in.radius = 0.008;
+  if (!render) s.has_render = false;
+  s.render.stress = false;
+  if (!prepare_scene_def(s, ps, problems))
+    throw std::runtime_error(problems.empty() ? "cannot prepare the probe scene" : problems.back().text());
+  return ps;
+}
+
+ToleranceError bench_tolerance_error(const std::string& mesh, double tolerance, double reference_tolerance) {
+  const PreparedScene loose = bench_probe_scene(mesh, 60, false, tolerance);
+  const PreparedScene tight = bench_probe_scene(mesh, 60, false, reference_tolerance, vdm::SolverSettings().volume_tolerance);
+  SceneSimulation a(loose), b(tight);
+  ToleranceError e;
+  e.nodes = loose.model.n;
+  double sum2 = 0;
+  long count = 0;
+  for (int f = 0; f < 60; ++f) {
+    a.advance(f);
+    b.advance(f);
+    for (int i = 0; i < loose.model.n; ++i) {
+      const double d2 = (a.state().u.row(i) - b.state().u.row(i)).squaredNorm();
+      e.max_m = std::max(e.max_m, std::sqrt(d2));
+      sum2 += d2;
+      ++count;
+    }
+  }
+  e.rms_m = count ? std::sqrt(sum2 / double(count)) : 0.0;
+  return e;
+}
+
+namespace {
+
+PreparedScene probe_scene(const std::string& mesh, int frames, bool render) { return bench_probe_scene(mesh, frames, render); }
+
+// Runs `ps` for its frames (60 at most), `repeats` times, timing the steps that `timed(rep, f, sim)`
+// accepts, and fills the row's step figures.
+template <typename Timed>
+void time_steps(const PreparedScene& ps, int repeats, Timed timed, Row& r) {
+  std::vector<double> times;
+  double iterations = 0, vol = 0;
+  for (int rep = 0; rep < repeats; ++rep) {
+    SceneSimulation sim(ps);
+    for (int f = 0; f < std::min(ps.scene.frames, 60); ++f) {
+      sim.advance(f);
+      if (!timed(rep, f, sim)) continue;
+      times.push_back(sim.frame_step_ms());
+      iterations += sim.frame_iterations();
+      vol = std::max(vol, std::abs(sim.state().volume_rel_error));
+    }
+  }
+  r.nodes = ps.model.n;
+  r.median_ms = quantile(times, 0.5);
+  r.p95_ms = quantile(times, 0.95);
+  r.iterations = times.empty() ? 0 : iterations / double(times.size());
+  r.volume_rel_error = vol;
+}
+
+Row bench_probe(const std::string& mesh, int repeats) {
+  Row r{"liver_probe", "vdm"};
+  const PreparedScene ps = probe_scene(mesh, 60, false);
+  // Only steps in contact are timed; the first contact steps warm up.
+  time_steps(ps, repeats,
+             [](int rep, int f, const SceneSimulation& sim) { return sim.contact_report().nodes > 0 && (rep > 0 || f > 20); },
+             r);
+  return r;
+}
+
+// The FEM reference (corotational tets, static Newton: organ.model fem, E = 5 kPa, nu = 0.45
+// as in the accuracy study) on the same probe scene, on the level-3 liver (642 surface
+// nodes; FEM is too slow on the bench's larger livers), written to `dir`. The same
+// timing as bench_probe; `vdm` at the same level is the row to compare with.
+std::string write_level3_liver(const fs::path& dir) {
+  const std::string mesh = (dir / "liver_L3.obj").string();
+  std::string error;
+  if (!save_obj(make_liver_mesh(3), mesh, "vdmsim liver level 3 (app/organ_generator.cpp), for `vdmsim bench`", error))
+    throw std::runtime_error(error);
+  return mesh;
+}
+
+Row bench_fem(const fs::path& dir, int frames) {
+  Row r{"liver_probe", "fem"};
+  const std::string mesh = write_level3_liver(dir);
+  PreparedScene ps;
+  std::vector<SceneProblem> problems;
+  {
+    PreparedScene vdm_scene = probe_scene(mesh, frames, false);
+    SceneDef s = vdm_scene.scene;
+    s.model = vdm::ModelKind::fem;
+    s.young_modulus = 5000;
+    s.poisson_ratio = 0.45;
+    if (!prepare_scene_def(s, ps, problems))
+      throw std::runtime_error(problems.empty() ? "cannot prepare the FEM probe scene" : problems.back().text());
+  }
+  time_steps(ps, 1, [](int, int f, const SceneSimulation& sim) { return sim.contact_report().nodes > 0 && f > 20; }, r);
+  return r;
+}
+
+// VDM on the FEM case's level-3 liver (bench_fem), timed the same way.
+Row bench_probe_level3(const fs::path& dir, int repeats) { return bench_probe(write_level3_liver(dir), repeats); }
+
+// Bullet's btSoftBody on the same surface, probe motion and frames as bench_probe; timed the
+// same way (frames in contact, the first 20 frames of the first run not timed).
+Row bench_bullet(const std::string& mesh, int repeats) {
+  Row r{"liver_probe", "bullet"};
+  const PreparedScene ps = probe_scene(mesh, 60, false);
+  std::vector<double> times;
+  for (int rep = 0; rep < repeats; ++rep) {
+    const BulletRun run = run_bullet_probe(ps, 60, rep > 0 ? -1 : 20, BulletSettings{});
+    times.insert(times.end(), run.step_ms.begin(), run.step_ms.end());
+    r.iterations = run.iterations;
+    r.volume_rel_error = std::max(r.volume_rel_error, run.volume_rel_error);
+    r.nodes = run.nodes;
+  }
+  r.median_ms = quantile(times, 0.5);
+  r.p95_ms = quantile(times, 0.95);
+  return r;
+}
+
+// VDM and Bullet on the same mesh and probe script in one process, run after run in turn
+// (`pairs` pairs of 60-frame runs, VDM's then Bullet's; timed: the frames in contact after the
+// 20th), so that each ratio compares two runs made within a second of each other rather than
+// two processes started minutes apart (the isolated rows of bench.csv).
+struct SideBySide {
+  long nodes = 0;
+  int pairs = 0;
+  double vdm_ms = 0, bullet_ms = 0;                 // medians of all timed frames
+  double ratio = 0;                                 // bullet_ms / vdm_ms
+  double pair_ratio_median = 0, pair_ratio_min = 0;  // of each pair's medians, Bullet's over VDM's
+};
+
+SideBySide bench_side_by_side(const std::string& mesh, int pairs) {
+  const PreparedScene ps = probe_scene(mesh, 60, false);
+  std::vector<double> vdm_all, bullet_all, ratios;
+  for (int k = 0; k < pairs; ++k) {
+    std::vector<double> vdm_ms, bullet_ms;
+    {
+      SceneSimulation sim(ps);
+      for (int f = 0; f < 60; ++f) {
+        sim.advance(f);
+        if (sim.contact_report().nodes > 0 && f > 20) vdm_ms.push_back(sim.frame_step_ms());
+      }
+    }
+    {
+      BulletProbe bullet(ps, BulletSettings{});
+      for (int f = 0; f < 60; ++f) {
+        const double ms = bullet.advance(f);
+        if (bullet.touching() && f > 20) bullet_ms.push_back(ms);
+      }
+    }
+    const double v = quantile(vdm_ms, 0.5), b = quantile(bullet_ms, 0.5);
+    if (v > 0) ratios.push_back(b / v);
+    vdm_all.insert(vdm_all.end(), vdm_ms.begin(), vdm_ms.end());
+    bullet_all.insert(bullet_all.end(), bullet_ms.begin(), bullet_ms.end());
+  }
+  SideBySide r;
+  r.nodes = ps.model.n;
+  r.pairs = int(ratios.size());
+  r.vdm_ms = quantile(vdm_all, 0.5);
+  r.bullet_ms = quantile(bullet_all, 0.5);
+  r.ratio = r.vdm_ms > 0 ? r.bullet_ms / r.vdm_ms : 0;
+  r.pair_ratio_median = quantile(ratios, 0.5);
+  r.pair_ratio_min = ratios.empty() ? 0 : *std::min_element(ratios.begin(), ratios.end());
+  return r;
+}
+
+// The slope of log y against log x, least squares.
+double loglog_slope(const std::vector<double>& x, const std::vector<double>& y) {
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  const double n = double(x.size());
+  for (size_t i = 0; i < x.size(); ++i) {
+    const double lx = std::log(x[i]), ly = std::log(y[i]);
+    sx += lx;
+    sy += ly;
+    sxx += lx * lx;
+    sxy += lx * ly;
+  }
+  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
+}
+
+// VDM's probe step on every mesh in turn, round after round in one process (a round runs the
+// 60 frames on each mesh, smallest first), so that the scaling exponent compares runs made
+// seconds apart: the isolated rows of bench.csv run minutes apart on a shared machine, and one
+// busy minute moves their fit by 0.1. Every run is timed alike: its frames in contact after
+// the 20th (an isolated row times those of its first run and every frame in contact of its
+// later runs; the 40k row has one run).
+struct ScalingInTurn {
+  std::vector<double> nodes, median_ms;  // per mesh; medians of all rounds' timed frames
+  std::vector<double> round_exponent;    // each round's fit of its own medians
+  double exponent = 0;                   // the fit of median_ms
+};
+
+ScalingInTurn bench_scaling_in_turn(const std::vector<std::string>& meshes, int rounds) {
+  std::vector<PreparedScene> scenes;
+  scenes.reserve(meshes.size());  // (SceneSimulation keeps a reference)
+  for (const std::string& mesh : meshes) scenes.push_back(probe_scene(mesh, 60, false));
+  std::vector<std::vector<double>> all(meshes.size());
+  ScalingInTurn r;
+  for (const PreparedScene& ps : scenes) r.nodes.push_back(double(ps.model.n));
+  for (int round = 0; round < rounds; ++round) {
+    std::vector<double> medians;
+    for (size_t k = 0; k < scenes.size(); ++k) {
+      std::vector<double> ms;
+      SceneSimulation sim(scenes[k]);
+      for (int f = 0; f < 60; ++f) {
+        sim.advance(f);
+        if (sim.contact_report().nodes > 0 && f > 20) ms.push_back(sim.frame_step_ms());
+      }
+      medians.push_back(quantile(ms, 0.5));
+      all[k].insert(all[k].end(), ms.begin(), ms.end());
+    }
+    r.round_exponent.push_back(loglog_slope(r.nodes, medians));
+  }
+  for (const std::vector<double>& ms : all) r.median_ms.push_back(quantile(ms, 0.5));
+  r.exponent = loglog_slope(r.nodes, r.median_ms);
+  return r;
+}
+
+Row bench_grasp(int repeats) {
+  Row r{"grasp_lift", "vdm"};
+  PreparedScene ps;
+  std::vector<SceneProblem> problems;
+  if (!prepare_scene((fs::path(VDMSIM_SOURCE_DIR_STR) / "assets" / "scenes" / "grasp_lift.yaml").string(), ps, problems))
+    throw std::runtime_error("cannot prepare grasp_lift.yaml");
+  time_steps(ps, repeats, [](int rep, int f, const SceneSimulation&) { return rep > 0 || f >= 5; }, r);
+  return r;
+}
+
+// The case's name for an anti-aliasing setting: the default (edge) unmarked, _msaa4x, _1x.
+std::string aa_case(const std::string& base, render::Antialias aa, int samples) {
+  if (aa == render::Antialias::edge) return base;
+  if (aa == render::Antialias::none) return base + "_1x";
+  return base + "_msaa" + std::to_string(samples) + "x";
+}
+
+// Rendering one 1280x720 frame with the HUD plus encoding it to PNG, serially.
+Row bench_render(const fs::path& dir, int frames, render::Antialias aa, int samples) {
+  Row r{aa_case("render_720p", aa, samples), "pipeline"};
+  std::string error;
+  PreparedScene ps = probe_scene("liver_L5.obj", frames + 40, true);
+  SceneSimulation sim(ps);
+  for (int f = 0; f < 40; ++f) sim.advance(f);  // the probe in the tissue
+  render::RenderSettings settings = ps.scene.render.settings;
+  settings.antialias = aa;
+  settings.samples = samples;
+  auto renderer = render::Renderer::create(settings, ps.model.rest, error);
+  if (!renderer) throw std::runtime_error(error);
+  render::RenderScene scene;
+  scene.positions = &sim.state().x;
+  scene.hud.scene_name = "bench";
+  for (size_t k = 0; k < ps.scene.instruments.size(); ++k)
+    scene.instruments.push_back(render::instrument_view(ps.scene.instruments[k], sim.poses(sim.time())[k]));
+  render::Image image;
+  std::vector<double> times;
+  for (int f = 0; f < frames + 2; ++f) {
+    const auto t0 = Clock::now();
+    renderer->draw_shaded(scene, true, image);
+    if (!render::write_png((dir / "bench_frame.png").string(), image, ps.scene.render.png_compression, false, error))
+      throw std::runtime_error(error);
+    if (f >= 2) times.push_back(ms_since(t0));
+  }
+  fs::remove(dir / "bench_frame.png");
+  r.nodes = ps.model.n;
+  r.median_ms = quantile(times, 0.5);
+  r.p95_ms = quantile(times, 0.95);
+  return r;
+}
+
+// The whole pipeline as `vdmsim run` does it: simulate, render 1280x720 with the HUD (edge
+// anti-aliasing as by default, or `aa`), encode PNGs on the writer thread. The figures are the
+// steady frame interval: the wall time between consecutive frames done (the render and PNG
+// queues are bounded, so the loop runs at the pace of the slowest stage), the first
+// `warm_up` frames (renderer start, shader compilation, queues filling) left out. The wall
+// time per frame of the whole run (start and the final drain included) is printed.
+Row bench_pipeline(const fs::path& dir, const std::string& mesh, int frames, render::Antialias aa, int samples,
+                   std::ostream& out) {
+  Row r{aa_case("pipeline_720p", aa, samples), "pipeline"};
+  std::string error;
+  PreparedScene ps = probe_scene(mesh, frames, true);
+  ps.scene.render.settings.antialias = aa;
+  ps.scene.render.settings.samples = samples;
+  RunOptions opt;
+  opt.out_dir = (dir / "pipeline_run").string();
+  std::vector<double> done;
+  opt.frame_done_ms = &done;
+  std::ostringstream o, e;
+  const auto t0 = Clock::now();
+  if (run_scene(ps, opt, o, e, false) != 0) throw std::runtime_error("the pipeline run failed: " + e.str());
+  const double whole = ms_since(t0) / frames;
+  const size_t warm_up = std::min<size_t>(10, done.size() / 3);
+  std::vector<double> intervals;
+  for (size_t f = warm_up + 1; f < done.size(); ++f) intervals.push_back(done[f] - done[f - 1]);
+  r.nodes = ps.model.n;
+  r.median_ms = quantile(intervals, 0.5);
+  r.p95_ms = quantile(intervals, 0.95);
+  out << " (whole run " << std::setprecision(4) << whole << " ms per frame)" << std::flush;
+  std::error_code ec;
+  fs::remove_all(dir / "pipeline_run", ec);
+  return r;
+}
+
+}  // namespace
+
+int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::ostream& err, const std::string& only,
+              int case_fd) {
+  std::string error;
+  if (!prepare_output_dir(out_dir, error)) {
+    err << "vdmsim: error: " << error << "\n";
+    return 2;
+  }
+  const fs::path dir(out_dir);
+  const int repeats = quick ? 1 : 3;
+  // Bullet right after VDM on the same mesh: the two see about the same machine load.
+  std::vector<std::pair<std::string, std::function<Row()>>> cases;
+  const bool bullet = bullet_available();
+  if (bullet && case_fd < 0) out << "bench: Bullet " << describe(BulletSettings{}) << "\n";
+  if (!bullet && case_fd < 0)
+    out << "bench: liver_probe bullet: skipped (this build has no Bullet: install libbullet-dev and reconfigure)\n";
+  cases.push_back({"liver_probe 2.5k", [&] { return bench_probe("liver_L4.obj", repeats); }});
+  if (bullet) cases.push_back({"liver_probe bullet 2.5k", [&] { return bench_bullet("liver_L4.obj", repeats); }});
+  cases.push_back({"liver_probe 10k", [&] { return bench_probe("liver_L5.obj", repeats); }});
+  if (bullet) cases.push_back({"liver_probe bullet 10k", [&] { return bench_bullet("liver_L5.obj", repeats); }});
+  if (!quick) cases.push_back({"liver_probe 40k", [&] { return bench_probe("liver_L6.obj", 1); }});
+  cases.push_back({"liver_probe 642", [&] { return bench_probe_level3(dir, repeats); }});
+  cases.push_back({"liver_probe fem 642", [&] { return bench_fem(dir, quick ? 26 : 60); }});
+  cases.push_back({"grasp_lift", [&] { return bench_grasp(repeats); }});
+  using render::Antialias;
+  const int render_frames = quick ? 6 : 20, pipeline_frames = quick ? 30 : 90;
+  cases.push_back({"render_720p", [&] { return bench_render(dir, render_frames, Antialias::edge, 1); }});
+  cases.push_back({"render_720p_msaa4x", [&] { return bench_render(dir, render_frames, Antialias::msaa, 4); }});
+  cases.push_back({"render_720p_1x", [&] { return bench_render(dir, render_frames, Antialias::none, 1); }});
+  cases.push_back({"pipeline_720p 10k", [&] { return bench_pipeline(dir, "liver_L5.obj", pipeline_frames, Antialias::edge, 1, out); }});
+  cases.push_back(
+      {"pipeline_720p_msaa4x 10k", [&] { return bench_pipeline(dir, "liver_L5.obj", pipeline_frames, Antialias::msaa, 4, out); }});
+  cases.push_back({"pipeline_720p_1x 10k", [&] { return bench_pipeline(dir, "liver_L5.obj", pipeline_frames, Antialias::none, 1, out); }});
+  // 40k nodes with rendering: its peak memory (a few contact frames).
+  cases.push_back({"pipeline_720p 40k", [&] { return bench_pipeline(dir, "liver_L6.obj", 24, Antialias::edge, 1, out); }});
+  if (!quick)  // the same with 4x MSAA (the default before edge AA): where the memory case lands with it
+    cases.push_back(
+        {"pipeline_720p_msaa4x 40k", [&] { return bench_pipeline(dir, "liver_L6.obj", 24, Antialias::msaa, 4, out); }});
+
+  if (case_fd >= 0) {  // the process of one case (run_isolated): its row to the pipe
+    for (const auto& [label, body] : cases) {
+      if (label != only) continue;
+      Row r;
+      try {
+        r = body();
+      } catch (const std::exception& e) {
+        err << "vdmsim: bench: " << e.what() << "\n";
+        return 1;
+      }
+      r.peak_mb = peak_mb();
+      const std::string text = format_row(r);
+      const ssize_t w = write(case_fd, text.data(), text.size());
+      close(case_fd);
+      return w == ssize_t(text.size()) ? 0 : 1;
+    }
+    err << "vdmsim: bench: no case " << only << "\n";
+    return 1;
+  }
+  std::vector<Row> rows;
+  for (const auto& [label, body] : cases) {
+    if (!only.empty() && label.find(only) == std::string::npos) continue;
+    Row row;
+    out << "bench: " << label << " ..." << std::flush;
+    if (!run_isolated(label, out_dir, quick, row, error)) {
+      out << " failed\n";
+      err << "vdmsim: error: " << label << ": " << error << "\n";
+      return 1;
+    }
+    out << " median " << row.median_ms << " ms, p95 " << row.p95_ms << " ms, " << row.nodes << " nodes, peak "
+        << std::lround(row.peak_mb) << " MB\n";
+    rows.push_back(row);
+  }
+  std::ofstream csv(dir / "bench.csv");
+  csv << "case,model,nodes,median_ms,p95_ms,iterations,volume_rel_error,peak_mb\n" << std::setprecision(6);
+  for (const Row& r : rows)
+    csv << r.name << ',' << r.model << ',' << r.nodes << ',' << r.median_ms << ',' << r.p95_ms << ',' << r.iterations
+        << ',' << r.volume_rel_error << ',' << r.peak_mb << '\n';
+  csv.flush();
+  if (!csv) {
+    err << "vdmsim: error: " << (dir / "bench.csv").string() << ": write failed\n";
+    return 1;
+  }
+  // Side by side: Bullet's and FEM's time per step over VDM's on the same mesh.
+  for (const Row& r : rows)
+    for (const Row& v : rows)
+      if (r.name == "liver_probe" && v.name == r.name && v.model == "vdm" && r.model != "vdm" && v.nodes == r.nodes &&
+          v.median_ms > 0)
+        out << "bench: liver_probe " << r.nodes << " nodes: " << r.model << " takes " << std::setprecision(3)
+            << r.median_ms / v.median_ms << "x VDM's time per step\n";
+  // Bullet and VDM run after run in turn (after the isolated cases: its memory is not theirs).
+  if (bullet && (only.empty() || std::string("liver_probe side by side").find(only) != std::string::npos)) {
+    std::ofstream sc(dir / "bench_side_by_side.csv");
+    sc << "nodes,pairs,vdm_median_ms,bullet_median_ms,ratio,pair_ratio_median,pair_ratio_min\n";
+    for (const char* mesh : {"liver_L4.obj", "liver_L5.obj"}) {
+      out << "bench: liver_probe side by side " << mesh << " ..." << std::flush;
+      const SideBySide r = bench_side_by_side(mesh, quick ? 2 : 6);
+      sc << r.nodes << ',' << r.pairs << ',' << std::setprecision(6) << r.vdm_ms << ',' << r.bullet_ms << ',' << r.ratio
+         << ',' << r.pair_ratio_median << ',' << r.pair_ratio_min << '\n';
+      out << " " << r.nodes << " nodes, runs in turn: bullet " << std::setprecision(3) << r.bullet_ms << " ms, vdm "
+          << r.vdm_ms << " ms: bullet takes " << r.ratio << "x VDM's time per step (pair by pair: median "
+          << r.pair_ratio_median << "x, lowest " << r.pair_ratio_min << "x, " << r.pairs << " pairs)\n";
+    }
+    sc.flush();
+    if (!sc) {
+      err << "vdmsim: error: " << (dir / "bench_side_by_side.csv").string() << ": write failed\n";
+      return 1;
+    }
+  }
+  // The scaling exponent from VDM's probe on every size in turn (40k only in the full bench).
+  if (only.empty() || std::string("liver_probe sizes in turn").find(only) != std::string::npos) {
+    std::vector<std::string> meshes = {"liver_L4.obj", "liver_L5.obj"};
+    if (!quick) meshes.push_back("liver_L6.obj");
+    out << "bench: liver_probe sizes in turn ..." << std::flush;
+    const ScalingInTurn r = bench_scaling_in_turn(meshes, quick ? 2 : 5);
+    std::vector<double> sorted = r.round_exponent;
+    std::sort(sorted.begin(), sorted.end());
+    const double round_median = quantile(sorted, 0.5);
+    std::ofstream st(dir / "bench_scaling.csv");
+    st << "nodes,rounds,median_ms,exponent,round_exponent_median,round_exponent_min,round_exponent_max\n";
+    for (size_t k = 0; k < r.nodes.size(); ++k)
+      st << std::lround(r.nodes[k]) << ',' << r.round_exponent.size() << ',' << std::setprecision(6) << r.median_ms[k]
+         << ',' << r.exponent << ',' << round_median << ',' << sorted.front() << ',' << sorted.back() << '\n';
+    st.flush();
+    if (!st) {
+      err << "vdmsim: error: " << (dir / "bench_scaling.csv").string() << ": write failed\n";
+      return 1;
+    }
+    out << " " << r.round_exponent.size() << " rounds, median ms";
+    for (size_t k = 0; k < r.nodes.size(); ++k)
+      out << (k ? " / " : " ") << std::setprecision(3) << r.median_ms[k] << " at " << std::lround(r.nodes[k]);
+    out << " nodes: ms per step grows as nodes^" << std::setprecision(3) << r.exponent << " (rounds: median "
+        << round_median << ", " << sorted.front() << " to " << sorted.back() << ")\n";
+  }
+  // The displacement error of the bench's solver tolerance, against a tight one.
+  if (only.empty() || std::string("liver_probe tolerance").find(only) != std::string::npos) {
+    constexpr double kReference = 1e-10;
+    std::ofstream tc(dir / "bench_tolerance.csv");
+    const double ref_volume = vdm::SolverSettings().volume_tolerance;
+    tc << "nodes,tolerance,volume_tolerance,reference_tolerance,reference_volume_tolerance,max_error_mm,rms_error_mm\n";
+    // Every mesh the probe cases time (40k only in the full bench).
+    for (const char* mesh : {"liver_L4.obj", "liver_L5.obj", "liver_L6.obj"}) {
+      if (quick && std::string(mesh) == "liver_L6.obj") continue;
+      const ToleranceError e = bench_tolerance_error(mesh, kBenchTolerance, kReference);
+      tc << e.nodes << ',' << kBenchTolerance << ',' << kBenchVolumeTolerance << ',' << kReference << ',' << ref_volume
+         << ',' << std::setprecision(6) << e.max_m * 1e3 << ',' << e.rms_m * 1e3 << '\n';
+      out << "bench: liver_probe " << e.nodes << " nodes at tolerance " << kBenchTolerance << " (volume "
+          << kBenchVolumeTolerance << "): displacements within " << std::setprecision(3) << e.max_m * 1e3
+          << " mm (max; RMS " << e.rms_m * 1e3 << " mm) of tolerance " << kReference << " (volume " << ref_volume
+          << ")\n";
+    }
+    tc.flush();
+    if (!tc) {
+      err << "vdmsim: error: " << (dir / "bench_tolerance.csv").string() << ": write failed\n";
+      return 1;
+    }
+  }
+  // Scaling of the probe step with the node count: log-log fit and plot.
+  render::Panel p;
+  p.title = "Step with a probe in contact";
+  p.x_label = "surface nodes";
+  p.y_label = "median ms per step";
+  p.log_x = p.log_y = true;
+  for (const char* model : {"vdm", "bullet", "fem"}) {
+    render::Series s;
+    s.label = model;
+    s.markers = true;
+    for (const Row& r : rows)
+      if (r.name == "liver_probe" && r.model == model) {
+        s.x.push_back(double(r.nodes));
+        s.y.push_back(r.median_ms);
+      }
+    if (s.x.empty()) continue;
+    // Points in order of size (the 642-node row comes last in the table).
+    std::vector<size_t> order(s.x.size());
+    for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::sort(order.begin(), order.end(), [&s](size_t a, size_t b) { return s.x[a] < s.x[b]; });
+    const std::vector<double> x = s.x, y = s.y;
+    for (size_t i = 0; i < order.size(); ++i) {
+      s.x[i] = x[order[i]];
+      s.y[i] = y[order[i]];
+    }
+    // The fit spans 2.5k nodes and up (the range; the 642-node row is FEM's organ).
+    std::vector<size_t> fit;
+    for (size_t i = 0; i < s.x.size(); ++i)
+      if (s.x[i] >= 2000) fit.push_back(i);
+    if (fit.size() >= 2) {
+      std::vector<double> fx, fy;
+      for (size_t i : fit) {
+        fx.push_back(s.x[i]);
+        fy.push_back(s.y[i]);
+      }
+      const double slope = loglog_slope(fx, fy);
+      out << "scaling: " << model << " ms per step grows as nodes^" << std::setprecision(3) << slope
+          << " (log-log fit over " << fit.size() << " sizes, 2.5k nodes and up)\n";
+      s.label += " (nodes^" + render::format_number(slope, 3) + ")";
+    }
+    p.series.push_back(s);
+  }
+  render::Figure fig;
+  fig.panels.push_back(p);
+  if (!render::write_figure_png(fig, (dir / "scaling.png").string(), error)) {
+    err << "vdmsim: error: " << error << "\n";
+    return 1;
+  }
+  out << "bench: wrote " << (dir / "bench.csv").string() << " and " << (dir / "scaling.png").string() << "\n";
+  return 0;
+}
+
+}  // namespace vdmsim

@@ -1,0 +1,14 @@
+#include "render/view_settings.hpp"
+
+namespace render {
+
+const char* to_string(Antialias a) {
+  switch (a) {
+    case Antialias::edge: return "edge";
+    case Antialias::msaa: return "msaa";
+    case Antialias::none: return "none";
+  }
+  return "edge";
+}
+
+}  // namespace render

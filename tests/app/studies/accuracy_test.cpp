@@ -1,0 +1,101 @@
+// The accuracy study's pieces: the configuration sweep, the Pareto front and the choice of
+// recommended settings.
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "app/studies/accuracy.hpp"
+#include "app/studies/accuracy_report.hpp"
+
+namespace vdmsim {
+namespace {
+
+AccuracyRow row(const char* scenario, const char* varied, double ms, double rms) {
+  AccuracyRow r;
+  r.config.scenario = scenario;
+  r.config.varied = varied;
+  r.median_ms = ms;
+  r.rms_mm = rms;
+  return r;
+}
+
+TEST(Accuracy, EveryScenarioHasAReferenceFirstAndEveryKnobVaried) {
+  for (bool quick : {true, false}) {
+    const std::vector<AccuracyConfig> configs = accuracy_configs(quick);
+    for (const char* scenario : {"probe_poke", "grasp_lift"}) {
+      std::set<std::string> varied;
+      const AccuracyConfig* ref = nullptr;
+      int finest = 0;
+      for (const AccuracyConfig& c : configs) {
+        if (c.scenario != scenario) continue;
+        if (!ref) ref = &c;
+        varied.insert(c.varied);
+        finest = std::max(finest, c.level);
+      }
+      ASSERT_NE(ref, nullptr);
+      EXPECT_EQ(ref->varied, "reference");
+      // The reference is the converged end of every knob.
+      EXPECT_EQ(ref->level, finest);
+      EXPECT_EQ(ref->refresh_every, 1);
+      EXPECT_GT(ref->nonlinear_iterations, 1);
+      for (const AccuracyConfig& c : configs)
+        if (c.scenario == scenario && c.model == vdm::ModelKind::vdm) {
+          EXPECT_LE(ref->tolerance, c.tolerance);
+        }
+      for (const char* knob : {"baseline", "solver", "tolerance", "refresh", "nonlinear", "mesh", "model"})
+        EXPECT_TRUE(varied.count(knob)) << scenario << " " << knob << (quick ? " quick" : "");
+    }
+  }
+}
+
+TEST(Accuracy, ParetoFrontKeepsOnlyUndominatedRowsPerScenario) {
+  std::vector<AccuracyRow> rows = {
+      row("probe_poke", "reference", 100, 0),    // never on the front
+      row("probe_poke", "baseline", 10, 0.1),    // front
+      row("probe_poke", "tolerance", 2, 0.5),    // front
+      row("probe_poke", "tolerance", 12, 0.2),   // dominated by baseline
+      row("probe_poke", "mesh", 2, 0.6),         // dominated (same time, larger error)
+      row("grasp_lift", "baseline", 50, 1.0),    // another scenario: front of its own
+  };
+  rows.push_back(row("probe_poke", "model", 1, 0.05));
+  rows.back().failed = true;                     // failed rows take no part
+  mark_pareto(rows);
+  const std::vector<bool> expected = {false, true, true, false, false, true, false};
+  for (size_t k = 0; k < rows.size(); ++k) EXPECT_EQ(rows[k].pareto, expected[k]) << k;
+}
+
+TEST(Accuracy, RecommendationIsTheFastestNearlyMostAccurateWithinTheBudget) {
+  std::vector<AccuracyRow> rows = {
+      row("probe_poke", "reference", 0.1, 0),   // excluded even though fastest and exact
+      row("probe_poke", "mesh", 0.6, 0.3),
+      row("probe_poke", "tolerance", 0.9, 0.4),
+      row("probe_poke", "baseline", 8, 0.100),
+      row("probe_poke", "refresh", 5, 0.104),   // within 5 % of the baseline's error, faster
+      row("probe_poke", "solver", 20, 0.090),   // clearly more accurate, slower
+  };
+  for (AccuracyRow& r : rows) r.p95_ms = 2 * r.median_ms;
+  rows[1].force_rel = 1.4;   // the coarse mesh: displacements fine, force far off
+  rows[2].force_rel = 0.05;
+  rows[3].force_rel = 0.04;
+  rows[4].force_rel = 0.04;
+  rows[5].force_rel = 0.04;
+  EXPECT_EQ(best_within(rows, "probe_poke", 1.0)->config.varied, "mesh");
+  EXPECT_EQ(best_within(rows, "probe_poke", 1.0, AccuracyMetric::force)->config.varied, "tolerance");
+  // Held to the 95th percentile, nothing fits 1 ms (p95 1.2 and 1.8 ms).
+  EXPECT_EQ(best_within(rows, "probe_poke", 1.0, AccuracyMetric::force, true), nullptr);
+  EXPECT_EQ(best_within(rows, "probe_poke", 12)->config.varied, "refresh");
+  EXPECT_EQ(best_within(rows, "probe_poke", 1e9)->config.varied, "solver");
+  EXPECT_EQ(best_within(rows, "probe_poke", 33, AccuracyMetric::force)->config.varied, "refresh");
+  EXPECT_EQ(best_within(rows, "probe_poke", 0.2), nullptr);
+  EXPECT_EQ(best_within(rows, "grasp_lift", 1e9), nullptr);
+  // Every use has a budget and says what it judges by; real-time ones hold the p95.
+  ASSERT_EQ(use_budgets().size(), 3u);
+  EXPECT_EQ(use_budgets()[0].metric, AccuracyMetric::force);
+  EXPECT_LE(use_budgets()[0].budget_ms, 1.0);
+  EXPECT_TRUE(use_budgets()[0].worst_case);
+  EXPECT_LE(use_budgets()[1].budget_ms, 1000.0 / 30);
+  EXPECT_TRUE(use_budgets()[1].worst_case);
+}
+
+}  // namespace
+}  // namespace vdmsim
