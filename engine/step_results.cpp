@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <cstring>
 
+#include "engine/membrane_strain.hpp"
 #include "engine/simd2.hpp"
 
 namespace vdm {
@@ -129,7 +130,7 @@ class ResultsPass {
         diag_(in.K.diagonal.data()), mask_(in.mask.data()), f_(Loads ? in.force->data() : nullptr),
         k_(Springs ? in.springs->data() : nullptr), reaction_(s.reaction.data()), pressure_(s.reaction_pressure.data()),
         norms_(in.area_norms.data()), strain_(s.strain.data()), sigma_(s.stress.data()), bulk_(m.bulk.data()),
-        vol_(s.node_volumes.data()), lap_(m.capsule_diagonal.data()), bc_(m.connectivity_modulus), p_(s.pressure),
+        vol_(s.node_volumes.data()), bc_(m.connectivity_modulus), p_(s.pressure),
         membrane_(m.membrane_capsule()) {}
 
   ResidualSums run(SimState& s) {
@@ -254,17 +255,14 @@ class ResultsPass {
       const V2 dv_sums[3] = {high_lanes(g0.wu_z_dv_x, g1.wu_z_dv_x), low_lanes(g0.dv_yz, g1.dv_yz),
                              high_lanes(g0.dv_yz, g1.dv_yz)};
       const V2 inv_v = simd::splat(1.0) / (Pair ? simd::load2(vol_ + i) : V2{vol_[i], 1.0});
-      const V2 inv_area = membrane_ ? simd::splat(1.0) / (Pair ? simd::load2(norms_ + i) : V2{norms_[i], 1.0})
-                                    : V2{0.0, 0.0};
       for (int d = 0; d < 3; ++d) {
         const std::ptrdiff_t id = i + col_[d];
         const V2 dv = load<Pair>(a_ + id) * load<Pair>(u_ + id);
         const V2 eps = dv * inv_v;
         store<Pair>(strain_ + id, eps);
-        // The capsule's term: the paper's volumic tension, or the membrane's force per patch
-        // area, (sum_j w_ij (u_i - u_j)) / |A_i| = (lap_i u_i - sum_j w_ij u_j) / |A_i|.
-        const V2 capsule = membrane_ ? (load<Pair>(lap_ + i) * load<Pair>(u_ + id) - wu[d]) * inv_area
-                                     : simd::splat(bc_) * (degree * dv - dv_sums[d]) * inv_v;
+        // The capsule's term: the paper's volumic tension; a membrane's stress comes from its
+        // strain, after this pass (add_membrane_stress).
+        const V2 capsule = membrane_ ? V2{0.0, 0.0} : simd::splat(bc_) * (degree * dv - dv_sums[d]) * inv_v;
         store<Pair>(sigma_ + id, load<Pair>(bulk_ + id) * eps + capsule);
       }
     }
@@ -310,7 +308,7 @@ class ResultsPass {
   double *reaction_, *pressure_;
   const double* norms_;
   double *strain_, *sigma_;
-  const double *bulk_, *vol_, *lap_;
+  const double *bulk_, *vol_;
   const double bc_, p_;
   const bool membrane_;
 };
@@ -339,7 +337,9 @@ std::ptrdiff_t result_ring_nodes(int reach, std::ptrdiff_t n) {
 }
 
 ResidualSums compute_step_results(const TissueModel& m, const StepResultsInput& in, SimState& s, double* rows) {
-  return m.compute_stress ? results_pass<true>(m, in, s, rows) : results_pass<false>(m, in, s, rows);
+  const ResidualSums sums = m.compute_stress ? results_pass<true>(m, in, s, rows) : results_pass<false>(m, in, s, rows);
+  if (m.compute_stress && m.membrane_capsule()) add_membrane_stress(m, s, rows);  // rows: free again
+  return sums;
 }
 
 }  // namespace vdm

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "engine/membrane_strain.hpp"
 #include "engine/simd2.hpp"
 
 namespace vdm {
@@ -44,31 +45,25 @@ void compute_strain_stress(const TissueModel& m, SimState& s, double* dv) {
   const double* bulk[3] = {m.bulk.col(0).data(), m.bulk.col(1).data(), m.bulk.col(2).data()};
   const double* vol = s.node_volumes.data();
   if (m.membrane_capsule()) {
-    // The membrane's term: its force on node i per patch area, sum_j w_ij (u_i - u_j) / |A_i|.
-    const NodeMat& u = s.u;
-    const int* begin = m.neighbours.begin.data();
-    const NeighbourLists::Entry* list = m.neighbours.entries.data();
-    const double* w = m.capsule_weight.data();
-    double* strain[3] = {s.strain.col(0).data(), s.strain.col(1).data(), s.strain.col(2).data()};
-    double* sigma[3] = {s.stress.col(0).data(), s.stress.col(1).data(), s.stress.col(2).data()};
+    // The bulk term as for the paper's form (no capsule term in eq 6), then the membrane's
+    // stress from its strain.
     for (int i = 0; i < n; ++i) {
-      const double inv_v = 1.0 / s.node_volumes[i], inv_area = 1.0 / A.row(i).norm();
+      const double inv_v = 1.0 / s.node_volumes[i];
       for (int d = 0; d < 3; ++d) {
-        double force = 0.0;
-        for (int k = begin[i]; k < begin[i + 1]; ++k) force += w[list[k].edge] * (u(i, d) - u(list[k].node, d));
         const double eps = dv[3 * i + d] * inv_v;
-        strain[d][i] = eps;
-        sigma[d][i] = m.bulk(i, d) * eps + force * inv_area;
+        s.strain(i, d) = eps;
+        s.stress(i, d) = m.bulk(i, d) * eps;
       }
     }
     for (const int i : m.infinite_nodes) {
       const double tiny = 1e-9 * A.row(i).norm();
       for (int d = 0; d < 3; ++d) {
         if (!m.infinite(i, d)) continue;
-        strain[d][i] = 0.0;
-        sigma[d][i] += std::abs(A(i, d)) > tiny ? -s.reaction(i, d) / A(i, d) : 0.0;
+        s.strain(i, d) = 0.0;
+        s.stress(i, d) += std::abs(A(i, d)) > tiny ? -s.reaction(i, d) / A(i, d) : 0.0;
       }
     }
+    add_membrane_stress(m, s, dv);
     return;
   }
   // Strain and stress of node i at once (one division by V_i for the three axes), as for a

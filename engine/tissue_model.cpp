@@ -5,6 +5,7 @@
 
 #include "engine/cotangent_laplacian.hpp"
 #include "engine/geometry.hpp"
+#include "engine/membrane_strain.hpp"
 #include "engine/mesh_topology.hpp"
 
 namespace vdm {
@@ -140,6 +141,7 @@ bool build_tissue_model(const TissueDef& def, TissueModel& m, std::string& error
   m.connectivity_modulus = def.connectivity_modulus;
   if (m.membrane_capsule()) {
     m.capsule_tension = def.connectivity_modulus * m.rest_volume / m.rest_area;
+    m.membrane_frames = membrane_frames(def.mesh);
     m.capsule_weight *= m.capsule_tension;
     m.capsule_diagonal = Vec::Zero(n);
     for (size_t e = 0; e < m.edges.size(); ++e) {

@@ -106,7 +106,7 @@ bool run_isolated(const std::string& label, const std::string& out_dir, bool qui
 }  // namespace
 
 PreparedScene bench_probe_scene(const std::string& mesh, int frames, bool render, double tolerance,
-                                double volume_tolerance) {
+                                double volume_tolerance, vdm::CapsuleForm capsule) {
   PreparedScene ps;
   std::vector<SceneProblem> problems;
   const std::string path = (fs::path(VDMSIM_SOURCE_DIR_STR) / "assets" / "scenes" / "probe_poke.yaml").string();
@@ -117,6 +117,7 @@ PreparedScene bench_probe_scene(const std::string& mesh, int frames, bool render
   s.frames = frames;
   s.solver.tolerance = tolerance;
   s.solver.volume_tolerance = volume_tolerance;
+  s.capsule = capsule;
   for (auto& in : s.instruments) in.radius = 0.008;
   if (!render) s.has_render = false;
   s.render.stress = false;
@@ -174,9 +175,11 @@ void time_steps(const PreparedScene& ps, int repeats, Timed timed, Row& r) {
   r.volume_rel_error = vol;
 }
 
-Row bench_probe(const std::string& mesh, int repeats) {
-  Row r{"liver_probe", "vdm"};
-  const PreparedScene ps = probe_scene(mesh, 60, false);
+// `capsule`: the model's default form (row "vdm"), or another (row "vdm_<form>", the same
+// case side by side: what the form costs).
+Row bench_probe(const std::string& mesh, int repeats, vdm::CapsuleForm capsule = vdm::CapsuleForm::membrane) {
+  Row r{"liver_probe", capsule == vdm::CapsuleForm::membrane ? "vdm" : std::string("vdm_") + vdm::to_string(capsule)};
+  const PreparedScene ps = bench_probe_scene(mesh, 60, false, kBenchTolerance, kBenchVolumeTolerance, capsule);
   // Only steps in contact are timed; the first contact steps warm up.
   time_steps(ps, repeats,
              [](int rep, int f, const SceneSimulation& sim) { return sim.contact_report().nodes > 0 && (rep > 0 || f > 20); },
@@ -437,6 +440,8 @@ int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::os
   cases.push_back({"liver_probe 2.5k", [&] { return bench_probe("liver_L4.obj", repeats); }});
   if (bullet) cases.push_back({"liver_probe bullet 2.5k", [&] { return bench_bullet("liver_L4.obj", repeats); }});
   cases.push_back({"liver_probe 10k", [&] { return bench_probe("liver_L5.obj", repeats); }});
+  cases.push_back({"liver_probe paper capsule 10k",
+                   [&] { return bench_probe("liver_L5.obj", repeats, vdm::CapsuleForm::paper); }});
   if (bullet) cases.push_back({"liver_probe bullet 10k", [&] { return bench_bullet("liver_L5.obj", repeats); }});
   if (!quick) cases.push_back({"liver_probe 40k", [&] { return bench_probe("liver_L6.obj", 1); }});
   cases.push_back({"liver_probe 642", [&] { return bench_probe_level3(dir, repeats); }});

@@ -25,9 +25,10 @@ constexpr double kBenchVolumeTolerance = 1e-6;
 
 // The bench's probe scene (assets/scenes/probe_poke.yaml) on `mesh` (a file in assets/meshes)
 // with an 8 mm probe, so that it meets nodes on every mesh; `frames` frames; solver
-// tolerance `tolerance`, volume tolerance `volume_tolerance`.
+// tolerance `tolerance`, volume tolerance `volume_tolerance`; the capsule's form `capsule`.
 PreparedScene bench_probe_scene(const std::string& mesh, int frames, bool render, double tolerance = kBenchTolerance,
-                                double volume_tolerance = kBenchVolumeTolerance);
+                                double volume_tolerance = kBenchVolumeTolerance,
+                                vdm::CapsuleForm capsule = vdm::CapsuleForm::membrane);
 
 // The largest and the RMS difference (m) of the nodes' displacements, over every frame of
 // the bench's probe scene on `mesh`, between the solver tolerance `tolerance` (with the

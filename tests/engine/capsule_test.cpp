@@ -2,10 +2,18 @@
 // refinement, the paper's edge weights do not; both keep the volume exactly.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
+#include <random>
+#include <set>
 
+#include "app/scene/organ_generator.hpp"
+#include "engine/contact.hpp"
 #include "engine/geometry.hpp"
+#include "engine/mesh_topology.hpp"
+#include "render/render_scene.hpp"
 #include "support/flat_punch.hpp"
 
 namespace vdm {
@@ -52,6 +60,125 @@ TEST(PaperCapsule, FlatPunchDentFadesUnderRefinement) {
   print("paper   ", 20, r20);
   print("paper   ", 40, r40);
   EXPECT_LT(std::abs(r40.dent[0]), 0.5 * std::abs(r20.dent[0]));
+}
+
+}  // namespace
+}  // namespace vdm
+
+// --- The stress view on an irregular surface ---------------------------------------------
+
+namespace vdm {
+namespace {
+
+// The project's liver made irregular as a CT surface is: every node moved at random along the
+// surface by up to 30 % of its shortest edge, then about one edge in eight flipped (where the
+// flip keeps the surface manifold and turns no triangle over).
+SurfaceMesh irregular_liver(int level, unsigned seed) {
+  SurfaceMesh m = vdmsim::make_liver_mesh(level);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> uni(-1.0, 1.0);
+  NodeMat a(m.node_count(), 3);
+  distributed_area_vectors(m.positions, m.triangles, a);
+  Vec shortest = Vec::Constant(m.node_count(), 1e9);
+  for (int t = 0; t < m.triangle_count(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const int i = m.triangles(t, k), j = m.triangles(t, (k + 1) % 3);
+      const double l = (m.positions.row(i) - m.positions.row(j)).norm();
+      shortest[i] = std::min(shortest[i], l);
+      shortest[j] = std::min(shortest[j], l);
+    }
+  for (int i = 0; i < m.node_count(); ++i) {
+    const Vec3 n = a.row(i).normalized();
+    Vec3 d(uni(rng), uni(rng), uni(rng));
+    d -= d.dot(n) * n;
+    m.positions.row(i) += (0.3 * shortest[i] * d).transpose();
+  }
+  // Flips: triangles (i, j, k) and (j, i, l) sharing edge ij become (k, l, j) and (l, k, i).
+  std::map<std::pair<int, int>, int> owner;  // directed edge -> triangle
+  for (int t = 0; t < m.triangle_count(); ++t)
+    for (int k = 0; k < 3; ++k) owner[{m.triangles(t, k), m.triangles(t, (k + 1) % 3)}] = t;
+  auto normal = [&](int a0, int b0, int c0) {
+    return Vec3((m.positions.row(b0) - m.positions.row(a0)).cross(m.positions.row(c0) - m.positions.row(a0)));
+  };
+  std::set<std::pair<int, int>> edges_now;
+  for (const auto& [e, t] : owner) edges_now.insert({std::min(e.first, e.second), std::max(e.first, e.second)});
+  std::vector<char> touched(size_t(m.triangle_count()), 0);
+  for (int t = 0; t < m.triangle_count(); ++t) {
+    if (touched[size_t(t)] || rng() % 8 != 0) continue;
+    const int i = m.triangles(t, 0), j = m.triangles(t, 1), k = m.triangles(t, 2);
+    const auto it = owner.find({j, i});
+    if (it == owner.end() || touched[size_t(it->second)]) continue;
+    const int u = it->second;
+    int l = -1;
+    for (int c = 0; c < 3; ++c)
+      if (m.triangles(u, c) != i && m.triangles(u, c) != j) l = m.triangles(u, c);
+    if (l < 0 || edges_now.count({std::min(k, l), std::max(k, l)})) continue;
+    const Vec3 n_before = normal(i, j, k) + normal(j, i, l);
+    if (normal(k, l, j).dot(n_before) <= 0 || normal(l, k, i).dot(n_before) <= 0) continue;
+    edges_now.erase({std::min(i, j), std::max(i, j)});
+    edges_now.insert({std::min(k, l), std::max(k, l)});
+    m.triangles.row(t) << k, l, j;
+    m.triangles.row(u) << l, k, i;
+    touched[size_t(t)] = touched[size_t(u)] = 1;
+  }
+  return m;
+}
+
+// The share of the top 1 % of the default stress view's quantity (stress magnitude) that lies
+// within `radius` of `point`.
+double top_share_near(const TissueModel& m, const SimState& s, const Vec3& point, double radius) {
+  std::vector<float> q;
+  render::scalar_field(render::Quantity::stress_magnitude, s, q);
+  std::vector<int> order;
+  for (int i = 0; i < m.n; ++i) order.push_back(i);
+  const size_t top = std::max<size_t>(1, order.size() / 100);
+  std::partial_sort(order.begin(), order.begin() + long(top), order.end(),
+                    [&](int a, int b) { return q[size_t(a)] > q[size_t(b)]; });
+  size_t near = 0;
+  for (size_t k = 0; k < top; ++k) near += (s.x.row(order[k]).transpose() - point).norm() <= radius;
+  return double(near) / double(top);
+}
+
+TEST(MembraneCapsule, StressViewFindsTheProbeOnAnIrregularSurface) {
+  // A 4 mm probe pressed 10 mm into the right lobe of a jittered, edge-flipped liver (10k
+  // nodes), underside fixed: the top 1 % of the stress magnitude lies within 3 cm of it. (With
+  // the membrane's force per node instead of its strain, half of the top 1 % was along the
+  // fixed underside's rim, where the pressure's bulge meets the support.)
+  const SurfaceMesh mesh = irregular_liver(5, 11);
+  MeshCheck check;
+  SurfaceMesh checked = mesh;
+  check = check_and_orient_surface(checked);
+  ASSERT_TRUE(check.ok()) << check.message;
+  const Vec3 touch(0.035, 0.0, 0.0603), up(0, 0, 1);
+  const double r = 0.004, depth = 0.010;
+  for (const CapsuleForm form : {CapsuleForm::membrane, CapsuleForm::paper}) {
+    TissueDef def = default_tissue(checked);
+    def.capsule = form;
+    def.fixed = FlagMat::Zero(def.mesh.node_count(), 3);
+    for (int i = 0; i < def.mesh.node_count(); ++i)
+      if (def.mesh.positions(i, 2) < -0.03) def.fixed.row(i).setOnes();
+    TissueModel m;
+    std::string error;
+    ASSERT_TRUE(build_tissue_model(def, m, error)) << error;
+    SimState s = make_sim_state(m);
+    ContactSolver contact(m);
+    const StepInput base = make_step_input(m);
+    ContactReport rep;
+    const int steps = 20;
+    for (int k = 0; k <= steps; ++k) {
+      const Vec3 tip = touch + (0.002 - (depth + 0.002) * k / steps) * up;
+      contact.step(m, base, {capsule_shape(tip + r * up, tip + 0.2 * up, r, k ? Vec3(-(depth + 0.002) / steps * up) : Vec3::Zero())},
+                   s, rep);
+      ASSERT_FALSE(s.failed) << s.failure;
+    }
+    const double share = top_share_near(m, s, touch, 0.03);
+    std::printf("%s capsule: contact force %.3f N, %d nodes; top 1 %% of the stress magnitude within 3 cm: %.0f %%\n",
+                to_string(form), rep.force.norm(), rep.nodes, 100 * share);
+    EXPECT_GT(rep.nodes, 0);
+    if (form == CapsuleForm::membrane) {
+      EXPECT_EQ(share, 1.0);
+    }
+  }
 }
 
 }  // namespace

@@ -13,6 +13,7 @@
 
 #include "engine/node_ordering.hpp"
 #include "engine/shapes.hpp"
+#include "engine/membrane_strain.hpp"
 #include "engine/step_results.hpp"
 #include "engine/step_workspace.hpp"
 #include "engine/stiffness.hpp"
@@ -49,7 +50,7 @@ ResidualSums plain_results(const TissueModel& m, const StepResultsInput& in, con
     s.reaction_pressure[i] = any && an > 0 ? s.reaction.row(i).norm() / an : 0.0;
   }
   if (m.compute_stress) {
-    std::vector<double> scratch(3 * size_t(m.n));
+    std::vector<double> scratch(4 * size_t(m.n));
     compute_strain_stress(m, s, scratch.data());
   }
   return sums;
@@ -96,10 +97,8 @@ ResidualSums list_order_results(const TissueModel& m, const StepResultsInput& in
         const double dv = s.area_vectors(i, d) * s.u(i, d);
         const double eps = dv * inv_v;
         s.strain(i, d) = eps;
-        // The membrane's force per patch area, or the paper's volumic tension.
-        const double capsule = m.membrane_capsule()
-                                   ? (m.capsule_diagonal[i] * s.u(i, d) - wu[d]) * (1.0 / in.area_norms[i])
-                                   : m.connectivity_modulus * (degree * dv - dv_sum[d]) * inv_v;
+        // The paper's volumic tension (a membrane's stress is added from its strain below).
+        const double capsule = m.membrane_capsule() ? 0.0 : m.connectivity_modulus * (degree * dv - dv_sum[d]) * inv_v;
         s.stress(i, d) = m.bulk(i, d) * eps + capsule;
       }
     }
@@ -114,6 +113,10 @@ ResidualSums list_order_results(const TissueModel& m, const StepResultsInput& in
         s.stress(i, d) += std::abs(a) > tiny ? -s.reaction(i, d) / a : 0.0;
       }
     }
+  if (m.compute_stress && m.membrane_capsule()) {  // (its own test: StrainStress.MembraneStress*)
+    std::vector<double> scratch(4 * size_t(m.n));
+    add_membrane_stress(m, s, scratch.data());
+  }
   ResidualSums sums;
   for (int d = 0; d < 3; ++d) {
     sums.free2[d] = free2[d][0] + free2[d][1];

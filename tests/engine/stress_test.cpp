@@ -2,6 +2,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include "engine/membrane_strain.hpp"
 #include "engine/stress.hpp"
 #include "support/scenarios.hpp"
 
@@ -75,23 +76,44 @@ TEST(StrainStress, EqualsThePlainFormulasBitForBit) {
     plain_strain_stress(m, s, strain, stress);
     s.strain.setConstant(7.0);
     s.stress.setConstant(7.0);
-    std::vector<double> scratch(3 * size_t(m.n), -1.0);
+    std::vector<double> scratch(4 * size_t(m.n), -1.0);
     compute_strain_stress(m, s, scratch.data());
     EXPECT_TRUE(same_bits(strain, s.strain)) << "B_c " << bc;
     EXPECT_TRUE(same_bits(stress, s.stress)) << "B_c " << bc;
   }
 }
 
-// The membrane capsule's stress: B eps plus the membrane's force per patch area,
-// sum_j w_ij (u_i - u_j) / |A_i| (docs/model.md). The step's own to round-off (it sums
-// lap_i u_i - sum_j w_ij u_j), compute_strain_stress() bit for bit.
-TEST(StrainStress, MembraneCapsuleEqualsThePlainFormula) {
+// The membrane's Green strain at each triangle, written another way: from the metric tensors
+// in the edge basis, E_edge = ½ (dᵀd − Dᵀ D), pushed to world coordinates by the rest edge
+// matrix's pseudo-inverse, E3 = D G⁻¹ E_edge G⁻¹ Dᵀ (G = Dᵀ D); averaged to nodes by area.
+NodeMat metric_strain(const TissueModel& m, const NodeMat& x) {
+  NodeMat acc = NodeMat::Zero(m.n, 3);
+  Vec weight = Vec::Zero(m.n);
+  for (int t = 0; t < m.rest.triangle_count(); ++t) {
+    const int a = m.rest.triangles(t, 0), b = m.rest.triangles(t, 1), c = m.rest.triangles(t, 2);
+    Eigen::Matrix<double, 3, 2> D, d;
+    D << (m.rest.positions.row(b) - m.rest.positions.row(a)).transpose(),
+        (m.rest.positions.row(c) - m.rest.positions.row(a)).transpose();
+    d << (x.row(b) - x.row(a)).transpose(), (x.row(c) - x.row(a)).transpose();
+    const Eigen::Matrix2d G = D.transpose() * D, E = 0.5 * (d.transpose() * d - G);
+    const Eigen::Matrix<double, 3, 2> P = D * G.inverse();
+    const Eigen::Matrix3d E3 = P * E * P.transpose();
+    const double area = 0.5 * D.col(0).cross(D.col(1)).norm();
+    for (const int i : {a, b, c}) {
+      acc.row(i) += area * E3.diagonal().transpose();
+      weight[i] += area;
+    }
+  }
+  for (int i = 0; i < m.n; ++i) acc.row(i) /= weight[i];
+  return acc;
+}
+
+// The membrane capsule's stress: B eps plus B_ij times the skin's Green strain (docs/model.md);
+// the step's and compute_strain_stress()'s agree with it written another way.
+TEST(StrainStress, MembraneStressIsBulkPlusTheSkinsGreenStrain) {
   const double L = 0.1;
   TissueDef def = cube_on_table(L, 4);
   def.capsule = CapsuleForm::membrane;
-  const int n = def.mesh.node_count();
-  def.bulk_modulus = NodeMat::Constant(n, 3, 20000.0);
-  for (int i = 0; i < n; i += 3) def.bulk_modulus(i, 0) = std::numeric_limits<double>::infinity();
   const TissueModel m = build(def);
   SimState s = make_sim_state(m);
   StepInput in = make_step_input(m);
@@ -100,39 +122,47 @@ TEST(StrainStress, MembraneCapsuleEqualsThePlainFormula) {
     step(m, in, s);
   }
   ASSERT_FALSE(s.failed);
-  NodeMat strain(m.n, 3), stress(m.n, 3);
-  const NodeMat& A = s.area_vectors;
+  const NodeMat E = metric_strain(m, s.x);
+  NodeMat want(m.n, 3);
   for (int i = 0; i < m.n; ++i)
-    for (int d = 0; d < 3; ++d) {
-      double force = 0.0;
-      for (int k = m.neighbours.begin[i]; k < m.neighbours.begin[i + 1]; ++k) {
-        const auto e = m.neighbours.entries[size_t(k)];
-        force += m.capsule_weight[e.edge] * (s.u(i, d) - s.u(e.node, d));
-      }
-      strain(i, d) = m.infinite(i, d) ? 0.0 : A(i, d) * s.u(i, d) / s.node_volumes[i];
-      const double tiny = 1e-9 * A.row(i).norm();
-      const double bulk = m.infinite(i, d) ? (std::abs(A(i, d)) > tiny ? -s.reaction(i, d) / A(i, d) : 0.0)
-                                           : m.bulk(i, d) * strain(i, d);
-      stress(i, d) = (m.infinite(i, d) ? force / A.row(i).norm() + bulk : bulk + force / A.row(i).norm());
-    }
-  EXPECT_LE((strain - s.strain).cwiseAbs().maxCoeff(), 1e-13 * strain.cwiseAbs().maxCoeff());
-  EXPECT_LE((stress - s.stress).cwiseAbs().maxCoeff(), 1e-9 * stress.cwiseAbs().maxCoeff());
-  std::vector<double> scratch(3 * size_t(m.n), -1.0);
+    for (int d = 0; d < 3; ++d) want(i, d) = m.bulk(i, d) * s.strain(i, d) + m.connectivity_modulus * E(i, d);
+  const double scale = want.cwiseAbs().maxCoeff();
+  EXPECT_LE((want - s.stress).cwiseAbs().maxCoeff(), 1e-9 * scale);
+  std::vector<double> scratch(4 * size_t(m.n), -1.0);
   SimState again = make_sim_state(m);
   again.u = s.u;
+  again.x = s.x;
   again.area_vectors = s.area_vectors;
   again.node_volumes = s.node_volumes;
   again.reaction = s.reaction;
   compute_strain_stress(m, again, scratch.data());
-  EXPECT_LE((stress - again.stress).cwiseAbs().maxCoeff(), 1e-12 * stress.cwiseAbs().maxCoeff());
-  EXPECT_LE((strain - again.strain).cwiseAbs().maxCoeff(), 1e-13 * strain.cwiseAbs().maxCoeff());
-  // The capsule's share is not nothing: without it the stress differs.
-  double capsule_share = 0.0, largest = 0.0;
-  for (int i = 0; i < m.n; ++i)
-    for (int d = 0; d < 3; ++d)
-      if (!m.infinite(i, d)) {
-        capsule_share = std::max(capsule_share, std::abs(stress(i, d) - m.bulk(i, d) * strain(i, d)));
-        largest = std::max(largest, std::abs(stress(i, d)));
-      }
-  EXPECT_GT(capsule_share, 0.01 * largest);
+  EXPECT_LE((want - again.stress).cwiseAbs().maxCoeff(), 1e-9 * scale);
+  EXPECT_GT(E.cwiseAbs().maxCoeff(), 1e-3) << "the press stretches the skin";
+}
+
+// Analytic cases of the skin's strain: a rigid rotation strains nothing (the measure is
+// rotation invariant); a uniform stretch by lambda along x gives E_xx = (lambda² − 1) / 2 on the
+// faces that contain x, and 0 along y and z where nothing stretches.
+TEST(StrainStress, MembraneStrainOfARotationAndOfAStretch) {
+  TissueDef def = default_tissue(make_box(Vec3(0.1, 0.1, 0.1), 4, 4, 4));
+  const TissueModel m = build(def);
+  std::vector<double> scratch(4 * size_t(m.n));
+  NodeMat E(m.n, 3);
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.7, Vec3(1, 2, 3).normalized()).toRotationMatrix();
+  const NodeMat rotated = (m.rest.positions * R.transpose()).eval();
+  membrane_axis_strain(m, rotated - m.rest.positions, E, scratch.data());
+  EXPECT_LT(E.cwiseAbs().maxCoeff(), 1e-13);
+  const double lambda = 1.3;
+  NodeMat stretched = m.rest.positions;
+  stretched.col(0) *= lambda;
+  membrane_axis_strain(m, stretched - m.rest.positions, E, scratch.data());
+  for (int i = 0; i < m.n; ++i) {
+    // a node inside the top face (z = 0.05, not on its rim): only its own face's triangles
+    if (std::abs(m.rest.positions(i, 2) - 0.05) < 1e-12 && std::abs(m.rest.positions(i, 0)) < 0.049 &&
+        std::abs(m.rest.positions(i, 1)) < 0.049) {
+      EXPECT_NEAR(E(i, 0), 0.5 * (lambda * lambda - 1), 1e-12);
+      EXPECT_NEAR(E(i, 1), 0.0, 1e-12);
+      EXPECT_NEAR(E(i, 2), 0.0, 1e-12);
+    }
+  }
 }
