@@ -10,6 +10,8 @@
 #include <limits>
 #include <sstream>
 
+#include "engine/elastic_moduli.hpp"
+
 namespace vdmsim {
 namespace {
 
@@ -326,6 +328,21 @@ void read_organ(Reader& r, const YAML::Node& organ, SceneDef& s, const std::file
       }
       if (const YAML::Node n = mat["density"]) r.number(n, "organ.material.density", s.density, 0, 1e5, "kg/m^3", false, true);
       if (const YAML::Node n = mat["damping"]) r.number(n, "organ.material.damping", s.damping, 0, 1e6, "1/s");
+      // VDM from E and nu: the documented rule (engine/elastic_moduli.hpp); one form or the other.
+      if (s.model == vdm::ModelKind::vdm && (mat["young_modulus"] || mat["poisson_ratio"])) {
+        if (mat["bulk_modulus"] || mat["connectivity_modulus"]) {
+          r.error(mat, "organ.material",
+                  "give either young_modulus and poisson_ratio (mapped to VDM's moduli, docs/model.md) or bulk_modulus "
+                  "and connectivity_modulus, not both");
+        } else if (!mat["young_modulus"]) {
+          r.error(mat, "organ.material", "poisson_ratio needs young_modulus (Pa) beside it");
+        } else {
+          const vdm::VdmModuli moduli = vdm::vdm_moduli_from_elastic(s.young_modulus, s.poisson_ratio);
+          s.bulk_modulus.setConstant(moduli.bulk);
+          s.connectivity_modulus = moduli.connectivity;
+          s.moduli_from_elastic = true;
+        }
+      }
     }
   }
   if (const YAML::Node list = organ["fixed"]) {

@@ -107,7 +107,8 @@ struct SceneDef {
   double density = 1060.0;
   double damping = 0.0;        // 1/s, with the inertia effect
   vdm::ModelKind model = vdm::ModelKind::vdm;  // organ.model: vdm | fem | mass_spring
-  double young_modulus = 3000;  // fem, mass_spring (Pa)
+  double young_modulus = 3000;  // fem, mass_spring; vdm: mapped to bulk and connectivity (Pa)
+  bool moduli_from_elastic = false;  // vdm: bulk_modulus and connectivity_modulus from E and nu
   double poisson_ratio = 0.45;  // fem, in [0, 0.5)
   double thickness = 0.005;     // mass_spring: skin thickness giving the springs' stiffness (m)
   double volume_modulus = 0;    // mass_spring: volume spring K_v (Pa), 0 = none

@@ -80,12 +80,22 @@ CalibrationResult calibrate_vdm(const vdm::SurfaceMesh& surface, const std::vect
     }
   }
   const double scale = den > 0 ? num / den : 1.0;
-  out.params = start;
-  out.params.bulk = start.bulk * scale;
-  out.params.connectivity = start.bulk * std::exp(log_rho) * scale;
-  runs.clear();
-  for (const LoadCase& c : cases) runs.push_back(run_vdm_case(surface, out.params, c));
-  ++out.evaluations;
+  VdmParams fitted = start;
+  fitted.bulk = start.bulk * scale;
+  fitted.connectivity = start.bulk * std::exp(log_rho) * scale;
+  const int searched = out.evaluations;
+  out = evaluate_vdm(surface, cases, fem, fitted);
+  out.evaluations += searched;
+  return out;
+}
+
+CalibrationResult evaluate_vdm(const vdm::SurfaceMesh& surface, const std::vector<LoadCase>& cases,
+                               const std::vector<CaseResult>& fem, const VdmParams& params) {
+  CalibrationResult out;
+  out.params = params;
+  std::vector<CaseResult> runs;
+  for (const LoadCase& c : cases) runs.push_back(run_vdm_case(surface, params, c));
+  out.evaluations = 1;
   out.cost = displacement_cost(runs, fem, out.rms_displacement);
   double sw = 0;
   long nw = 0;

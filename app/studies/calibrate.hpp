@@ -23,6 +23,11 @@ struct CalibrationResult {
 CalibrationResult calibrate_vdm(const vdm::SurfaceMesh& surface, const std::vector<LoadCase>& cases,
                                 const std::vector<CaseResult>& fem, const VdmParams& start);
 
+// The residuals of VDM with `params` on the cases against the FEM runs (params, cost,
+// rms_displacement, rms_work, mean_relative_difference; evaluations = 1).
+CalibrationResult evaluate_vdm(const vdm::SurfaceMesh& surface, const std::vector<LoadCase>& cases,
+                               const std::vector<CaseResult>& fem, const VdmParams& params);
+
 // Default load cases for any organ: the lowest `base` fraction of its height held, the top
 // patch (nodes within `patch` of the height from the top and within `patch` x the size of
 // the top's centre) pressed down, and pulled sideways along x, by `depth` x the height each,

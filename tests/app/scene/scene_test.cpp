@@ -10,6 +10,7 @@
 #include "app/cli/commands.hpp"
 #include "app/scene/scene.hpp"
 #include "app/run/scene_run.hpp"
+#include "engine/elastic_moduli.hpp"
 #include "engine/sim_state.hpp"
 #include "tools_scripted/grasp.hpp"
 #include "support/scratch_dir.hpp"
@@ -586,6 +587,34 @@ TEST(Scene, CapsuleFormReachesTheModel) {
   std::string t = scene_text();
   t.replace(t.find("density: 1060}"), 14, "density: 1060, capsule: skin}");
   expect_error("capsule_bad.yaml", t, "organ.material.capsule: unknown capsule 'skin'; expected membrane, corotational or paper");
+}
+
+}  // namespace
+}  // namespace vdmsim
+
+namespace vdmsim {
+namespace {
+
+// organ.material as E and nu for the vdm model: mapped by the documented rule; both forms at
+// once, or nu alone, are errors naming the field.
+TEST(Scene, YoungModulusMapsToTheVdmModuli) {
+  std::string t = scene_text();
+  t.replace(t.find("bulk_modulus: 20000, connectivity_modulus: 2000, "), 50, "young_modulus: 4000, poisson_ratio: 0.45, ");
+  const std::string path = write_scene("young.yaml", t);
+  PreparedScene ps;
+  std::vector<SceneProblem> problems;
+  ASSERT_TRUE(prepare_scene(path, ps, problems)) << (problems.empty() ? "" : problems[0].text());
+  const vdm::VdmModuli want = vdm::vdm_moduli_from_elastic(4000, 0.45);
+  EXPECT_TRUE(ps.scene.moduli_from_elastic);
+  EXPECT_DOUBLE_EQ(ps.scene.connectivity_modulus, want.connectivity);
+  EXPECT_DOUBLE_EQ(ps.model.bulk(0, 0), want.bulk);
+  EXPECT_DOUBLE_EQ(ps.model.connectivity_modulus, want.connectivity);
+  std::string both = scene_text();
+  both.replace(both.find("density: 1060}"), 14, "density: 1060, young_modulus: 4000}");
+  expect_error("young_both.yaml", both, "organ.material: give either young_modulus and poisson_ratio");
+  std::string nu_alone = scene_text();
+  nu_alone.replace(nu_alone.find("bulk_modulus: 20000, connectivity_modulus: 2000, "), 50, "poisson_ratio: 0.4, ");
+  expect_error("nu_alone.yaml", nu_alone, "organ.material: poisson_ratio needs young_modulus");
 }
 
 }  // namespace
