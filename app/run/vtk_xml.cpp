@@ -28,8 +28,9 @@ std::string xml_escape(const std::string& s) {
   return o;
 }
 
-// An N x 3 array, one point per line.
-void append_rows(std::string& out, const vdm::NodeMat& m) {
+// An N x 3 array (points, or triangles' node indices), one row per line.
+template <typename Matrix>
+void append_rows(std::string& out, const Matrix& m) {
   for (Eigen::Index i = 0; i < m.rows(); ++i) {
     out += "          ";
     for (int d = 0; d < 3; ++d) {
@@ -85,14 +86,7 @@ std::string vtu_text(const vdm::NodeMat& points, const vdm::TriMat& triangles, c
   out += kCloseArray;
   out += "      </Points>\n      <Cells>\n";
   open_array(out, "Int64", "connectivity", 1);
-  for (Eigen::Index t = 0; t < triangles.rows(); ++t) {
-    out += "          ";
-    for (int k = 0; k < 3; ++k) {
-      if (k) out += ' ';
-      append_number(out, triangles(t, k));
-    }
-    out += '\n';
-  }
+  append_rows(out, triangles);
   out += kCloseArray;
   // Where each cell's nodes end in `connectivity`, and the cells' type: VTK_TRIANGLE = 5.
   open_array(out, "Int64", "offsets", 1);

@@ -5,9 +5,6 @@
 // scene without stress exports what it has and says so in run.json.
 #include <gtest/gtest.h>
 
-#include <signal.h>
-#include <sys/wait.h>
-
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -291,13 +288,9 @@ TEST(MeshExport, AResumedRunGivesTheFilesOfAnUninterruptedOne) {
   const pid_t pid = vdmsim::test::spawn_quiet({VDMSIM_BINARY, "run", scene, "--out", resumed.string(), "--export-mesh",
                                                "--no-render", "--frames", std::to_string(frames)});
   ASSERT_NE(pid, 0);
-  vdmsim::test::wait_for_file(resumed / "mesh" / vtu_name(5), 120);
-  kill(pid, SIGINT);
-  int status = 0;
-  waitpid(pid, &status, 0);
-  ASSERT_TRUE(WIFEXITED(status));
-  if (WEXITSTATUS(status) == 0) GTEST_SKIP() << "the run finished before it could be interrupted";
-  ASSERT_EQ(WEXITSTATUS(status), 130);
+  const int code = vdmsim::test::interrupt_once_exists(pid, resumed / "mesh" / vtu_name(5), 120);
+  if (code == 0) GTEST_SKIP() << "the run finished before it could be interrupted";
+  ASSERT_EQ(code, 130);
   // Resuming without the flag would leave the frames after the interruption without files.
   r = run_cli(VDMSIM_BINARY, "run " + scene + " --out " + resumed.string() + " --resume --no-render --frames " +
                                  std::to_string(frames));
