@@ -13,16 +13,17 @@ struct QuantityInfo {
   const char* label;
   const char* unit;
   bool is_signed;
+  bool needs_stress;  // from the model's stress pass (organ.model vdm with the stress effect)
 };
 
 const QuantityInfo kQuantities[] = {
-    {Quantity::stress_magnitude, "magnitude", "Stress magnitude", "Pa", false},
-    {Quantity::stress_x, "stress_x", "Stress x", "Pa", true},
-    {Quantity::stress_y, "stress_y", "Stress y", "Pa", true},
-    {Quantity::stress_z, "stress_z", "Stress z", "Pa", true},
-    {Quantity::contact_pressure, "contact_pressure", "Contact pressure", "Pa", false},
-    {Quantity::displacement, "displacement", "Displacement", "m", false},
-    {Quantity::volumetric_strain, "volumetric_strain", "Volumetric strain", "", true},
+    {Quantity::stress_magnitude, "magnitude", "Stress magnitude", "Pa", false, true},
+    {Quantity::stress_x, "stress_x", "Stress x", "Pa", true, true},
+    {Quantity::stress_y, "stress_y", "Stress y", "Pa", true, true},
+    {Quantity::stress_z, "stress_z", "Stress z", "Pa", true, true},
+    {Quantity::contact_pressure, "contact_pressure", "Contact pressure", "Pa", false, false},
+    {Quantity::displacement, "displacement", "Displacement", "m", false, false},
+    {Quantity::volumetric_strain, "volumetric_strain", "Volumetric strain", "", true, true},
 };
 
 const QuantityInfo& info(Quantity q) { return kQuantities[static_cast<int>(q)]; }
@@ -42,6 +43,13 @@ const char* to_string(Quantity q) { return info(q).name; }
 const char* quantity_label(Quantity q) { return info(q).label; }
 const char* quantity_unit(Quantity q) { return info(q).unit; }
 bool quantity_is_signed(Quantity q) { return info(q).is_signed; }
+bool quantity_needs_stress(Quantity q) { return info(q).needs_stress; }
+
+std::vector<Quantity> all_quantities() {
+  std::vector<Quantity> out;
+  for (const QuantityInfo& i : kQuantities) out.push_back(i.q);
+  return out;
+}
 
 std::vector<std::string> quantity_names() {
   std::vector<std::string> out;

@@ -19,6 +19,10 @@ std::vector<std::string> quantity_names();
 const char* quantity_label(Quantity q);  // "Stress magnitude", ...
 const char* quantity_unit(Quantity q);   // SI unit: "Pa", "m", "" (dimensionless)
 bool quantity_is_signed(Quantity q);     // components and volumetric strain
+// Stress components, magnitude and volumetric strain: computed only by the model's stress pass
+// (organ.model vdm with the stress effect); elsewhere SimState's stress and strain are not set.
+bool quantity_needs_stress(Quantity q);
+std::vector<Quantity> all_quantities();  // in the order of quantity_names()
 
 // `q` at every node of `state` (size N).
 void scalar_field(Quantity q, const vdm::SimState& state, std::vector<float>& out);

@@ -83,12 +83,16 @@ int cmd_check(const std::string& scene_path, std::ostream& out, std::ostream& er
   return 0;
 }
 
-int cmd_run(const std::string& scene_path, const std::string& out_dir, int frames, bool render, bool video, bool resume, int checkpoint_every, std::ostream& out,
-            std::ostream& err, bool terminal) {
+int cmd_run(const std::string& scene_path, const RunOptions& options, std::ostream& out, std::ostream& err, bool terminal) {
   PreparedScene ps;
   std::vector<SceneProblem> problems;
   const bool ok = prepare_scene(scene_path, ps, problems);
   if (!report(problems, err) || !ok) return 2;
+  return run_scene(ps, options, out, err, terminal);
+}
+
+int cmd_run(const std::string& scene_path, const std::string& out_dir, int frames, bool render, bool video, bool resume, int checkpoint_every, std::ostream& out,
+            std::ostream& err, bool terminal) {
   RunOptions opt;
   opt.out_dir = out_dir;
   opt.frames = frames;
@@ -96,7 +100,7 @@ int cmd_run(const std::string& scene_path, const std::string& out_dir, int frame
   opt.video = video;
   opt.resume = resume;
   opt.checkpoint_every = checkpoint_every;
-  return run_scene(ps, opt, out, err, terminal);
+  return cmd_run(scene_path, opt, out, err, terminal);
 }
 
 int cmd_make_organ(const std::string& organ, int level, const std::string& out_path, std::ostream& out,

@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "app/run/scene_run.hpp"
 #include "app/studies/paper_beam.hpp"
 
 namespace vdmsim {
@@ -29,6 +30,8 @@ int cmd_make_organ(const std::string& organ, int level, const std::string& out_p
 // vdmsim check SCENE: validates the scene and its mesh without simulating.
 int cmd_check(const std::string& scene_path, std::ostream& out, std::ostream& err);
 // vdmsim run SCENE: validates, then simulates every frame.
+int cmd_run(const std::string& scene_path, const RunOptions& options, std::ostream& out, std::ostream& err, bool terminal);
+// The same with the options one by one (as the tests call it).
 int cmd_run(const std::string& scene_path, const std::string& out_dir, int frames, bool render, bool video, bool resume, int checkpoint_every, std::ostream& out,
             std::ostream& err, bool terminal);
 

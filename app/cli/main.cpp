@@ -47,18 +47,20 @@ int main(int argc, char** argv) {
   calibrate->add_option("--tet-size", calib_tet, "Largest tet edge (m); 0: graded from the surface");
   calibrate->add_option("--out", calib_out, "Output YAML with the fitted material")->required();
 
-  std::string scene_path, run_out;
-  int run_frames = -1;
-  bool no_render = false, video = false, resume = false;
+  std::string scene_path;
+  vdmsim::RunOptions run_opt;
+  bool no_render = false;
   auto* run = app.add_subcommand("run", "Simulate and render a scene: PNG frames, metrics.csv, run.json");
   run->add_option("SCENE", scene_path, "Scene file (YAML)")->required();
-  run->add_option("--out", run_out, "Output folder (default: out/<scene name>)");
-  run->add_option("--frames", run_frames, "Simulate only this many frames")->check(CLI::PositiveNumber);
+  run->add_option("--out", run_opt.out_dir, "Output folder (default: out/<scene name>)");
+  run->add_option("--frames", run_opt.frames, "Simulate only this many frames")->check(CLI::PositiveNumber);
   run->add_flag("--no-render", no_render, "Do not render images (metrics.csv and run.json only)");
-  run->add_flag("--video", video, "Also write video.mp4 (H.264, needs the ffmpeg program)");
-  run->add_flag("--resume", resume, "Continue an interrupted run in --out DIR from its last checkpoint");
-  int checkpoint_every = 30;
-  run->add_option("--checkpoint-every", checkpoint_every, "Frames between checkpoints (default 30)")
+  run->add_flag("--video", run_opt.video, "Also write video.mp4 (H.264, needs the ffmpeg program)");
+  run->add_flag("--export-mesh", run_opt.export_mesh,
+                "Also write the organ's surface at every frame: DIR/mesh/frame_NNNNN.vtu (VTK XML, point data "
+                "displacement and the stress view's quantities) and DIR/mesh.pvd (the time series, for ParaView)");
+  run->add_flag("--resume", run_opt.resume, "Continue an interrupted run in --out DIR from its last checkpoint");
+  run->add_option("--checkpoint-every", run_opt.checkpoint_every, "Frames between checkpoints (default 30)")
       ->check(CLI::PositiveNumber);
   std::string bench_out = "out/bench";
   bool bench_quick = false;
@@ -90,8 +92,10 @@ int main(int argc, char** argv) {
   }
   try {
     if (mesh_info->parsed()) return vdmsim::cmd_mesh_info(mesh_path, mesh_scale, std::cout, std::cerr);
-    if (run->parsed())
-      return vdmsim::cmd_run(scene_path, run_out, run_frames, !no_render, video, resume, checkpoint_every, std::cout, std::cerr, isatty(2) != 0);
+    if (run->parsed()) {
+      run_opt.render = !no_render;
+      return vdmsim::cmd_run(scene_path, run_opt, std::cout, std::cerr, isatty(2) != 0);
+    }
     if (bench->parsed()) return vdmsim::cmd_bench(bench_out, bench_quick, std::cout, std::cerr, bench_only, bench_case_fd);
     if (accuracy->parsed()) return vdmsim::run_accuracy(accuracy_opt, std::cout, std::cerr);
     if (check->parsed()) return vdmsim::cmd_check(scene_path, std::cout, std::cerr);

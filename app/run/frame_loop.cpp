@@ -68,6 +68,11 @@ bool FrameLoop::write(int f, RunTally& tally, RunOutcome& outcome) {
     return false;
   }
   tally.io_ms += vdm::ms_since(t_io);
+  if (!mesh.write(f, sim, reason)) {  // the frame is not done: its metrics row goes too
+    metrics.cut_back(f - setup.start);
+    outcome.fail(reason);
+    return false;
+  }
   if (setup.rendering && !output.write(f, setup.frames, sim)) {
     outcome.fail(output.error());
     return false;

@@ -1,11 +1,12 @@
 #pragma once
-// The run's main loop: each frame simulated, its metrics row written and its pictures handed
-// to the renderer, with a checkpoint every K frames. A resume that could not load a state
+// The run's main loop: each frame simulated, its metrics row and mesh file written and its
+// pictures handed to the renderer, with a checkpoint every K frames. A resume that could not load a state
 // snapshot first re-simulates the frames before its start without writing them.
 #include <string>
 #include <vector>
 
 #include "app/run/frame_output.hpp"
+#include "app/run/mesh_export.hpp"
 #include "app/run/metrics_csv.hpp"
 #include "app/run/progress.hpp"
 #include "app/run/run_checkpoints.hpp"
@@ -42,6 +43,7 @@ struct FrameLoop {
   SceneSimulation& sim;
   MetricsCsv& metrics;
   FrameOutput& output;
+  MeshExport& mesh;  // inactive unless --export-mesh
   RunCheckpoints& checkpoints;
   const StopSignals& signals;
   Progress& progress;
@@ -53,7 +55,7 @@ struct FrameLoop {
  private:
   // Frame f, re-simulated only (already written): checks the checkpoint's state on the way.
   bool replay(int f, RunOutcome& outcome);
-  // Frame f's row and pictures, then a checkpoint when one is due.
+  // Frame f's row, mesh file and pictures, then a checkpoint when one is due.
   bool write(int f, RunTally& tally, RunOutcome& outcome);
 };
 

@@ -26,10 +26,10 @@ void remove_old_frames(const std::filesystem::path& folder, const std::string& p
 }
 }  // namespace
 
-std::string frame_file_name(const std::string& prefix, int f) {
+std::string frame_file_name(const std::string& prefix, int f, const char* extension) {
   char buf[64];
-  std::snprintf(buf, sizeof buf, "%s_%05d.png", prefix.c_str(), f);
-  return buf;
+  std::snprintf(buf, sizeof buf, "_%05d", f);
+  return prefix + buf + extension;
 }
 
 bool FrameOutput::open(const PreparedScene& ps, const std::filesystem::path& dir, int frames, std::string& error,

@@ -85,7 +85,8 @@ class FrameOutput {
   render::Image image_;
 };
 
-// Name of frame f's image in a sequence: frame_00012.png, stress_00012.png.
-std::string frame_file_name(const std::string& prefix, int f);
+// Name of frame f's file in a sequence: frame_00012.png, stress_00012.png (or another
+// extension: the mesh export's frame_00012.vtu).
+std::string frame_file_name(const std::string& prefix, int f, const char* extension = ".png");
 
 }  // namespace vdmsim

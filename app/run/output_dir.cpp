@@ -25,4 +25,24 @@ bool prepare_output_dir(const std::string& dir, std::string& error) {
   return true;
 }
 
+bool write_file_atomically(const std::filesystem::path& path, const std::string& body, std::string& error) {
+  const std::filesystem::path tmp = path.string() + ".tmp";
+  {
+    std::ofstream f(tmp, std::ios::binary);
+    f << body;
+    f.flush();
+    if (!f) {
+      error = tmp.string() + ": write failed";
+      return false;
+    }
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    error = path.string() + ": " + ec.message();
+    return false;
+  }
+  return true;
+}
+
 }  // namespace vdmsim

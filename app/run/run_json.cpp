@@ -1,7 +1,6 @@
 #include "app/run/run_json.hpp"
 
 #include <cmath>
-#include <fstream>
 #include <iomanip>
 #include <sstream>
 
@@ -37,6 +36,7 @@ void write_times(const RunRecord& r, std::ostream& js) {
      << ",\n  \"max_volume_rel_error\": " << t.max_volume_error << ",\n  \"stage_ms\": {\"loads\": " << st.loads
      << ", \"assemble\": " << st.assemble << ", \"solve\": " << st.solve << ", \"stress\": " << st.stress
      << ", \"grasp\": " << st.grasp << ", \"collision\": " << st.collision << ", \"metrics_io\": " << t.io_ms;
+  if (r.mesh && r.mesh->active()) js << ", \"mesh_export\": " << r.mesh->write_ms();
   if (r.setup.rendering)
     js << ", \"colour_range_pass\": " << r.colour_range_ms << ", \"render\": " << r.output.render_ms()
        << ", \"png_encode\": " << r.output.encode_ms();
@@ -59,6 +59,22 @@ void write_render(const RunRecord& r, std::ostream& js) {
     js << ", \"stress_quantity\": \"" << render::to_string(view.quantity) << "\", \"stress_range\": [" << view.lo << ", "
        << view.hi << "], \"stress_range_source\": \"" << (rd.range_auto ? "first pass" : "scene") << "\"";
   js << ", \"video\": \"" << json_escape(r.video_status) << "\"},\n";
+}
+
+// What --export-mesh wrote (null when not asked): the frames mesh.pvd lists, its point data,
+// and why the stress quantities are missing when they are.
+void write_mesh_export(const RunRecord& r, std::ostream& js) {
+  if (!r.mesh || !r.mesh->active()) {
+    js << "  \"mesh_export\": null,\n";
+    return;
+  }
+  js << "  \"mesh_export\": {\"frames\": " << r.mesh->frames() << ", \"pvd\": \"mesh.pvd\", \"point_data\": [";
+  const std::vector<std::string> names = r.mesh->point_data();
+  for (size_t i = 0; i < names.size(); ++i) js << (i ? ", " : "") << '"' << names[i] << '"';
+  js << ']';
+  if (!r.mesh->omitted_reason().empty())
+    js << ", \"stress_quantities\": \"not exported: " << json_escape(r.mesh->omitted_reason()) << '"';
+  js << "},\n";
 }
 
 // The moduli the VDM model used (an infinite bulk modulus as the string "inf").
@@ -96,30 +112,11 @@ std::string run_json(const RunRecord& r) {
   if (s.has(Effect::contact)) write_contact(s, js);
   write_times(r, js);
   write_render(r, js);
+  write_mesh_export(r, js);
   js << "  \"warnings\": [";
   for (size_t i = 0; i < r.warnings.size(); ++i) js << (i ? ", " : "") << '"' << json_escape(r.warnings[i]) << '"';
   js << "]\n}\n";
   return js.str();
-}
-
-bool write_run_json(const std::filesystem::path& path, const std::string& body, std::string& error) {
-  const std::filesystem::path tmp = path.string() + ".tmp";
-  {
-    std::ofstream f(tmp);
-    f << body;
-    f.flush();
-    if (!f) {
-      error = tmp.string() + ": write failed";
-      return false;
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    error = path.string() + ": " + ec.message();
-    return false;
-  }
-  return true;
 }
 
 }  // namespace vdmsim

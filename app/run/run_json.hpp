@@ -17,6 +17,7 @@ struct RunRecord {
   const RunOutcome& outcome;
   const RunTally& tally;
   const FrameOutput& output;
+  const MeshExport* mesh = nullptr;  // --export-mesh's files (inactive when not asked)
   bool resumed_by_snapshot = false;
   StageTimes stage_times;
   std::vector<std::string> warnings;
@@ -25,7 +26,5 @@ struct RunRecord {
 };
 
 std::string run_json(const RunRecord& record);
-// Writes `body` atomically (a temporary file, then a rename), so a reader never sees half.
-bool write_run_json(const std::filesystem::path& path, const std::string& body, std::string& error);
 
 }  // namespace vdmsim

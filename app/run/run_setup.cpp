@@ -2,6 +2,7 @@
 
 #include <sstream>
 
+#include "app/run/mesh_export.hpp"
 #include "app/run/output_dir.hpp"
 #include "render/video.hpp"
 
@@ -28,7 +29,8 @@ int read_resume_point(RunSetup& setup, std::ostream& err) {
   }
   if (setup.resume_from.run_hash != setup.run_hash) {
     err << "vdmsim: error: " << setup.checkpoint_path().string()
-        << ": the checkpoint belongs to another scene or other options (frames, --no-render): cannot resume\n";
+        << ": the checkpoint belongs to another scene or other options (frames, --no-render, --export-mesh): cannot "
+           "resume\n";
     return 2;
   }
   setup.start = setup.resume_from.frame + 1;
@@ -72,9 +74,13 @@ int set_up_run(const PreparedScene& ps, const RunOptions& opt, RunSetup& setup, 
   note_inert_instruments(s, err);
   std::ostringstream options;
   options << "frames=" << setup.frames << ";render=" << setup.rendering;
+  // A resume must export the mesh if and only if the interrupted run did: its frames'
+  // files would be missing otherwise. (Only appended when set: older checkpoints still match.)
+  if (opt.export_mesh) options << ";export_mesh=1";
   setup.run_hash = run_hash(s.file, options.str());
   if (opt.resume) return read_resume_point(setup, err);
   remove_earlier_outputs(setup.dir);
+  remove_mesh_export(setup.dir);
   return -1;
 }
 

@@ -7,7 +7,9 @@
 #include "app/run/colour_range.hpp"
 #include "app/run/frame_loop.hpp"
 #include "app/run/frame_output.hpp"
+#include "app/run/mesh_export.hpp"
 #include "app/run/metrics_csv.hpp"
+#include "app/run/output_dir.hpp"
 #include "app/run/progress.hpp"
 #include "app/run/run_checkpoints.hpp"
 #include "app/run/run_json.hpp"
@@ -64,6 +66,11 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
   const auto t_run = vdm::Clock::now();
   Progress progress(err, terminal);
   const double colour_range_ms = set_auto_colour_range(ps, setup, output, signals, progress);
+  MeshExport mesh;
+  if (opt.export_mesh && !mesh.open(ps, setup.dir, setup.start, error)) {
+    err << "vdmsim: error: " << error << "\n";
+    return 1;
+  }
   MetricsCsv metrics;
   if (const int code = metrics.open(setup.dir, setup.start, setup.resume, ps.model.compute_stress, err); code >= 0)
     return code;
@@ -78,7 +85,7 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
   // The first frame simulated: `start` when the state snapshot was loaded.
   const bool from_snapshot = setup.resume && checkpoints.load_snapshot(*simulation, tally.max_volume_error);
   RunOutcome outcome;
-  FrameLoop{setup, opt, *simulation, metrics, output, checkpoints, signals, progress, t_run}.run(
+  FrameLoop{setup, opt, *simulation, metrics, output, mesh, checkpoints, signals, progress, t_run}.run(
       from_snapshot ? setup.start : 0, tally, outcome);
   metrics.flush();
 
@@ -86,13 +93,17 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
   // snapshot): its memory goes before finish() draws the contact sheet, whose GL context and
   // shaders would otherwise come on top of the engine's.
   RunRecord record{ps, setup, outcome, tally, output};
+  record.mesh = &mesh;
   record.resumed_by_snapshot = from_snapshot;
   record.colour_range_ms = colour_range_ms;
   record.stage_times = simulation->stage_times();
   record.warnings = simulation->state().warnings;
   if (outcome.status == "completed") simulation.reset();
   if (setup.rendering && !output.finish(error) && outcome.status == "completed") outcome.fail(error);
-  if (setup.rendering && !output.error().empty()) keep_frames_with_images(s.render, setup, output, metrics, outcome);
+  if (setup.rendering && !output.error().empty()) {
+    keep_frames_with_images(s.render, setup, output, metrics, outcome);
+    if (!mesh.keep_frames(outcome.done, error)) err << "vdmsim: warning: " << error << "\n";
+  }
   // The last checkpoint: the last frame whose row and images are complete, with a snapshot
   // only of a state that is that frame's (not after a failed or cut-back frame, whose grasps
   // or state moved on); without one a resume re-simulates.
@@ -109,7 +120,7 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
     tally.io_ms += vdm::ms_since(t_run) - t0_ms;
   }
   record.wall_s = vdm::ms_since(t_run) / 1000.0;
-  if (!write_run_json(setup.dir / "run.json", run_json(record), error)) {
+  if (!write_file_atomically(setup.dir / "run.json", run_json(record), error)) {
     err << "vdmsim: error: " << error << "\n";
     return 1;
   }

@@ -15,6 +15,7 @@ struct RunOptions {
   bool render = true;       // render the scene's views (when it has a render: section)
   bool video = false;       // also encode DIR/video.mp4 with ffmpeg
   bool resume = false;      // continue an interrupted run in out_dir from its checkpoint
+  bool export_mesh = false;  // write DIR/mesh/frame_NNNNN.vtu and DIR/mesh.pvd (mesh_export.hpp)
   int checkpoint_every = 30;  // frames between checkpoints (each waits for the PNG writer)
   // When set: for each frame, the wall time (ms since the run's loop started) at which it was
   // done (simulated and, when rendering, handed to the render thread). `vdmsim bench` takes

@@ -775,18 +775,12 @@ void read_render(Reader& r, const YAML::Node& n, SceneDef& s) {
       }
     }
   }
-  const bool stress_quantity =
-      d.stress_view.quantity == render::Quantity::stress_magnitude || d.stress_view.quantity == render::Quantity::stress_x ||
-      d.stress_view.quantity == render::Quantity::stress_y || d.stress_view.quantity == render::Quantity::stress_z ||
-      d.stress_view.quantity == render::Quantity::volumetric_strain;
+  const bool stress_quantity = render::quantity_needs_stress(d.stress_view.quantity);
   if (d.stress && stress_quantity && s.model != vdm::ModelKind::vdm)
     r.error(n["views"], "render.views",
             std::string("the stress view of '") + render::to_string(d.stress_view.quantity) + "' needs organ.model vdm (" +
                 vdm::to_string(s.model) + " computes no VDM stress): colour by displacement or contact_pressure");
-  if (d.stress && !s.has(Effect::stress) &&
-      (d.stress_view.quantity == render::Quantity::stress_magnitude || d.stress_view.quantity == render::Quantity::stress_x ||
-       d.stress_view.quantity == render::Quantity::stress_y || d.stress_view.quantity == render::Quantity::stress_z ||
-       d.stress_view.quantity == render::Quantity::volumetric_strain))
+  if (d.stress && !s.has(Effect::stress) && stress_quantity)
     r.error(n["views"], "render.views",
             std::string("the stress view of '") + render::to_string(d.stress_view.quantity) +
                 "' needs the stress effect: add stress to simulation.effects (or colour by displacement or "

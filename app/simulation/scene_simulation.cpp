@@ -84,7 +84,7 @@ bool SceneSimulation::load(std::string_view in, std::string& error) {
 void SceneSimulation::advance(int f) {
   const SceneDef& s = ps_.scene;
   const vdm::TissueModel& m = ps_.model;
-  const double t = (f + 1) * s.dt;
+  const double t = frame_time(f, s.dt);
   time_ = t;
   // Scripted loads and motions for this frame.
   const auto t_loads = Clock::now();

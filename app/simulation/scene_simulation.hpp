@@ -26,6 +26,8 @@ class SceneSimulation {
   explicit SceneSimulation(const PreparedScene& prepared);
   // Simulates frame f, which ends at time (f + 1) dt.
   void advance(int f);
+  // The time at which frame f ends (its time(), known without simulating it).
+  static double frame_time(int f, double dt) { return (f + 1) * dt; }
 
   const vdm::SimState& state() const { return state_; }
   double time() const { return time_; }

@@ -2,6 +2,7 @@
 // Running the vdmsim binary from tests: to completion with its output, or in the background
 // (to be interrupted or killed).
 #include <fcntl.h>
+#include <signal.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -61,6 +62,16 @@ inline bool wait_for_file(const std::filesystem::path& path, int seconds) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
   return true;
+}
+
+// Once `path` exists (or `seconds` have passed), interrupts `pid` (SIGINT, as Ctrl-C) and
+// waits for it to end: its exit code, or -1 when a signal ended it.
+inline int interrupt_once_exists(pid_t pid, const std::filesystem::path& path, int seconds) {
+  wait_for_file(path, seconds);
+  kill(pid, SIGINT);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
 }  // namespace vdmsim::test

@@ -84,13 +84,9 @@ TEST(Resume, AnInterruptedRunResumedEqualsAnUninterruptedOne) {
   // The same run through the binary, interrupted once a few frames exist.
   const pid_t pid = vdmsim::test::spawn_quiet({VDMSIM_BINARY, "run", scene, "--out", resumed.string()});
   ASSERT_NE(pid, 0);
-  vdmsim::test::wait_for_file(resumed / "frames" / "frame_00010.png", 120);
-  kill(pid, SIGINT);
-  int status = 0;
-  waitpid(pid, &status, 0);
-  ASSERT_TRUE(WIFEXITED(status));
-  if (WEXITSTATUS(status) == 0) GTEST_SKIP() << "the run finished before it could be interrupted";
-  ASSERT_EQ(WEXITSTATUS(status), 130);
+  const int code = vdmsim::test::interrupt_once_exists(pid, resumed / "frames" / "frame_00010.png", 120);
+  if (code == 0) GTEST_SKIP() << "the run finished before it could be interrupted";
+  ASSERT_EQ(code, 130);
   ASSERT_NE(read_file(resumed / "run.json").find("interrupted"), std::string::npos);
 
   ASSERT_EQ(run_in_process(scene, resumed, true), 0);
