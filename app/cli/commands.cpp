@@ -13,7 +13,6 @@
 #include "app/studies/paper_plots.hpp"
 #include "app/studies/paper_beam.hpp"
 #include "app/studies/calibrate.hpp"
-#include "engine/elastic_moduli.hpp"
 #include "app/simulation/tet_mesher.hpp"
 #include "engine/geometry.hpp"
 #include "engine/stopwatch.hpp"
@@ -277,18 +276,12 @@ int cmd_calibrate(const std::string& mesh_path, double scale, double young, doub
     err << "vdmsim: error: " << mesh_path << ": " << error << "\n";
     return 1;
   }
-  const std::vector<LoadCase> cases = organ_load_cases(mesh.mesh, steps);
-  if (cases.empty() || cases[0].moved.empty()) {
+  OrganCalibration calibration;
+  if (!calibrate_organ(mesh.mesh, tets, young, poisson, steps, calibration)) {
     err << "vdmsim: error: " << mesh_path << ": no node in the top patch to drive\n";
     return 1;
   }
-  std::vector<CaseResult> fem;
-  for (const LoadCase& c : cases) fem.push_back(run_fem_case(tets, young, poisson, c));
-  VdmParams start;
-  start.solver.method = vdm::SolverMethod::direct;
-  start.bulk = young;
-  start.connectivity = young / 10;
-  const CalibrationResult r = calibrate_vdm(mesh.mesh, cases, fem, start);
+  const CalibrationResult& r = calibration.fit;
   const std::filesystem::path parent = std::filesystem::path(out_path).parent_path();
   if (!parent.empty() && !prepare_output_dir(parent.string(), error)) {
     err << "vdmsim: error: " << error << "\n";
@@ -304,13 +297,9 @@ int cmd_calibrate(const std::string& mesh_path, double scale, double young, doub
       << " %, pull " << 100 * r.mean_relative_difference[1] << " %; "
       << vdm::ms_since(t0) / 1000 << " s -> " << out_path << "\n";
   // How the documented E, nu rule does on this organ, beside the fit.
-  VdmParams rule = start;
-  const vdm::VdmModuli moduli = vdm::vdm_moduli_from_elastic(young, poisson);
-  rule.bulk = moduli.bulk;
-  rule.connectivity = moduli.connectivity;
-  const CalibrationResult by_rule = evaluate_vdm(mesh.mesh, cases, fem, rule);
-  out << "  the E, nu rule (docs/model.md) gives bulk_modulus " << rule.bulk << " Pa, connectivity_modulus "
-      << rule.connectivity << " Pa: RMS displacement difference " << 100 * by_rule.rms_displacement
+  const CalibrationResult& by_rule = calibration.rule;
+  out << "  the E, nu rule (docs/model.md) gives bulk_modulus " << by_rule.params.bulk << " Pa, connectivity_modulus "
+      << by_rule.params.connectivity << " Pa: RMS displacement difference " << 100 * by_rule.rms_displacement
       << " % of the largest, RMS work difference " << 100 * by_rule.rms_work << " % (the fit: " << 100 * r.rms_work
       << " %)\n";
   return 0;

@@ -1,5 +1,7 @@
 #include "app/studies/calibrate.hpp"
 
+#include "engine/elastic_moduli.hpp"
+
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -107,6 +109,25 @@ CalibrationResult evaluate_vdm(const vdm::SurfaceMesh& surface, const std::vecto
   }
   out.rms_work = std::sqrt(sw / std::max(1L, nw));
   return out;
+}
+
+bool calibrate_organ(const vdm::SurfaceMesh& surface, const vdm::fem::TetMesh& tets, double young, double poisson,
+                     int steps, OrganCalibration& out) {
+  const std::vector<LoadCase> cases = organ_load_cases(surface, steps);
+  if (cases.empty() || cases[0].moved.empty()) return false;
+  std::vector<CaseResult> fem;
+  for (const LoadCase& c : cases) fem.push_back(run_fem_case(tets, young, poisson, c));
+  VdmParams start;
+  start.solver.method = vdm::SolverMethod::direct;
+  start.bulk = young;
+  start.connectivity = young / 10;
+  out.fit = calibrate_vdm(surface, cases, fem, start);
+  VdmParams rule = start;
+  const vdm::VdmModuli moduli = vdm::vdm_moduli_from_elastic(young, poisson);
+  rule.bulk = moduli.bulk;
+  rule.connectivity = moduli.connectivity;
+  out.rule = evaluate_vdm(surface, cases, fem, rule);
+  return true;
 }
 
 std::vector<LoadCase> organ_load_cases(const vdm::SurfaceMesh& s, int steps, double depth, double base, double patch) {

@@ -28,6 +28,15 @@ CalibrationResult calibrate_vdm(const vdm::SurfaceMesh& surface, const std::vect
 CalibrationResult evaluate_vdm(const vdm::SurfaceMesh& surface, const std::vector<LoadCase>& cases,
                                const std::vector<CaseResult>& fem, const VdmParams& params);
 
+// An organ calibrated against the FEM on its default load cases: the fit, and the documented
+// E, nu rule (engine/elastic_moduli.hpp) evaluated on the same cases.
+struct OrganCalibration {
+  CalibrationResult fit, rule;
+};
+// False (nothing run) when the organ's top patch holds no node to drive.
+bool calibrate_organ(const vdm::SurfaceMesh& surface, const vdm::fem::TetMesh& tets, double young, double poisson,
+                     int steps, OrganCalibration& out);
+
 // Default load cases for any organ: the lowest `base` fraction of its height held, the top
 // patch (nodes within `patch` of the height from the top and within `patch` x the size of
 // the top's centre) pressed down, and pulled sideways along x, by `depth` x the height each,
