@@ -84,7 +84,7 @@ struct RenderDef {
   render::StressView stress_view;      // quantity, colour map, range
   bool range_auto = true;              // range computed in a first pass over the sequence
   bool hud = true;
-  bool hud_step_time = true;           // the HUD's step time (varies run to run)
+  bool hud_step_time = false;          // the HUD's step time (varies run to run: opt-in)
   int png_compression = 1;             // zlib level 0-9 (1: fast)
   double fps = 30;                     // video frame rate
 };

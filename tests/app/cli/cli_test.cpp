@@ -4,8 +4,11 @@
 #include <array>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <memory>
 #include <string>
+#include <vector>
 #include <sys/wait.h>
 
 #include "support/binary.hpp"
@@ -53,3 +56,28 @@ TEST(Cli, UsageErrorsExitWith2) {
 }
 
 }  // namespace
+
+// Deterministic by default: two runs of an example scene, as a user starts them, write the
+// same PNG bytes (the HUD's wall-clock step time is opt-in).
+TEST(Cli, TwoDefaultRunsOfAnExampleSceneGiveIdenticalPngs) {
+  const std::filesystem::path scene = std::filesystem::path(VDMSIM_SOURCE_DIR) / "assets/scenes/probe_poke.yaml";
+  const std::filesystem::path dir = vdmsim::test::scratch_dir("deterministic_run");
+  std::vector<std::filesystem::path> outs = {dir / "a", dir / "b"};
+  for (const auto& out : outs) {
+    const vdmsim::test::CliResult r = run_cli("run " + scene.string() + " --frames 3 --out " + out.string());
+    ASSERT_EQ(r.code, 0) << r.output;
+  }
+  int compared = 0;
+  for (const char* view : {"frames/frame_", "stress/stress_"})
+    for (int f = 0; f < 3; ++f) {
+      char name[64];
+      std::snprintf(name, sizeof name, "%s%05d.png", view, f);
+      std::ifstream a(outs[0] / name, std::ios::binary), b(outs[1] / name, std::ios::binary);
+      ASSERT_TRUE(a && b) << name;
+      const std::string bytes_a((std::istreambuf_iterator<char>(a)), {}), bytes_b((std::istreambuf_iterator<char>(b)), {});
+      EXPECT_FALSE(bytes_a.empty()) << name;
+      EXPECT_TRUE(bytes_a == bytes_b) << name << " differs between two runs";
+      ++compared;
+    }
+  EXPECT_EQ(compared, 6);
+}
