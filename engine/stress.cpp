@@ -17,7 +17,8 @@ void compute_strain_stress(const TissueModel& m, SimState& s, double* dv) {
     const double* u = s.u.col(d).data();
     for (int i = 0; i < n; ++i) dv[3 * i + d] = a[i] * u[i];
   }
-  const double bc = m.connectivity_modulus;
+  // A membrane capsule's stress comes from its strain, added at the end: no eq (6) tension.
+  const double bc = m.membrane_capsule() ? 0.0 : m.connectivity_modulus;
   const int* outer = m.pattern.matrix.outerIndexPtr();
   const int* inner = m.pattern.matrix.innerIndexPtr();
   // Connectivity: sum_j B_ij (dV_i^d - dV_j^d) = B_c sum_j (dV_i^d - dV_j^d), gathered over
@@ -44,28 +45,6 @@ void compute_strain_stress(const TissueModel& m, SimState& s, double* dv) {
   double* sigma[3] = {s.stress.col(0).data(), s.stress.col(1).data(), s.stress.col(2).data()};
   const double* bulk[3] = {m.bulk.col(0).data(), m.bulk.col(1).data(), m.bulk.col(2).data()};
   const double* vol = s.node_volumes.data();
-  if (m.membrane_capsule()) {
-    // The bulk term as for the paper's form (no capsule term in eq 6), then the membrane's
-    // stress from its strain.
-    for (int i = 0; i < n; ++i) {
-      const double inv_v = 1.0 / s.node_volumes[i];
-      for (int d = 0; d < 3; ++d) {
-        const double eps = dv[3 * i + d] * inv_v;
-        s.strain(i, d) = eps;
-        s.stress(i, d) = m.bulk(i, d) * eps;
-      }
-    }
-    for (const int i : m.infinite_nodes) {
-      const double tiny = 1e-9 * A.row(i).norm();
-      for (int d = 0; d < 3; ++d) {
-        if (!m.infinite(i, d)) continue;
-        s.strain(i, d) = 0.0;
-        s.stress(i, d) += std::abs(A(i, d)) > tiny ? -s.reaction(i, d) / A(i, d) : 0.0;
-      }
-    }
-    add_membrane_stress(m, s, dv);
-    return;
-  }
   // Strain and stress of node i at once (one division by V_i for the three axes), as for a
   // finite B on every entry; the few infinite ones are redone below.
   for (int i = 0; i < n; ++i) {
@@ -91,6 +70,7 @@ void compute_strain_stress(const TissueModel& m, SimState& s, double* dv) {
       sigma[d][i] = (std::abs(A(i, d)) > tiny ? -s.reaction(i, d) / A(i, d) : 0.0) + bc * sum[d] * inv_v;
     }
   }
+  if (m.membrane_capsule()) add_membrane_stress(m, s, dv);
 }
 
 }  // namespace vdm

@@ -103,7 +103,6 @@ bool build_tissue_model(const TissueDef& def, TissueModel& m, std::string& error
   if (m.capsule != CapsuleForm::paper) {
     CotangentWeights cot = cotangent_weights(def.mesh.positions, def.mesh.triangles, def.capsule_delaunay);
     m.edges = std::move(cot.edges);
-    m.capsule_flips = cot.flips;
     m.capsule_weight.resize(Eigen::Index(m.edges.size()));
     for (size_t e = 0; e < m.edges.size(); ++e) m.capsule_weight[Eigen::Index(e)] = cot.weights[e];
   } else {

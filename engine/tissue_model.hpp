@@ -85,7 +85,6 @@ struct TissueModel {
   double capsule_tension = 0;
   Vec capsule_weight;
   Vec capsule_diagonal;
-  int capsule_flips = 0;                 // edges flipped to the intrinsic Delaunay triangulation
   std::vector<double> membrane_frames;   // per rest triangle: its basis and D^-1 (membrane_strain.hpp)
   double axis_stiffness_floor = 0;
   double density = 0;
