@@ -272,12 +272,16 @@ int cmd_calibrate(const std::string& mesh_path, double scale, double young, doub
   const auto t0 = vdm::Clock::now();
   vdm::fem::TetMesh tets;
   std::string error;
+  err << "calibrate: " << mesh.mesh.node_count() << " surface nodes; tetrahedralising for the FEM reference\n";
   if (!tetrahedralize(mesh.mesh, tet_size, tets, error)) {
     err << "vdmsim: error: " << mesh_path << ": " << error << "\n";
     return 1;
   }
+  err << "calibrate: " << tets.node_count() << " nodes, " << tets.tet_count() << " tets (" << vdm::ms_since(t0) / 1000
+      << " s); two FEM load cases, then about 25 VDM runs of both\n";
   OrganCalibration calibration;
-  if (!calibrate_organ(mesh.mesh, tets, young, poisson, steps, calibration)) {
+  const CalibrationProgress progress = [&err](const std::string& line) { err << line << "\n" << std::flush; };
+  if (!calibrate_organ(mesh.mesh, tets, young, poisson, steps, calibration, progress)) {
     err << "vdmsim: error: " << mesh_path << ": no node in the top patch to drive\n";
     return 1;
   }

@@ -4,6 +4,7 @@
 // (relative to the largest FEM displacement of the case, every case weighted alike) fix the
 // ratio B_ij / B (driven by prescribed motion, VDM's displacements depend on nothing else);
 // the work of the driven nodes (reaction . displacement) then fixes the scale, in closed form.
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -20,8 +21,12 @@ struct CalibrationResult {
   std::vector<double> mean_relative_difference;  // per case, as mean_relative_difference()
 };
 
+// One line per finished piece of work (an FEM case, a VDM evaluation), for a progress display.
+using CalibrationProgress = std::function<void(const std::string& line)>;
+
 CalibrationResult calibrate_vdm(const vdm::SurfaceMesh& surface, const std::vector<LoadCase>& cases,
-                                const std::vector<CaseResult>& fem, const VdmParams& start);
+                                const std::vector<CaseResult>& fem, const VdmParams& start,
+                                const CalibrationProgress& progress = nullptr);
 
 // The residuals of VDM with `params` on the cases against the FEM runs (params, cost,
 // rms_displacement, rms_work, mean_relative_difference; evaluations = 1).
@@ -35,7 +40,7 @@ struct OrganCalibration {
 };
 // False (nothing run) when the organ's top patch holds no node to drive.
 bool calibrate_organ(const vdm::SurfaceMesh& surface, const vdm::fem::TetMesh& tets, double young, double poisson,
-                     int steps, OrganCalibration& out);
+                     int steps, OrganCalibration& out, const CalibrationProgress& progress = nullptr);
 
 // Default load cases for any organ: the lowest `base` fraction of its height held, the top
 // patch (nodes within `patch` of the height from the top and within `patch` x the size of
