@@ -11,6 +11,7 @@
 #include "app/studies/accuracy.hpp"
 #include "app/studies/bench.hpp"
 #include "app/cli/commands.hpp"
+#include "app/scene/scene_reference.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"vdmsim: soft-tissue surgical simulation with the Volume Distribution Method"};
@@ -79,6 +80,8 @@ int main(int argc, char** argv) {
   accuracy->add_flag("--quick", accuracy_opt.quick, "Coarser meshes, fewer knob values (under 2 minutes)");
   auto* check = app.add_subcommand("check", "Validate a scene and its mesh without simulating");
   check->add_option("SCENE", scene_path, "Scene file (YAML)")->required();
+  auto* scene_reference = app.add_subcommand(
+      "scene-reference", "Print every scene key with its unit, default and range (docs/scene-reference.md, Markdown)");
 
   try {
     app.parse(argc, argv);
@@ -99,6 +102,10 @@ int main(int argc, char** argv) {
     if (bench->parsed()) return vdmsim::cmd_bench(bench_out, bench_quick, std::cout, std::cerr, bench_only, bench_case_fd);
     if (accuracy->parsed()) return vdmsim::run_accuracy(accuracy_opt, std::cout, std::cerr);
     if (check->parsed()) return vdmsim::cmd_check(scene_path, std::cout, std::cerr);
+    if (scene_reference->parsed()) {
+      vdmsim::write_scene_reference(std::cout);
+      return 0;
+    }
     if (make_organ->parsed()) return vdmsim::cmd_make_organ(organ, organ_level, organ_out, std::cout, std::cerr);
     if (calibrate->parsed())
       return vdmsim::cmd_calibrate(calib_mesh, calib_scale, calib_young, calib_poisson, calib_steps, calib_tet, calib_out,

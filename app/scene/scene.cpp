@@ -10,12 +10,16 @@
 #include <limits>
 #include <sstream>
 
+#include "app/scene/scene_keys.hpp"
 #include "engine/elastic_moduli.hpp"
 
 namespace vdmsim {
 namespace {
 
 const double kInf = std::numeric_limits<double>::infinity();
+
+// The table's entry of a key path (app/scene/scene_keys.hpp); an unknown path does not compile.
+#define KEY(path) VDMSIM_SCENE_KEY(path)
 
 size_t edit_distance(const std::string& a, const std::string& b) {
   std::vector<size_t> prev(b.size() + 1), cur(b.size() + 1);
@@ -86,6 +90,19 @@ class Reader {
     }
   }
 
+  // The keys of the table's mapping `table_path` (scene_keys.hpp), and for a region those of
+  // `extra` (the list's own keys) after them; for instruments[].shape those of `shape`.
+  void check_keys(const YAML::Node& map, const std::string& field, const char* table_path, const char* shape = nullptr,
+                  const char* extra = nullptr) {
+    if (!map.IsMap()) return;
+    std::vector<std::string> known = scene_key_names(table_path, shape);
+    if (extra) {
+      const std::vector<std::string> more = scene_key_names(extra);
+      known.insert(known.end(), more.begin(), more.end());
+    }
+    check_keys(map, field, known);
+  }
+
   bool require_map(const YAML::Node& n, const std::string& field) {
     if (n.IsMap()) return true;
     error(n, field, std::string("expected a mapping (key: value lines), got ") + kind(n));
@@ -139,6 +156,18 @@ class Reader {
     }
     out = v;
     return true;
+  }
+
+  // A number in the range and unit the table gives the key.
+  bool number(const YAML::Node& n, const std::string& field, double& out, const SceneKey& k) {
+    return number(n, field, out, k.lo, k.hi, k.unit, k.allow_inf, k.lo_open);
+  }
+  // A whole number in the table's range (messages name no unit).
+  bool integer(const YAML::Node& n, const std::string& field, int& out, const SceneKey& k) {
+    return integer(n, field, out, static_cast<long>(k.lo), static_cast<long>(k.hi));
+  }
+  bool vec3(const YAML::Node& n, const std::string& field, vdm::Vec3& out, const SceneKey& k) {
+    return vec3(n, field, out, k.unit);
   }
 
   bool integer(const YAML::Node& n, const std::string& field, int& out, long lo, long hi) {
@@ -198,22 +227,21 @@ class Reader {
   std::vector<SceneProblem>& out_;
 };
 
-void read_region(Reader& r, const YAML::Node& n, const std::string& field, Region& out,
-                 const std::vector<std::string>& extra_keys) {
+// A region; `list_item` is the table path of the list's items (organ.fixed[], ...), whose own
+// keys are allowed beside the region's.
+void read_region(Reader& r, const YAML::Node& n, const std::string& field, Region& out, const char* list_item) {
   out.where = r.where(n);
-  std::vector<std::string> known = {"box", "sphere", "nodes", "all"};
-  known.insert(known.end(), extra_keys.begin(), extra_keys.end());
-  r.check_keys(n, field, known);
+  r.check_keys(n, field, "region", nullptr, list_item);
   int kinds = 0;
   if (const YAML::Node b = n["box"]) {
     ++kinds;
     out.kind = Region::Kind::box;
     if (r.require_map(b, Reader::sub(field, "box"))) {
-      r.check_keys(b, Reader::sub(field, "box"), {"min", "max"});
+      r.check_keys(b, Reader::sub(field, "box"), "region.box");
       const YAML::Node mn = r.required(b, "min", Reader::sub(field, "box"), "the box's lower corner [x, y, z] (m)");
       const YAML::Node mx = r.required(b, "max", Reader::sub(field, "box"), "the box's upper corner [x, y, z] (m)");
-      if (mn && mx && r.vec3(mn, Reader::sub(field, "box.min"), out.min, "m") &&
-          r.vec3(mx, Reader::sub(field, "box.max"), out.max, "m") && (out.max - out.min).minCoeff() < 0)
+      if (mn && mx && r.vec3(mn, Reader::sub(field, "box.min"), out.min, KEY("region.box.min")) &&
+          r.vec3(mx, Reader::sub(field, "box.max"), out.max, KEY("region.box.max")) && (out.max - out.min).minCoeff() < 0)
         r.error(mx, Reader::sub(field, "box.max"), "each coordinate of max must be >= the same coordinate of min");
     }
   }
@@ -221,11 +249,11 @@ void read_region(Reader& r, const YAML::Node& n, const std::string& field, Regio
     ++kinds;
     out.kind = Region::Kind::sphere;
     if (r.require_map(s, Reader::sub(field, "sphere"))) {
-      r.check_keys(s, Reader::sub(field, "sphere"), {"center", "radius"});
+      r.check_keys(s, Reader::sub(field, "sphere"), "region.sphere");
       const YAML::Node c = r.required(s, "center", Reader::sub(field, "sphere"), "[x, y, z] (m)");
       const YAML::Node rad = r.required(s, "radius", Reader::sub(field, "sphere"), "a radius > 0 (m)");
-      if (c) r.vec3(c, Reader::sub(field, "sphere.center"), out.center, "m");
-      if (rad) r.number(rad, Reader::sub(field, "sphere.radius"), out.radius, 0, kInf, "m", false, true);
+      if (c) r.vec3(c, Reader::sub(field, "sphere.center"), out.center, KEY("region.sphere.center"));
+      if (rad) r.number(rad, Reader::sub(field, "sphere.radius"), out.radius, KEY("region.sphere.radius"));
     }
   }
   if (const YAML::Node list = n["nodes"]) {
@@ -234,7 +262,7 @@ void read_region(Reader& r, const YAML::Node& n, const std::string& field, Regio
     if (r.require_sequence(list, Reader::sub(field, "nodes"))) {
       for (size_t i = 0; i < list.size(); ++i) {
         int id = 0;
-        if (r.integer(list[i], Reader::item(Reader::sub(field, "nodes"), i), id, 0, 1 << 30)) out.nodes.push_back(id);
+        if (r.integer(list[i], Reader::item(Reader::sub(field, "nodes"), i), id, KEY("region.nodes"))) out.nodes.push_back(id);
       }
       if (list.size() == 0) r.error(list, Reader::sub(field, "nodes"), "the node list is empty");
     }
@@ -252,22 +280,21 @@ void read_region(Reader& r, const YAML::Node& n, const std::string& field, Regio
                        : "give exactly one region (box, sphere, nodes or all), not several");
 }
 
-void read_ramp(Reader& r, const YAML::Node& n, const std::string& field, double& t0, double& t1) {
+void read_ramp(Reader& r, const YAML::Node& n, const std::string& field, const SceneKey& key, double& t0, double& t1) {
   const YAML::Node t = n["t"];
   if (!t) return;  // default [0, 0]: applied in full from the start
   if (!t.IsSequence() || t.size() != 2) {
     r.error(t, Reader::sub(field, "t"), "expected [t_start, t_end] (s)");
     return;
   }
-  if (r.number(t[0], Reader::sub(field, "t[0]"), t0, 0, kInf, "s") &&
-      r.number(t[1], Reader::sub(field, "t[1]"), t1, 0, kInf, "s") && t1 < t0)
+  if (r.number(t[0], Reader::sub(field, "t[0]"), t0, key) && r.number(t[1], Reader::sub(field, "t[1]"), t1, key) && t1 < t0)
     r.error(t, Reader::sub(field, "t"), "t_end must not come before t_start");
 }
 
 void read_organ(Reader& r, const YAML::Node& organ, SceneDef& s, const std::filesystem::path& base) {
   const std::string f = "organ";
   if (!r.require_map(organ, f)) return;
-  r.check_keys(organ, f, {"mesh", "scale", "material", "fixed", "model", "loads", "prescribed", "tet_size"});
+  r.check_keys(organ, f, "organ");
   if (const YAML::Node m = r.required(organ, "mesh", f, "the organ's surface mesh file (relative to the scene)")) {
     std::string rel;
     if (r.text(m, "organ.mesh", rel)) {
@@ -278,7 +305,7 @@ void read_organ(Reader& r, const YAML::Node& organ, SceneDef& s, const std::file
         r.error(m, "organ.mesh", "mesh file not found: " + s.mesh_path);
     }
   }
-  if (const YAML::Node n = organ["scale"]) r.number(n, "organ.scale", s.scale, 0, kInf, "mesh units to metres", false, true);
+  if (const YAML::Node n = organ["scale"]) r.number(n, "organ.scale", s.scale, KEY("organ.scale"));
   if (const YAML::Node n = organ["model"]) {
     std::string model;
     if (r.text(n, "organ.model", model) && !vdm::parse_model_kind(model, s.model)) {
@@ -287,16 +314,15 @@ void read_organ(Reader& r, const YAML::Node& organ, SceneDef& s, const std::file
                                     "; expected vdm, fem or mass_spring");
     }
   }
-  if (const YAML::Node n = organ["tet_size"]) r.number(n, "organ.tet_size", s.tet_size, 0, kInf, "m");
+  if (const YAML::Node n = organ["tet_size"]) r.number(n, "organ.tet_size", s.tet_size, KEY("organ.tet_size"));
   if (const YAML::Node mat = organ["material"]) {
     if (r.require_map(mat, "organ.material")) {
-      r.check_keys(mat, "organ.material", {"bulk_modulus", "connectivity_modulus", "capsule", "density", "damping", "young_modulus",
-                                           "poisson_ratio", "thickness", "volume_modulus"});
+      r.check_keys(mat, "organ.material", "organ.material");
       if (const YAML::Node n = mat["young_modulus"])
-        r.number(n, "organ.material.young_modulus", s.young_modulus, 0, 1e12, "Pa", false, true);
+        r.number(n, "organ.material.young_modulus", s.young_modulus, KEY("organ.material.young_modulus"));
       if (const YAML::Node n = mat["poisson_ratio"]) {
         double nu = 0;
-        if (r.number(n, "organ.material.poisson_ratio", nu, 0, 0.5, "")) {
+        if (r.number(n, "organ.material.poisson_ratio", nu, KEY("organ.material.poisson_ratio"))) {
           if (nu >= 0.5)
             r.error(n, "organ.material.poisson_ratio",
                     "value " + n.Scalar() + " is out of range: expected >= 0 and < 0.5 (0.5 is exactly incompressible; use up to 0.49)");
@@ -304,30 +330,30 @@ void read_organ(Reader& r, const YAML::Node& organ, SceneDef& s, const std::file
             s.poisson_ratio = nu;
         }
       }
-      if (const YAML::Node n = mat["thickness"]) r.number(n, "organ.material.thickness", s.thickness, 0, 10, "m", false, true);
-      if (const YAML::Node n = mat["volume_modulus"]) r.number(n, "organ.material.volume_modulus", s.volume_modulus, 0, 1e12, "Pa");
+      if (const YAML::Node n = mat["thickness"]) r.number(n, "organ.material.thickness", s.thickness, KEY("organ.material.thickness"));
+      if (const YAML::Node n = mat["volume_modulus"]) r.number(n, "organ.material.volume_modulus", s.volume_modulus, KEY("organ.material.volume_modulus"));
       if (const YAML::Node b = mat["bulk_modulus"]) {
         if (b.IsSequence()) {
           if (b.size() != 3) {
             r.error(b, "organ.material.bulk_modulus", "expected one modulus or three [bx, by, bz] (Pa)");
           } else {
             for (int d = 0; d < 3; ++d)
-              r.number(b[d], Reader::item("organ.material.bulk_modulus", d), s.bulk_modulus[d], 0, kInf, "Pa", true, true);
+              r.number(b[d], Reader::item("organ.material.bulk_modulus", d), s.bulk_modulus[d], KEY("organ.material.bulk_modulus"));
           }
         } else {
           double v = 0;
-          if (r.number(b, "organ.material.bulk_modulus", v, 0, kInf, "Pa", true, true)) s.bulk_modulus.setConstant(v);
+          if (r.number(b, "organ.material.bulk_modulus", v, KEY("organ.material.bulk_modulus"))) s.bulk_modulus.setConstant(v);
         }
       }
       if (const YAML::Node n = mat["connectivity_modulus"])
-        r.number(n, "organ.material.connectivity_modulus", s.connectivity_modulus, 0, 1e12, "Pa");
+        r.number(n, "organ.material.connectivity_modulus", s.connectivity_modulus, KEY("organ.material.connectivity_modulus"));
       if (const YAML::Node n = mat["capsule"]) {
         std::string form;
         if (r.text(n, "organ.material.capsule", form) && !vdm::parse_capsule_form(form, s.capsule))
           r.error(n, "organ.material.capsule", "unknown capsule '" + form + "'; expected membrane, corotational or paper");
       }
-      if (const YAML::Node n = mat["density"]) r.number(n, "organ.material.density", s.density, 0, 1e5, "kg/m^3", false, true);
-      if (const YAML::Node n = mat["damping"]) r.number(n, "organ.material.damping", s.damping, 0, 1e6, "1/s");
+      if (const YAML::Node n = mat["density"]) r.number(n, "organ.material.density", s.density, KEY("organ.material.density"));
+      if (const YAML::Node n = mat["damping"]) r.number(n, "organ.material.damping", s.damping, KEY("organ.material.damping"));
       // VDM from E and nu: the documented rule (engine/elastic_moduli.hpp); one form or the other.
       if (s.model == vdm::ModelKind::vdm && (mat["young_modulus"] || mat["poisson_ratio"])) {
         if (mat["bulk_modulus"] || mat["connectivity_modulus"]) {
@@ -351,7 +377,7 @@ void read_organ(Reader& r, const YAML::Node& organ, SceneDef& s, const std::file
         const std::string fi = Reader::item("organ.fixed", i);
         if (!r.require_map(list[i], fi)) continue;
         FixedDef fd;
-        read_region(r, list[i], fi, fd.region, {"axes"});
+        read_region(r, list[i], fi, fd.region, "organ.fixed[]");
         if (const YAML::Node axes = list[i]["axes"]) {
           fd.axes = {false, false, false};
           if (r.require_sequence(axes, Reader::sub(fi, "axes")))
@@ -370,10 +396,10 @@ void read_organ(Reader& r, const YAML::Node& organ, SceneDef& s, const std::file
         const std::string fi = Reader::item("organ.loads", i);
         if (!r.require_map(list[i], fi)) continue;
         LoadDef ld;
-        read_region(r, list[i], fi, ld.region, {"force", "t"});
+        read_region(r, list[i], fi, ld.region, "organ.loads[]");
         if (const YAML::Node fo = r.required(list[i], "force", fi, "the total force [fx, fy, fz] (N)"))
-          r.vec3(fo, Reader::sub(fi, "force"), ld.force, "N");
-        read_ramp(r, list[i], fi, ld.t0, ld.t1);
+          r.vec3(fo, Reader::sub(fi, "force"), ld.force, KEY("organ.loads[].force"));
+        read_ramp(r, list[i], fi, KEY("organ.loads[].t"), ld.t0, ld.t1);
         s.loads.push_back(ld);
       }
   }
@@ -383,16 +409,16 @@ void read_organ(Reader& r, const YAML::Node& organ, SceneDef& s, const std::file
         const std::string fi = Reader::item("organ.prescribed", i);
         if (!r.require_map(list[i], fi)) continue;
         PrescribedDef pd;
-        read_region(r, list[i], fi, pd.region, {"translate", "rotate_deg", "about", "t"});
-        if (const YAML::Node n = list[i]["translate"]) r.vec3(n, Reader::sub(fi, "translate"), pd.translate, "m");
-        if (const YAML::Node n = list[i]["rotate_deg"]) r.vec3(n, Reader::sub(fi, "rotate_deg"), pd.rotate_deg, "degrees");
+        read_region(r, list[i], fi, pd.region, "organ.prescribed[]");
+        if (const YAML::Node n = list[i]["translate"]) r.vec3(n, Reader::sub(fi, "translate"), pd.translate, KEY("organ.prescribed[].translate"));
+        if (const YAML::Node n = list[i]["rotate_deg"]) r.vec3(n, Reader::sub(fi, "rotate_deg"), pd.rotate_deg, KEY("organ.prescribed[].rotate_deg"));
         if (const YAML::Node n = list[i]["about"]) {
           vdm::Vec3 c;
-          if (r.vec3(n, Reader::sub(fi, "about"), c, "m")) pd.about = c;
+          if (r.vec3(n, Reader::sub(fi, "about"), c, KEY("organ.prescribed[].about"))) pd.about = c;
         }
         if (!list[i]["translate"] && !list[i]["rotate_deg"])
           r.error(list[i], fi, "a prescribed motion needs translate: [dx, dy, dz] (m) and/or rotate_deg: [ax, ay, az]");
-        read_ramp(r, list[i], fi, pd.t0, pd.t1);
+        read_ramp(r, list[i], fi, KEY("organ.prescribed[].t"), pd.t0, pd.t1);
         s.prescribed.push_back(pd);
       }
   }
@@ -401,13 +427,13 @@ void read_organ(Reader& r, const YAML::Node& organ, SceneDef& s, const std::file
 void read_simulation(Reader& r, const YAML::Node& sim, SceneDef& s) {
   const std::string f = "simulation";
   if (!r.require_map(sim, f)) return;
-  r.check_keys(sim, f, {"frames", "dt", "effects", "solver", "gravity", "volume_constraint", "contact"});
-  if (const YAML::Node n = sim["frames"]) r.integer(n, "simulation.frames", s.frames, 1, 10000000);
-  if (const YAML::Node n = sim["dt"]) r.number(n, "simulation.dt", s.dt, 0, 10, "s", false, true);
-  if (const YAML::Node n = sim["gravity"]) r.vec3(n, "simulation.gravity", s.gravity, "m/s^2");
+  r.check_keys(sim, f, "simulation");
+  if (const YAML::Node n = sim["frames"]) r.integer(n, "simulation.frames", s.frames, KEY("simulation.frames"));
+  if (const YAML::Node n = sim["dt"]) r.number(n, "simulation.dt", s.dt, KEY("simulation.dt"));
+  if (const YAML::Node n = sim["gravity"]) r.vec3(n, "simulation.gravity", s.gravity, KEY("simulation.gravity"));
   if (const YAML::Node n = sim["volume_constraint"]) r.boolean(n, "simulation.volume_constraint", s.volume_constraint);
   if (const YAML::Node list = sim["effects"]) {
-    const std::vector<std::string> known = {"contact", "grasp", "gravity", "inertia", "stress"};
+    const std::vector<std::string> known = KEY("simulation.effects").values();  // in the order of Effect
     if (r.require_sequence(list, "simulation.effects"))
       for (size_t i = 0; i < list.size(); ++i) {
         const std::string fi = Reader::item("simulation.effects", i);
@@ -426,32 +452,29 @@ void read_simulation(Reader& r, const YAML::Node& sim, SceneDef& s) {
   }
   if (const YAML::Node sol = sim["solver"]) {
     if (r.require_map(sol, "simulation.solver")) {
-      r.check_keys(sol, "simulation.solver",
-                   {"method", "tolerance", "max_iterations", "refresh_every", "nonlinear_iterations",
-                    "volume_corrections", "volume_tolerance", "warm_start"});
+      r.check_keys(sol, "simulation.solver", "simulation.solver");
       if (const YAML::Node n = sol["method"]) {
         std::string m;
         if (r.text(n, "simulation.solver.method", m) && !vdm::parse_solver_method(m, s.solver.method))
           r.error(n, "simulation.solver.method", "unknown solver '" + m + "' (expected reference, structured or direct)");
       }
       if (const YAML::Node n = sol["tolerance"])
-        r.number(n, "simulation.solver.tolerance", s.solver.tolerance, 0, 0.1, "relative residual", false, true);
-      if (const YAML::Node n = sol["max_iterations"]) r.integer(n, "simulation.solver.max_iterations", s.solver.max_iterations, 1, 1000000);
-      if (const YAML::Node n = sol["refresh_every"]) r.integer(n, "simulation.solver.refresh_every", s.solver.refresh_every, 1, 1000000);
+        r.number(n, "simulation.solver.tolerance", s.solver.tolerance, KEY("simulation.solver.tolerance"));
+      if (const YAML::Node n = sol["max_iterations"]) r.integer(n, "simulation.solver.max_iterations", s.solver.max_iterations, KEY("simulation.solver.max_iterations"));
+      if (const YAML::Node n = sol["refresh_every"]) r.integer(n, "simulation.solver.refresh_every", s.solver.refresh_every, KEY("simulation.solver.refresh_every"));
       if (const YAML::Node n = sol["nonlinear_iterations"])
-        r.integer(n, "simulation.solver.nonlinear_iterations", s.solver.nonlinear_iterations, 1, 1000);
+        r.integer(n, "simulation.solver.nonlinear_iterations", s.solver.nonlinear_iterations, KEY("simulation.solver.nonlinear_iterations"));
       if (const YAML::Node n = sol["volume_corrections"])
-        r.integer(n, "simulation.solver.volume_corrections", s.solver.volume_corrections, 0, 100);
+        r.integer(n, "simulation.solver.volume_corrections", s.solver.volume_corrections, KEY("simulation.solver.volume_corrections"));
       if (const YAML::Node n = sol["volume_tolerance"])
-        r.number(n, "simulation.solver.volume_tolerance", s.solver.volume_tolerance, 0, 1e-2, "relative volume error",
-                 false, true);
+        r.number(n, "simulation.solver.volume_tolerance", s.solver.volume_tolerance, KEY("simulation.solver.volume_tolerance"));
       if (const YAML::Node n = sol["warm_start"]) r.boolean(n, "simulation.solver.warm_start", s.solver.warm_start);
     }
   }
   if (const YAML::Node con = sim["contact"]) {
     const std::string fc = "simulation.contact";
     if (r.require_map(con, fc)) {
-      r.check_keys(con, fc, {"method", "stiffness", "max_iterations"});
+      r.check_keys(con, fc, "simulation.contact");
       vdm::ContactSettings& cs = s.contact;
       if (const YAML::Node n = con["method"]) {
         std::string m;
@@ -474,13 +497,12 @@ void read_simulation(Reader& r, const YAML::Node& sim, SceneDef& s) {
         }
       }
       if (const YAML::Node n = con["stiffness"]) {
-        r.number(n, fc + ".stiffness", cs.penalty_stiffness, 0, 1e15, "Pa/m (contact pressure per metre of penetration)",
-                 false, true);
+        r.number(n, fc + ".stiffness", cs.penalty_stiffness, KEY("simulation.contact.stiffness"));
         if (cs.method != vdm::ContactSettings::Method::penalty)
           r.warn(n, fc + ".stiffness", "used by the penalty method only (method: penalty)");
       }
       if (const YAML::Node n = con["max_iterations"])
-        r.integer(n, fc + ".max_iterations", cs.max_penalty_iterations, 1, 1000);
+        r.integer(n, fc + ".max_iterations", cs.max_penalty_iterations, KEY("simulation.contact.max_iterations"));
       if (!s.has(Effect::contact))
         r.warn(con, fc, "has no effect: contact is not in simulation.effects");
     }
@@ -491,7 +513,7 @@ void read_simulation(Reader& r, const YAML::Node& sim, SceneDef& s) {
 void read_shape(Reader& r, const YAML::Node& n, const std::string& f, InstrumentDef& in, ConvexDef& convex,
                 const std::filesystem::path& base) {
   using Kind = tools::ProbeShape::Kind;
-  const std::vector<std::string> kinds = {"capsule", "cylinder", "box", "convex"};
+  const std::vector<std::string> kinds = KEY("instruments[].shape.type").values();  // in the order of Kind
   // (A YAML::Node assigned to another changes the node it refers to: one const per node.)
   const YAML::Node type_node = n.IsMap() ? r.required(n, "type", f, "capsule, cylinder, box or convex") : n;
   if (!type_node) return;
@@ -514,12 +536,7 @@ void read_shape(Reader& r, const YAML::Node& n, const std::string& f, Instrument
     r.error(n, f, "a shape is for probes only (a grasper's jaws are boxes of its radius and jaw_length)");
     return;
   }
-  switch (in.shape.kind) {
-    case Kind::capsule: r.check_keys(n, f, {"type"}); break;
-    case Kind::cylinder: r.check_keys(n, f, {"type", "rounding"}); break;
-    case Kind::box: r.check_keys(n, f, {"type", "size", "rounding"}); break;
-    case Kind::convex: r.check_keys(n, f, {"type", "mesh", "scale", "origin", "rotate_deg"}); break;
-  }
+  r.check_keys(n, f, "instruments[].shape", kinds[static_cast<size_t>(in.shape.kind)].c_str());
   if (in.shape.kind == Kind::box) {
     if (!n.IsMap()) r.error(n, f, "a box needs its sizes: shape: {type: box, size: [x, y, z]} (m)");
     if (const YAML::Node size = n.IsMap() ? r.required(n, "size", f, "the box's sizes [x, y, z] (m), z along the axis")
@@ -529,7 +546,7 @@ void read_shape(Reader& r, const YAML::Node& n, const std::string& f, Instrument
         r.error(size, Reader::sub(f, "size"), "expected three sizes [x, y, z] (m)");
       } else {
         for (int d = 0; d < 3; ++d)
-          r.number(size[d], Reader::item(Reader::sub(f, "size"), d), in.shape.size[d], 0, 10, "m", false, true);
+          r.number(size[d], Reader::item(Reader::sub(f, "size"), d), in.shape.size[d], KEY("instruments[].shape.size"));
       }
     }
   }
@@ -537,7 +554,8 @@ void read_shape(Reader& r, const YAML::Node& n, const std::string& f, Instrument
     if (const YAML::Node v = n.IsMap() ? n["rounding"] : YAML::Node(YAML::NodeType::Undefined); v.IsDefined()) {
       const double limit = in.shape.kind == Kind::cylinder ? std::min(in.radius, 0.5 * std::max(in.length, 2 * in.radius))
                                                           : 0.5 * in.shape.size.minCoeff();
-      if (r.number(v, Reader::sub(f, "rounding"), in.shape.rounding, 0, kInf, "m") && in.shape.rounding > limit) {
+      if (r.number(v, Reader::sub(f, "rounding"), in.shape.rounding, KEY("instruments[].shape.rounding")) &&
+          in.shape.rounding > limit) {
         std::ostringstream m;
         m << "value " << v.Scalar() << " is out of range: the rounding must be <= "
           << (in.shape.kind == Kind::cylinder ? "the radius (" : "half the smallest size (") << limit << " m)";
@@ -562,9 +580,9 @@ void read_shape(Reader& r, const YAML::Node& n, const std::string& f, Instrument
           r.error(m, Reader::sub(f, "mesh"), "no such mesh file: " + convex.mesh);
       }
     }
-    if (const YAML::Node v = n["scale"]) r.number(v, Reader::sub(f, "scale"), convex.scale, 0, kInf, "mesh units -> m", false, true);
-    if (const YAML::Node v = n["origin"]) r.vec3(v, Reader::sub(f, "origin"), convex.origin, "m");
-    if (const YAML::Node v = n["rotate_deg"]) r.vec3(v, Reader::sub(f, "rotate_deg"), convex.rotate_deg, "degrees");
+    if (const YAML::Node v = n["scale"]) r.number(v, Reader::sub(f, "scale"), convex.scale, KEY("instruments[].shape.scale"));
+    if (const YAML::Node v = n["origin"]) r.vec3(v, Reader::sub(f, "origin"), convex.origin, KEY("instruments[].shape.origin"));
+    if (const YAML::Node v = n["rotate_deg"]) r.vec3(v, Reader::sub(f, "rotate_deg"), convex.rotate_deg, KEY("instruments[].shape.rotate_deg"));
   }
 }
 
@@ -574,7 +592,7 @@ void read_instruments(Reader& r, const YAML::Node& list, SceneDef& s, const std:
     const std::string fi = Reader::item("instruments", i);
     const YAML::Node n = list[i];
     if (!r.require_map(n, fi)) continue;
-    r.check_keys(n, fi, {"type", "radius", "length", "jaw_length", "grasp_width", "script", "skin", "path", "shape"});
+    r.check_keys(n, fi, "instruments[]");
     InstrumentDef in;
     s.instrument_where.push_back(r.where(n));
     if (const YAML::Node t = r.required(n, "type", fi, "probe or grasper")) {
@@ -590,10 +608,10 @@ void read_instruments(Reader& r, const YAML::Node& list, SceneDef& s, const std:
         }
       }
     }
-    if (const YAML::Node v = n["radius"]) r.number(v, Reader::sub(fi, "radius"), in.radius, 0, 1, "m", false, true);
-    if (const YAML::Node v = n["length"]) r.number(v, Reader::sub(fi, "length"), in.length, 0, 10, "m", false, true);
-    if (const YAML::Node v = n["jaw_length"]) r.number(v, Reader::sub(fi, "jaw_length"), in.jaw_length, 0, 1, "m", false, true);
-    if (const YAML::Node v = n["grasp_width"]) r.number(v, Reader::sub(fi, "grasp_width"), in.grasp_width, 0, 1, "m", false, true);
+    if (const YAML::Node v = n["radius"]) r.number(v, Reader::sub(fi, "radius"), in.radius, KEY("instruments[].radius"));
+    if (const YAML::Node v = n["length"]) r.number(v, Reader::sub(fi, "length"), in.length, KEY("instruments[].length"));
+    if (const YAML::Node v = n["jaw_length"]) r.number(v, Reader::sub(fi, "jaw_length"), in.jaw_length, KEY("instruments[].jaw_length"));
+    if (const YAML::Node v = n["grasp_width"]) r.number(v, Reader::sub(fi, "grasp_width"), in.grasp_width, KEY("instruments[].grasp_width"));
     if (const YAML::Node v = n["path"]) {
       std::string p;
       if (r.text(v, Reader::sub(fi, "path"), p)) {
@@ -607,7 +625,7 @@ void read_instruments(Reader& r, const YAML::Node& list, SceneDef& s, const std:
     SkinDef skin;
     if (const YAML::Node sk = n["skin"]; sk && r.require_map(sk, Reader::sub(fi, "skin"))) {
       const std::string fs = Reader::sub(fi, "skin");
-      r.check_keys(sk, fs, {"body", "jaws", "scale", "origin", "rotate_deg"});
+      r.check_keys(sk, fs, "instruments[].skin");
       skin.present = true;
       skin.where = r.where(sk);
       auto file = [&](const YAML::Node& v, const std::string& field, std::string& out) {
@@ -623,9 +641,9 @@ void read_instruments(Reader& r, const YAML::Node& list, SceneDef& s, const std:
         else
           for (size_t k = 0; k < 2; ++k) file(j[k], Reader::item(Reader::sub(fs, "jaws"), k), skin.jaws[k]);
       }
-      if (const YAML::Node v = sk["scale"]) r.number(v, Reader::sub(fs, "scale"), skin.scale, 0, kInf, "mesh units -> m", false, true);
-      if (const YAML::Node v = sk["origin"]) r.vec3(v, Reader::sub(fs, "origin"), skin.origin, "m");
-      if (const YAML::Node v = sk["rotate_deg"]) r.vec3(v, Reader::sub(fs, "rotate_deg"), skin.rotate_deg, "degrees");
+      if (const YAML::Node v = sk["scale"]) r.number(v, Reader::sub(fs, "scale"), skin.scale, KEY("instruments[].skin.scale"));
+      if (const YAML::Node v = sk["origin"]) r.vec3(v, Reader::sub(fs, "origin"), skin.origin, KEY("instruments[].skin.origin"));
+      if (const YAML::Node v = sk["rotate_deg"]) r.vec3(v, Reader::sub(fs, "rotate_deg"), skin.rotate_deg, KEY("instruments[].skin.rotate_deg"));
       if (!sk["body"] && !sk["jaws"]) r.error(sk, fs, "give body: MESH and/or jaws: [MESH, MESH]");
     }
     const YAML::Node script = r.required(n, "script", fi, "a timeline of keyframes [{t, tip, axis, jaw}, ...]");
@@ -635,17 +653,17 @@ void read_instruments(Reader& r, const YAML::Node& list, SceneDef& s, const std:
       const std::string fk = Reader::item(Reader::sub(fi, "script"), k);
       const YAML::Node kf = script[k];
       if (!r.require_map(kf, fk)) continue;
-      r.check_keys(kf, fk, {"t", "tip", "axis", "jaw"});
+      r.check_keys(kf, fk, "instruments[].script[]");
       Keyframe key;
       if (const YAML::Node t = r.required(kf, "t", fk, "the keyframe's time (s)"))
-        r.number(t, Reader::sub(fk, "t"), key.t, 0, kInf, "s");
+        r.number(t, Reader::sub(fk, "t"), key.t, KEY("instruments[].script[].t"));
       if (!in.script.empty() && !(key.t > in.script.back().t))
         r.error(kf["t"] ? kf["t"] : kf, Reader::sub(fk, "t"),
                 "keyframe times must increase: " + std::to_string(key.t) + " s does not come after " +
                     std::to_string(in.script.back().t) + " s");
       vdm::Vec3 v;
-      if (const YAML::Node tip = kf["tip"]; tip && r.vec3(tip, Reader::sub(fk, "tip"), v, "m")) key.tip = v;
-      if (const YAML::Node ax = kf["axis"]; ax && r.vec3(ax, Reader::sub(fk, "axis"), v, "unit vector")) {
+      if (const YAML::Node tip = kf["tip"]; tip && r.vec3(tip, Reader::sub(fk, "tip"), v, KEY("instruments[].script[].tip"))) key.tip = v;
+      if (const YAML::Node ax = kf["axis"]; ax && r.vec3(ax, Reader::sub(fk, "axis"), v, KEY("instruments[].script[].axis"))) {
         if (v.norm() < 1e-9) r.error(ax, Reader::sub(fk, "axis"), "the axis must not be zero");
         else key.axis = v.normalized();
       }
@@ -672,7 +690,7 @@ void read_antialias(Reader& r, const YAML::Node& n, render::RenderSettings& rs) 
   const YAML::Node aa = n["antialias"], samples = n["samples"];
   bool samples_ok = false;
   if (samples) {
-    samples_ok = r.integer(samples, "render.samples", rs.samples, 1, 16);
+    samples_ok = r.integer(samples, "render.samples", rs.samples, KEY("render.samples"));
     if (samples_ok && (rs.samples & (rs.samples - 1))) {
       r.error(samples, "render.samples", "expected 1, 2, 4, 8 or 16 (samples per pixel for anti-aliasing)");
       samples_ok = false;
@@ -704,33 +722,31 @@ void read_antialias(Reader& r, const YAML::Node& n, render::RenderSettings& rs) 
 void read_render(Reader& r, const YAML::Node& n, SceneDef& s) {
   RenderDef& d = s.render;
   if (!r.require_map(n, "render")) return;
-  r.check_keys(n, "render",
-               {"width", "height", "antialias", "samples", "camera", "views", "stress", "hud", "hud_step_time", "floor", "shadows",
-                "png_compression", "fps"});
-  if (const YAML::Node v = n["width"]) r.integer(v, "render.width", d.settings.width, 16, 8192);
-  if (const YAML::Node v = n["height"]) r.integer(v, "render.height", d.settings.height, 16, 8192);
+  r.check_keys(n, "render", "render");
+  if (const YAML::Node v = n["width"]) r.integer(v, "render.width", d.settings.width, KEY("render.width"));
+  if (const YAML::Node v = n["height"]) r.integer(v, "render.height", d.settings.height, KEY("render.height"));
   read_antialias(r, n, d.settings);
   if (const YAML::Node v = n["hud"]) r.boolean(v, "render.hud", d.hud);
   if (const YAML::Node v = n["hud_step_time"]) r.boolean(v, "render.hud_step_time", d.hud_step_time);
   if (const YAML::Node v = n["floor"]) r.boolean(v, "render.floor", d.settings.floor);
   if (const YAML::Node v = n["shadows"]) r.boolean(v, "render.shadows", d.settings.shadows);
-  if (const YAML::Node v = n["png_compression"]) r.integer(v, "render.png_compression", d.png_compression, 0, 9);
-  if (const YAML::Node v = n["fps"]) r.number(v, "render.fps", d.fps, 0, 240, "frames per second", false, true);
+  if (const YAML::Node v = n["png_compression"]) r.integer(v, "render.png_compression", d.png_compression, KEY("render.png_compression"));
+  if (const YAML::Node v = n["fps"]) r.number(v, "render.fps", d.fps, KEY("render.fps"));
   if (const YAML::Node cam = n["camera"]; cam && r.require_map(cam, "render.camera")) {
-    r.check_keys(cam, "render.camera", {"eye", "target", "up", "fov_deg"});
+    r.check_keys(cam, "render.camera", "render.camera");
     render::Camera& c = d.settings.camera;
-    if (const YAML::Node v = cam["fov_deg"]) r.number(v, "render.camera.fov_deg", c.fov_deg, 1, 170, "degrees");
+    if (const YAML::Node v = cam["fov_deg"]) r.number(v, "render.camera.fov_deg", c.fov_deg, KEY("render.camera.fov_deg"));
     const YAML::Node eye = cam["eye"], target = cam["target"];
     if (eye || target) {
       d.settings.auto_camera = false;
       if (!eye) r.error(cam, "render.camera.eye", "missing: give eye and target together (or neither, for automatic framing)");
       if (!target) r.error(cam, "render.camera.target", "missing: give eye and target together (or neither, for automatic framing)");
-      if (eye) r.vec3(eye, "render.camera.eye", c.eye, "m");
-      if (target) r.vec3(target, "render.camera.target", c.target, "m");
+      if (eye) r.vec3(eye, "render.camera.eye", c.eye, KEY("render.camera.eye"));
+      if (target) r.vec3(target, "render.camera.target", c.target, KEY("render.camera.target"));
       if (eye && target && (c.eye - c.target).norm() < 1e-9)
         r.error(target, "render.camera.target", "the target must differ from the eye");
     }
-    if (const YAML::Node up = cam["up"]; up && r.vec3(up, "render.camera.up", c.up, "unit vector") && c.up.norm() < 1e-9)
+    if (const YAML::Node up = cam["up"]; up && r.vec3(up, "render.camera.up", c.up, KEY("render.camera.up")) && c.up.norm() < 1e-9)
       r.error(up, "render.camera.up", "the up vector must not be zero");
   }
   if (const YAML::Node views = n["views"]; views && r.require_sequence(views, "render.views")) {
@@ -748,7 +764,7 @@ void read_render(Reader& r, const YAML::Node& n, SceneDef& s) {
     }
   }
   if (const YAML::Node st = n["stress"]; st && r.require_map(st, "render.stress")) {
-    r.check_keys(st, "render.stress", {"quantity", "range", "colormap"});
+    r.check_keys(st, "render.stress", "render.stress");
     render::StressView& v = d.stress_view;
     if (const YAML::Node q = st["quantity"]) {
       std::string t;
@@ -766,8 +782,8 @@ void read_render(Reader& r, const YAML::Node& n, SceneDef& s) {
         d.range_auto = true;
       } else if (!range.IsSequence() || range.size() != 2) {
         r.error(range, "render.stress.range", "expected [low, high] in the quantity's SI unit, or auto");
-      } else if (r.number(range[0], "render.stress.range[0]", v.lo, -kInf, kInf, "") &&
-                 r.number(range[1], "render.stress.range[1]", v.hi, -kInf, kInf, "")) {
+      } else if (r.number(range[0], "render.stress.range[0]", v.lo, KEY("render.stress.range")) &&
+                 r.number(range[1], "render.stress.range[1]", v.hi, KEY("render.stress.range"))) {
         d.range_auto = false;
         if (!(v.hi > v.lo)) r.error(range[1], "render.stress.range[1]", "the high end must be above the low end");
         else if (v.hi - v.lo < 1e-9 * std::max(std::abs(v.lo), std::abs(v.hi)))
@@ -840,7 +856,7 @@ SceneLoadResult load_scene(const std::string& path) {
     r.error(root, "scene", std::string("expected a mapping with name, organ, simulation, ... at the top, got ") + Reader::kind(root));
     return res;
   }
-  r.check_keys(root, "", {"name", "organ", "simulation", "instruments", "render"});
+  r.check_keys(root, "", "");
   const std::filesystem::path base = std::filesystem::path(path).parent_path();
   if (const YAML::Node n = root["name"]) r.text(n, "name", s.name);
   if (s.name.empty()) s.name = std::filesystem::path(path).stem().string();

@@ -1,0 +1,218 @@
+// docs/scene-reference.md is what the scene reader's table of keys prints, and the table is
+// true: every key's example loads without a problem, and every value it lists is one the
+// reader knows.
+#include <gtest/gtest.h>
+#include <yaml-cpp/yaml.h>
+
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "app/scene/scene.hpp"
+#include "app/scene/scene_keys.hpp"
+#include "app/scene/scene_reference.hpp"
+#include "support/scratch_dir.hpp"
+
+namespace vdmsim {
+namespace {
+
+namespace fs = std::filesystem;
+
+TEST(SceneReference, CommittedPageIsWhatTheCodePrints) {
+  std::ostringstream printed;
+  write_scene_reference(printed);
+  const fs::path page = fs::path(VDMSIM_SOURCE_DIR) / "docs/scene-reference.md";
+  std::ifstream in(page);
+  ASSERT_TRUE(in) << page << " is missing: run ./build/vdmsim scene-reference > docs/scene-reference.md";
+  std::stringstream committed;
+  committed << in.rdbuf();
+  if (committed.str() == printed.str()) return;
+  std::istringstream a(committed.str()), b(printed.str());
+  std::string la, lb;
+  int line = 0;
+  while (true) {
+    ++line;
+    const bool ga = static_cast<bool>(std::getline(a, la)), gb = static_cast<bool>(std::getline(b, lb));
+    if (!ga && !gb) break;
+    if (!ga || !gb || la != lb) {
+      ADD_FAILURE() << page << " differs from what the code prints, first at line " << line << ":\n  committed: "
+                    << (ga ? la : "(end of file)") << "\n  printed:   " << (gb ? lb : "(end of output)")
+                    << "\nRegenerate it: ./build/vdmsim scene-reference > docs/scene-reference.md";
+      return;
+    }
+  }
+  ADD_FAILURE() << page << " differs from what the code prints (line endings?)";
+}
+
+// A scene with every section, for the examples to go into: organ.fixed holds one region of
+// each kind (box, sphere, nodes, all), in that order.
+const char* kBaseScene = R"(name: base
+organ:
+  mesh: ../meshes/liver_L4.obj
+  material: {density: 1060}
+  fixed:
+    - {box: {min: [-1, -1, -1], max: [1, 1, -0.03]}}
+    - {sphere: {center: [0, 0, 0], radius: 0.01}}
+    - {nodes: [1, 2]}
+    - {all: true, axes: [z]}
+  loads: [{sphere: {center: [0, 0, 0.06], radius: 0.02}, force: [0, 0, -1], t: [0, 1]}]
+  prescribed: [{nodes: [5], translate: [0, 0, -0.001]}]
+simulation:
+  frames: 3
+  dt: 0.04
+  effects: [contact, stress]
+  solver: {method: structured}
+  contact: {method: kinematic}
+instruments:
+  - type: probe
+    radius: 0.004
+    script:
+      - {t: 0, tip: [0.035, 0, 0.075], axis: [0, 0, -1]}
+      - {t: 1, tip: [0.035, 0, 0.05]}
+    skin: {body: ../meshes/probe.obj}
+render:
+  width: 64
+  height: 48
+  views: [shaded]
+  camera: {eye: [0.16, -0.24, 0.19], target: [0.025, 0, 0.025]}
+  stress: {quantity: magnitude}
+)";
+
+std::vector<std::string> split(const std::string& path) {
+  std::vector<std::string> parts;
+  std::stringstream s(path);
+  std::string p;
+  while (std::getline(s, p, '.')) parts.push_back(p);
+  return parts;
+}
+
+// The mapping of `root` that holds the key `path` (a region's keys: in organ.fixed[k], the
+// region of their kind).
+YAML::Node holder(YAML::Node root, const std::string& path) {
+  std::vector<std::string> parts = split(path);
+  parts.pop_back();
+  YAML::Node n = root;
+  size_t i = 0;
+  if (!parts.empty() && parts[0] == "region") {
+    const std::vector<std::string> kinds = {"box", "sphere", "nodes", "all"};
+    const std::string kind = split(path)[1];
+    const size_t k = std::find(kinds.begin(), kinds.end(), kind) - kinds.begin();
+    n.reset(root["organ"]["fixed"][k]);
+    i = 1;
+  }
+  for (; i < parts.size(); ++i) {
+    std::string name = parts[i];
+    const bool item = name.size() > 2 && name.compare(name.size() - 2, 2, "[]") == 0;
+    if (item) name.resize(name.size() - 2);
+    if (!n[name]) n[name] = YAML::Node(YAML::NodeType::Map);
+    YAML::Node next = n[name];
+    n.reset(next);
+    if (item) {
+      YAML::Node first = n[0];
+      n.reset(first);
+    }
+  }
+  return n;
+}
+
+// The problems of the base scene with `entries` (a flow mapping) merged into the holder of `path`.
+std::vector<SceneProblem> problems_with(const std::string& path, const std::string& entries, const std::string& file) {
+  const fs::path dir = test::scratch_dir("scene_reference");
+  YAML::Node root = YAML::Load(kBaseScene);
+  YAML::Node into = holder(root, path);
+  const YAML::Node add = YAML::Load("{" + entries + "}");
+  for (auto it = add.begin(); it != add.end(); ++it) into[it->first.Scalar()] = it->second;
+  YAML::Emitter e;
+  e << root;
+  fs::create_directories(dir / "scenes");
+  const fs::path scene = dir / "scenes" / file;
+  std::ofstream(scene) << e.c_str() << "\n";
+  return load_scene(scene.string()).problems;
+}
+
+std::string text_of(const std::vector<SceneProblem>& problems) {
+  std::string s;
+  for (const SceneProblem& p : problems) s += p.text() + "\n";
+  return s;
+}
+
+// The mesh files the base scene and the examples name, in the scratch folder's meshes/.
+void make_meshes() {
+  const fs::path meshes = test::scratch_dir("scene_reference") / "meshes";
+  fs::create_directories(meshes);
+  std::set<std::string> names = {"liver_L4.obj", "probe.obj"};
+  const std::regex file(R"(\.\./meshes/([A-Za-z0-9_]+\.obj))");
+  for (const SceneKey& k : kSceneKeys) {
+    const std::string example = k.example;
+    for (auto m = std::sregex_iterator(example.begin(), example.end(), file); m != std::sregex_iterator(); ++m)
+      names.insert((*m)[1]);
+  }
+  for (const std::string& name : names)
+    fs::copy_file(fs::path(VDMSIM_SOURCE_DIR) / "assets/meshes/liver_L4.obj", meshes / name,
+                  fs::copy_options::overwrite_existing);
+}
+
+TEST(SceneReference, BaseSceneLoadsWithoutProblems) {
+  make_meshes();
+  const std::vector<SceneProblem> p = problems_with("name", "name: base", "base.yaml");
+  EXPECT_TRUE(p.empty()) << text_of(p);
+}
+
+TEST(SceneReference, EveryKeysExampleLoadsWithoutProblems) {
+  make_meshes();
+  int i = 0;
+  for (const SceneKey& k : kSceneKeys) {
+    if (k.type == KeyType::region) continue;
+    SCOPED_TRACE(k.path);
+    ASSERT_NE(std::string(k.example), "") << k.path << " has no example";
+    const std::string name = split(k.path).back();
+    const YAML::Node example = YAML::Load(std::string("{") + k.example + "}");
+    EXPECT_TRUE(example[name.substr(0, name.find('['))]) << "the example of " << k.path << " does not set it: " << k.example;
+    const std::vector<SceneProblem> p = problems_with(k.path, k.example, "example_" + std::to_string(i++) + ".yaml");
+    EXPECT_TRUE(p.empty()) << k.path << ": " << k.example << "\n" << text_of(p);
+  }
+}
+
+TEST(SceneReference, EveryListedValueIsKnownToTheReader) {
+  make_meshes();
+  int i = 0;
+  for (const SceneKey& k : kSceneKeys) {
+    if (!k.values) continue;
+    const std::string name = split(k.path).back();
+    for (const std::string& v : k.values()) {
+      const std::string entry = name + ": " + (k.type == KeyType::choice_list ? "[" + v + "]" : v);
+      const std::vector<SceneProblem> p = problems_with(k.path, entry, "value_" + std::to_string(i++) + ".yaml");
+      const std::string all = text_of(p);
+      EXPECT_EQ(all.find("unknown"), std::string::npos) << k.path << ": " << v << "\n" << all;
+    }
+  }
+}
+
+TEST(SceneReference, ReaderChecksKeysAgainstTheTable) {
+  make_meshes();
+  const std::vector<SceneProblem> p = problems_with("simulation.frames", "frmes: 3", "typo.yaml");
+  ASSERT_EQ(p.size(), 1u) << text_of(p);
+  EXPECT_TRUE(p[0].warning);
+  EXPECT_NE(p[0].message.find("(did you mean 'frames'?); known keys: frames, dt, effects, solver, gravity, "
+                              "volume_constraint, contact"),
+            std::string::npos)
+      << p[0].message;
+  EXPECT_EQ(scene_key_names("instruments[].shape", "box"), (std::vector<std::string>{"type", "size", "rounding"}));
+  EXPECT_EQ(scene_key_names("instruments[].shape", "capsule"), (std::vector<std::string>{"type"}));
+}
+
+TEST(SceneReference, DefaultsAreWrittenAsScenesWriteThem) {
+  EXPECT_EQ(yaml_number(1e-8), "1e-8");
+  EXPECT_EQ(yaml_number(1e12), "1e12");
+  EXPECT_EQ(yaml_number(20000), "20000");
+  EXPECT_EQ(yaml_number(1.0 / 30.0), "0.0333333");
+  EXPECT_EQ(yaml_number(std::numeric_limits<double>::infinity()), "inf");
+  EXPECT_EQ(yaml_vector(vdm::Vec3(0, 0, -9.81)), "[0, 0, -9.81]");
+}
+
+}  // namespace
+}  // namespace vdmsim
