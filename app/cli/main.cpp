@@ -45,7 +45,8 @@ int main(int argc, char** argv) {
   calibrate->add_option("--young", calib_young, "FEM Young's modulus (Pa)");
   calibrate->add_option("--poisson", calib_poisson, "FEM Poisson's ratio, [0, 0.5)");
   calibrate->add_option("--steps", calib_steps, "Steps of each load case");
-  calibrate->add_option("--tet-size", calib_tet, "Largest tet edge (m); 0: graded from the surface");
+  calibrate->add_option("--tet-size", calib_tet,
+                        "Largest tet edge inside the organ (m; the surface's triangles are kept); 0: a tenth of the organ's smallest extent");
   calibrate->add_option("--out", calib_out, "Output YAML with the fitted material")->required();
 
   std::string scene_path;

@@ -79,7 +79,8 @@ std::string gmsh_error(const GmshApi& g) {
 
 }  // namespace
 
-bool tetrahedralize(const vdm::SurfaceMesh& surface, double max_size, vdm::fem::TetMesh& out, std::string& error) {
+bool tetrahedralize(const vdm::SurfaceMesh& surface, double max_size, vdm::fem::TetMesh& out, std::string& error,
+                    TetInterior interior) {
   const int ns = surface.node_count();
   std::vector<std::size_t> tags(static_cast<size_t>(ns));
   std::vector<double> coords(3 * static_cast<size_t>(ns));
@@ -107,6 +108,8 @@ bool tetrahedralize(const vdm::SurfaceMesh& surface, double max_size, vdm::fem::
   if (!ierr) g.add_volume(&loop, 1, -1, &ierr);
   if (!ierr) g.synchronize(&ierr);
   if (!ierr && max_size > 0) g.set_number("Mesh.MeshSizeMax", max_size, &ierr);
+  // A coarse interior: the sizes inside no longer follow the surface's edges, they grow to max_size.
+  if (!ierr && max_size > 0 && interior == TetInterior::coarse) g.set_number("Mesh.MeshSizeExtendFromBoundary", 0, &ierr);
   if (!ierr) g.set_number("Mesh.Optimize", 1, &ierr);
   if (!ierr) g.generate(3, &ierr);
   if (!ierr) {

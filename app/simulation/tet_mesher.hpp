@@ -9,7 +9,12 @@
 
 namespace vdmsim {
 
+// How the inside is sized: like the surface's edges nearby (graded), or growing to max_size
+// away from the surface (coarse: far fewer nodes inside a finely meshed organ).
+enum class TetInterior { graded, coarse };
+
 // `max_size`: largest tet edge (m); 0 = let gmsh grade from the surface's own edge lengths.
-bool tetrahedralize(const vdm::SurfaceMesh& surface, double max_size, vdm::fem::TetMesh& out, std::string& error);
+bool tetrahedralize(const vdm::SurfaceMesh& surface, double max_size, vdm::fem::TetMesh& out, std::string& error,
+                    TetInterior interior = TetInterior::graded);
 
 }  // namespace vdmsim

@@ -81,3 +81,20 @@ TEST(Cli, TwoDefaultRunsOfAnExampleSceneGiveIdenticalPngs) {
     }
   EXPECT_EQ(compared, 6);
 }
+
+// vdmsim calibrate on the project's 2.5k-node liver: progress on the way (the FEM cases and each
+// VDM run), a material block written, the E, nu rule's residual printed beside the fit's.
+TEST(Cli, CalibrateReportsProgressAndWritesTheMaterial) {
+  const std::filesystem::path mesh = std::filesystem::path(VDMSIM_SOURCE_DIR) / "assets/meshes/liver_L4.obj";
+  const std::filesystem::path out = vdmsim::test::scratch_dir("calibrate_cli") / "material.yaml";
+  const vdmsim::test::CliResult r = run_cli("calibrate --mesh " + mesh.string() + " --steps 2 --out " + out.string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find("calibrate: FEM case 1 of 2 (press) done"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("calibrate: FEM case 2 of 2 (pull) done"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("calibrate: VDM run 20:"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("the E, nu rule"), std::string::npos) << r.output;
+  std::ifstream in(out);
+  const std::string yaml((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(yaml.find("material: {bulk_modulus: "), std::string::npos) << yaml;
+  EXPECT_NE(yaml.find("connectivity_modulus: "), std::string::npos) << yaml;
+}
