@@ -12,8 +12,11 @@ namespace vdm {
 
 // Per triangle of the rest surface (TissueModel::membrane_frames): an orthonormal basis
 // (e1, e2) of its plane and the inverse of its edge matrix in that basis, [x_b − x_a,
-// x_c − x_a] = D, D⁻¹ (2 x 2, row-major), and its area. 11 doubles per triangle.
-constexpr int kMembraneFrameSize = 11;
+// x_c − x_a] = D, D⁻¹ (2 x 2, row-major), and its area: 11 fields. Stored four triangles to a
+// block, field by field (field k of triangle t at block t / 4, index 4 k + t % 4), so that
+// four triangles' fields load as one vector; the last block padded with area 0.
+constexpr int kMembraneFrameFields = 11;
+constexpr int kMembraneFrameBlock = 4 * kMembraneFrameFields;
 std::vector<double> membrane_frames(const SurfaceMesh& rest);
 
 // E_i: the area-weighted mean over node i's triangles of the world-frame Green strain
