@@ -12,11 +12,12 @@
 namespace render {
 namespace {
 
-// Okabe and Ito's colour-blind-safe palette.
+// Okabe and Ito's colour-blind-safe palette (then a grey and a tenth colour).
 const ImU32 kPalette[] = {IM_COL32(0, 114, 178, 255),  IM_COL32(213, 94, 0, 255),   IM_COL32(0, 158, 115, 255),
                           IM_COL32(204, 121, 167, 255), IM_COL32(230, 159, 0, 255),  IM_COL32(86, 180, 233, 255),
                           IM_COL32(0, 0, 0, 255),       IM_COL32(240, 228, 66, 255),
-                          IM_COL32(140, 140, 140, 255)};  // and a neutral grey (index 8)
+                          IM_COL32(140, 140, 140, 255),   // and a neutral grey (index 8)
+                          IM_COL32(136, 34, 85, 255)};    // and Tol's wine (index 9)
 constexpr size_t kColours = sizeof(kPalette) / sizeof(kPalette[0]);
 
 struct Range {

@@ -46,6 +46,7 @@ std::string config_name(const AccuracyConfig& c) {
   if (c.model == vdm::ModelKind::vdm)
     s << "_" << vdm::to_string(c.method) << "_tol" << std::setprecision(0) << std::scientific << c.tolerance << "_r"
       << c.refresh_every << "_n" << c.nonlinear_iterations;
+  if (c.model == vdm::ModelKind::vdm && c.capsule != vdm::CapsuleForm::membrane) s << "_" << vdm::to_string(c.capsule);
   return s.str();
 }
 
@@ -59,7 +60,8 @@ std::string scene_yaml(const AccuracyConfig& c, int frames) {
     << "  mesh: ../meshes/" << level_mesh(c.level) << "\n"
     << "  model: " << vdm::to_string(c.model) << "\n";
   if (c.model == vdm::ModelKind::vdm)
-    y << "  material: {bulk_modulus: 20000, connectivity_modulus: 2000, density: 1060}\n";
+    y << "  material: {bulk_modulus: 20000, connectivity_modulus: 2000, density: 1060, capsule: "
+      << vdm::to_string(c.capsule) << "}\n";
   else if (c.model == vdm::ModelKind::fem)
     y << "  material: {young_modulus: " << kRefYoung << ", poisson_ratio: " << kPoisson << ", density: 1060}\n";
   else
@@ -242,6 +244,10 @@ std::vector<AccuracyConfig> accuracy_configs(bool quick) {
     for (int k : nonlinear) vary("nonlinear", [&](AccuracyConfig& c) { c.nonlinear_iterations = k; });
     const std::vector<int> levels = quick ? std::vector<int>{3} : std::vector<int>{3, 4, 6};
     for (int l : levels) vary("mesh", [&](AccuracyConfig& c) { c.level = l; });
+    // The capsule's other forms on the baseline's mesh: what the membrane's consistency costs
+    // and what the paper's form gives up.
+    for (vdm::CapsuleForm f : {vdm::CapsuleForm::paper, vdm::CapsuleForm::corotational})
+      vary("capsule", [&](AccuracyConfig& c) { c.capsule = f; });
     // The reference models on the coarse liver: their Newton solves cost seconds per step on
     // finer ones (mass_spring converges slowly where its membrane is pushed along its normal).
     vary("model", [&](AccuracyConfig& c) {

@@ -1,7 +1,7 @@
 #pragma once
 // The accuracy-versus-time study (`vdmsim accuracy`): the liver probe poke and grasp-and-lift
 // run with one knob changed at a time (solver, tolerance, refresh period of the nonlinear
-// terms, nonlinear iterations per step, mesh resolution, model) and compared with a converged
+// terms, nonlinear iterations per step, mesh resolution, the capsule's form, model) and compared with a converged
 // reference (finest mesh, tightest tolerance, refresh every step, several nonlinear
 // iterations) on a common set of surface points.
 #include <ostream>
@@ -15,13 +15,14 @@ namespace vdmsim {
 
 struct AccuracyConfig {
   std::string scenario;        // probe_poke | grasp_lift
-  std::string varied;          // reference | baseline | solver | tolerance | refresh | nonlinear | mesh | model
+  std::string varied;          // reference | baseline | solver | tolerance | refresh | nonlinear | mesh | capsule | model
   vdm::ModelKind model = vdm::ModelKind::vdm;
   int level = 5;               // liver mesh level (3: 642, 4: 2562, 5: 10242, 6: 40962 nodes)
   vdm::SolverMethod method = vdm::SolverMethod::structured;
   double tolerance = 1e-8;
   int refresh_every = 1;
   int nonlinear_iterations = 1;
+  vdm::CapsuleForm capsule = vdm::CapsuleForm::membrane;  // vdm: the capsule term's form (docs/model.md)
 };
 
 struct AccuracyRow {

@@ -20,7 +20,8 @@ std::string knobs(const AccuracyConfig& c) {
   s << vdm::to_string(c.model) << ", liver L" << c.level;
   if (c.model == vdm::ModelKind::vdm)
     s << ", " << vdm::to_string(c.method) << ", tolerance " << c.tolerance << ", refresh every " << c.refresh_every
-      << ", " << c.nonlinear_iterations << " nonlinear iteration" << (c.nonlinear_iterations > 1 ? "s" : "");
+      << ", " << c.nonlinear_iterations << " nonlinear iteration" << (c.nonlinear_iterations > 1 ? "s" : "")
+      << ", " << vdm::to_string(c.capsule) << " capsule";
   return s.str();
 }
 
@@ -81,6 +82,7 @@ bool write_accuracy_plot(const std::string& path, const std::vector<AccuracyRow>
       {"baseline", {}, "baseline", 0},      {"solver", {}, "solver", 1},        {"tolerance", {}, "tolerance", 2},
       {"refresh", {}, "refresh period", 3}, {"nonlinear", {}, "nonlinear iterations", 4},
       {"mesh", {}, "mesh", 5},
+      {"capsule", {}, "capsule form", 9},
       {"model", vdm::ModelKind::fem, "model fem", 6},
       {"model", vdm::ModelKind::mass_spring, "model mass_spring", 7},
   };

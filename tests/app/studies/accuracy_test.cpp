@@ -42,7 +42,7 @@ TEST(Accuracy, EveryScenarioHasAReferenceFirstAndEveryKnobVaried) {
         if (c.scenario == scenario && c.model == vdm::ModelKind::vdm) {
           EXPECT_LE(ref->tolerance, c.tolerance);
         }
-      for (const char* knob : {"baseline", "solver", "tolerance", "refresh", "nonlinear", "mesh", "model"})
+      for (const char* knob : {"baseline", "solver", "tolerance", "refresh", "nonlinear", "mesh", "capsule", "model"})
         EXPECT_TRUE(varied.count(knob)) << scenario << " " << knob << (quick ? " quick" : "");
     }
   }
