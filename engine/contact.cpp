@@ -287,6 +287,7 @@ ContactSolver::ContactSolver(const TissueModel& m, ContactSettings settings)
   held_normal_.reserve(static_cast<size_t>(m.n));
   candidates_.reserve(static_cast<size_t>(m.n));
   held_.reserve(static_cast<size_t>(m.n));
+  holder_.assign(static_cast<size_t>(m.n), 0);
   saved_flags_.reserve(static_cast<size_t>(m.n));
   saved_u_.reserve(static_cast<size_t>(m.n));
   stack_.reserve(256);
@@ -568,7 +569,10 @@ void ContactSolver::copy_scene_constraints(const TissueModel& m, const StepInput
   }
 }
 
-double ContactSolver::penalty_forces(const std::vector<ToolShape>& tools, const NodeMat& x, ContactReport& rep) {
+double ContactSolver::penalty_forces(const std::vector<ToolShape>& tools, const NodeMat& x, ContactReport& rep,
+                                     const StepInput* base, std::vector<Vec3>* per_tool) {
+  const bool has_prescribed = base && base->prescribed.rows() == x.rows();
+  if (per_tool) per_tool->assign(tools.size(), Vec3::Zero());
   penalty_force_.setZero();
   penalty_spring_.setZero();
   refit(x);
@@ -592,7 +596,8 @@ double ContactSolver::penalty_forces(const std::vector<ToolShape>& tools, const 
     auto sample = [&](double bu, double bv) {
       const Vec3 y = a + bu * ab + bv * ac;
       const double b[3] = {1.0 - bu - bv, bu, bv};
-      for (const ToolShape& t : tools) {
+      for (size_t k = 0; k < tools.size(); ++k) {
+        const ToolShape& t = tools[k];
         Vec3 p, n;
         const double dist = tool_distance(t, y, p, n);
         if (dist >= 0.0) continue;
@@ -604,6 +609,8 @@ double ContactSolver::penalty_forces(const std::vector<ToolShape>& tools, const 
         for (int c = 0; c < 3; ++c) {
           penalty_force_.row(node[c]) += b[c] * force.transpose();
           penalty_spring_.row(node[c]) += b[c] * spring.transpose();
+          if (per_tool && !(has_prescribed && base->prescribed.row(node[c]).minCoeff() != 0))
+            (*per_tool)[k] -= b[c] * force;
         }
       }
     };
@@ -704,7 +711,7 @@ void ContactSolver::step_penalty(const TissueModel& m, const StepInput& base, co
   }
   finish_step_results(m, s);
   t0 = Clock::now();
-  const double deepest = penalty_forces(tools, s.x, rep);
+  const double deepest = penalty_forces(tools, s.x, rep, &base, &tool_force_);
   rep.collision_ms += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
   // The contact force at the final positions; the organ pushes the tools with -F.
   rep.max_penetration = deepest;
@@ -775,6 +782,7 @@ void ContactSolver::step_kinematic(const TissueModel& m, const StepInput& base, 
         const Vec3 target = dist < 0.0 ? push_out(t, x, node_move - t.motion_at(x), dir) : p;
         if (dist >= 0.0) dir = nrm;  // touching: held where it is; the tool pushes it along its normal
         active_[i] = 1;  // (classify only sees free nodes)
+        holder_[size_t(i)] = int(k);
         held_.push_back(i);
         held_target_.push_back(target.transpose());
         held_normal_.push_back(dir.transpose());
@@ -880,9 +888,11 @@ void ContactSolver::step_kinematic(const TissueModel& m, const StepInput& base, 
   }
   if (!solver_) finish_step_results(m, s);
   std::sort(held_.begin(), held_.end());  // the force summed in node order
+  tool_force_.assign(tools.size(), Vec3::Zero());
   for (int i : held_) {
     ++rep.nodes;
     rep.force -= s.reaction.row(i).transpose();
+    tool_force_[size_t(holder_[size_t(i)])] -= s.reaction.row(i).transpose();
   }
 }
 

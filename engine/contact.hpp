@@ -113,6 +113,9 @@ class ContactSolver {
   void set_solver(OrganSolver* solver) { solver_ = solver; }
   // Per-node flag: held by an instrument after the last step.
   const std::vector<char>& active() const { return active_; }
+  // Per tool of the last step (in the order of its `tools`): the force of the organ on it (N).
+  // Their sum is the report's force.
+  const std::vector<Vec3>& tool_forces() const { return tool_force_; }
 
  private:
   // Appends to `found` the nodes (with `triangles`: the triangles) whose triangles overlap
@@ -130,7 +133,9 @@ class ContactSolver {
   void copy_scene_constraints(const TissueModel& model, const StepInput& base);
   // Penalty forces on the nodes at positions x (penalty_force_) and the per-axis spring
   // stiffness that bounds their Jacobian (penalty_spring_). Returns the deepest sample (m).
-  double penalty_forces(const std::vector<ToolShape>& tools, const NodeMat& x, ContactReport& report);
+  // With `per_tool`, also each tool's share of the force on the nodes `base` does not drive.
+  double penalty_forces(const std::vector<ToolShape>& tools, const NodeMat& x, ContactReport& report,
+                        const StepInput* base = nullptr, std::vector<Vec3>* per_tool = nullptr);
   // Refits the organ's tree to positions x (nothing to do when they are those of the last refit).
   void refit(const NodeMat& x);
   // The lazy refit: node boxes that x left by more than the slack are reset, their triangles'
@@ -147,6 +152,8 @@ class ContactSolver {
   OrganSolver* solver_ = nullptr;
   std::vector<char> active_, mark_;
   std::vector<int> held_;       // the nodes flagged in active_
+  std::vector<int> holder_;     // per node: the tool that holds it (while flagged in active_)
+  std::vector<Vec3> tool_force_;
   // The input rows of the held nodes before a solve set them (put back after it).
   std::vector<Eigen::Matrix<std::uint8_t, 1, 3>> saved_flags_;
   std::vector<Eigen::RowVector3d> saved_u_;

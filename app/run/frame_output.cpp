@@ -205,7 +205,7 @@ bool FrameOutput::write(int f, int frames, const SceneSimulation& sim) {
   hud.frames = frames;
   hud.time_s = sim.time();
   hud.has_contact = sim.contact_simulated();
-  hud.contact_force_n = sim.contact_simulated() ? sim.contact_report().force.norm() : 0.0;
+  hud.contact_force_n = sim.contact_simulated() ? sim.total_force().norm() : 0.0;  // with the grasped nodes
   hud.pressure_pa = st.pressure;
   hud.volume_rel_error = st.volume_rel_error;
   hud.step_ms = sim.frame_step_ms();

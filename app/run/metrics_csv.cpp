@@ -27,7 +27,8 @@ int MetricsCsv::open(const fs::path& dir, int start, bool resume, bool stress, s
     return 1;
   }
   file_ << "frame,time_s,step_ms,iterations,residual,volume,volume_rel_error,pressure_pa,contact_nodes,"
-           "contact_force_n,max_penetration_m,max_displacement_m,max_stress_pa,fallbacks\n";
+           "contact_force_n,contact_force_x,contact_force_y,contact_force_z,max_penetration_m,max_displacement_m,max_stress_pa,"
+           "fallbacks\n";
   for (const std::string& row : kept_rows) file_ << row << '\n';
   file_ << std::setprecision(9);
   file_.flush();
@@ -43,12 +44,18 @@ bool MetricsCsv::write(int f, const SceneSimulation& sim, std::string& reason) {
   const vdm::SimState& state = sim.state();
   file_ << f << ',' << sim.time() << ',' << sim.frame_step_ms() << ',' << sim.frame_iterations() << ','
         << state.stats.residual << ',' << state.volume << ',' << state.volume_rel_error << ',' << state.pressure << ',';
-  if (sim.contact_simulated()) {
-    const vdm::ContactReport& report = sim.contact_report();
-    file_ << report.nodes << ',' << report.force.norm() << ',' << report.max_penetration << ',';
+  // Columns of effects that are not simulated stay empty: the contact's nodes and penetration
+  // without contact, the force without contact and grasp.
+  if (sim.contact_simulated()) file_ << sim.contact_report().nodes;
+  file_ << ',';
+  if (sim.forces_simulated()) {
+    const vdm::Vec3 force = sim.total_force();
+    file_ << force.norm() << ',' << force.x() << ',' << force.y() << ',' << force.z() << ',';
   } else {
-    file_ << ",,,";  // the contact effect is not simulated: its columns stay empty
+    file_ << ",,,,";
   }
+  if (sim.contact_simulated()) file_ << sim.contact_report().max_penetration;
+  file_ << ',';
   file_ << state.u.rowwise().norm().maxCoeff() << ',';
   if (stress_) file_ << state.stress.rowwise().norm().maxCoeff();
   file_ << ',' << sim.frame_fallbacks() << '\n';

@@ -20,11 +20,29 @@ std::string json_escape(const std::string& s) {
   return o;
 }
 
-void write_contact(const SceneDef& s, std::ostream& js) {
+// The contact's method and how its solves went: the linear-solver iterations of every contact
+// solve, and the steps whose active set was still changing when the iteration cap was reached.
+void write_contact(const RunRecord& r, std::ostream& js) {
+  const SceneDef& s = r.prepared.scene;
   const bool penalty = s.contact.method == vdm::ContactSettings::Method::penalty;
   js << "  \"contact\": {\"method\": \"" << (penalty ? "penalty" : "kinematic") << '"';
   if (penalty) js << ", \"stiffness_pa_per_m\": " << s.contact.penalty_stiffness;
+  js << ", \"iterations\": " << r.contact_iterations << ", \"unconverged_steps\": " << r.unconverged_contact_steps;
   js << "},\n";
+}
+
+// Per instrument, in the scene's order: its type and the largest force of the organ on it.
+void write_instruments(const RunRecord& r, std::ostream& js) {
+  const SceneDef& s = r.prepared.scene;
+  js << "  \"instruments\": [";
+  for (size_t k = 0; k < s.instruments.size(); ++k) {
+    const bool probe = s.instruments[k].type == tools::InstrumentDef::Type::probe;
+    js << (k ? ", " : "") << "{\"type\": \"" << (probe ? "probe" : "grasper") << "\", \"peak_force_n\": ";
+    if (r.forces && k < r.peak_forces.size()) js << r.peak_forces[k];
+    else js << "null";
+    js << '}';
+  }
+  js << "],\n";
 }
 
 void write_times(const RunRecord& r, std::ostream& js) {
@@ -109,7 +127,8 @@ std::string run_json(const RunRecord& r) {
   for (size_t i = 0; i < s.effects.size(); ++i) js << (i ? ", " : "") << '"' << to_string(s.effects[i]) << '"';
   js << "],\n";
   if (s.model == vdm::ModelKind::vdm) write_material(s, m, js);
-  if (s.has(Effect::contact)) write_contact(s, js);
+  if (s.has(Effect::contact)) write_contact(r, js);
+  write_instruments(r, js);
   write_times(r, js);
   write_render(r, js);
   write_mesh_export(r, js);

@@ -21,6 +21,9 @@ struct RunRecord {
   bool resumed_by_snapshot = false;
   StageTimes stage_times;
   std::vector<std::string> warnings;
+  bool forces = false;                    // the instruments' forces were measured (contact or grasp)
+  std::vector<double> peak_forces;        // per instrument (N)
+  long contact_iterations = 0, unconverged_contact_steps = 0;
   double wall_s = 0, colour_range_ms = 0;
   std::string video_status;
 };

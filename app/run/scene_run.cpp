@@ -98,6 +98,16 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
   record.colour_range_ms = colour_range_ms;
   record.stage_times = simulation->stage_times();
   record.warnings = simulation->state().warnings;
+  record.forces = simulation->forces_simulated();
+  record.peak_forces = simulation->peak_forces();
+  record.contact_iterations = simulation->contact_iterations();
+  record.unconverged_contact_steps = simulation->unconverged_contact_steps();
+  if (record.unconverged_contact_steps > 0) {
+    const std::string w = "contact: " + std::to_string(record.unconverged_contact_steps) +
+                          " steps stopped with the instruments' contact set still changing (run.json contact.unconverged_steps)";
+    record.warnings.push_back(w);
+    err << "vdmsim: warning: " << w << "\n";
+  }
   if (outcome.status == "completed") simulation.reset();
   if (setup.rendering && !output.finish(error) && outcome.status == "completed") outcome.fail(error);
   if (setup.rendering && !output.error().empty()) {

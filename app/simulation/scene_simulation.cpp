@@ -27,8 +27,13 @@ SceneSimulation::SceneSimulation(const PreparedScene& ps)
   const SceneDef& s = ps.scene;
   // Contact runs only when listed, against probes and graspers' jaws; grasping only when
   // listed, by graspers.
-  for (const tools::InstrumentDef& in : s.instruments)
-    (in.type == tools::InstrumentDef::Type::probe ? probes_ : graspers_).push_back(&in);
+  for (size_t k = 0; k < s.instruments.size(); ++k) {
+    const bool probe = s.instruments[k].type == tools::InstrumentDef::Type::probe;
+    (probe ? probes_ : graspers_).push_back(&s.instruments[k]);
+    (probe ? probe_index_ : grasper_index_).push_back(k);
+  }
+  instrument_force_.assign(s.instruments.size(), vdm::Vec3::Zero());
+  peak_force_.assign(s.instruments.size(), 0.0);
   if (s.has(Effect::grasp)) grasps_.resize(graspers_.size());
   // External forces only when the scene has loads: an empty force is none (1 MB at 40k nodes).
   if (s.loads.empty()) input_.force.resize(0, 3);
@@ -38,6 +43,30 @@ SceneSimulation::SceneSimulation(const PreparedScene& ps)
   if (s.has(Effect::contact) && !s.instruments.empty()) contact_ = std::make_unique<vdm::ContactSolver>(ps.model, s.contact);
   if (contact_) contact_->set_solver(organ_.get());  // organ.model fem or mass_spring
   tools_.resize(probes_.size() + 3 * graspers_.size());  // probes, then each grasper's two jaws and shaft
+}
+
+vdm::Vec3 SceneSimulation::total_force() const {
+  vdm::Vec3 sum = vdm::Vec3::Zero();
+  for (const vdm::Vec3& f : instrument_force_) sum += f;
+  return sum;
+}
+
+void SceneSimulation::measure_forces() {
+  if (!forces_simulated()) return;
+  const std::vector<vdm::Vec3>* contact = contact_ ? &contact_->tool_forces() : nullptr;
+  auto tool = [&](size_t k) { return contact && k < contact->size() ? (*contact)[k] : vdm::Vec3::Zero(); };
+  for (size_t k = 0; k < probes_.size(); ++k) instrument_force_[probe_index_[k]] = tool(k);
+  for (size_t k = 0; k < graspers_.size(); ++k) {
+    const size_t jaws = probes_.size() + 3 * k;
+    vdm::Vec3 f = tool(jaws) + tool(jaws + 1) + tool(jaws + 2);
+    // The grasped nodes follow the jaws as prescribed motion: the organ pulls the jaws with
+    // minus their reactions.
+    if (k < grasps_.size())
+      for (int i : grasps_[k].held()) f -= state_.reaction.row(i).transpose();
+    instrument_force_[grasper_index_[k]] = f;
+  }
+  for (size_t k = 0; k < instrument_force_.size(); ++k)
+    peak_force_[k] = std::max(peak_force_[k], instrument_force_[k].norm());
 }
 
 std::vector<tools::InstrumentPose> SceneSimulation::poses(double t) const {
@@ -52,6 +81,10 @@ bool SceneSimulation::save(std::string& out) const {
   const std::int64_t grasps = static_cast<std::int64_t>(grasps_.size());
   out.append(reinterpret_cast<const char*>(&grasps), sizeof grasps);
   for (const tools::Grasp& g : grasps_) g.save(out);
+  // The run's force and contact tallies, so that a resumed run reports the whole run's.
+  out.append(reinterpret_cast<const char*>(peak_force_.data()), sizeof(double) * peak_force_.size());
+  const std::int64_t counts[2] = {unconverged_steps_, contact_iterations_};
+  out.append(reinterpret_cast<const char*>(counts), sizeof counts);
   return true;
 }
 
@@ -74,6 +107,18 @@ bool SceneSimulation::load(std::string_view in, std::string& error) {
       error = "state snapshot: a grasp is truncated";
       return false;
     }
+  std::int64_t counts[2] = {0, 0};
+  const size_t tallies = sizeof(double) * peak_force_.size() + sizeof counts;
+  if (in.size() - pos < tallies) {
+    error = "state snapshot: the force tallies are truncated";
+    return false;
+  }
+  std::memcpy(peak_force_.data(), in.data() + pos, sizeof(double) * peak_force_.size());
+  pos += sizeof(double) * peak_force_.size();
+  std::memcpy(counts, in.data() + pos, sizeof counts);
+  pos += sizeof counts;
+  unconverged_steps_ = counts[0];
+  contact_iterations_ = counts[1];
   if (pos != in.size()) {
     error = "state snapshot: bytes after the end";
     return false;
@@ -140,6 +185,8 @@ void SceneSimulation::advance(int f) {
       contact_->step(m, input_, tools_, state_, report_);
       frame_step_ms_ += ms_since(t_contact);
       frame_iterations_ += report_.iterations;  // every active-set solve, not only the last
+      contact_iterations_ += report_.iterations;
+      if (!report_.converged) ++unconverged_steps_;
       frame_fallbacks_ += state_.stats.fallbacks;
       times_.collision += report_.collision_ms;
       times_.collision_queries += report_.queries;
@@ -152,6 +199,7 @@ void SceneSimulation::advance(int f) {
     frame_iterations_ = state_.stats.iterations;
     frame_fallbacks_ = state_.stats.fallbacks;
   }
+  measure_forces();
   times_.assemble += state_.stats.assemble_ms;
   times_.solve += state_.stats.solve_ms;
   times_.stress += state_.stats.stress_ms;

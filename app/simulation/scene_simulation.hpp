@@ -36,6 +36,20 @@ class SceneSimulation {
   int frame_fallbacks() const { return frame_fallbacks_; }  // solves redone by the direct solver
   bool contact_simulated() const { return contact_ != nullptr; }
   const vdm::ContactReport& contact_report() const { return report_; }
+  // Whether the instruments can push or hold the organ (contact or grasp listed, and some
+  // instrument): the forces below are then measured.
+  bool forces_simulated() const { return contact_ != nullptr || !grasps_.empty(); }
+  // Per instrument (the scene's order), the force of the organ on it at the end of the last
+  // frame (N): its contact (probe, or grasper's jaws and shaft) and its grasped nodes'
+  // reactions. total_force() is their sum.
+  const std::vector<vdm::Vec3>& instrument_forces() const { return instrument_force_; }
+  vdm::Vec3 total_force() const;
+  // Per instrument, the largest |force| of any frame so far (N).
+  const std::vector<double>& peak_forces() const { return peak_force_; }
+  // Contact steps so far (sub-steps included) whose active set was still changing at the cap,
+  // and the linear-solver iterations of every contact solve so far.
+  long unconverged_contact_steps() const { return unconverged_steps_; }
+  long contact_iterations() const { return contact_iterations_; }
   const StageTimes& stage_times() const { return times_; }
   // A snapshot of the simulation between frames (the engine's state with its warm starts and
   // the grasps), appended to `out`, for resuming a run bit for bit. False when this run's
@@ -49,6 +63,7 @@ class SceneSimulation {
  private:
   const PreparedScene& ps_;
   std::vector<const tools::InstrumentDef*> probes_, graspers_;
+  std::vector<size_t> probe_index_, grasper_index_;  // their places in the scene's instruments
   std::vector<tools::Grasp> grasps_;
   std::unique_ptr<vdm::OrganSolver> organ_;  // organ.model fem or mass_spring: this run's own
   std::unique_ptr<vdm::ContactSolver> contact_;
@@ -59,6 +74,11 @@ class SceneSimulation {
   StageTimes times_;
   double time_ = 0, frame_step_ms_ = 0;
   int frame_iterations_ = 0, frame_fallbacks_ = 0;
+  std::vector<vdm::Vec3> instrument_force_;
+  std::vector<double> peak_force_;
+  long unconverged_steps_ = 0, contact_iterations_ = 0;
+  // The forces of the frame just simulated (instrument_force_, peak_force_).
+  void measure_forces();
 };
 
 }  // namespace vdmsim

@@ -328,7 +328,8 @@ TEST(SceneRun, WritesMetricsAndRunJson) {
   ASSERT_EQ(lines.size(), 4u);
   EXPECT_EQ(lines[0],
             "frame,time_s,step_ms,iterations,residual,volume,volume_rel_error,pressure_pa,contact_nodes,"
-            "contact_force_n,max_penetration_m,max_displacement_m,max_stress_pa,fallbacks");
+            "contact_force_n,contact_force_x,contact_force_y,contact_force_z,max_penetration_m,max_displacement_m,max_stress_pa,"
+            "fallbacks");
   const auto json = read_lines(out_dir / "run.json");
   std::string all;
   for (const auto& l : json) all += l + "\n";
@@ -355,14 +356,18 @@ TEST(SceneRun, PenaltyContactPushesTheLiver) {
   std::vector<std::string> cols;
   std::stringstream row(lines.back());
   for (std::string c; std::getline(row, c, ',');) cols.push_back(c);
-  ASSERT_GE(cols.size(), 11u);
+  ASSERT_GE(cols.size(), 14u);
   EXPECT_GT(std::stoi(cols[8]), 0) << lines.back();
   EXPECT_GT(std::stod(cols[9]), 0.0) << lines.back();
-  EXPECT_GT(std::stod(cols[10]), 0.0) << lines.back();  // penalty: compliant
-  EXPECT_LT(std::stod(cols[10]), 0.2 * 0.004) << lines.back();
+  // The probe presses down: the organ pushes it up (contact_force_z), and |F| is the vector's.
+  EXPECT_GT(std::stod(cols[12]), 0.0) << lines.back();
+  EXPECT_NEAR(std::hypot(std::stod(cols[10]), std::stod(cols[11]), std::stod(cols[12])), std::stod(cols[9]),
+              1e-6 * std::stod(cols[9])) << lines.back();
+  EXPECT_GT(std::stod(cols[13]), 0.0) << lines.back();  // penalty: compliant
+  EXPECT_LT(std::stod(cols[13]), 0.2 * 0.004) << lines.back();
   std::string all;
   for (const auto& l : read_lines(out_dir / "run.json")) all += l + "\n";
-  EXPECT_NE(all.find("\"contact\": {\"method\": \"penalty\", \"stiffness_pa_per_m\": 100000000}"), std::string::npos) << all;
+  EXPECT_NE(all.find("\"contact\": {\"method\": \"penalty\", \"stiffness_pa_per_m\": 100000000, \"iterations\": "), std::string::npos) << all;
 }
 
 // Runs a scene in-process and returns the final state.
@@ -442,7 +447,7 @@ TEST(Effects, UnlistedContactLeavesTheOrganUntouchedAndRunsNoQuery) {
   EXPECT_NE(json_of(out).find("\"collision_queries\": 0"), std::string::npos) << json_of(out);
   EXPECT_NE(json_of(out).find("\"collision\": 0,"), std::string::npos) << json_of(out);
   const auto cells = last_row(out);
-  EXPECT_EQ(std::stod(cells[11]), 0.0) << "max_displacement_m";
+  EXPECT_EQ(std::stod(cells[14]), 0.0) << "max_displacement_m";
   EXPECT_EQ(cells[8], "");  // contact columns empty
 }
 
@@ -461,8 +466,8 @@ TEST(Contact, FastProbeDoesNotPassThrough) {
   const auto cells = last_row(out);
   EXPECT_GT(std::stoi(cells[8]), 0) << "contact_nodes";
   EXPECT_GT(std::stod(cells[9]), 0.0) << "contact_force_n";
-  EXPECT_LE(std::stod(cells[10]), 0.02 * 0.004) << "max_penetration_m";
-  EXPECT_GT(std::stod(cells[11]), 0.008) << "the surface went down with the probe";
+  EXPECT_LE(std::stod(cells[13]), 0.02 * 0.004) << "max_penetration_m";
+  EXPECT_GT(std::stod(cells[14]), 0.008) << "the surface went down with the probe";
 }
 
 TEST(Contact, FastBoxAndCylinderDoNotPassThrough) {
@@ -483,8 +488,8 @@ TEST(Contact, FastBoxAndCylinderDoNotPassThrough) {
     const double size = shape.find("box") != std::string::npos ? 0.002 : 0.004;
     EXPECT_GT(std::stoi(cells[8]), 0) << shape << ": contact_nodes";
     EXPECT_GT(std::stod(cells[9]), 0.0) << shape << ": contact_force_n";
-    EXPECT_LE(std::stod(cells[10]), 0.02 * size) << shape << ": max_penetration_m";
-    EXPECT_GT(std::stod(cells[11]), 0.008) << shape << ": the surface went down with the tool";
+    EXPECT_LE(std::stod(cells[13]), 0.02 * size) << shape << ": max_penetration_m";
+    EXPECT_GT(std::stod(cells[14]), 0.008) << shape << ": the surface went down with the tool";
   }
 }
 
@@ -544,7 +549,7 @@ TEST(Effects, UnlistedGraspHoldsNothing) {
     std::stringstream row(lines[k]);
     for (std::string c; std::getline(row, c, ',');) cells.push_back(c);
     ASSERT_GE(cells.size(), 12u);
-    EXPECT_EQ(std::stod(cells[11]), 0.0) << "max_displacement_m, frame " << k - 1;
+    EXPECT_EQ(std::stod(cells[14]), 0.0) << "max_displacement_m, frame " << k - 1;
   }
 }
 
