@@ -2,6 +2,7 @@
 // the surface kept), and run through the same loop as vdm.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -85,6 +86,51 @@ TEST(OrganModels, GmshTetsKeepTheSurface) {
                               t.positions.row(t.tets(k, 3)));
   const double enclosed = vdm::enclosed_volume(s.positions, s.triangles, s.positions.colwise().mean().transpose());
   EXPECT_NEAR(v, enclosed, 1e-9 * enclosed);
+}
+
+TEST(OrganModels, GmshBoxWithDiskIsGradedFromTheRim) {
+  // The flat punch's reference mesh (tests/app/studies/fem_compare_test.cpp): the disk's rim is
+  // a line of the mesh, the surface nodes come first, and the tets are fine at the rim only.
+  BoxWithDisk spec;
+  spec.h_min = 0.002;
+  spec.grade = 0.5;
+  spec.h_max = 0.02;
+  vdm::fem::TetMesh t;
+  std::string error;
+  ASSERT_TRUE(mesh_box_with_disk(spec, t, error)) << error;
+  double v = 0;
+  for (int k = 0; k < t.tet_count(); ++k)
+    v += vdm::fem::tet_volume(t.positions.row(t.tets(k, 0)), t.positions.row(t.tets(k, 1)), t.positions.row(t.tets(k, 2)),
+                              t.positions.row(t.tets(k, 3)));
+  EXPECT_NEAR(v, spec.size.prod(), 1e-9 * spec.size.prod());
+  const double top = spec.size.z() / 2;
+  int rim = 0, inside = 0;
+  for (int i = 0; i < t.surface_nodes; ++i) {
+    if (t.positions(i, 2) < top - 1e-12) continue;
+    const double r = std::hypot(t.positions(i, 0), t.positions(i, 1));
+    rim += std::abs(r - spec.disk_radius) < 1e-9;
+    inside += r < spec.disk_radius - 1e-9;
+  }
+  EXPECT_GE(rim, 12);  // 2 pi R / h_min = 16 edges along it, give or take
+  EXPECT_GT(inside, 0);
+  // Mean surface edge length near the rim (within 3 mm) and far from it (past 3 cm).
+  double near_sum = 0, far_sum = 0;
+  int near_n = 0, far_n = 0;
+  for (int k = 0; k < t.surface.triangle_count(); ++k)
+    for (int c = 0; c < 3; ++c) {
+      const vdm::Vec3 a = t.surface.positions.row(t.surface.triangles(k, c)),
+                      b = t.surface.positions.row(t.surface.triangles(k, (c + 1) % 3));
+      const vdm::Vec3 m = (a + b) / 2;
+      const double d = std::hypot(std::hypot(m.x(), m.y()) - spec.disk_radius, m.z() - top);
+      if (d < 0.003) near_sum += (a - b).norm(), ++near_n;
+      if (d > 0.03) far_sum += (a - b).norm(), ++far_n;
+    }
+  ASSERT_GT(near_n, 0);
+  ASSERT_GT(far_n, 0);
+  EXPECT_LT(near_sum / near_n, 0.25 * far_sum / far_n);
+  spec.h_max = 0.5 * spec.h_min;
+  EXPECT_FALSE(mesh_box_with_disk(spec, t, error));
+  EXPECT_NE(error.find("mesh_box_with_disk"), std::string::npos) << error;
 }
 
 TEST(OrganModels, FemAndMassSpringScenesRunThroughTheSameLoop) {
