@@ -11,12 +11,13 @@
 #include "app/studies/accuracy.hpp"
 #include "app/studies/bench.hpp"
 #include "app/cli/commands.hpp"
+#include "app/run/program_version.hpp"
 #include "app/scene/scene_reference.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"vdmsim: soft-tissue surgical simulation with the Volume Distribution Method"};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "vdmsim 0.1.0");
+  app.set_version_flag("--version", std::string("vdmsim ") + vdmsim::program_version());
 
   std::string mesh_path;
   double mesh_scale = 1.0;

@@ -1,5 +1,6 @@
 #include "app/run/checkpoint.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <cstdint>
 #include <cstdio>
@@ -60,22 +61,66 @@ std::string state_hash(const vdm::SimState& s) {
   return f.hex();
 }
 
-std::string run_hash(const std::string& scene_file, const std::string& extra) {
-  std::ifstream in(scene_file, std::ios::binary);
+std::string file_hash(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
   if (!in) return "";
-  std::stringstream text;
-  text << in.rdbuf();
-  const std::string s = text.str() + '\0' + extra;
   Fnv f;
-  f.bytes(s.data(), s.size());
+  char buf[1 << 16];
+  while (in.read(buf, sizeof buf) || in.gcount() > 0) f.bytes(buf, static_cast<size_t>(in.gcount()));
   return f.hex();
+}
+
+std::string RunInputs::hash() const {
+  Fnv f;
+  const std::string t = text();
+  f.bytes(t.data(), t.size());
+  return f.hex();
+}
+
+std::string RunInputs::text() const {
+  std::string t;
+  for (const auto& [what, h] : items) t += what + "=" + h + ";";
+  return t;
+}
+
+RunInputs RunInputs::parse(const std::string& text) {
+  RunInputs r;
+  size_t b = 0;
+  while (b < text.size()) {
+    const size_t e = text.find(';', b), eq = text.find('=', b);
+    if (e == std::string::npos || eq == std::string::npos || eq > e) break;
+    r.items.emplace_back(text.substr(b, eq - b), text.substr(eq + 1, e - eq - 1));
+    b = e + 1;
+  }
+  return r;
+}
+
+std::vector<std::string> RunInputs::changes_since(const RunInputs& earlier) const {
+  std::vector<std::string> out;
+  for (const auto& [what, h] : items) {
+    const auto it = std::find_if(earlier.items.begin(), earlier.items.end(), [&](const auto& e) { return e.first == what; });
+    if (it == earlier.items.end()) out.push_back(what + " (not in the interrupted run)");
+    else if (it->second != h)
+      // A hash says only that the content changed; words (the options) say how.
+      out.push_back(what + " changed" +
+                    (h.find(' ') != std::string::npos || it->second.find(' ') != std::string::npos
+                         ? " (" + it->second + " then, " + h + " now)"
+                         : ""));
+  }
+  for (const auto& [what, h] : earlier.items) {
+    (void)h;
+    if (std::none_of(items.begin(), items.end(), [&](const auto& e) { return e.first == what; }))
+      out.push_back(what + " (in the interrupted run, not in this one)");
+  }
+  return out;
 }
 
 bool write_checkpoint(const std::string& path, const Checkpoint& cp, std::string& error) {
   const std::string tmp = path + ".tmp";
   {
     std::ofstream f(tmp);
-    f << "{\"run_hash\": \"" << cp.run_hash << "\", \"frame\": " << cp.frame << ", \"frames\": " << cp.frames
+    f << "{\"run_hash\": \"" << cp.run_hash << "\", \"inputs\": \"" << cp.inputs << "\", \"frame\": " << cp.frame
+      << ", \"frames\": " << cp.frames
       << ", \"state_hash\": \"" << cp.state_hash << "\", \"range\": \"" << std::hexfloat << cp.range_lo << ' '
       << cp.range_hi << "\"}\n";
     f.flush();
@@ -103,6 +148,7 @@ bool read_checkpoint(const std::string& path, Checkpoint& cp, std::string& error
   text << in.rdbuf();
   const std::string t = text.str();
   cp.run_hash = field(t, "run_hash");
+  cp.inputs = field(t, "inputs");
   cp.state_hash = field(t, "state_hash");
   const std::string frame = field(t, "frame"), frames = field(t, "frames");
   if (cp.run_hash.empty() || cp.state_hash.empty() || frame.empty() || frames.empty()) {
@@ -127,7 +173,7 @@ bool read_checkpoint(const std::string& path, Checkpoint& cp, std::string& error
 }
 
 namespace {
-constexpr char kStateMagic[8] = {'V', 'D', 'M', 'R', 'U', 'N', 'S', '1'};
+constexpr char kStateMagic[8] = {'V', 'D', 'M', 'R', 'U', 'N', 'S', '2'};
 }  // namespace
 
 bool write_state_file(const std::string& path, const StateFile& sf, std::string& error) {
@@ -141,6 +187,15 @@ bool write_state_file(const std::string& path, const StateFile& sf, std::string&
     f.write(reinterpret_cast<const char*>(&frame), sizeof frame);
     f.write(reinterpret_cast<const char*>(&sf.max_volume_error), sizeof sf.max_volume_error);
     f.write(sf.snapshot.data(), static_cast<std::streamsize>(sf.snapshot.size()));
+    // The checksum of everything before it, last.
+    Fnv sum;
+    sum.bytes(kStateMagic, sizeof kStateMagic);
+    sum.bytes(&hash_size, sizeof hash_size);
+    sum.bytes(sf.run_hash.data(), sf.run_hash.size());
+    sum.bytes(&frame, sizeof frame);
+    sum.bytes(&sf.max_volume_error, sizeof sf.max_volume_error);
+    sum.bytes(sf.snapshot.data(), sf.snapshot.size());
+    f.write(reinterpret_cast<const char*>(&sum.h), sizeof sum.h);
     f.flush();
     if (!f) {
       error = path + ": cannot write the state snapshot (disk full?)";
@@ -155,13 +210,28 @@ bool write_state_file(const std::string& path, const StateFile& sf, std::string&
   return true;
 }
 
-bool read_state_file(const std::string& path, StateFile& sf, std::string& error) {
+bool read_state_file(const std::string& path, StateFile& sf, std::string& error, bool* damaged) {
+  if (damaged) *damaged = false;
   std::ifstream f(path, std::ios::binary);
   if (!f) {
     error = path + ": no state snapshot";
     return false;
   }
-  const std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  std::string bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  if (damaged) *damaged = true;  // from here on the file is there: any fault is damage
+  std::uint64_t stored = 0;
+  if (bytes.size() < sizeof stored) {
+    error = path + ": truncated state snapshot";
+    return false;
+  }
+  std::memcpy(&stored, bytes.data() + bytes.size() - sizeof stored, sizeof stored);
+  bytes.resize(bytes.size() - sizeof stored);
+  Fnv sum;
+  sum.bytes(bytes.data(), bytes.size());
+  if (sum.h != stored) {
+    error = path + ": the state snapshot's checksum does not match its contents (damaged or changed)";
+    return false;
+  }
   size_t pos = 0;
   auto take = [&](void* p, size_t n) {
     if (bytes.size() - pos < n) return false;
@@ -184,6 +254,7 @@ bool read_state_file(const std::string& path, StateFile& sf, std::string& error)
   }
   sf.frame = static_cast<int>(frame);
   sf.snapshot = bytes.substr(pos);
+  if (damaged) *damaged = false;
   return true;
 }
 

@@ -7,13 +7,31 @@
 // without rendering (the simulation is deterministic); either way it is checked against the
 // hash before the run goes on, so the result is identical to an uninterrupted run.
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "engine/sim_state.hpp"
 
 namespace vdmsim {
 
+// Everything a run's result depends on, each with the hash of its content: the scene file, every
+// file it loads (the organ mesh, instrument meshes and skins), the options that change results,
+// and the program itself. A resume with any of them changed is refused, naming what changed.
+struct RunInputs {
+  // (what, hash of its content, or the value itself in words); neither has ';' or '='.
+  std::vector<std::pair<std::string, std::string>> items;
+  std::string hash() const;                                // of them all (the run hash)
+  std::string text() const;                                // "what=hash;..." (checkpoint.json)
+  static RunInputs parse(const std::string& text);
+  // What differs from `earlier` (changed, added or gone), in words; empty when nothing.
+  std::vector<std::string> changes_since(const RunInputs& earlier) const;
+};
+// Hash of a file's bytes (hex); empty when it cannot be read.
+std::string file_hash(const std::string& path);
+
 struct Checkpoint {
-  std::string run_hash;    // scene file content + the options that change results
+  std::string run_hash;    // RunInputs::hash() of the run
+  std::string inputs;      // RunInputs::text() of the run
   int frame = -1;          // last complete frame (metrics row and images written)
   int frames = 0;          // frames requested
   std::string state_hash;  // of the state after `frame`
@@ -22,16 +40,16 @@ struct Checkpoint {
 
 // A 64-bit FNV-1a-style hash of the displacement, velocity, pressure, step and time (hex).
 std::string state_hash(const vdm::SimState& state);
-// Hash of a file's bytes plus `extra` (hex); empty if the file cannot be read.
-std::string run_hash(const std::string& scene_file, const std::string& extra);
 
 bool write_checkpoint(const std::string& path, const Checkpoint& cp, std::string& error);
 bool read_checkpoint(const std::string& path, Checkpoint& cp, std::string& error);
 
 // The state snapshot next to the checkpoint (DIR/state.bin): the run hash, the frame after
 // which it was taken, the run's largest volume error so far, and the simulation's snapshot
-// (SceneSimulation::save). A resume that finds one of the checkpoint's frame and run loads it
-// instead of re-simulating; written to a temporary file and renamed into place.
+// (SceneSimulation::save), with a checksum of all of it. A resume that finds one of the
+// checkpoint's frame and run loads it instead of re-simulating; written to a temporary file
+// and renamed into place. read_state_file() sets `damaged` when the file is there but its
+// checksum or layout is wrong.
 struct StateFile {
   std::string run_hash;
   int frame = -1;
@@ -39,6 +57,6 @@ struct StateFile {
   std::string snapshot;
 };
 bool write_state_file(const std::string& path, const StateFile& sf, std::string& error);
-bool read_state_file(const std::string& path, StateFile& sf, std::string& error);
+bool read_state_file(const std::string& path, StateFile& sf, std::string& error, bool* damaged = nullptr);
 
 }  // namespace vdmsim

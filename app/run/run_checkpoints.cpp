@@ -10,23 +10,37 @@ RunCheckpoints::RunCheckpoints(const PreparedScene& ps, const RunSetup& setup, c
                                std::ostream& err)
     : ps_(ps), setup_(setup), output_(output), err_(err) {}
 
-bool RunCheckpoints::load_snapshot(SceneSimulation& sim, double& max_volume_error) const {
+SnapshotLoad RunCheckpoints::load_snapshot(SceneSimulation& sim, double& max_volume_error, std::string& error) const {
   const Checkpoint& cp = setup_.resume_from;
   StateFile sf;
   std::string why;
-  SceneSimulation scratch(ps_);
-  if (read_state_file((setup_.dir / "state.bin").string(), sf, why) && sf.run_hash == setup_.run_hash &&
-      sf.frame == cp.frame && scratch.load(sf.snapshot, why) && state_hash(scratch.state()) == cp.state_hash &&
-      sim.load(sf.snapshot, why)) {
-    max_volume_error = sf.max_volume_error;
-    return true;
+  bool damaged = false;
+  if (!read_state_file((setup_.dir / "state.bin").string(), sf, why, &damaged)) {
+    if (damaged) error = why;
+    return damaged ? SnapshotLoad::damaged : SnapshotLoad::absent;
   }
-  return false;
+  // A snapshot of another frame (the run stopped between a checkpoint and the next snapshot)
+  // is no use: the frames are re-simulated from the start instead.
+  if (sf.run_hash != setup_.run_hash || sf.frame != cp.frame) return SnapshotLoad::absent;
+  SceneSimulation scratch(ps_);
+  if (!scratch.load(sf.snapshot, why) || state_hash(scratch.state()) != cp.state_hash || !sim.load(sf.snapshot, why)) {
+    error = (setup_.dir / "state.bin").string() + ": " + (why.empty() ? "its state is not the checkpoint's" : why);
+    return SnapshotLoad::damaged;
+  }
+  max_volume_error = sf.max_volume_error;
+  return SnapshotLoad::loaded;
 }
 
 // The stress view's range goes with the checkpoint only when the first pass computed it.
 Checkpoint RunCheckpoints::at(int frame, const std::string& state_hash) const {
-  Checkpoint cp{setup_.run_hash, frame, setup_.frames, state_hash, output_.stress_view().lo, output_.stress_view().hi};
+  Checkpoint cp;
+  cp.run_hash = setup_.run_hash;
+  cp.inputs = setup_.inputs.text();
+  cp.frame = frame;
+  cp.frames = setup_.frames;
+  cp.state_hash = state_hash;
+  cp.range_lo = output_.stress_view().lo;
+  cp.range_hi = output_.stress_view().hi;
   const RenderDef& rd = ps_.scene.render;
   if (!(setup_.rendering && rd.stress && rd.range_auto)) cp.range_lo = cp.range_hi = 0;
   return cp;

@@ -12,13 +12,18 @@
 
 namespace vdmsim {
 
+enum class SnapshotLoad { loaded, absent, damaged };
+
 class RunCheckpoints {
  public:
   RunCheckpoints(const PreparedScene& prepared, const RunSetup& setup, const FrameOutput& output, std::ostream& err);
   // Resuming: loads the snapshot taken with the checkpoint into `sim` when it reproduces the
   // checkpoint's state (checked on a scratch simulation first, so that one that does not load
   // leaves `sim` as new). True when loaded, with the run's largest volume error so far.
-  bool load_snapshot(SceneSimulation& sim, double& max_volume_error) const;
+  // Loads DIR/state.bin into `sim` when it holds the checkpoint's frame of this run. Absent (or
+  // of another frame): the run re-simulates; damaged (checksum, layout, or a state that is not
+  // the checkpoint's): `error` says why and the resume is refused.
+  SnapshotLoad load_snapshot(SceneSimulation& sim, double& max_volume_error, std::string& error) const;
   // The checkpoint after `frame`, whose state has hash `state_hash`, with its snapshot of
   // `sim`. False with `error` when the checkpoint could not be written.
   bool write(int frame, const std::string& state_hash, const SceneSimulation& sim, double max_volume_error,

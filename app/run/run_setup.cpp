@@ -4,6 +4,7 @@
 
 #include "app/run/mesh_export.hpp"
 #include "app/run/output_dir.hpp"
+#include "app/run/program_version.hpp"
 #include "render/video.hpp"
 
 namespace vdmsim {
@@ -21,6 +22,29 @@ void note_inert_instruments(const SceneDef& s, std::ostream& err) {
 }
 
 // Resuming: the checkpoint must belong to this scene and these options.
+// Everything the run's result depends on (RunInputs): the scene file, the files it loads, the
+// options and the program.
+RunInputs run_inputs(const SceneDef& s, const std::string& options) {
+  RunInputs in;
+  in.items.emplace_back("the scene file", file_hash(s.file));
+  in.items.emplace_back("the organ mesh", file_hash(s.mesh_path));
+  for (size_t k = 0; k < s.instruments.size(); ++k) {
+    const std::string which = "instrument " + std::to_string(k + 1) + "'s ";
+    if (k < s.instrument_convex.size() && s.instrument_convex[k].present)
+      in.items.emplace_back(which + "convex mesh", file_hash(s.instrument_convex[k].mesh));
+    if (k < s.instrument_skins.size() && s.instrument_skins[k].present) {
+      const SkinDef& skin = s.instrument_skins[k];
+      if (!skin.body.empty()) in.items.emplace_back(which + "skin", file_hash(skin.body));
+      for (int j = 0; j < 2; ++j)
+        if (!skin.jaws[size_t(j)].empty())
+          in.items.emplace_back(which + (j ? "lower" : "upper") + " jaw skin", file_hash(skin.jaws[size_t(j)]));
+    }
+  }
+  in.items.emplace_back("the options", options);  // in words: shown as they were and are
+  in.items.emplace_back("the vdmsim program", program_version());
+  return in;
+}
+
 int read_resume_point(RunSetup& setup, std::ostream& err) {
   std::string error;
   if (!read_checkpoint(setup.checkpoint_path().string(), setup.resume_from, error)) {
@@ -28,9 +52,11 @@ int read_resume_point(RunSetup& setup, std::ostream& err) {
     return 2;
   }
   if (setup.resume_from.run_hash != setup.run_hash) {
-    err << "vdmsim: error: " << setup.checkpoint_path().string()
-        << ": the checkpoint belongs to another scene or other options (frames, --no-render, --export-mesh): cannot "
-           "resume\n";
+    std::vector<std::string> changes = setup.inputs.changes_since(RunInputs::parse(setup.resume_from.inputs));
+    if (changes.empty()) changes.push_back("the run's inputs");
+    err << "vdmsim: error: " << setup.checkpoint_path().string() << ": cannot resume: since the interrupted run, ";
+    for (size_t k = 0; k < changes.size(); ++k) err << (k ? "; " : "") << changes[k];
+    err << " (run it afresh without --resume)\n";
     return 2;
   }
   setup.start = setup.resume_from.frame + 1;
@@ -72,12 +98,14 @@ int set_up_run(const PreparedScene& ps, const RunOptions& opt, RunSetup& setup, 
     return 2;
   }
   note_inert_instruments(s, err);
+  // The options that change results, in words without ';' or '=' (RunInputs). A resume must
+  // export the mesh if and only if the interrupted run did: its frames' files would be
+  // missing otherwise.
   std::ostringstream options;
-  options << "frames=" << setup.frames << ";render=" << setup.rendering;
-  // A resume must export the mesh if and only if the interrupted run did: its frames'
-  // files would be missing otherwise. (Only appended when set: older checkpoints still match.)
-  if (opt.export_mesh) options << ";export_mesh=1";
-  setup.run_hash = run_hash(s.file, options.str());
+  options << setup.frames << " frames, " << (setup.rendering ? "rendered" : "not rendered")
+          << (opt.export_mesh ? ", --export-mesh" : "");
+  setup.inputs = run_inputs(s, options.str());
+  setup.run_hash = setup.inputs.hash();
   if (opt.resume) return read_resume_point(setup, err);
   remove_earlier_outputs(setup.dir);
   remove_mesh_export(setup.dir);

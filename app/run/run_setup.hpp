@@ -15,7 +15,8 @@ struct RunSetup {
   std::filesystem::path dir;
   bool rendering = false;     // the scene has views and the options render them
   bool resume = false;
-  std::string run_hash;       // of the scene file and the options that change results
+  RunInputs inputs;           // what the result depends on (the scene, its files, options, program)
+  std::string run_hash;       // inputs.hash()
   Checkpoint resume_from;     // when resuming: the interrupted run's last checkpoint
   int start = 0;              // the first frame to write
   std::filesystem::path checkpoint_path() const { return dir / "checkpoint.json"; }

@@ -83,7 +83,15 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
   RunTally tally;
   RunCheckpoints checkpoints(ps, setup, output, err);
   // The first frame simulated: `start` when the state snapshot was loaded.
-  const bool from_snapshot = setup.resume && checkpoints.load_snapshot(*simulation, tally.max_volume_error);
+  SnapshotLoad snapshot = SnapshotLoad::absent;
+  if (setup.resume) {
+    snapshot = checkpoints.load_snapshot(*simulation, tally.max_volume_error, error);
+    if (snapshot == SnapshotLoad::damaged) {
+      err << "vdmsim: error: " << error << ": cannot resume (run it afresh without --resume)\n";
+      return 2;
+    }
+  }
+  const bool from_snapshot = snapshot == SnapshotLoad::loaded;
   RunOutcome outcome;
   FrameLoop{setup, opt, *simulation, metrics, output, mesh, checkpoints, signals, progress, t_run}.run(
       from_snapshot ? setup.start : 0, tally, outcome);

@@ -118,7 +118,32 @@ TEST(Resume, RefusesACheckpointOfAnotherScene) {
   opt.resume = true;
   std::ostringstream o, e;
   EXPECT_EQ(vdmsim::run_scene(ps, opt, o, e, false), 2);
-  EXPECT_NE(e.str().find("another scene"), std::string::npos) << e.str();
+  EXPECT_NE(e.str().find("the scene file changed"), std::string::npos) << e.str();
+}
+
+// The checkpoint identifies every file the run loaded: an organ mesh changed after the run (here
+// scaled, as a user re-exporting it in other units would) is named, and the resume refused.
+TEST(Resume, RefusesWhenTheOrganMeshChanged) {
+  const fs::path dir = kOut / "mesh_changed";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const fs::path mesh = dir / "box.obj";
+  std::string error;
+  ASSERT_TRUE(vdmsim::save_obj(vdm::make_box(vdm::Vec3(0.1, 0.1, 0.05), 4, 4, 2), mesh.string(), "a box", error));
+  const std::string scene = (dir / "box.yaml").string();
+  std::ofstream(scene) << "name: box\norgan: {mesh: box.obj}\nsimulation: {frames: 3, effects: []}\n";
+  ASSERT_EQ(run_in_process(scene, dir / "out", false), 0);
+  ASSERT_TRUE(vdmsim::save_obj(vdm::make_box(vdm::Vec3(0.2, 0.2, 0.1), 4, 4, 2), mesh.string(), "a box", error));
+  vdmsim::PreparedScene ps;
+  std::vector<vdmsim::SceneProblem> problems;
+  ASSERT_TRUE(vdmsim::prepare_scene(scene, ps, problems));
+  vdmsim::RunOptions opt;
+  opt.out_dir = (dir / "out").string();
+  opt.resume = true;
+  std::ostringstream o, e;
+  EXPECT_EQ(vdmsim::run_scene(ps, opt, o, e, false), 2);
+  EXPECT_NE(e.str().find("the organ mesh changed"), std::string::npos) << e.str();
+  EXPECT_EQ(e.str().find("the scene file changed"), std::string::npos) << e.str();
 }
 
 // Determinism: the same scene twice gives the same metrics.csv (every column but the
@@ -206,6 +231,27 @@ TEST(Resume, AfterAHardKillResumesFromTheLastPeriodicCheckpoint) {
   const fs::path replayed = dir / "replayed";
   fs::copy(resumed, replayed, fs::copy_options::recursive);
   ASSERT_TRUE(fs::remove(replayed / "state.bin"));
+  // A copy whose state snapshot lost one byte's worth of bits is refused, not continued.
+  const fs::path damaged = dir / "damaged";
+  fs::copy(resumed, damaged, fs::copy_options::recursive);
+  {
+    std::string bytes = read_file(damaged / "state.bin");
+    ASSERT_GT(bytes.size(), 100u);
+    bytes[bytes.size() / 2] = static_cast<char>(bytes[bytes.size() / 2] ^ 0x5a);
+    std::ofstream(damaged / "state.bin", std::ios::binary) << bytes;
+  }
+  {
+    vdmsim::PreparedScene ps;
+    std::vector<vdmsim::SceneProblem> problems;
+    ASSERT_TRUE(vdmsim::prepare_scene(scene, ps, problems));
+    vdmsim::RunOptions opt;
+    opt.out_dir = damaged.string();
+    opt.resume = true;
+    opt.checkpoint_every = 7;
+    std::ostringstream o, e;
+    EXPECT_EQ(vdmsim::run_scene(ps, opt, o, e, false), 2);
+    EXPECT_NE(e.str().find("checksum"), std::string::npos) << e.str();
+  }
 
   ASSERT_EQ(run_in_process(scene, resumed, true), 0);
   ASSERT_EQ(run_in_process(scene, replayed, true), 0);
