@@ -36,8 +36,9 @@ void FrameLoop::run(int first, RunTally& tally, RunOutcome& outcome) {
       outcome.fail("frame " + std::to_string(f) + ": " + state.failure);
       break;
     }
-    if (!state.u.allFinite()) {
-      outcome.fail("non-finite displacement at frame " + std::to_string(f));
+    // Nothing unsound is written: the run stops as failed, every frame before this one kept.
+    if (const std::string why = sim.unsound(); !why.empty()) {
+      outcome.fail(why + " at frame " + std::to_string(f));
       break;
     }
     tally.add_step(sim.frame_step_ms());

@@ -126,7 +126,9 @@ inline constexpr SceneKey kSceneKeys[] = {
   key("organ.material.bulk_modulus", KT::number, "The fluid's bulk term B (per axis when three values are given; "
       "`inf` holds that axis as a constraint).").typed("number or [bx, by, bz]").in("Pa").above(0).or_inf()
       .by_default([] { return yaml_number(SceneDef().bulk_modulus.x()); }).eg("bulk_modulus: [20000, inf, 20000]"),
-  key("organ.material.connectivity_modulus", KT::number, "The capsule's (skin's) modulus B_ij.").in("Pa").range(0, 1e12)
+  key("organ.material.connectivity_modulus", KT::number, "The capsule's (skin's) modulus B_ij. For `model: vdm` it "
+      "must be above 0 and at least the largest finite `bulk_modulus` / 1e9 (beyond that the system cannot be solved "
+      "reliably).").in("Pa").range(0, 1e12)
       .by_default([] { return yaml_number(SceneDef().connectivity_modulus); }).eg("connectivity_modulus: 2000"),
   key("organ.material.capsule", KT::choice, "The capsule's form: `membrane` (mesh-consistent), `corotational` "
       "(the membrane in each node's rotated frame) or `paper` (the paper's edge weights).")

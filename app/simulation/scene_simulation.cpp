@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 
 namespace vdmsim {
@@ -43,6 +44,29 @@ SceneSimulation::SceneSimulation(const PreparedScene& ps)
   if (s.has(Effect::contact) && !s.instruments.empty()) contact_ = std::make_unique<vdm::ContactSolver>(ps.model, s.contact);
   if (contact_) contact_->set_solver(organ_.get());  // organ.model fem or mass_spring
   tools_.resize(probes_.size() + 3 * graspers_.size());  // probes, then each grasper's two jaws and shaft
+}
+
+std::string SceneSimulation::unsound() const {
+  const vdm::SimState& st = state_;
+  if (!st.u.allFinite()) return "non-finite displacement";
+  if (!std::isfinite(st.volume) || !std::isfinite(st.volume_rel_error)) return "non-finite volume";
+  if (!std::isfinite(st.pressure)) return "non-finite pressure";
+  if (!std::isfinite(st.stats.residual)) return "non-finite solver residual";
+  if (ps_.scene.has(Effect::stress) && !st.stress.allFinite()) return "non-finite stress";
+  if (st.reaction.size() > 0 && !st.reaction.allFinite()) return "non-finite reaction forces";
+  if (!total_force().allFinite()) return "non-finite instrument force";
+  const vdm::NodeMat& X = ps_.model.rest.positions;
+  const double size = (X.colwise().maxCoeff() - X.colwise().minCoeff()).norm();
+  const double moved = st.u.rowwise().norm().maxCoeff();
+  if (moved > 2 * size) {
+    char text[200];
+    std::snprintf(text, sizeof text,
+                  "a node moved %.3g m, more than twice the organ's size (%.3g m): the material or the loads are out of "
+                  "range",
+                  moved, size);
+    return text;
+  }
+  return "";
 }
 
 vdm::Vec3 SceneSimulation::total_force() const {

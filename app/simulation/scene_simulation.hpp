@@ -50,6 +50,10 @@ class SceneSimulation {
   // and the linear-solver iterations of every contact solve so far.
   long unconverged_contact_steps() const { return unconverged_steps_; }
   long contact_iterations() const { return contact_iterations_; }
+  // Why the last frame's results cannot be trusted, or empty: a non-finite value among those a
+  // run writes (displacement, volume, pressure, residual, stress, reactions, forces), or a
+  // displacement larger than twice the organ's size (a material or load far out of range).
+  std::string unsound() const;
   const StageTimes& stage_times() const { return times_; }
   // A snapshot of the simulation between frames (the engine's state with its warm starts and
   // the grasps), appended to `out`, for resuming a run bit for bit. False when this run's

@@ -622,5 +622,38 @@ TEST(Scene, YoungModulusMapsToTheVdmModuli) {
   expect_error("nu_alone.yaml", nu_alone, "organ.material: poisson_ratio needs young_modulus");
 }
 
+// Moduli whose system cannot be solved reliably are refused when the scene is read, naming the
+// field: no skin at all, and a bulk term 5e11 times the skin's (which threw nodes 16 cm out
+// under a probe held 14 mm deep). A ratio of 1e8 still solves (the probe's 14 mm dent) and is
+// accepted.
+TEST(Scene, IllConditionedVdmModuliAreRefused) {
+  std::string zero = scene_text();
+  zero.replace(zero.find("connectivity_modulus: 2000"), 26, "connectivity_modulus: 0");
+  expect_error("no_skin.yaml", zero, "organ.material.connectivity_modulus: must be > 0 for model vdm");
+  std::string huge = scene_text();
+  huge.replace(huge.find("bulk_modulus: 20000"), 19, "bulk_modulus: 1.0e15");
+  expect_error("huge_bulk.yaml", huge, "bulk_modulus / connectivity_modulus = 5e+11 is above 1e+09");
+  std::string fine = scene_text();
+  fine.replace(fine.find("bulk_modulus: 20000"), 19, "bulk_modulus: 2.0e11");
+  int errors = 0;
+  const std::string msg = problems_of(write_scene("stiff_bulk.yaml", fine), errors);
+  EXPECT_EQ(errors, 0) << msg;
+}
+
+// A frame whose results cannot be trusted stops the run as failed, with the frames before it
+// kept: here a region of the 20 cm liver prescribed 1 m away (more than twice the organ's size).
+TEST(SceneRun, AnImplausibleFrameFailsTheRun) {
+  const std::string path = write_scene(
+      "thrown.yaml", scene_text("  prescribed: [{sphere: {center: [0.035, 0, 0.06], radius: 0.015}, translate: [0, 0, 1.0], "
+                                "t: [0, 0.12]}]\n"));
+  const fs::path out = scene_dir() / "thrown_out";
+  fs::remove_all(out);
+  std::ostringstream o, e;
+  EXPECT_EQ(cmd_run(path, out.string(), -1, false, false, false, 30, o, e, false), 1) << e.str();
+  EXPECT_NE(e.str().find("more than twice the organ's size"), std::string::npos) << e.str();
+  EXPECT_NE(json_of(out).find("\"status\": \"failed\""), std::string::npos) << json_of(out);
+  EXPECT_EQ(read_lines(out / "metrics.csv").size(), 3u) << "the two frames before it kept";
+}
+
 }  // namespace
 }  // namespace vdmsim
