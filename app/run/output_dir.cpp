@@ -1,5 +1,10 @@
 #include "app/run/output_dir.hpp"
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <cctype>
 #include <filesystem>
 #include <fstream>
 
@@ -42,6 +47,45 @@ bool write_file_atomically(const std::filesystem::path& path, const std::string&
     error = path.string() + ": " + ec.message();
     return false;
   }
+  return true;
+}
+
+std::string safe_folder_name(const std::string& name) {
+  std::string out;
+  for (const char c : name) {
+    const unsigned char u = static_cast<unsigned char>(c);
+    out += (std::isalnum(u) && u < 128) || c == '-' || c == '_' || c == '.' ? c : '_';
+  }
+  const size_t first = out.find_first_not_of('.');
+  out = first == std::string::npos ? "" : out.substr(first);
+  return out.empty() ? "scene" : out;
+}
+
+OutputLock::~OutputLock() {
+  if (fd_ >= 0) close(fd_);  // releases the lock
+}
+
+bool OutputLock::acquire(const std::filesystem::path& dir, std::string& error) {
+  const std::string path = (dir / ".vdmsim.lock").string();
+  const int fd = open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  if (fd < 0) {
+    error = path + ": cannot create the folder's lock file";
+    return false;
+  }
+  if (flock(fd, LOCK_EX | LOCK_NB) != 0) {
+    char owner[32] = {0};
+    const ssize_t n = pread(fd, owner, sizeof owner - 1, 0);
+    close(fd);
+    error = dir.string() + ": the folder is in use by another vdmsim run" +
+            (n > 0 ? std::string(" (process ") + std::string(owner, size_t(n)) + ")" : std::string()) +
+            ": wait for it to end or choose another --out";
+    return false;
+  }
+  const std::string pid = std::to_string(getpid());
+  if (ftruncate(fd, 0) != 0 || pwrite(fd, pid.data(), pid.size(), 0) != ssize_t(pid.size())) {
+    // The lock holds without the id: only the message of a second run loses it.
+  }
+  fd_ = fd;
   return true;
 }
 

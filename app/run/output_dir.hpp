@@ -12,4 +12,24 @@ bool prepare_output_dir(const std::string& dir, std::string& error);
 // reader never sees half a file, nor an interrupted run a torn one. False with `error`.
 bool write_file_atomically(const std::filesystem::path& path, const std::string& body, std::string& error);
 
+// A scene's name as a folder name under out/ (a run without --out): every character other than
+// letters, digits, '-', '_' and '.' becomes '_', leading dots go (no "..", no hidden or absolute
+// path); "scene" when nothing is left.
+std::string safe_folder_name(const std::string& name);
+
+// An output folder owned by one run at a time: an exclusive lock on DIR/.vdmsim.lock (flock:
+// released when the run ends, however it ends). The file holds the owner's process id.
+class OutputLock {
+ public:
+  OutputLock() = default;
+  OutputLock(const OutputLock&) = delete;
+  OutputLock& operator=(const OutputLock&) = delete;
+  ~OutputLock();
+  // False with a message naming the folder (and the process using it) when another run holds it.
+  bool acquire(const std::filesystem::path& dir, std::string& error);
+
+ private:
+  int fd_ = -1;
+};
+
 }  // namespace vdmsim

@@ -71,7 +71,10 @@ int read_resume_point(RunSetup& setup, std::ostream& err) {
 // A fresh run: outputs of an earlier run in this folder would be stale.
 void remove_earlier_outputs(const fs::path& dir) {
   std::error_code ec;
-  for (const char* old : {"checkpoint.json", "state.bin", "video.mp4", "stress.mp4", "contact_sheet.png", "ffmpeg.log"})
+  // run.json first: a fresh run killed before it writes its own leaves no other run's summary
+  // beside its frames.
+  for (const char* old : {"run.json", "checkpoint.json", "state.bin", "video.mp4", "stress.mp4", "contact_sheet.png",
+                          "ffmpeg.log"})
     fs::remove(dir / old, ec);
 }
 
@@ -80,7 +83,7 @@ void remove_earlier_outputs(const fs::path& dir) {
 int set_up_run(const PreparedScene& ps, const RunOptions& opt, RunSetup& setup, std::ostream& err) {
   const SceneDef& s = ps.scene;
   setup.frames = opt.frames > 0 ? opt.frames : s.frames;
-  setup.dir = opt.out_dir.empty() ? fs::path("out") / s.name : fs::path(opt.out_dir);
+  setup.dir = opt.out_dir.empty() ? fs::path("out") / safe_folder_name(s.name) : fs::path(opt.out_dir);
   setup.rendering = opt.render && s.has_render && (s.render.shaded || s.render.stress);
   setup.resume = opt.resume;
   if (opt.video && !setup.rendering) {
@@ -94,6 +97,11 @@ int set_up_run(const PreparedScene& ps, const RunOptions& opt, RunSetup& setup, 
   }
   std::string error;
   if (!prepare_output_dir(setup.dir.string(), error)) {
+    err << "vdmsim: error: " << error << "\n";
+    return 2;
+  }
+  setup.lock = std::make_shared<OutputLock>();
+  if (!setup.lock->acquire(setup.dir, error)) {
     err << "vdmsim: error: " << error << "\n";
     return 2;
   }

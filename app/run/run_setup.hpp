@@ -2,10 +2,12 @@
 // What a scene run starts from: the frame count, the output folder and whether it renders,
 // checked against the options; and, when resuming, the checkpoint it continues from.
 #include <filesystem>
+#include <memory>
 #include <ostream>
 #include <string>
 
 #include "app/run/checkpoint.hpp"
+#include "app/run/output_dir.hpp"
 #include "app/run/scene_run.hpp"
 
 namespace vdmsim {
@@ -20,6 +22,7 @@ struct RunSetup {
   Checkpoint resume_from;     // when resuming: the interrupted run's last checkpoint
   int start = 0;              // the first frame to write
   std::filesystem::path checkpoint_path() const { return dir / "checkpoint.json"; }
+  std::shared_ptr<OutputLock> lock;  // the folder, owned for the whole run
 };
 
 // Checks the options, prepares the output folder (a fresh run removes an earlier run's
