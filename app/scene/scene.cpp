@@ -80,8 +80,22 @@ class Reader {
   // Warns about keys that `map` should not have, suggesting the closest known one.
   void check_keys(const YAML::Node& map, const std::string& field, const std::vector<std::string>& known) {
     if (!map.IsMap()) return;
+    std::vector<std::pair<std::string, int>> seen;  // key, its line (from 1)
     for (auto it = map.begin(); it != map.end(); ++it) {
       const std::string key = it->first.Scalar();
+      // YAML tools disagree on which of two equal keys wins (this reader took the first,
+      // others the last): a scene says it once.
+      const auto first = std::find_if(seen.begin(), seen.end(), [&](const auto& k) { return k.first == key; });
+      if (first != seen.end()) {
+        error(it->first, sub(field, key),
+              "duplicate key '" + key + "' (first at line " + std::to_string(first->second) + "): give it once");
+        continue;
+      }
+      seen.emplace_back(key, it->first.Mark().line + 1);
+      if (key == "<<") {
+        error(it->first, field, "YAML merge keys (<<) are not supported: write the keys out");
+        continue;
+      }
       if (std::find(known.begin(), known.end(), key) != known.end()) continue;
       const std::string near = closest(key, known);
       warn(it->first, sub(field, key),
@@ -869,7 +883,17 @@ SceneLoadResult load_scene(const std::string& path) {
   }
   YAML::Node root;
   try {
-    root = YAML::LoadFile(path);
+    const std::vector<YAML::Node> documents = YAML::LoadAllFromFile(path);
+    if (documents.size() > 1) {
+      std::ostringstream where;
+      where << path << ':' << documents[1].Mark().line + 1 << ':' << documents[1].Mark().column + 1;
+      res.problems.push_back({where.str(), "scene",
+                              "the file holds " + std::to_string(documents.size()) +
+                                  " YAML documents (separated by '---'); a scene is one",
+                              false});
+      return res;
+    }
+    if (!documents.empty()) root = documents[0];
   } catch (const YAML::Exception& e) {
     std::ostringstream where;
     where << path << ':' << e.mark.line + 1 << ':' << e.mark.column + 1;

@@ -640,6 +640,19 @@ TEST(Scene, IllConditionedVdmModuliAreRefused) {
   EXPECT_EQ(errors, 0) << msg;
 }
 
+// YAML as other tools read it: a key given twice, a merge key and a second document are errors
+// (this reader used to take the first of two keys, drop merge keys and read one document).
+TEST(Scene, DuplicateKeysMergeKeysAndSecondDocumentsAreErrors) {
+  std::string dup = scene_text();
+  dup.replace(dup.find("density: 1060}"), 14, "density: 1060, bulk_modulus: -5}");
+  expect_error("dup_key.yaml", dup, "organ.material.bulk_modulus: duplicate key 'bulk_modulus' (first at line 4)");
+  const std::string merge = "defaults: &d {bulk_modulus: 1000}\n" + scene_text();
+  std::string merged = merge;
+  merged.replace(merged.find("  material: {"), 13, "  material: {<<: *d, ");
+  expect_error("merge_key.yaml", merged, "YAML merge keys (<<) are not supported");
+  expect_error("two_docs.yaml", scene_text() + "---\nname: second\n", "the file holds 2 YAML documents");
+}
+
 // A frame whose results cannot be trusted stops the run as failed, with the frames before it
 // kept: here a region of the 20 cm liver prescribed 1 m away (more than twice the organ's size).
 TEST(SceneRun, AnImplausibleFrameFailsTheRun) {
