@@ -114,7 +114,7 @@ class ContactSolver {
   // Per-node flag: held by an instrument after the last step.
   const std::vector<char>& active() const { return active_; }
   // Per tool of the last step (in the order of its `tools`): the force of the organ on it (N).
-  // Their sum is the report's force.
+  // Their sum is the report's force (with penalty contact, up to rounding: summed in another order).
   const std::vector<Vec3>& tool_forces() const { return tool_force_; }
 
  private:
