@@ -60,6 +60,16 @@ int cmd_compare(const std::string& expected, const std::string& actual, const Co
     return 2;
   }
 
+  if (pairing.folders && !options.diff.empty()) {
+    std::error_code ec;
+    fs::create_directories(options.diff, ec);
+    if (ec || !fs::is_directory(options.diff)) {
+      err << "vdmsim: error: " << options.diff << ": cannot make the folder for the diff images"
+          << (ec ? " (" + ec.message() + ")" : std::string(" (a file of that name exists)")) << "\n";
+      return 2;
+    }
+  }
+
   const render::CompareTolerance tolerance{options.max_diff, options.max_share};
   int beyond = 0, not_compared = 0, diffs = 0, diff_errors = 0;
   for (const ImagePair& pair : pairing.pairs) {

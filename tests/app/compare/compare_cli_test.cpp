@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 #include "render/image.hpp"
@@ -129,6 +130,30 @@ TEST(CompareCli, AFileThatIsNotAPngExits2NamingIt) {
   const CliResult r = compare(a + " " + b.string());
   EXPECT_EQ(r.code, 2) << r.output;
   EXPECT_TRUE(contains(r.output, "vdmsim: error: " + b.string() + ": not a PNG file")) << r.output;
+}
+
+TEST(CompareCli, ATruncatedPngExits2NamingIt) {
+  const fs::path d = dir("truncated");
+  const std::string a = write(d / "a.png", gradient());
+  std::ifstream in(a, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), {});
+  const fs::path b = d / "b.png";
+  std::ofstream(b, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+  const CliResult r = compare(a + " " + b.string());
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_TRUE(contains(r.output, "vdmsim: error: " + b.string() + ": damaged or truncated PNG")) << r.output;
+}
+
+TEST(CompareCli, ADiffFolderThatCannotBeMadeExits2Once) {
+  const fs::path d = dir("diff_blocked");
+  write_run(d / "expected", 2);
+  write_run(d / "actual", 2);
+  std::ofstream(d / "taken") << "a file\n";
+  const CliResult r = compare((d / "expected").string() + " " + (d / "actual").string() + " --diff " + (d / "taken").string());
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_TRUE(contains(r.output, "vdmsim: error: " + (d / "taken").string() + ": cannot make the folder for the diff images"))
+      << r.output;
+  EXPECT_EQ(r.output.find("image pairs"), std::string::npos) << "nothing compared\n" << r.output;
 }
 
 TEST(CompareCli, BadToleranceOrAFileBesideAFolderExits2) {
