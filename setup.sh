@@ -16,7 +16,7 @@ for arg in "$@"; do
 done
 
 packages=(
-  build-essential cmake ninja-build pkg-config
+  build-essential cmake ninja-build pkg-config dpkg-dev file
   libeigen3-dev libassimp-dev libcli11-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   libfcl-dev libyaml-cpp-dev libpng-dev libdeflate-dev libosmesa6-dev libglm-dev libimgui-dev

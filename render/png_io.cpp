@@ -268,7 +268,7 @@ bool read_png(const std::string& path, Image& image, std::string& error) {
   std::string msg;
   std::vector<png_bytep> rows;
   if (!decode(f.get(), image, rows, msg)) {
-    error = path + ": " + (msg.empty() ? "cannot decode" : msg);
+    error = path + ": damaged or truncated PNG" + (msg.empty() ? std::string() : " (" + msg + ")");
     return false;
   }
   return true;

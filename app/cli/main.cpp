@@ -11,6 +11,7 @@
 #include "app/studies/accuracy.hpp"
 #include "app/studies/bench.hpp"
 #include "app/cli/commands.hpp"
+#include "app/compare/compare_command.hpp"
 #include "app/run/program_version.hpp"
 #include "app/scene/scene_reference.hpp"
 
@@ -82,6 +83,22 @@ int main(int argc, char** argv) {
   accuracy->add_flag("--quick", accuracy_opt.quick, "Coarser meshes, fewer knob values (under 2 minutes)");
   auto* check = app.add_subcommand("check", "Validate a scene and its mesh without simulating");
   check->add_option("SCENE", scene_path, "Scene file (YAML)")->required();
+  std::string compare_expected, compare_actual;
+  vdmsim::CompareOptions compare_opt;
+  auto* compare = app.add_subcommand("compare",
+                                     "Compare images with their expected versions (golden-image tests): two PNGs, or two "
+                                     "run folders paired by file name; exit 0 within tolerance, 1 beyond it");
+  compare->add_option("EXPECTED", compare_expected, "The expected PNG, or a folder of them (e.g. a run kept as reference)")
+      ->required();
+  compare->add_option("ACTUAL", compare_actual, "The PNG, or the folder of them (e.g. a run's output folder), to check")->required();
+  compare->add_option("--max-diff", compare_opt.max_diff,
+                      "Largest per-channel difference (0-255) a pixel may have and still match (default 0)")
+      ->check(CLI::Range(0, 255));
+  compare->add_option("--max-share", compare_opt.max_share,
+                      "Share of pixels (0-1) allowed to differ by more than --max-diff (default 0)")
+      ->check(CLI::Range(0.0, 1.0));
+  compare->add_option("--diff", compare_opt.diff,
+                      "Write the difference image to this PNG (two files), or one per pair into this folder (two folders)");
   auto* scene_reference = app.add_subcommand(
       "scene-reference", "Print every scene key with its unit, default and range (docs/scene-reference.md, Markdown)");
 
@@ -104,6 +121,7 @@ int main(int argc, char** argv) {
     if (bench->parsed()) return vdmsim::cmd_bench(bench_out, bench_quick, std::cout, std::cerr, bench_only, bench_case_fd);
     if (accuracy->parsed()) return vdmsim::run_accuracy(accuracy_opt, std::cout, std::cerr);
     if (check->parsed()) return vdmsim::cmd_check(scene_path, std::cout, std::cerr);
+    if (compare->parsed()) return vdmsim::cmd_compare(compare_expected, compare_actual, compare_opt, std::cout, std::cerr);
     if (scene_reference->parsed()) {
       vdmsim::write_scene_reference(std::cout);
       return 0;

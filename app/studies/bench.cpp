@@ -14,6 +14,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "app/install/install_paths.hpp"
 #include "app/studies/bench_bullet.hpp"
 #include "app/run/frame_output.hpp"
 #include "app/run/output_dir.hpp"
@@ -109,11 +110,11 @@ PreparedScene bench_probe_scene(const std::string& mesh, int frames, bool render
                                 double volume_tolerance, vdm::CapsuleForm capsule) {
   PreparedScene ps;
   std::vector<SceneProblem> problems;
-  const std::string path = (fs::path(VDMSIM_SOURCE_DIR_STR) / "assets" / "scenes" / "probe_poke.yaml").string();
+  const std::string path = (fs::path(data_dir()) / "scenes" / "probe_poke.yaml").string();
   SceneLoadResult loaded = load_scene(path);
   if (!loaded.ok()) throw std::runtime_error(path + ": cannot load");
   SceneDef s = loaded.scene;
-  s.mesh_path = mesh.find('/') != std::string::npos ? mesh : (fs::path(VDMSIM_SOURCE_DIR_STR) / "assets" / "meshes" / mesh).string();
+  s.mesh_path = mesh.find('/') != std::string::npos ? mesh : (fs::path(data_dir()) / "meshes" / mesh).string();
   s.frames = frames;
   s.solver.tolerance = tolerance;
   s.solver.volume_tolerance = volume_tolerance;
@@ -341,7 +342,7 @@ Row bench_grasp(int repeats) {
   Row r{"grasp_lift", "vdm"};
   PreparedScene ps;
   std::vector<SceneProblem> problems;
-  if (!prepare_scene((fs::path(VDMSIM_SOURCE_DIR_STR) / "assets" / "scenes" / "grasp_lift.yaml").string(), ps, problems))
+  if (!prepare_scene((fs::path(data_dir()) / "scenes" / "grasp_lift.yaml").string(), ps, problems))
     throw std::runtime_error("cannot prepare grasp_lift.yaml");
   time_steps(ps, repeats, [](int rep, int f, const SceneSimulation&) { return rep > 0 || f >= 5; }, r);
   return r;

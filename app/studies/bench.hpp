@@ -23,7 +23,7 @@ constexpr double kBenchTolerance = 5e-3;
 // measuring again. bench_tolerance.csv's reference keeps the default.
 constexpr double kBenchVolumeTolerance = 1e-6;
 
-// The bench's probe scene (assets/scenes/probe_poke.yaml) on `mesh` (a file in assets/meshes)
+// The bench's probe scene (scenes/probe_poke.yaml of data_dir()) on `mesh` (a file in its meshes/)
 // with an 8 mm probe, so that it meets nodes on every mesh; `frames` frames; solver
 // tolerance `tolerance`, volume tolerance `volume_tolerance`; the capsule's form `capsule`.
 PreparedScene bench_probe_scene(const std::string& mesh, int frames, bool render, double tolerance = kBenchTolerance,
