@@ -6,7 +6,7 @@
 
 #include <filesystem>
 #include <fstream>
-#include <regex>
+#include <cctype>
 #include <set>
 #include <sstream>
 #include <string>
@@ -145,11 +145,14 @@ void make_meshes() {
   const fs::path meshes = test::scratch_dir("scene_reference") / "meshes";
   fs::create_directories(meshes);
   std::set<std::string> names = {"liver_L4.obj", "probe.obj"};
-  const std::regex file(R"(\.\./meshes/([A-Za-z0-9_]+\.obj))");
+  const std::string folder = "../meshes/";
   for (const SceneKey& k : kSceneKeys) {
     const std::string example = k.example;
-    for (auto m = std::sregex_iterator(example.begin(), example.end(), file); m != std::sregex_iterator(); ++m)
-      names.insert((*m)[1]);
+    for (size_t at = example.find(folder); at != std::string::npos; at = example.find(folder, at + 1)) {
+      size_t e = at + folder.size();
+      while (e < example.size() && (std::isalnum(static_cast<unsigned char>(example[e])) || example[e] == '_')) ++e;
+      if (example.compare(e, 4, ".obj") == 0) names.insert(example.substr(at + folder.size(), e + 4 - at - folder.size()));
+    }
   }
   for (const std::string& name : names)
     fs::copy_file(fs::path(VDMSIM_SOURCE_DIR) / "assets/meshes/liver_L4.obj", meshes / name,
