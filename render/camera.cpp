@@ -1,6 +1,8 @@
 #include "render/camera.hpp"
 
 #include <Eigen/Geometry>
+#include <glm/glm.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 #include <algorithm>
 #include <cmath>
 
@@ -27,42 +29,35 @@ Camera auto_frame(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, double f
   return c;
 }
 
+namespace {
+
+glm::dvec3 to_glm(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
+
+// GLM's column-major matrix as the renderer's Eigen one (also column-major), in floats for GL.
+Eigen::Matrix4f to_eigen(const glm::dmat4& m) {
+  Eigen::Matrix4f out;
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r) out(r, c) = static_cast<float>(m[c][r]);
+  return out;
+}
+
+}  // namespace
+
+// The camera maths in GLM's GLSL-shaped types (right-handed, clip depth -1 to 1: OpenGL's).
 Eigen::Matrix4f look_at(const Eigen::Vector3d& eye, const Eigen::Vector3d& target, const Eigen::Vector3d& up) {
+  // An up parallel to the view direction has no side: another up is taken.
   const Eigen::Vector3d f = (target - eye).normalized();
-  Eigen::Vector3d s = f.cross(up);
-  if (s.norm() < 1e-9) s = f.cross(std::abs(f.z()) < 0.9 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitY());
-  s.normalize();
-  const Eigen::Vector3d u = s.cross(f);
-  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
-  m.block<1, 3>(0, 0) = s.transpose();
-  m.block<1, 3>(1, 0) = u.transpose();
-  m.block<1, 3>(2, 0) = -f.transpose();
-  m(0, 3) = -s.dot(eye);
-  m(1, 3) = -u.dot(eye);
-  m(2, 3) = f.dot(eye);
-  return m.cast<float>();
+  Eigen::Vector3d u = up;
+  if (f.cross(up).norm() < 1e-9) u = std::abs(f.z()) < 0.9 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitY();
+  return to_eigen(glm::lookAtRH(to_glm(eye), to_glm(target), to_glm(u)));
 }
 
 Eigen::Matrix4f perspective(double fov_deg, double aspect, double n, double f) {
-  const double t = 1.0 / std::tan(0.5 * fov_deg * M_PI / 180.0);
-  Eigen::Matrix4d m = Eigen::Matrix4d::Zero();
-  m(0, 0) = t / aspect;
-  m(1, 1) = t;
-  m(2, 2) = (f + n) / (n - f);
-  m(2, 3) = 2 * f * n / (n - f);
-  m(3, 2) = -1;
-  return m.cast<float>();
+  return to_eigen(glm::perspectiveRH_NO(glm::radians(fov_deg), aspect, n, f));
 }
 
 Eigen::Matrix4f orthographic(double l, double r, double b, double t, double n, double f) {
-  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
-  m(0, 0) = 2 / (r - l);
-  m(1, 1) = 2 / (t - b);
-  m(2, 2) = -2 / (f - n);
-  m(0, 3) = -(r + l) / (r - l);
-  m(1, 3) = -(t + b) / (t - b);
-  m(2, 3) = -(f + n) / (f - n);
-  return m.cast<float>();
+  return to_eigen(glm::orthoRH_NO(l, r, b, t, n, f));
 }
 
 }  // namespace render
