@@ -21,7 +21,6 @@ void note_inert_instruments(const SceneDef& s, std::ostream& err) {
     err << "vdmsim: note: the scene has graspers but does not list the grasp effect: they hold nothing\n";
 }
 
-// Resuming: the checkpoint must belong to this scene and these options.
 // Everything the run's result depends on (RunInputs): the scene file, the files it loads, the
 // options and the program.
 RunInputs run_inputs(const SceneDef& s, const std::string& options) {
@@ -45,6 +44,7 @@ RunInputs run_inputs(const SceneDef& s, const std::string& options) {
   return in;
 }
 
+// Resuming: the checkpoint must be of this run's inputs; when it is not, what changed is named.
 int read_resume_point(RunSetup& setup, std::ostream& err) {
   std::string error;
   if (!read_checkpoint(setup.checkpoint_path().string(), setup.resume_from, error)) {
