@@ -4,11 +4,15 @@
 #include <GL/glext.h>
 
 #include <chrono>
+#include <cstring>
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
 #include <map>
 #include <tuple>
+
+#include <glm/glm.hpp>
+#include <glm/gtc/type_ptr.hpp>
 
 #include "render/edge_aa.hpp"
 #include "render/gl_context.hpp"
@@ -259,17 +263,19 @@ bool Renderer::Impl::init(const vdm::SurfaceMesh& rest, std::string& error) {
   }
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   // World -> along the key light onto the plane z = floor_z -> the mask's square.
-  Eigen::Matrix4d along = Eigen::Matrix4d::Identity();
-  along(0, 2) = -key_dir.x() / key_dir.z();
-  along(1, 2) = -key_dir.y() / key_dir.z();
-  along(0, 3) = key_dir.x() / key_dir.z() * floor_z;
-  along(1, 3) = key_dir.y() / key_dir.z() * floor_z;
-  along(2, 2) = 0;
-  Eigen::Matrix4d to_mask = Eigen::Matrix4d::Identity();
-  to_mask(0, 0) = to_mask(1, 1) = 1.0 / mask_half;
-  to_mask(0, 3) = -centre.x() / mask_half;
-  to_mask(1, 3) = -centre.y() / mask_half;
-  floor_proj = (to_mask * along).cast<float>();
+  // (GLM, column-major: m[column][row].)
+  glm::dmat4 along(1.0);
+  along[2][0] = -key_dir.x() / key_dir.z();
+  along[2][1] = -key_dir.y() / key_dir.z();
+  along[3][0] = key_dir.x() / key_dir.z() * floor_z;
+  along[3][1] = key_dir.y() / key_dir.z() * floor_z;
+  along[2][2] = 0;
+  glm::dmat4 to_mask(1.0);
+  to_mask[0][0] = to_mask[1][1] = 1.0 / mask_half;
+  to_mask[3][0] = -centre.x() / mask_half;
+  to_mask[3][1] = -centre.y() / mask_half;
+  const glm::mat4 projection(to_mask * along);
+  std::memcpy(floor_proj.data(), glm::value_ptr(projection), sizeof(float) * 16);
 
   // The floor: a square of half side 3 R under the organ (it has faded out at its edge).
   SkinMesh square;
