@@ -34,6 +34,8 @@ SceneSimulation::SceneSimulation(const PreparedScene& ps)
     (probe ? probe_index_ : grasper_index_).push_back(k);
   }
   instrument_force_.assign(s.instruments.size(), vdm::Vec3::Zero());
+  const vdm::NodeMat& X = ps.model.rest.positions;
+  organ_size_ = (X.colwise().maxCoeff() - X.colwise().minCoeff()).norm();
   peak_force_.assign(s.instruments.size(), 0.0);
   if (s.has(Effect::grasp)) grasps_.resize(graspers_.size());
   // External forces only when the scene has loads: an empty force is none (1 MB at 40k nodes).
@@ -55,8 +57,7 @@ std::string SceneSimulation::unsound() const {
   if (ps_.scene.has(Effect::stress) && !st.stress.allFinite()) return "non-finite stress";
   if (st.reaction.size() > 0 && !st.reaction.allFinite()) return "non-finite reaction forces";
   if (!total_force().allFinite()) return "non-finite instrument force";
-  const vdm::NodeMat& X = ps_.model.rest.positions;
-  const double size = (X.colwise().maxCoeff() - X.colwise().minCoeff()).norm();
+  const double size = organ_size_;
   const double moved = st.u.rowwise().norm().maxCoeff();
   if (moved > 2 * size) {
     char text[200];

@@ -81,6 +81,7 @@ class SceneSimulation {
   std::vector<vdm::Vec3> instrument_force_;
   std::vector<double> peak_force_;
   long unconverged_steps_ = 0, contact_iterations_ = 0;
+  double organ_size_ = 0;  // the rest surface's bounding-box diagonal (m), for unsound()
   // The forces of the frame just simulated (instrument_force_, peak_force_).
   void measure_forces();
 };

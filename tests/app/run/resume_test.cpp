@@ -63,6 +63,20 @@ int run_in_process(const std::string& scene, const fs::path& out, bool resume) {
   EXPECT_EQ(rc, 0) << e.str();
   return rc;
 }
+
+// `--resume` of `scene` into `out`, expected to be refused (exit 2): its messages.
+std::string refused_resume(const std::string& scene, const fs::path& out) {
+  vdmsim::PreparedScene ps;
+  std::vector<vdmsim::SceneProblem> problems;
+  EXPECT_TRUE(vdmsim::prepare_scene(scene, ps, problems));
+  vdmsim::RunOptions opt;
+  opt.out_dir = out.string();
+  opt.resume = true;
+  opt.checkpoint_every = 7;
+  std::ostringstream o, e;
+  EXPECT_EQ(vdmsim::run_scene(ps, opt, o, e, false), 2) << e.str();
+  return e.str();
+}
 }  // namespace
 
 TEST(Resume, AnInterruptedRunResumedEqualsAnUninterruptedOne) {
@@ -110,15 +124,8 @@ TEST(Resume, RefusesACheckpointOfAnotherScene) {
   std::ofstream(a) << "name: a\n" << body;
   std::ofstream(b) << "name: b\n" << body;
   ASSERT_EQ(run_in_process(a, kOut / "other", false), 0);
-  vdmsim::PreparedScene ps;
-  std::vector<vdmsim::SceneProblem> problems;
-  ASSERT_TRUE(vdmsim::prepare_scene(b, ps, problems));
-  vdmsim::RunOptions opt;
-  opt.out_dir = (kOut / "other").string();
-  opt.resume = true;
-  std::ostringstream o, e;
-  EXPECT_EQ(vdmsim::run_scene(ps, opt, o, e, false), 2);
-  EXPECT_NE(e.str().find("the scene file changed"), std::string::npos) << e.str();
+  const std::string e = refused_resume(b, kOut / "other");
+  EXPECT_NE(e.find("the scene file changed"), std::string::npos) << e;
 }
 
 // The checkpoint identifies every file the run loaded: an organ mesh changed after the run (here
@@ -134,16 +141,9 @@ TEST(Resume, RefusesWhenTheOrganMeshChanged) {
   std::ofstream(scene) << "name: box\norgan: {mesh: box.obj}\nsimulation: {frames: 3, effects: []}\n";
   ASSERT_EQ(run_in_process(scene, dir / "out", false), 0);
   ASSERT_TRUE(vdmsim::save_obj(vdm::make_box(vdm::Vec3(0.2, 0.2, 0.1), 4, 4, 2), mesh.string(), "a box", error));
-  vdmsim::PreparedScene ps;
-  std::vector<vdmsim::SceneProblem> problems;
-  ASSERT_TRUE(vdmsim::prepare_scene(scene, ps, problems));
-  vdmsim::RunOptions opt;
-  opt.out_dir = (dir / "out").string();
-  opt.resume = true;
-  std::ostringstream o, e;
-  EXPECT_EQ(vdmsim::run_scene(ps, opt, o, e, false), 2);
-  EXPECT_NE(e.str().find("the organ mesh changed"), std::string::npos) << e.str();
-  EXPECT_EQ(e.str().find("the scene file changed"), std::string::npos) << e.str();
+  const std::string e = refused_resume(scene, dir / "out");
+  EXPECT_NE(e.find("the organ mesh changed"), std::string::npos) << e;
+  EXPECT_EQ(e.find("the scene file changed"), std::string::npos) << e;
 }
 
 // Determinism: the same scene twice gives the same metrics.csv (every column but the
@@ -240,18 +240,8 @@ TEST(Resume, AfterAHardKillResumesFromTheLastPeriodicCheckpoint) {
     bytes[bytes.size() / 2] = static_cast<char>(bytes[bytes.size() / 2] ^ 0x5a);
     std::ofstream(damaged / "state.bin", std::ios::binary) << bytes;
   }
-  {
-    vdmsim::PreparedScene ps;
-    std::vector<vdmsim::SceneProblem> problems;
-    ASSERT_TRUE(vdmsim::prepare_scene(scene, ps, problems));
-    vdmsim::RunOptions opt;
-    opt.out_dir = damaged.string();
-    opt.resume = true;
-    opt.checkpoint_every = 7;
-    std::ostringstream o, e;
-    EXPECT_EQ(vdmsim::run_scene(ps, opt, o, e, false), 2);
-    EXPECT_NE(e.str().find("checksum"), std::string::npos) << e.str();
-  }
+  const std::string refused = refused_resume(scene, damaged);
+  EXPECT_NE(refused.find("checksum"), std::string::npos) << refused;
 
   ASSERT_EQ(run_in_process(scene, resumed, true), 0);
   ASSERT_EQ(run_in_process(scene, replayed, true), 0);
