@@ -13,16 +13,16 @@
 #include "app/run/output_dir.hpp"
 #include "app/run/scene_run.hpp"
 #include "support/binary.hpp"
+#include "support/scratch_dir.hpp"
 
 namespace vdmsim {
 namespace {
 
 namespace fs = std::filesystem;
 
+// One folder per test, in the test process's scratch folder (support/scratch_dir.hpp).
 fs::path test_dir() {
-  const fs::path d = fs::path(VDMSIM_BUILD_DIR) / "test-output" / "output_dir" /
-                     ::testing::UnitTest::GetInstance()->current_test_info()->name();
-  fs::remove_all(d);
+  const fs::path d = test::scratch_dir("output_dir") / ::testing::UnitTest::GetInstance()->current_test_info()->name();
   fs::create_directories(d);
   return d;
 }
