@@ -555,6 +555,7 @@ void ContactSolver::step_any(const TissueModel& m, const StepInput& base, const 
   rep = ContactReport();
   const long boxes = fcl_->box_updates;
   if (settings_.method == ContactSettings::Method::penalty) step_penalty(m, base, tools, s, rep);
+  else if (settings_.method == ContactSettings::Method::constraint && !solver_) step_constraint(m, base, tools, s, rep);
   else step_kinematic(m, base, tools, s, rep, borrowed);
   rep.refit_boxes = fcl_->box_updates - boxes;
 }

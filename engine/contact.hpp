@@ -22,6 +22,7 @@
 #include <memory>
 #include <vector>
 
+#include "engine/contact_compliance.hpp"
 #include "engine/sim_state.hpp"
 #include "engine/tool_shape.hpp"
 
@@ -72,7 +73,23 @@ struct ContactSettings {
   // The slack trades box updates against a wider walk (measured flat from 0.2 to 1 edge).
   bool lazy_refit = true;
   double refit_slack = 0.5;
-  enum class Method { kinematic, penalty } method = Method::kinematic;
+  // constraint: non-penetration as unilateral constraints along the tool's normal at surface
+  // contact points, with Coulomb friction (engine/contact_constraint.cpp); kinematic: nodes
+  // held on the tool (sticking); penalty: frictionless springs. The reference models (fem,
+  // mass_spring) take kinematic contact whatever is chosen.
+  enum class Method { constraint, kinematic, penalty } method = Method::kinematic;
+  // constraint: the Coulomb friction coefficient (0: frictionless sliding).
+  double friction = 0.0;
+  // constraint: solves of the organ per step at most.
+  int max_constraint_iterations = 30;
+  // constraint: the step's contact solve has converged when no contact point is off the tool's
+  // surface (inside it, or apart from it while pushed) by more than this fraction of the
+  // smallest tool's size, no sticking point slipped by more, and the last Gauss-Seidel pass
+  // changed no force by more than 1e-3 of the largest.
+  double constraint_tolerance = 0.005;
+  // constraint: the rings of neighbours around the contact nodes on which their compliance
+  // is computed (engine/contact_compliance.hpp).
+  int compliance_rings = 6;
   double penalty_stiffness = 1e8;  // k_c: contact pressure per metre of penetration (Pa/m)
   int max_penalty_iterations = 40;
   // The penalty iteration ends when no node moved more than this fraction of the smallest
@@ -91,6 +108,24 @@ struct ContactReport {
   long queries = 0;                // FCL collision queries this step
   long refit_boxes = 0;            // boxes of the organ's tree refitted this step
   double collision_ms = 0.0;       // broad + narrow phase time
+};
+
+// A surface point in contact with a tool: a node, or a point inside a triangle (its
+// barycentric weights on the triangle's nodes).
+struct ContactPoint {
+  int tool = 0;
+  int triangle = -1;  // -1: a node contact (node[0])
+  int node[3] = {0, 0, 0};
+  double weight[3] = {1, 0, 0};
+  int count = 1;                // nodes used
+  Vec3 start = Vec3::Zero();    // the point at the step's start (m)
+  Vec3 point = Vec3::Zero();    // the point now
+  Vec3 surface = Vec3::Zero();  // the closest point of the tool's surface
+  Vec3 normal = Vec3::UnitZ();  // the tool's outward normal there
+  double gap = 0;               // signed distance to the tool (negative: inside)
+  Vec3 force = Vec3::Zero();    // the tool's force on the organ there (N)
+  Vec3 solved = Vec3::Zero();     // the point after the last solve
+  Vec3 predicted = Vec3::Zero();  // how far the next solve should move it, by the compliance
 };
 
 class ContactSolver {
@@ -129,6 +164,15 @@ class ContactSolver {
                       SimState& state, ContactReport& report, StepInput* borrowed);
   void step_penalty(const TissueModel& model, const StepInput& base, const std::vector<ToolShape>& tools,
                     SimState& state, ContactReport& report);
+  void step_constraint(const TissueModel& model, const StepInput& base, const std::vector<ToolShape>& tools,
+                       SimState& state, ContactReport& report);
+  // Adds the contact points of `tools` at positions x not yet in contacts_: nodes and
+  // triangle points closer to a tool than `limit` times its size (negative: inside). With
+  // `warm`, each takes the force its match had at the end of the last step.
+  void find_contact_points(const TissueModel& model, const StepInput& base, const std::vector<ToolShape>& tools,
+                           const NodeMat& x, const NodeMat& start, double limit, bool warm, ContactReport& report);
+  // The deepest point of the surface inside a tool (m), over every triangle near one.
+  double deepest_surface_point(const std::vector<ToolShape>& tools, const NodeMat& x, ContactReport& report);
   // The scene's own prescribed motion (grasp, scripted regions) into input_.
   void copy_scene_constraints(const TissueModel& model, const StepInput& base);
   // Penalty forces on the nodes at positions x (penalty_force_) and the per-axis spring
@@ -172,6 +216,18 @@ class ContactSolver {
   NodeMat anderson_dg_[kAnderson], anderson_df_[kAnderson];
   NodeMat last_g_, last_f_, residual_, x_iterate_;
   std::vector<ToolShape> capsule_tools_;  // the Capsule overload's tools
+  // Constraint contact.
+  std::vector<ContactPoint> contacts_, last_contacts_;
+  std::vector<int> node_tool_, triangle_tool_;  // per node / triangle: the tool of its contact point, or -1
+  std::vector<int> contact_nodes_, node_slot_;  // the nodes the contacts use; node -> index there (or -1)
+  std::vector<int> compliance_nodes_;           // the nodes of the last compliance computed
+  long compliance_refreshes_ = -1;              // the engine's refresh count then
+  PatchCompliance compliance_;
+  Eigen::MatrixXd delassus_;                    // 3C x 3C: the compliance in the contacts' frames
+  Eigen::VectorXd residual_c_, lambda_c_, change_c_;
+  std::vector<Eigen::Matrix3d> frames_;
+  double compliance_scale_ = 1.0;               // fitted: the organ's compliance over the patch's
+  NodeMat contact_force_;                        // N x 3
   NodeMat x0_, u0_, v0_;
 };
 

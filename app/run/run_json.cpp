@@ -24,9 +24,14 @@ std::string json_escape(const std::string& s) {
 // solve, and the steps whose active set was still changing when the iteration cap was reached.
 void write_contact(const RunRecord& r, std::ostream& js) {
   const SceneDef& s = r.prepared.scene;
-  const bool penalty = s.contact.method == vdm::ContactSettings::Method::penalty;
-  js << "  \"contact\": {\"method\": \"" << (penalty ? "penalty" : "kinematic") << '"';
-  if (penalty) js << ", \"stiffness_pa_per_m\": " << s.contact.penalty_stiffness;
+  using Method = vdm::ContactSettings::Method;
+  const Method method = s.contact.method;
+  // The reference models take kinematic contact whatever the scene asks.
+  const bool constraint = method == Method::constraint && s.model == vdm::ModelKind::vdm;
+  const char* name = method == Method::penalty ? "penalty" : constraint ? "constraint" : "kinematic";
+  js << "  \"contact\": {\"method\": \"" << name << '"';
+  if (method == Method::penalty) js << ", \"stiffness_pa_per_m\": " << s.contact.penalty_stiffness;
+  if (constraint) js << ", \"friction\": " << s.contact.friction;
   js << ", \"iterations\": " << r.contact_iterations << ", \"unconverged_steps\": " << r.unconverged_contact_steps;
   js << "},\n";
 }

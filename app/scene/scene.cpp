@@ -517,9 +517,11 @@ void read_simulation(Reader& r, const YAML::Node& sim, SceneDef& s) {
       vdm::ContactSettings& cs = s.contact;
       if (const YAML::Node n = con["method"]) {
         std::string m;
-        const std::vector<std::string> methods = {"kinematic", "penalty"};
+        const std::vector<std::string> methods = {"constraint", "kinematic", "penalty"};
         if (r.text(n, fc + ".method", m)) {
-          if (m == "kinematic") {
+          if (m == "constraint") {
+            cs.method = vdm::ContactSettings::Method::constraint;
+          } else if (m == "kinematic") {
             cs.method = vdm::ContactSettings::Method::kinematic;
           } else if (m == "penalty") {
             cs.method = vdm::ContactSettings::Method::penalty;
@@ -531,7 +533,7 @@ void read_simulation(Reader& r, const YAML::Node& sim, SceneDef& s) {
             const std::string near = closest(m, methods);
             r.error(n, fc + ".method", "unknown contact method '" + m + "'" +
                                            (near.empty() ? "" : " (did you mean '" + near + "'?)") +
-                                           "; expected kinematic or penalty");
+                                           "; expected constraint, kinematic or penalty");
           }
         }
       }
@@ -540,8 +542,17 @@ void read_simulation(Reader& r, const YAML::Node& sim, SceneDef& s) {
         if (cs.method != vdm::ContactSettings::Method::penalty)
           r.warn(n, fc + ".stiffness", "used by the penalty method only (method: penalty)");
       }
-      if (const YAML::Node n = con["max_iterations"])
+      if (const YAML::Node n = con["friction"]) {
+        r.number(n, fc + ".friction", cs.friction, KEY("simulation.contact.friction"));
+        if (cs.method != vdm::ContactSettings::Method::constraint)
+          r.warn(n, fc + ".friction", "used by the constraint method only (method: constraint)");
+      }
+      if (const YAML::Node n = con["max_iterations"]) {
         r.integer(n, fc + ".max_iterations", cs.max_penalty_iterations, KEY("simulation.contact.max_iterations"));
+        cs.max_constraint_iterations = cs.max_penalty_iterations;
+        if (cs.method == vdm::ContactSettings::Method::kinematic)
+          r.warn(n, fc + ".max_iterations", "used by the constraint and penalty methods only");
+      }
       if (!s.has(Effect::contact))
         r.warn(con, fc, "has no effect: contact is not in simulation.effects");
     }

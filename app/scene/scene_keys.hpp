@@ -233,16 +233,30 @@ inline constexpr SceneKey kSceneKeys[] = {
       .by_default([] { return yaml_bool(SceneDef().solver.warm_start); }).eg("warm_start: false"),
 
   // simulation.contact
-  key("simulation.contact.method", KT::choice, "`kinematic`: nodes that enter a tool are put on its surface and held "
-      "there for the step (the tissue sticks); `penalty`: frictionless and compliant, pushed out by stiffness × depth "
-      "(slides; `organ.model: vdm` only).").one_of([] { return Words{"kinematic", "penalty"}; })
-      .by_default([] { return std::string(SceneDef().contact.method == vdm::ContactSettings::Method::kinematic ? "kinematic" : "penalty"); })
+  key("simulation.contact.method", KT::choice, "`constraint`: non-penetration constraints along the tool's normal at "
+      "surface points (nodes, and points inside triangles a thin tool meets), with Coulomb friction `friction` (slides; "
+      "`organ.model: vdm`: the reference models take `kinematic`); `kinematic`: nodes that enter a tool are put on its "
+      "surface and held there for the step (the tissue sticks); `penalty`: frictionless and compliant, pushed out by "
+      "stiffness × depth (slides; `organ.model: vdm` only).")
+      .one_of([] { return Words{"constraint", "kinematic", "penalty"}; })
+      .by_default([] {
+        switch (SceneDef().contact.method) {
+          case vdm::ContactSettings::Method::constraint: return std::string("constraint");
+          case vdm::ContactSettings::Method::kinematic: return std::string("kinematic");
+          default: return std::string("penalty");
+        }
+      })
       .eg("method: penalty"),
+  key("simulation.contact.friction", KT::number, "`constraint` only: the Coulomb friction coefficient μ between tools and "
+      "tissue (0: frictionless sliding; a point sticks while its tangential force is below μ times its normal force).")
+      .in("friction coefficient (dimensionless)").range(0, 10)
+      .by_default([] { return yaml_number(SceneDef().contact.friction); }).eg("method: constraint, friction: 0.3"),
   key("simulation.contact.stiffness", KT::number, "`penalty` only: the contact pressure per metre of penetration.")
       .in("Pa/m (contact pressure per metre of penetration)").above(0, 1e15)
       .by_default([] { return yaml_number(SceneDef().contact.penalty_stiffness); }).eg("method: penalty, stiffness: 1.0e8"),
-  key("simulation.contact.max_iterations", KT::integer, "`penalty` only: solves per step at most.").range(1, 1000)
-      .by_default([] { return std::to_string(SceneDef().contact.max_penalty_iterations); }).eg("max_iterations: 60"),
+  key("simulation.contact.max_iterations", KT::integer, "`constraint` and `penalty`: solves of the organ per step at most "
+      "(the default: 30 for `constraint`, 40 for `penalty`).").range(1, 1000)
+      .by_default([] { return std::to_string(SceneDef().contact.max_penalty_iterations); }).eg("method: constraint, max_iterations: 60"),
 
   // instruments[]
   key("instruments[].type", KT::choice, "A `probe` (a rigid tool, shaped by `shape`) or a `grasper` (a shaft and two jaws "

@@ -1,0 +1,422 @@
+// Constraint contact with Coulomb friction (ContactSettings::Method::constraint).
+//
+// Contact points are surface points: the nodes near a tool and, where a triangle's inside
+// meets a tool that none of its corners touches (a probe thinner than the edges), the
+// triangle's deepest point, its force spread on the corners by barycentric weights. Each
+// carries a force in its frame (n: the tool's outward normal, t1, t2):
+//   non-penetration   gap >= 0, f_n >= 0, gap f_n = 0;
+//   Coulomb friction  |f_t| <= mu f_n; below the cone the point moves with the tool over the
+//                     step (no slip), on it the force opposes the slip.
+// The forces are found as SOFA's constraint solver does: the organ is solved with the
+// current forces (the first solve: the last step's, matched by node or triangle), the gaps
+// and slips measured, then a projected Gauss-Seidel over the contacts finds the forces that
+// satisfy the laws on the linear model `point = point_solved + W (f - f_solved)`, and the
+// organ is solved again with them. W, the compliance between contact points, comes from
+// PatchCompliance (the nodes' compliance on a patch of the surface around them; the fluid's
+// pressure and the organ outside the patch only stiffen it), times a scale fitted after each
+// solve to what the solve moved against what W predicted. The loop ends when the measured
+// gaps and slips are within the tolerance and the Gauss-Seidel changes no force: the state is
+// then the organ's exact equilibrium under forces that satisfy the laws.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "engine/contact.hpp"
+#include "engine/step_workspace.hpp"
+#include "engine/stopwatch.hpp"
+
+namespace vdm {
+
+namespace {
+
+// An orthonormal frame whose first column is n.
+Eigen::Matrix3d contact_frame(const Vec3& n) {
+  Vec3 t1 = std::abs(n.x()) < 0.6 ? n.cross(Vec3::UnitX()) : n.cross(Vec3::UnitY());
+  t1.normalize();
+  Eigen::Matrix3d f;
+  f.col(0) = n;
+  f.col(1) = t1;
+  f.col(2) = n.cross(t1);
+  return f;
+}
+
+Vec3 point_of(const ContactPoint& c, const NodeMat& x) {
+  Vec3 p = Vec3::Zero();
+  for (int v = 0; v < c.count; ++v) p += c.weight[v] * x.row(c.node[v]).transpose();
+  return p;
+}
+
+// Sub-triangles no wider than a quarter of the tool: their centroids are a triangle's samples.
+int samples_across(const Vec3& a, const Vec3& b, const Vec3& c, double tool_size) {
+  const double edge = std::max({(b - a).norm(), (c - a).norm(), (c - b).norm()});
+  return std::clamp(static_cast<int>(std::ceil(edge / (0.25 * tool_size))), 1, 16);
+}
+
+// Calls f(bu, bv) for every sample of an S x S subdivided triangle (barycentric weights
+// 1 - bu - bv, bu, bv).
+template <class F>
+void for_each_sample(int S, F&& f) {
+  for (int i = 0; i < S; ++i)
+    for (int j = 0; i + j < S; ++j) {
+      f((i + 1.0 / 3.0) / S, (j + 1.0 / 3.0) / S);
+      if (i + j < S - 1) f((i + 2.0 / 3.0) / S, (j + 2.0 / 3.0) / S);
+    }
+}
+
+// The triangle a, b, c's point closest to (deepest inside) the tool: the best of its samples,
+// with `refine` then refined by a pattern search over the barycentric weights (the signed
+// distance to a convex tool is convex along the triangle's plane, so the search finds the
+// minimum: a tool thinner than the samples' spacing is found too). Returns the distance; bu,
+// bv: the point's weights.
+double deepest_in_triangle(const ToolShape& t, const Vec3& a, const Vec3& b, const Vec3& c, double& bu, double& bv,
+                           Vec3& surface, Vec3& normal, bool refine) {
+  const Vec3 ab = b - a, ac = c - a;
+  const int S = samples_across(a, b, c, t.size());
+  double best = std::numeric_limits<double>::infinity();
+  Vec3 sp, sn;
+  auto at = [&](double u, double v) { return tool_distance(t, a + u * ab + v * ac, sp, sn); };
+  for_each_sample(S, [&](double u, double v) {
+    const double d = at(u, v);
+    if (d < best) {
+      best = d;
+      bu = u;
+      bv = v;
+    }
+  });
+  static const double kDirections[6][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, -1}, {-1, 1}};
+  for (double h = 0.5 / S; refine && h > 1e-4 / S;) {
+    bool better = false;
+    for (const auto& dir : kDirections) {
+      const double u = bu + h * dir[0], v = bv + h * dir[1];
+      if (u < 0.0 || v < 0.0 || u + v > 1.0) continue;
+      const double d = at(u, v);
+      if (d < best) {
+        best = d;
+        bu = u;
+        bv = v;
+        better = true;
+      }
+    }
+    if (!better) h *= 0.5;
+  }
+  best = at(bu, bv);
+  surface = sp;
+  normal = sn;
+  return best;
+}
+
+}  // namespace
+
+void ContactSolver::find_contact_points(const TissueModel& m, const StepInput& base, const std::vector<ToolShape>& tools,
+                                        const NodeMat& x, const NodeMat& start_u, double limit, bool warm,
+                                        ContactReport& rep) {
+  const bool has_prescribed = base.prescribed.rows() == m.n;
+  const bool has_held = m.held.rows() == m.n;
+  // Nodes that cannot move on any axis take no force.
+  auto immobile = [&](int i) {
+    return (has_prescribed && base.prescribed.row(i).minCoeff() != 0) || (has_held && m.held.row(i).minCoeff() != 0);
+  };
+  auto add = [&](int k, int tri, const int* nodes, const double* weights, int count, double gap, const Vec3& surface,
+                 const Vec3& normal) {
+    ContactPoint c;
+    c.tool = k;
+    c.triangle = tri;
+    c.count = count;
+    for (int v = 0; v < count; ++v) {
+      c.node[v] = nodes[v];
+      c.weight[v] = weights[v];
+      c.start += weights[v] * (m.rest.positions.row(nodes[v]) + start_u.row(nodes[v])).transpose();
+    }
+    c.point = point_of(c, x);
+    c.solved = c.point;
+    c.gap = gap;
+    c.surface = surface;
+    c.normal = normal;
+    if (warm)
+      for (const ContactPoint& l : last_contacts_)
+        if (l.tool == k && l.triangle == tri && (tri >= 0 || l.node[0] == nodes[0])) {
+          c.force = l.force;
+          break;
+        }
+    if (tri < 0) node_tool_[static_cast<size_t>(nodes[0])] = k;
+    else triangle_tool_[static_cast<size_t>(tri)] = k;
+    contacts_.push_back(c);
+  };
+  refit(x);
+  for (size_t kk = 0; kk < tools.size(); ++kk) {
+    const int k = static_cast<int>(kk);
+    const ToolShape& t = tools[kk];
+    const double size = t.size();
+    candidates_.clear();
+    broad_phase(t, kk, std::max(limit, 0.0) * size, candidates_, rep, true);
+    for (int tri : candidates_) {
+      triangle_mark_[static_cast<size_t>(tri)] = 0;
+      int nd[3];
+      Vec3 p[3];
+      bool corner_contact = false, all_immobile = true;
+      for (int v = 0; v < 3; ++v) {
+        nd[v] = (*triangles_)(tri, v);
+        p[v] = x.row(nd[v]).transpose();
+        const int owner = node_tool_[static_cast<size_t>(nd[v])];
+        if (owner >= 0) {
+          corner_contact |= owner == k;
+          all_immobile = false;
+          continue;
+        }
+        if (immobile(nd[v])) continue;
+        all_immobile = false;
+        Vec3 sp, sn;
+        const double dist = tool_distance(t, p[v], sp, sn);
+        if (dist < limit * size) {
+          const double one = 1.0;
+          add(k, -1, &nd[v], &one, 1, dist, sp, sn);
+          corner_contact = true;
+        }
+      }
+      if (triangle_tool_[static_cast<size_t>(tri)] >= 0 || all_immobile) continue;
+      // The triangle's deepest inner point: where no corner touches this tool, any point
+      // closer than the limit; beside touching corners, only one deeper than half the
+      // penetration allowed (ContactSettings::tolerance: the chord of a round tool between
+      // nodes held on it cuts into it).
+
+      const double need = (corner_contact ? -0.5 * settings_.tolerance : limit) * size;
+      double bu = 0, bv = 0;
+      Vec3 best_p, best_n;
+      // (refined only where no corner touches: beside touching corners the samples' centroids
+      // keep the point inside the triangle, away from the corners that hold it already)
+      const double best = deepest_in_triangle(t, p[0], p[1], p[2], bu, bv, best_p, best_n, !corner_contact);
+      if (best < need) {
+        const double w[3] = {1.0 - bu - bv, bu, bv};
+        add(k, tri, nd, w, 3, best, best_p, best_n);
+      }
+    }
+  }
+}
+
+double ContactSolver::deepest_surface_point(const std::vector<ToolShape>& tools, const NodeMat& x,
+                                            ContactReport& rep) {
+  refit(x);
+  double deepest = 0.0;
+  for (size_t k = 0; k < tools.size(); ++k) {
+    const ToolShape& t = tools[k];
+    candidates_.clear();
+    broad_phase(t, k, 0.0, candidates_, rep, true);
+    for (int tri : candidates_) {
+      triangle_mark_[static_cast<size_t>(tri)] = 0;
+      const Vec3 a = x.row((*triangles_)(tri, 0)).transpose(), b = x.row((*triangles_)(tri, 1)).transpose(),
+                 c = x.row((*triangles_)(tri, 2)).transpose();
+      Vec3 sp, sn;
+      for (const Vec3* corner : {&a, &b, &c}) deepest = std::max(deepest, -tool_distance(t, *corner, sp, sn));
+      for_each_sample(samples_across(a, b, c, t.size()), [&](double u, double v) {
+        deepest = std::max(deepest, -tool_distance(t, a + u * (b - a) + v * (c - a), sp, sn));
+      });
+    }
+  }
+  return deepest;
+}
+
+void ContactSolver::step_constraint(const TissueModel& m, const StepInput& base, const std::vector<ToolShape>& tools,
+                                    SimState& s, ContactReport& rep) {
+  auto t0 = Clock::now();
+  if (input_.prescribed.rows() != m.n) input_ = make_step_input(m);  // the first such step: allocates once
+  input_.pressure = base.pressure;
+  copy_scene_constraints(m, base);
+  const bool has_force = base.force.rows() == m.n;
+  if (contact_force_.rows() != m.n) contact_force_ = NodeMat::Zero(m.n, 3);
+  if (node_tool_.size() != static_cast<size_t>(m.n)) node_tool_.assign(static_cast<size_t>(m.n), -1);
+  if (node_slot_.size() != static_cast<size_t>(m.n)) node_slot_.assign(static_cast<size_t>(m.n), -1);
+  const size_t T = static_cast<size_t>(m.rest.triangle_count());
+  if (triangle_tool_.size() != T) triangle_tool_.assign(T, -1);
+  if (triangle_mark_.size() != T) triangle_mark_.assign(T, 0);
+  double smallest = std::numeric_limits<double>::infinity();
+  for (const ToolShape& t : tools) smallest = std::min(smallest, t.size());
+  const double tolerance = settings_.constraint_tolerance * smallest;
+  const double mu = std::max(0.0, settings_.friction);
+
+  for (int i : held_) active_[static_cast<size_t>(i)] = 0;
+  held_.clear();
+  for (const ContactPoint& c : contacts_) {
+    if (c.triangle < 0) node_tool_[static_cast<size_t>(c.node[0])] = -1;
+    else triangle_tool_[static_cast<size_t>(c.triangle)] = -1;
+    for (int v = 0; v < c.count; ++v) contact_force_.row(c.node[v]).setZero();
+  }
+  last_contacts_.swap(contacts_);
+  contacts_.clear();
+  // Before the solve the positions are the step's start.
+  find_contact_points(m, base, tools, s.x, s.u, settings_.activation, true, rep);
+  rep.collision_ms += ms_since(t0);
+
+  const int max_it = std::max(1, settings_.max_constraint_iterations);
+  rep.converged = false;
+  bool predicted = false;  // the contacts hold a prediction of the next solve's motion
+  for (int it = 0; it < max_it; ++it) {
+    // The organ under the contact forces.
+    if (it > 0) rewind_step(m, s);
+    for (const ContactPoint& c : contacts_)
+      for (int v = 0; v < c.count; ++v) contact_force_.row(c.node[v]).setZero();
+    for (const ContactPoint& c : contacts_)
+      for (int v = 0; v < c.count; ++v) contact_force_.row(c.node[v]) += c.weight[v] * c.force.transpose();
+    if (has_force) input_.force = base.force + contact_force_;
+    else input_.force = contact_force_;
+    vdm::step(m, input_, s, StepResults::none);
+    ++rep.solves;
+    rep.iterations += s.stats.iterations;
+    if (s.failed) return;  // the caller stops; the state is the step's start
+
+    t0 = Clock::now();
+    // What the solve moved against what the compliance predicted: the compliance's scale.
+    if (predicted) {
+      double along = 0.0, norm = 0.0;
+      for (const ContactPoint& c : contacts_) {
+        const Vec3 moved = point_of(c, s.x) - c.solved;
+        along += moved.dot(c.predicted);
+        norm += c.predicted.squaredNorm();
+      }
+      if (norm > tolerance * tolerance && along > 0.0 && it == 1)
+        compliance_scale_ = std::clamp(compliance_scale_ * std::clamp(along / norm, 0.5, 2.0), 0.1, 10.0);
+    }
+    // The contacts at the solved positions, and the points the solve pushed into a tool.
+    for (ContactPoint& c : contacts_) {
+      c.point = point_of(c, s.x);
+      c.solved = c.point;
+      const ToolShape& t = tools[static_cast<size_t>(c.tool)];
+      c.gap = tool_distance(t, c.point, c.surface, c.normal);
+    }
+    const size_t before = contacts_.size();
+    find_contact_points(m, base, tools, s.x, s.work->start.u, -settings_.constraint_tolerance, false, rep);
+    const bool added = contacts_.size() > before;
+    const int C = static_cast<int>(contacts_.size());
+    if (C == 0) {
+      rep.converged = true;
+      rep.collision_ms += ms_since(t0);
+      break;
+    }
+
+    // The compliance between the contact nodes (again when they or the engine's matrix changed).
+    for (int i : contact_nodes_) node_slot_[static_cast<size_t>(i)] = -1;
+    contact_nodes_.clear();
+    for (const ContactPoint& c : contacts_)
+      for (int v = 0; v < c.count; ++v)
+        if (node_slot_[static_cast<size_t>(c.node[v])] < 0) {
+          node_slot_[static_cast<size_t>(c.node[v])] = static_cast<int>(contact_nodes_.size());
+          contact_nodes_.push_back(c.node[v]);
+        }
+    if (contact_nodes_ != compliance_nodes_ || compliance_refreshes_ != s.stats.total_refreshes) {
+      compliance_.compute(m.neighbours, s.work->K, m.held, base.prescribed, contact_nodes_,
+                          std::max(0, settings_.compliance_rings));
+      compliance_nodes_ = contact_nodes_;
+      compliance_refreshes_ = s.stats.total_refreshes;
+    }
+    // The compliance in the contacts' frames (the Delassus operator) and the residuals there:
+    // the gap along n, the slip over the step relative to the tool along t1, t2.
+    frames_.resize(static_cast<size_t>(C));
+    delassus_.resize(3 * C, 3 * C);
+    residual_c_.resize(3 * C);
+    lambda_c_.resize(3 * C);
+    for (int a = 0; a < C; ++a) {
+      const ContactPoint& c = contacts_[static_cast<size_t>(a)];
+      frames_[static_cast<size_t>(a)] = contact_frame(c.normal);
+      const Eigen::Matrix3d& F = frames_[static_cast<size_t>(a)];
+      const Vec3 slip = c.point - c.start - tools[static_cast<size_t>(c.tool)].motion_at(c.point);
+      residual_c_.segment<3>(3 * a) = Vec3(c.gap, F.col(1).dot(slip), F.col(2).dot(slip));
+      lambda_c_.segment<3>(3 * a) = F.transpose() * c.force;
+    }
+    for (int a = 0; a < C; ++a) {
+      const ContactPoint& ca = contacts_[static_cast<size_t>(a)];
+      for (int b = 0; b <= a; ++b) {
+        const ContactPoint& cb = contacts_[static_cast<size_t>(b)];
+        Vec3 w = Vec3::Zero();
+        for (int va = 0; va < ca.count; ++va)
+          for (int vb = 0; vb < cb.count; ++vb) {
+            const int ia = node_slot_[static_cast<size_t>(ca.node[va])], ib = node_slot_[static_cast<size_t>(cb.node[vb])];
+            const double ww = ca.weight[va] * cb.weight[vb];
+            for (int d = 0; d < 3; ++d) w[d] += ww * compliance_.at(d, ia, ib);
+          }
+        const Eigen::Matrix3d block = compliance_scale_ * frames_[static_cast<size_t>(a)].transpose() * w.asDiagonal() *
+                                      frames_[static_cast<size_t>(b)];
+        delassus_.block<3, 3>(3 * a, 3 * b) = block;
+        delassus_.block<3, 3>(3 * b, 3 * a) = block.transpose();
+      }
+    }
+    // Projected Gauss-Seidel: change_c_ holds the predicted residuals as the forces change.
+    change_c_ = residual_c_;
+    const Eigen::VectorXd lambda_solved = lambda_c_;
+    double largest = 0.0;
+    for (int sweep = 0; sweep < 200; ++sweep) {
+      double moved = 0.0;
+      largest = 0.0;
+      for (int a = 0; a < C; ++a) {
+        const Eigen::Matrix3d A = delassus_.block<3, 3>(3 * a, 3 * a);
+        const Vec3 old = lambda_c_.segment<3>(3 * a);
+        Vec3 f = old;
+        if (!(A(0, 0) > 0.0)) {  // a point that cannot move (every node fixed): no force
+          f.setZero();
+        } else {
+          f[0] = std::max(0.0, old[0] - change_c_[3 * a] / A(0, 0));
+          const Eigen::Vector2d qt = change_c_.segment<2>(3 * a + 1) + A.block<2, 1>(1, 0) * (f[0] - old[0]);
+          const Eigen::Matrix2d Att = A.block<2, 2>(1, 1);
+          Eigen::Vector2d ft = old.tail<2>();
+          if (mu > 0.0 && Att.determinant() > 1e-12 * Att.squaredNorm()) ft -= Att.inverse() * qt;
+          const double cone = mu * f[0], len = ft.norm();
+          if (len > cone) ft *= len > 0.0 ? cone / len : 0.0;
+          f.tail<2>() = ft;
+        }
+        const Vec3 delta = f - old;
+        if (delta.squaredNorm() > 0.0) {
+          change_c_.noalias() += delassus_.middleCols<3>(3 * a) * delta;
+          lambda_c_.segment<3>(3 * a) = f;
+        }
+        moved = std::max(moved, delta.cwiseAbs().maxCoeff());
+        largest = std::max(largest, f.cwiseAbs().maxCoeff());
+      }
+      if (moved <= 1e-6 * largest) break;
+    }
+    // Converged: the solved state keeps the laws within the tolerance, and the forces the
+    // pass found would move no contact point by more than it.
+    double violation = 0.0, change = 0.0;
+    for (int a = 0; a < C; ++a) {
+      const Vec3 f = lambda_solved.segment<3>(3 * a);
+      const Vec3 r = residual_c_.segment<3>(3 * a);
+      violation = std::max(violation, f[0] > 0.0 ? std::abs(r[0]) : std::max(0.0, -r[0]));
+      if (f[0] > 0.0 && f.tail<2>().norm() < mu * f[0] * (1.0 - 1e-3)) violation = std::max(violation, r.tail<2>().norm());
+      // (tangentially only where the point sticks: a slipping point's slip is free)
+      const Vec3 g = lambda_c_.segment<3>(3 * a);
+      const Vec3 dq = change_c_.segment<3>(3 * a) - r;
+      const bool sticks = g[0] > 0.0 && g.tail<2>().norm() < mu * g[0] * (1.0 - 1e-3);
+      change = std::max(change, sticks ? dq.norm() : std::abs(dq[0]));
+    }
+    rep.collision_ms += ms_since(t0);
+    if (!added && violation <= tolerance && change <= tolerance) {
+      rep.converged = true;
+      break;
+    }
+    if (it + 1 == max_it) break;  // the state stays that of the forces it was solved with
+    for (int a = 0; a < C; ++a) {
+      ContactPoint& c = contacts_[static_cast<size_t>(a)];
+      const Eigen::Matrix3d& F = frames_[static_cast<size_t>(a)];
+      c.force = F * lambda_c_.segment<3>(3 * a);
+      c.predicted = F * (change_c_.segment<3>(3 * a) - residual_c_.segment<3>(3 * a));
+    }
+    predicted = true;
+  }
+  finish_step_results(m, s);
+  t0 = Clock::now();
+  rep.max_penetration = deepest_surface_point(tools, s.x, rep);
+  rep.collision_ms += ms_since(t0);
+  // The forces of the organ on the tools, and the contact forces as the nodes' reactions.
+  tool_force_.assign(tools.size(), Vec3::Zero());
+  for (const ContactPoint& c : contacts_) tool_force_[static_cast<size_t>(c.tool)] -= c.force;
+  for (const Vec3& f : tool_force_) rep.force += f;
+  for (int i : contact_nodes_) {
+    if (contact_force_.row(i).squaredNorm() == 0.0) continue;
+    active_[static_cast<size_t>(i)] = 1;
+    held_.push_back(i);
+    s.reaction.row(i) = contact_force_.row(i);
+    const double a = s.area_vectors.row(i).norm();
+    s.reaction_pressure[i] = a > 0 ? contact_force_.row(i).norm() / a : 0.0;
+  }
+  std::sort(held_.begin(), held_.end());
+  rep.nodes = static_cast<int>(held_.size());
+}
+
+}  // namespace vdm
