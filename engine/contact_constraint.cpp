@@ -175,11 +175,10 @@ void ContactSolver::find_contact_points(const TissueModel& m, const StepInput& b
       }
       if (triangle_tool_[static_cast<size_t>(tri)] >= 0 || all_immobile) continue;
       // The triangle's deepest inner point: where no corner touches this tool, any point
-      // closer than the limit; beside touching corners, only one deeper than half the
-      // penetration allowed (ContactSettings::tolerance: the chord of a round tool between
-      // nodes held on it cuts into it).
-
-      const double need = (corner_contact ? -0.5 * settings_.tolerance : limit) * size;
+      // closer than the limit; beside touching corners, only one deeper than the penetration
+      // allowed (ContactSettings::tolerance: the chord of a round tool between nodes held on
+      // it cuts into it).
+      const double need = (corner_contact ? -settings_.tolerance : limit) * size;
       double bu = 0, bv = 0;
       Vec3 best_p, best_n;
       // (refined only where no corner touches: beside touching corners the samples' centroids
