@@ -4,6 +4,7 @@
 #include <sys/wait.h>
 
 #include <cerrno>
+#include <cstdio>
 #include <chrono>
 #include <thread>
 
@@ -35,8 +36,10 @@ class SweepProgress {
       show(running);
       return;
     }
-    err_ << "sweep: " << done_ << "/" << total_ << " " << job.dir.filename().string() << ": " << what << " in "
-         << seconds << " s\n";
+    char took[32];
+    std::snprintf(took, sizeof took, "%.1f", seconds);
+    err_ << "sweep: " << done_ << "/" << total_ << " " << job.dir.filename().string() << ": " << what << " in " << took
+         << " s\n";
   }
   void show(size_t running) {
     if (quiet_ || !terminal_) return;

@@ -61,8 +61,8 @@ std::string last_error(const fs::path& log) {
   return found;
 }
 
-std::string label_of(const SweepPlan& plan, const PlannedRun& run) {
-  std::string label = run.folder.substr(0, run.folder.find('_'));
+std::string label_of(const SweepPlan& plan, const PlannedRun& run, int frame) {
+  std::string label = "run " + run.folder.substr(0, run.folder.find('_')) + ", frame " + std::to_string(frame);
   for (size_t k = 0; k < plan.columns.size(); ++k)
     if (!run.values[k].empty()) {
       const std::string& key = plan.columns[k];
@@ -139,7 +139,7 @@ bool write_summary_png(const SweepPlan& plan, const std::vector<RunResult>& resu
     render::Thumbnail t;
     t.frame = results[i].deepest_frame;
     t.image = render::downscale(image, std::max(1, image.width / 320));
-    t.label = label_of(plan, plan.runs[i]) + "\nframe " + std::to_string(t.frame);
+    t.label = label_of(plan, plan.runs[i], t.frame);
     thumbs.push_back(std::move(t));
   }
   if (thumbs.empty()) return true;

@@ -133,6 +133,11 @@ class SweepReader {
       return false;
     }
     s_.base = (folder_ / b.Scalar()).lexically_normal();
+    std::error_code ec;
+    if (!fs::is_regular_file(s_.base, ec)) {
+      error(b, "base", "no such scene file: " + s_.base.string() + " (the base is relative to the sweep file)");
+      return false;
+    }
     // The base must be a valid scene itself: its problems are named in its own file.
     const SceneLoadResult base = load_scene(s_.base.string());
     for (const SceneProblem& p : base.problems) problems_.push_back(p);
@@ -157,7 +162,7 @@ class SweepReader {
     }
     for (size_t i = 0; i < s_.keys.size(); ++i)
       if (s_.keys[i].path.text == text) {
-        if (section != "cases") {
+        if (section.compare(0, 5, "cases") != 0) {  // cases name a key in each run
           error(at, field, "'" + text + "' is varied twice (first at " + s_.keys[i].where + ")");
           return -1;
         }
