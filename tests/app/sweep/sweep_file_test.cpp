@@ -11,6 +11,7 @@
 
 #include "app/sweep/sweep_file.hpp"
 #include "app/sweep/sweep_plan.hpp"
+#include "support/binary.hpp"
 #include "support/scratch_dir.hpp"
 
 namespace fs = std::filesystem;
@@ -135,4 +136,25 @@ TEST(SweepFile, MissingBaseAndBrokenYamlAreNamed) {
   std::ofstream(dir / "broken.yaml") << "base: [\n";
   EXPECT_FALSE(vdmsim::read_sweep_file((dir / "broken.yaml").string(), sweep, problems));
   EXPECT_NE(all_text(problems).find("broken.yaml:2:1: sweep: not valid YAML"), std::string::npos) << all_text(problems);
+}
+
+TEST(SweepCli, BadSweepFileExitsTwoNamingFileLineColumnAndField) {
+  const fs::path file = vdmsim::test::scratch_dir("sweep_file") / "cli_bad.yaml";
+  std::ofstream(file) << "base: " << kBase << "\nvary:\n  instruments[0].radus: [0.003, 0.005]\n";
+  const fs::path out = vdmsim::test::scratch_dir("sweep_file") / "cli_bad_out";
+  const vdmsim::test::CliResult r = vdmsim::test::run_cli(VDMSIM_BINARY, "sweep " + file.string() + " --out " + out.string());
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("cli_bad.yaml:3:3: vary.instruments[0].radus: unknown scene key 'radus' in instruments[0] (did you "
+                          "mean 'radius'?)"),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(out / "runs")) << "nothing is written for a bad sweep file";
+}
+
+TEST(SweepFile, TheExampleSweepIsValid) {
+  vdmsim::SweepFile sweep;
+  std::vector<vdmsim::SceneProblem> problems;
+  ASSERT_TRUE(vdmsim::read_sweep_file(std::string(VDMSIM_SOURCE_DIR) + "/assets/sweeps/probe_stiffness.yaml", sweep, problems))
+      << all_text(problems);
+  EXPECT_EQ(vdmsim::plan_sweep(sweep).runs.size(), 6u);
 }
