@@ -123,7 +123,8 @@ int cmd_sweep(const SweepOptions& o, std::ostream& out, std::ostream& err, bool 
     return !all ? 130 : codes[0] == 0 ? 0 : codes[0] == 130 ? 130 : 1;
   }
 
-  err << "sweep: " << n << " runs in " << runs.string() << ": " << finished << " finished already, " << resumable
+  const fs::path shown = fs::path(o.out_dir);  // the folder as given, in messages
+  err << "sweep: " << n << " runs in " << (shown / "runs").string() << ": " << finished << " finished already, " << resumable
       << " to continue, " << jobs.size() - size_t(resumable) << " to run\n";
   int code = 0;
   if (!jobs.empty() && o.slurm) {
@@ -155,7 +156,7 @@ int cmd_sweep(const SweepOptions& o, std::ostream& out, std::ostream& err, bool 
     }
     out << plan.runs[i].folder << ": " << results[i].status << (results[i].reason.empty() ? "" : ": " + results[i].reason) << "\n";
   }
-  out << "sweep: " << completed << " of " << n << " runs completed -> " << (dir / "summary.csv").string()
+  out << "sweep: " << completed << " of " << n << " runs completed -> " << (shown / "summary.csv").string()
       << (png ? " and summary.png" : "") << "\n";
   if (code == 130) return 130;
   return completed == n ? 0 : 1;
