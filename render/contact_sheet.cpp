@@ -33,7 +33,9 @@ bool write_contact_sheet(const std::vector<Thumbnail>& thumbs, const std::string
   const int n = static_cast<int>(thumbs.size());
   const int cols = std::min(n, 4), rows = (n + cols - 1) / cols;
   const float body = 16.0f;
-  const int gap = 10, label_h = 24, title_h = 36;
+  size_t lines = 1;
+  for (const Thumbnail& t : thumbs) lines = std::max(lines, size_t(std::count(t.label.begin(), t.label.end(), '\n')) + 1);
+  const int gap = 10, label_h = 24 + 18 * int(lines - 1), title_h = 36;
   const int width = cols * tw + (cols + 1) * gap;
   const int height = title_h + rows * (th + label_h) + (rows + 1) * gap;
   auto canvas = Canvas::create(body, error);
@@ -45,7 +47,7 @@ bool write_contact_sheet(const std::vector<Thumbnail>& thumbs, const std::string
     const int c = i % cols, r = i / cols;
     const float x = float(gap + c * (tw + gap)), y = float(title_h + gap + r * (th + label_h + gap));
     dl->AddImage(layer.texture(thumbs[i].image), ImVec2(x, y), ImVec2(x + tw, y + th));
-    const std::string label = "frame " + std::to_string(thumbs[i].frame);
+    const std::string label = thumbs[i].label.empty() ? "frame " + std::to_string(thumbs[i].frame) : thumbs[i].label;
     draw_text(dl, layer.font(FontRole::body), ImVec2(x + 2, y + th + 3), IM_COL32(230, 230, 230, 255), label);
   }
   const Image sheet = canvas->end();

@@ -1,6 +1,7 @@
 #pragma once
 // A contact sheet for quick review: evenly spaced frames of a sequence in a grid, each
-// labelled with its frame number, under a title line.
+// labelled with its frame number (or a label of its own, lines split by '\n'), under a
+// title line. `vdmsim sweep` lays out one frame of each run the same way.
 #include <string>
 #include <vector>
 
@@ -11,6 +12,7 @@ namespace render {
 struct Thumbnail {
   int frame = 0;
   Image image;
+  std::string label;  // "" : "frame N"
 };
 
 // The frames to show out of `frames` (at most `count`, evenly spaced, first and last included).

@@ -14,6 +14,7 @@
 #include "app/compare/compare_command.hpp"
 #include "app/run/program_version.hpp"
 #include "app/scene/scene_reference.hpp"
+#include "app/sweep/sweep_command.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{"vdmsim: soft-tissue surgical simulation with the Volume Distribution Method"};
@@ -81,6 +82,29 @@ int main(int argc, char** argv) {
                                       "writes accuracy.csv, accuracy.png, recommendations.md");
   accuracy->add_option("--out", accuracy_opt.out_dir, "Output folder (default: out/accuracy)");
   accuracy->add_flag("--quick", accuracy_opt.quick, "Coarser meshes, fewer knob values (under 2 minutes)");
+  vdmsim::SweepOptions sweep_opt;
+  bool sweep_no_render = false;
+  auto* sweep = app.add_subcommand("sweep",
+                                   "Run a scene with values varied (a grid, lists together, or listed cases), on this "
+                                   "machine or as a Slurm job array; writes DIR/runs/, summary.csv and summary.png");
+  sweep->add_option("SWEEP", sweep_opt.sweep_file, "Sweep file (YAML): base: a scene; vary:, zip: or cases:")->required();
+  sweep->add_option("--out", sweep_opt.out_dir, "Output folder: DIR/runs/<index>_<name>/ per run, DIR/summary.csv")->required();
+  sweep->add_option("--jobs", sweep_opt.jobs, "Runs at a time on this machine (default: the number of cores)")
+      ->check(CLI::PositiveNumber);
+  auto* sweep_slurm = sweep->add_flag("--slurm", sweep_opt.slurm,
+                                      "Submit the runs as one Slurm job array (sbatch), wait for it, then summarise");
+  sweep->add_option("--partition", sweep_opt.partition, "--slurm: the partition to submit to (default: the cluster's)")
+      ->needs(sweep_slurm);
+  sweep->add_option("--max-parallel", sweep_opt.max_parallel, "--slurm: array tasks running at a time (default: all)")
+      ->check(CLI::PositiveNumber)
+      ->needs(sweep_slurm);
+  sweep->add_option("--frames", sweep_opt.frames, "Simulate only this many frames of each run")->check(CLI::PositiveNumber);
+  sweep->add_flag("--no-render", sweep_no_render, "Do not render images (metrics.csv and run.json only; no summary.png)");
+  sweep->add_flag("--video", sweep_opt.video, "Also write each run's video.mp4 (needs ffmpeg)");
+  auto* sweep_task = sweep->add_option("--task", sweep_opt.task,
+                                       "Run only run I (0-based; what each Slurm array task does), no summary")
+                         ->check(CLI::NonNegativeNumber);
+  sweep_task->excludes(sweep_slurm);
   auto* check = app.add_subcommand("check", "Validate a scene and its mesh without simulating");
   check->add_option("SCENE", scene_path, "Scene file (YAML)")->required();
   std::string compare_expected, compare_actual;
@@ -120,6 +144,10 @@ int main(int argc, char** argv) {
     }
     if (bench->parsed()) return vdmsim::cmd_bench(bench_out, bench_quick, std::cout, std::cerr, bench_only, bench_case_fd);
     if (accuracy->parsed()) return vdmsim::run_accuracy(accuracy_opt, std::cout, std::cerr);
+    if (sweep->parsed()) {
+      sweep_opt.render = !sweep_no_render;
+      return vdmsim::cmd_sweep(sweep_opt, std::cout, std::cerr, isatty(2) != 0);
+    }
     if (check->parsed()) return vdmsim::cmd_check(scene_path, std::cout, std::cerr);
     if (compare->parsed()) return vdmsim::cmd_compare(compare_expected, compare_actual, compare_opt, std::cout, std::cerr);
     if (scene_reference->parsed()) {

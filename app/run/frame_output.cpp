@@ -58,7 +58,7 @@ bool FrameOutput::open(const PreparedScene& ps, const std::filesystem::path& dir
     if (f >= resume_from) break;
     render::Image im;
     if (!render::read_png((dir / sub / frame_file_name(prefix, f)).string(), im, error)) return false;
-    thumbnails_.push_back({f, render::downscale(im, std::max(1, im.width / 320))});
+    thumbnails_.push_back({f, render::downscale(im, std::max(1, im.width / 320)), ""});
   }
   // The render thread owns the GL context: it creates the renderer and says whether it could.
   bool started = false;
@@ -142,7 +142,7 @@ void FrameOutput::draw(Job& job) {
   bool thumb_taken = false;
   auto queue = [&](const std::string& sub, const std::string& prefix) {
     if (job.keep_thumbnail && !thumb_taken) {
-      render::Thumbnail t{job.frame, render::downscale(image_, std::max(1, image_.width / 320))};
+      render::Thumbnail t{job.frame, render::downscale(image_, std::max(1, image_.width / 320)), ""};
       std::lock_guard<std::mutex> lock(mutex_);
       thumbnails_.push_back(std::move(t));
       thumb_taken = true;

@@ -21,9 +21,11 @@ void note_inert_instruments(const SceneDef& s, std::ostream& err) {
     err << "vdmsim: note: the scene has graspers but does not list the grasp effect: they hold nothing\n";
 }
 
+}  // namespace
+
 // Everything the run's result depends on (RunInputs): the scene file, the files it loads, the
 // options and the program.
-RunInputs run_inputs(const SceneDef& s, const std::string& options) {
+static RunInputs run_inputs(const SceneDef& s, const std::string& options) {
   RunInputs in;
   in.items.emplace_back("the scene file", file_hash(s.file));
   in.items.emplace_back("the organ mesh", file_hash(s.mesh_path));
@@ -43,6 +45,24 @@ RunInputs run_inputs(const SceneDef& s, const std::string& options) {
   in.items.emplace_back("the vdmsim program", program_version());
   return in;
 }
+
+int run_frames(const SceneDef& s, const RunOptions& opt) { return opt.frames > 0 ? opt.frames : s.frames; }
+
+bool run_renders(const SceneDef& s, const RunOptions& opt) {
+  return opt.render && s.has_render && (s.render.shaded || s.render.stress);
+}
+
+RunInputs run_inputs(const SceneDef& s, const RunOptions& opt) {
+  // The options that change results, in words without ';' or '=' (RunInputs). A resume must
+  // export the mesh if and only if the interrupted run did: its frames' files would be
+  // missing otherwise.
+  std::ostringstream options;
+  options << run_frames(s, opt) << " frames, " << (run_renders(s, opt) ? "rendered" : "not rendered")
+          << (opt.export_mesh ? ", --export-mesh" : "");
+  return run_inputs(s, options.str());
+}
+
+namespace {
 
 // Resuming: the checkpoint must be of this run's inputs; when it is not, what changed is named.
 int read_resume_point(RunSetup& setup, std::ostream& err) {
@@ -82,9 +102,9 @@ void remove_earlier_outputs(const fs::path& dir) {
 
 int set_up_run(const PreparedScene& ps, const RunOptions& opt, RunSetup& setup, std::ostream& err) {
   const SceneDef& s = ps.scene;
-  setup.frames = opt.frames > 0 ? opt.frames : s.frames;
+  setup.frames = run_frames(s, opt);
   setup.dir = opt.out_dir.empty() ? fs::path("out") / safe_folder_name(s.name) : fs::path(opt.out_dir);
-  setup.rendering = opt.render && s.has_render && (s.render.shaded || s.render.stress);
+  setup.rendering = run_renders(s, opt);
   setup.resume = opt.resume;
   if (opt.video && !setup.rendering) {
     err << "vdmsim: error: --video needs rendered frames: " << (opt.render ? s.file + " has no render: section" : "drop --no-render")
@@ -106,13 +126,7 @@ int set_up_run(const PreparedScene& ps, const RunOptions& opt, RunSetup& setup, 
     return 2;
   }
   note_inert_instruments(s, err);
-  // The options that change results, in words without ';' or '=' (RunInputs). A resume must
-  // export the mesh if and only if the interrupted run did: its frames' files would be
-  // missing otherwise.
-  std::ostringstream options;
-  options << setup.frames << " frames, " << (setup.rendering ? "rendered" : "not rendered")
-          << (opt.export_mesh ? ", --export-mesh" : "");
-  setup.inputs = run_inputs(s, options.str());
+  setup.inputs = run_inputs(s, opt);
   setup.run_hash = setup.inputs.hash();
   if (opt.resume) return read_resume_point(setup, err);
   remove_earlier_outputs(setup.dir);

@@ -25,6 +25,14 @@ struct RunSetup {
   std::shared_ptr<OutputLock> lock;  // the folder, owned for the whole run
 };
 
+// The frames a run of `scene` with `options` simulates, whether it renders, and everything its
+// result depends on (the scene file, the files it loads, the options that change results and
+// the program): RunInputs::hash() is the run hash its checkpoints carry. `vdmsim sweep` tells
+// from it whether a run folder already holds this run.
+int run_frames(const SceneDef& scene, const RunOptions& options);
+bool run_renders(const SceneDef& scene, const RunOptions& options);
+RunInputs run_inputs(const SceneDef& scene, const RunOptions& options);
+
 // Checks the options, prepares the output folder (a fresh run removes an earlier run's
 // outputs there) and, when resuming, reads and checks the checkpoint. Notes on stderr for
 // instruments whose effect the scene does not list. Returns -1 when the run goes on,

@@ -21,30 +21,7 @@ const double kInf = std::numeric_limits<double>::infinity();
 // The table's entry of a key path (app/scene/scene_keys.hpp); an unknown path does not compile.
 #define KEY(path) VDMSIM_SCENE_KEY(path)
 
-size_t edit_distance(const std::string& a, const std::string& b) {
-  std::vector<size_t> prev(b.size() + 1), cur(b.size() + 1);
-  for (size_t j = 0; j <= b.size(); ++j) prev[j] = j;
-  for (size_t i = 1; i <= a.size(); ++i) {
-    cur[0] = i;
-    for (size_t j = 1; j <= b.size(); ++j)
-      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] != b[j - 1])});
-    std::swap(prev, cur);
-  }
-  return prev[b.size()];
-}
-
-std::string closest(const std::string& word, const std::vector<std::string>& known) {
-  std::string best;
-  size_t best_d = 1000;
-  for (const auto& k : known) {
-    const size_t d = edit_distance(word, k);
-    if (d < best_d) {
-      best_d = d;
-      best = k;
-    }
-  }
-  return best_d <= std::max<size_t>(2, word.size() / 3) ? best : "";
-}
+std::string closest(const std::string& word, const std::vector<std::string>& known) { return closest_name(word, known); }
 
 std::string join(const std::vector<std::string>& words) {
   std::string s;

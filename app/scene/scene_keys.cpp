@@ -1,5 +1,6 @@
 #include "app/scene/scene_keys.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <sstream>
@@ -43,6 +44,33 @@ bool has_word(const char* words, const char* word) {
   return false;
 }
 }  // namespace
+
+namespace {
+size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<size_t> prev(b.size() + 1), cur(b.size() + 1);
+  for (size_t j = 0; j <= b.size(); ++j) prev[j] = j;
+  for (size_t i = 1; i <= a.size(); ++i) {
+    cur[0] = i;
+    for (size_t j = 1; j <= b.size(); ++j)
+      cur[j] = std::min({prev[j] + 1, cur[j - 1] + 1, prev[j - 1] + (a[i - 1] != b[j - 1])});
+    std::swap(prev, cur);
+  }
+  return prev[b.size()];
+}
+}  // namespace
+
+std::string closest_name(const std::string& word, const std::vector<std::string>& known) {
+  std::string best;
+  size_t best_d = 1000;
+  for (const auto& k : known) {
+    const size_t d = edit_distance(word, k);
+    if (d < best_d) {
+      best_d = d;
+      best = k;
+    }
+  }
+  return best_d <= std::max<size_t>(2, word.size() / 3) ? best : "";
+}
 
 std::vector<std::string> scene_key_names(const std::string& parent, const char* shape) {
   std::vector<std::string> names;

@@ -412,6 +412,10 @@ constexpr std::size_t scene_key_index(const char* path) {
 // those of `shape` (capsule, cylinder, box, convex) only.
 std::vector<std::string> scene_key_names(const std::string& parent, const char* shape = nullptr);
 
+// The closest of `known` to `word` within a few edits (the "did you mean" of the messages);
+// "" when none is that close.
+std::string closest_name(const std::string& word, const std::vector<std::string>& known);
+
 // The key's parent mapping: "organ.material" for "organ.material.density", "" at the top.
 std::string scene_key_parent(const std::string& path);
 

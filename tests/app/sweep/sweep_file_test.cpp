@@ -1,0 +1,160 @@
+// Sweep files: the grid, zip and cases forms expanded into runs; every key checked against the
+// scene's keys and the base scene, with the sweep file's line and column and the closest key;
+// each run's scene complete and runnable from anywhere (file paths absolute).
+#include <gtest/gtest.h>
+
+#include <yaml-cpp/yaml.h>
+
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "app/sweep/sweep_file.hpp"
+#include "app/sweep/sweep_plan.hpp"
+#include "support/binary.hpp"
+#include "support/scratch_dir.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kBase = std::string(VDMSIM_SOURCE_DIR) + "/tests/golden/scenes/probe_small.yaml";
+
+// Writes a sweep file (its base the golden probe scene) and reads it.
+bool read(const std::string& name, const std::string& body, vdmsim::SweepFile& sweep,
+          std::vector<vdmsim::SceneProblem>& problems) {
+  const fs::path file = vdmsim::test::scratch_dir("sweep_file") / name;
+  std::ofstream(file) << "base: " << kBase << "\n" << body;
+  return vdmsim::read_sweep_file(file.string(), sweep, problems);
+}
+
+std::string all_text(const std::vector<vdmsim::SceneProblem>& problems) {
+  std::string s;
+  for (const auto& p : problems) s += p.text() + "\n";
+  return s;
+}
+
+}  // namespace
+
+TEST(SweepFile, GridIsEveryCombinationWithTheFirstKeySlowest) {
+  vdmsim::SweepFile sweep;
+  std::vector<vdmsim::SceneProblem> problems;
+  ASSERT_TRUE(read("grid.yaml",
+                   "vary:\n  organ.material.bulk_modulus: [10000, 20000, 40000]\n  instruments[0].radius: [0.003, 0.005]\n",
+                   sweep, problems))
+      << all_text(problems);
+  const vdmsim::SweepPlan plan = vdmsim::plan_sweep(sweep);
+  ASSERT_EQ(plan.runs.size(), 6u);
+  EXPECT_EQ(plan.columns, (std::vector<std::string>{"organ.material.bulk_modulus", "instruments[0].radius"}));
+  EXPECT_EQ(plan.runs[0].folder, "000_bulk_modulus-10000_radius-0.003");
+  EXPECT_EQ(plan.runs[1].values, (std::vector<std::string>{"10000", "0.005"}));
+  EXPECT_EQ(plan.runs[5].values, (std::vector<std::string>{"40000", "0.005"}));
+  // The run's scene holds its values, and the base's other keys.
+  const YAML::Node scene = YAML::Load(plan.runs[4].scene_text);
+  EXPECT_EQ(scene["organ"]["material"]["bulk_modulus"].as<double>(), 40000);
+  EXPECT_EQ(scene["instruments"][0]["radius"].as<double>(), 0.003);
+  EXPECT_EQ(scene["organ"]["material"]["connectivity_modulus"].as<double>(), 2000);
+  EXPECT_EQ(scene["simulation"]["frames"].as<int>(), 4);
+}
+
+TEST(SweepFile, RunScenesNameTheirMeshAbsolutelySoTheyRunFromTheirOwnFolder) {
+  vdmsim::SweepFile sweep;
+  std::vector<vdmsim::SceneProblem> problems;
+  ASSERT_TRUE(read("mesh.yaml", "cases:\n  - {organ.material.density: 1000}\n  - {organ.mesh: ../meshes/x.obj}\n", sweep,
+                   problems))
+      << all_text(problems);
+  const vdmsim::SweepPlan plan = vdmsim::plan_sweep(sweep);
+  ASSERT_EQ(plan.runs.size(), 2u);
+  // The base's relative mesh path resolved against the base; a value's against the sweep file.
+  const std::string base_mesh = YAML::Load(plan.runs[0].scene_text)["organ"]["mesh"].as<std::string>();
+  EXPECT_EQ(base_mesh, (fs::path(VDMSIM_SOURCE_DIR) / "assets/meshes/liver_L4.obj").lexically_normal().string());
+  const std::string value_mesh = YAML::Load(plan.runs[1].scene_text)["organ"]["mesh"].as<std::string>();
+  EXPECT_EQ(value_mesh, (vdmsim::test::scratch_dir("sweep_file").parent_path() / "meshes/x.obj").lexically_normal().string());
+  EXPECT_EQ(plan.runs[0].values, (std::vector<std::string>{"1000", ""}));  // a case leaves the other key
+}
+
+TEST(SweepFile, ZipTakesListsTogether) {
+  vdmsim::SweepFile sweep;
+  std::vector<vdmsim::SceneProblem> problems;
+  ASSERT_TRUE(read("zip.yaml",
+                   "vary:\n  organ.material.density: [1000, 1100]\n"
+                   "zip:\n  organ.material.bulk_modulus: [10000, 20000, 40000]\n  instruments[0].radius: [0.003, 0.004, 0.005]\n",
+                   sweep, problems))
+      << all_text(problems);
+  const vdmsim::SweepPlan plan = vdmsim::plan_sweep(sweep);
+  ASSERT_EQ(plan.runs.size(), 6u);  // 2 densities x 3 zipped pairs
+  EXPECT_EQ(plan.runs[2].values, (std::vector<std::string>{"1000", "40000", "0.005"}));
+  EXPECT_EQ(plan.runs[3].values, (std::vector<std::string>{"1100", "10000", "0.003"}));
+}
+
+TEST(SweepFile, UnknownKeyNamesLineColumnAndTheClosestKey) {
+  vdmsim::SweepFile sweep;
+  std::vector<vdmsim::SceneProblem> problems;
+  EXPECT_FALSE(read("typo.yaml", "vary:\n  organ.material.bulk_modulos: [1, 2]\n", sweep, problems));
+  const std::string said = all_text(problems);
+  EXPECT_NE(said.find("typo.yaml:3:3: vary.organ.material.bulk_modulos: unknown scene key 'bulk_modulos' in organ.material "
+                      "(did you mean 'bulk_modulus'?)"),
+            std::string::npos)
+      << said;
+}
+
+TEST(SweepFile, EachKindOfBadKeyOrValueHasItsOwnMessage) {
+  struct Case {
+    std::string body, expected;
+  } cases[] = {
+      {"vary:\n  instruments[3].radius: [0.003]\n", "bad.yaml:3:3: vary.instruments[3].radius: instruments[3]: the base scene's instruments has 1 item"},
+      {"vary:\n  instruments.radius: [0.003]\n", "instruments is a list: name one item, e.g. instruments[0]"},
+      {"vary:\n  organ.material.density.x: [1]\n", "density is a value: it has no keys below it"},
+      {"vary:\n  organ.material[0]: [1]\n", "material is a mapping, not a list"},
+      {"vary:\n  organ..mesh: [a.obj]\n", "'organ..mesh' is not a scene key path"},
+      {"vary:\n  organ.material.density: 1000\n", "bad.yaml:3:27: vary.organ.material.density: expected a non-empty list of values"},
+      {"vary:\n  organ.material.density: []\n", "got an empty list"},
+      {"zip:\n  organ.material.density: [1, 2]\n  instruments[0].radius: [0.1]\n", "bad.yaml:4:26: zip.instruments[0].radius: zip: lists go together, so each has as many values as the first (2 at "},
+      {"vary:\n  organ.material.density: [1]\ncases:\n  - {organ.material.density: 1}\n", "give either cases: or vary:/zip:"},
+      {"vary:\n  organ.material.density: [1]\n  organ.material.density: [2]\n", "bad.yaml:4:3: vary.organ.material.density: 'organ.material.density' is varied twice (first at "},
+      {"varry:\n  organ.material.density: [1]\n", "bad.yaml:2:1: varry: unknown key 'varry' (did you mean 'vary'?)"},
+      {"cases: [3]\n", "bad.yaml:2:9: cases[0]: expected a mapping of scene keys to values"},
+      {"", "nothing varies"},
+  };
+  for (const Case& c : cases) {
+    vdmsim::SweepFile sweep;
+    std::vector<vdmsim::SceneProblem> problems;
+    EXPECT_FALSE(read("bad.yaml", c.body, sweep, problems)) << c.body;
+    const std::string said = all_text(problems);
+    EXPECT_NE(said.find(c.expected), std::string::npos) << "sweep:\n" << c.body << "said:\n" << said;
+  }
+}
+
+TEST(SweepFile, MissingBaseAndBrokenYamlAreNamed) {
+  const fs::path dir = vdmsim::test::scratch_dir("sweep_file");
+  vdmsim::SweepFile sweep;
+  std::vector<vdmsim::SceneProblem> problems;
+  std::ofstream(dir / "nobase.yaml") << "base: nowhere.yaml\nvary: {organ.material.density: [1]}\n";
+  EXPECT_FALSE(vdmsim::read_sweep_file((dir / "nobase.yaml").string(), sweep, problems));
+  EXPECT_NE(all_text(problems).find("nobase.yaml:1:7: base: no such scene file"), std::string::npos) << all_text(problems);
+  problems.clear();
+  std::ofstream(dir / "broken.yaml") << "base: [\n";
+  EXPECT_FALSE(vdmsim::read_sweep_file((dir / "broken.yaml").string(), sweep, problems));
+  EXPECT_NE(all_text(problems).find("broken.yaml:2:1: sweep: not valid YAML"), std::string::npos) << all_text(problems);
+}
+
+TEST(SweepCli, BadSweepFileExitsTwoNamingFileLineColumnAndField) {
+  const fs::path file = vdmsim::test::scratch_dir("sweep_file") / "cli_bad.yaml";
+  std::ofstream(file) << "base: " << kBase << "\nvary:\n  instruments[0].radus: [0.003, 0.005]\n";
+  const fs::path out = vdmsim::test::scratch_dir("sweep_file") / "cli_bad_out";
+  const vdmsim::test::CliResult r = vdmsim::test::run_cli(VDMSIM_BINARY, "sweep " + file.string() + " --out " + out.string());
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("cli_bad.yaml:3:3: vary.instruments[0].radus: unknown scene key 'radus' in instruments[0] (did you "
+                          "mean 'radius'?)"),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(out / "runs")) << "nothing is written for a bad sweep file";
+}
+
+TEST(SweepFile, TheExampleSweepIsValid) {
+  vdmsim::SweepFile sweep;
+  std::vector<vdmsim::SceneProblem> problems;
+  ASSERT_TRUE(vdmsim::read_sweep_file(std::string(VDMSIM_SOURCE_DIR) + "/assets/sweeps/probe_stiffness.yaml", sweep, problems))
+      << all_text(problems);
+  EXPECT_EQ(vdmsim::plan_sweep(sweep).runs.size(), 6u);
+}
