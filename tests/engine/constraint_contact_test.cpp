@@ -99,17 +99,29 @@ void expect_steady(const Slide& run, double r, double inside = 0.02) {
 }
 
 TEST(ConstraintContact, FrictionlessSlideHasNoTangentialForce) {
+  // The probe of the friction test below (a 1 cm ball 2 mm deep), slid 4 cm without friction.
+  const TissueModel m = block();
+  const double r = 0.01;
+  const Slide run = press_and_slide(m, 0.0, 0.002, r, 40);
+  expect_steady(run, r);
+  for (size_t j = 0; j < run.slide.size(); ++j) {
+    const ContactReport& q = run.slide[j];
+    EXPECT_GT(q.force.z(), 0.1);
+    EXPECT_LE(std::abs(q.force.x()), 0.05 * q.force.z()) << "slide step " << j;
+  }
+}
+
+TEST(ConstraintContact, DeepFrictionlessSlideStaysCloseToTheLaws) {
+  // A 5 mm ball 4 mm deep over 2.5 mm cells: the contact patch is four cells across, and the
+  // surface between the contact points rides over the ball's front. The targets (5 % and 2 %)
+  // are not met here: measured up to 7.4 % tangential and 4.2 % inside.
   const TissueModel m = block();
   const double r = 0.005;
   const Slide run = press_and_slide(m, 0.0, 0.004, r, 40);
-  // The target is 2 %; this deep frictionless slide leaves triangle points up to 4.2 % inside
-  // (one contact point per triangle, placed at its deepest point when found).
   expect_steady(run, r, 0.05);
   for (size_t j = 0; j < run.slide.size(); ++j) {
     const ContactReport& q = run.slide[j];
     EXPECT_GT(q.force.z(), 0.3);
-    // The target is 5 %; measured up to 7.4 % (a 5 mm ball 4 mm deep over 2.5 mm cells: the
-    // surface between the contact points rides over the ball's front).
     EXPECT_LE(std::abs(q.force.x()), 0.08 * q.force.z()) << "slide step " << j;
   }
 }
