@@ -286,6 +286,70 @@ SideBySide bench_side_by_side(const std::string& mesh, int pairs) {
   return r;
 }
 
+// The sliding probe of palpation_slide.yaml with sticking (kinematic) and with constraint
+// contact (its own friction), run after run in turn (`pairs` pairs; `frames` frames each,
+// timed: the frames in contact), so that each ratio compares two runs made seconds apart.
+struct SlideSideBySide {
+  long nodes = 0;
+  int pairs = 0;
+  double friction = 0;
+  double kinematic_ms = 0, constraint_ms = 0;        // medians of all timed frames
+  double ratio = 0;                                  // constraint_ms / kinematic_ms
+  double pair_ratio_median = 0, pair_ratio_max = 0;  // of each pair's medians
+  double solves = 0;                                 // constraint: mean solves per timed frame
+  int unconverged = 0;                               // constraint: steps that reached the cap
+};
+
+SlideSideBySide bench_slide_side_by_side(int pairs, int frames) {
+  const std::string path = (fs::path(data_dir()) / "scenes" / "palpation_slide.yaml").string();
+  SceneLoadResult loaded = load_scene(path);
+  if (!loaded.ok()) throw std::runtime_error(path + ": cannot load");
+  SlideSideBySide r;
+  std::vector<double> all[2], ratios;
+  PreparedScene ps[2];
+  for (int k = 0; k < 2; ++k) {
+    SceneDef s = loaded.scene;
+    s.frames = frames;
+    s.has_render = false;
+    s.render.stress = false;
+    if (k == 0) s.contact.method = vdm::ContactSettings::Method::kinematic;
+    std::vector<SceneProblem> problems;
+    if (!prepare_scene_def(s, ps[k], problems))
+      throw std::runtime_error(problems.empty() ? "cannot prepare the slide scene" : problems.back().text());
+  }
+  r.friction = loaded.scene.contact.friction;
+  long solves = 0, timed = 0;
+  for (int p = 0; p < pairs; ++p) {
+    double median[2] = {0, 0};
+    for (int k = 0; k < 2; ++k) {
+      std::vector<double> ms;
+      SceneSimulation sim(ps[k]);
+      for (int f = 0; f < frames; ++f) {
+        sim.advance(f);
+        if (sim.contact_report().nodes == 0) continue;
+        ms.push_back(sim.frame_step_ms());
+        if (k == 1) {
+          solves += sim.contact_report().solves;
+          ++timed;
+          if (!sim.contact_report().converged) ++r.unconverged;
+        }
+      }
+      median[k] = quantile(ms, 0.5);
+      all[k].insert(all[k].end(), ms.begin(), ms.end());
+    }
+    if (median[0] > 0) ratios.push_back(median[1] / median[0]);
+  }
+  r.nodes = ps[0].model.n;
+  r.pairs = int(ratios.size());
+  r.kinematic_ms = quantile(all[0], 0.5);
+  r.constraint_ms = quantile(all[1], 0.5);
+  r.ratio = r.kinematic_ms > 0 ? r.constraint_ms / r.kinematic_ms : 0;
+  r.pair_ratio_median = quantile(ratios, 0.5);
+  r.pair_ratio_max = ratios.empty() ? 0 : *std::max_element(ratios.begin(), ratios.end());
+  r.solves = timed ? double(solves) / double(timed) : 0;
+  return r;
+}
+
 // The slope of log y against log x, least squares.
 double loglog_slope(const std::vector<double>& x, const std::vector<double>& y) {
   double sx = 0, sy = 0, sxx = 0, sxy = 0;
@@ -531,6 +595,26 @@ int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::os
       err << "vdmsim: error: " << (dir / "bench_side_by_side.csv").string() << ": write failed\n";
       return 1;
     }
+  }
+  // Sliding with friction against sticking, run after run in turn.
+  if (only.empty() || std::string("liver_slide side by side").find(only) != std::string::npos) {
+    out << "bench: liver_slide side by side ..." << std::flush;
+    const SlideSideBySide r = bench_slide_side_by_side(quick ? 1 : 3, quick ? 60 : 120);
+    std::ofstream sc(dir / "bench_slide.csv");
+    sc << "nodes,pairs,friction,kinematic_median_ms,constraint_median_ms,ratio,pair_ratio_median,pair_ratio_max,"
+          "constraint_solves_per_step,constraint_unconverged_steps\n";
+    sc << r.nodes << ',' << r.pairs << ',' << r.friction << ',' << std::setprecision(6) << r.kinematic_ms << ','
+       << r.constraint_ms << ',' << r.ratio << ',' << r.pair_ratio_median << ',' << r.pair_ratio_max << ',' << r.solves
+       << ',' << r.unconverged << '\n';
+    sc.flush();
+    if (!sc) {
+      err << "vdmsim: error: " << (dir / "bench_slide.csv").string() << ": write failed\n";
+      return 1;
+    }
+    out << " " << r.nodes << " nodes, runs in turn: constraint contact (friction " << r.friction << ") "
+        << std::setprecision(3) << r.constraint_ms << " ms, kinematic " << r.kinematic_ms << " ms per step in contact: "
+        << r.ratio << "x (pair by pair: median " << r.pair_ratio_median << "x, highest " << r.pair_ratio_max << "x, "
+        << r.pairs << " pairs); " << r.solves << " solves per step, " << r.unconverged << " steps unconverged\n";
   }
   // The scaling exponent from VDM's probe on every size in turn (40k only in the full bench).
   if (only.empty() || std::string("liver_probe sizes in turn").find(only) != std::string::npos) {
