@@ -20,6 +20,8 @@
 // allocates nothing in the contact code.
 #include <cstdint>
 #include <memory>
+#include <string>
+#include <string_view>
 #include <vector>
 
 #include "engine/contact_compliance.hpp"
@@ -148,6 +150,12 @@ class ContactSolver {
   void set_solver(OrganSolver* solver) { solver_ = solver; }
   // Per-node flag: held by an instrument after the last step.
   const std::vector<char>& active() const { return active_; }
+  // What the next step carries over from the last (constraint contact: its contact points'
+  // forces, the warm start, and the compliance's fitted scale), appended to `out`; read back
+  // by load_state() (false, with `error`, when it does not fit a model of `nodes` nodes and
+  // `triangles` triangles). Nothing for the other methods: they carry nothing over.
+  void save_state(std::string& out) const;
+  bool load_state(std::string_view in, size_t& pos, int nodes, int triangles, std::string& error);
   // Per tool of the last step (in the order of its `tools`): the force of the organ on it (N).
   // Their sum is the report's force (with penalty contact, up to rounding: summed in another order).
   const std::vector<Vec3>& tool_forces() const { return tool_force_; }

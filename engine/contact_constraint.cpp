@@ -19,6 +19,8 @@
 // then the organ's exact equilibrium under forces that satisfy the laws.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstring>
 #include <limits>
 
 #include "engine/contact.hpp"
@@ -416,6 +418,61 @@ void ContactSolver::step_constraint(const TissueModel& m, const StepInput& base,
   }
   std::sort(held_.begin(), held_.end());
   rep.nodes = static_cast<int>(held_.size());
+}
+
+void ContactSolver::save_state(std::string& out) const {
+  auto put = [&](const void* p, size_t n) { out.append(static_cast<const char*>(p), n); };
+  const std::int64_t count = static_cast<std::int64_t>(contacts_.size());
+  put(&compliance_scale_, sizeof compliance_scale_);
+  put(&count, sizeof count);
+  for (const ContactPoint& c : contacts_) {
+    const std::int32_t ints[5] = {c.tool, c.triangle, c.node[0], c.node[1], c.node[2]};
+    put(ints, sizeof ints);
+    const std::int32_t n = c.count;
+    put(&n, sizeof n);
+    put(c.weight, sizeof c.weight);
+    put(c.force.data(), 3 * sizeof(double));
+  }
+}
+
+bool ContactSolver::load_state(std::string_view in, size_t& pos, int nodes, int triangles, std::string& error) {
+  auto get = [&](void* p, size_t n) {
+    if (in.size() < pos || in.size() - pos < n) return false;
+    std::memcpy(p, in.data() + pos, n);
+    pos += n;
+    return true;
+  };
+  std::int64_t count = -1;
+  double scale = 1.0;
+  if (!get(&scale, sizeof scale) || !get(&count, sizeof count) || count < 0 || !(scale > 0.0) ||
+      count > static_cast<std::int64_t>(nodes) + triangles) {
+    error = "state snapshot: the contact state is truncated or damaged";
+    return false;
+  }
+  contacts_.clear();
+  for (std::int64_t k = 0; k < count; ++k) {
+    ContactPoint c;
+    std::int32_t ints[5], n = 0;
+    if (!get(ints, sizeof ints) || !get(&n, sizeof n) || !get(c.weight, sizeof c.weight) ||
+        !get(c.force.data(), 3 * sizeof(double)) || n < 1 || n > 3 || ints[0] < 0 || ints[1] < -1 ||
+        ints[1] >= triangles) {
+      error = "state snapshot: the contact state is truncated or damaged";
+      return false;
+    }
+    c.tool = ints[0];
+    c.triangle = ints[1];
+    c.count = n;
+    for (int v = 0; v < 3; ++v) {
+      if (ints[2 + v] < 0 || ints[2 + v] >= nodes) {
+        error = "state snapshot: the contact state is truncated or damaged";
+        return false;
+      }
+      c.node[v] = ints[2 + v];
+    }
+    contacts_.push_back(c);
+  }
+  compliance_scale_ = scale;
+  return true;
 }
 
 }  // namespace vdm

@@ -110,6 +110,7 @@ bool SceneSimulation::save(std::string& out) const {
   out.append(reinterpret_cast<const char*>(peak_force_.data()), sizeof(double) * peak_force_.size());
   const std::int64_t counts[2] = {unconverged_steps_, contact_iterations_};
   out.append(reinterpret_cast<const char*>(counts), sizeof counts);
+  if (contact_) contact_->save_state(out);
   return true;
 }
 
@@ -144,6 +145,7 @@ bool SceneSimulation::load(std::string_view in, std::string& error) {
   pos += sizeof counts;
   unconverged_steps_ = counts[0];
   contact_iterations_ = counts[1];
+  if (contact_ && !contact_->load_state(in, pos, ps_.model.n, ps_.model.rest.triangle_count(), error)) return false;
   if (pos != in.size()) {
     error = "state snapshot: bytes after the end";
     return false;

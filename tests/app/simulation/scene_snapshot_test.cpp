@@ -99,6 +99,37 @@ TEST(SceneSnapshot, PenaltyContactContinuesBitForBit) {
   EXPECT_GT(a.contact_report().force.norm(), 0.0) << "the probe presses";
 }
 
+TEST(SceneSnapshot, ConstraintContactWithFrictionContinuesBitForBit) {
+  // Constraint contact carries its contact forces (the next step's warm start) and the
+  // compliance's fitted scale over: the snapshot must too. The probe presses, then slides.
+  const PreparedScene ps = prepare(
+      std::string("name: snap\norgan:\n  mesh: ") + VDMSIM_SOURCE_DIR +
+      "/assets/meshes/liver_L4.obj\n"
+      "  fixed: [{box: {min: [-0.3, -0.2, -0.2], max: [0.3, 0.2, -0.03]}}]\n"
+      "simulation: {frames: 14, dt: 0.05, effects: [contact, stress], contact: {method: constraint, friction: 0.3}}\n"
+      "instruments:\n  - {type: probe, radius: 0.008, script: [{t: 0, tip: [0.035, 0, 0.062], "
+      "axis: [0, 0, -1]}, {t: 0.3, tip: [0.035, 0, 0.05]}, {t: 0.7, tip: [0.05, 0, 0.05]}]}\n");
+  SceneSimulation a(ps);
+  for (int f = 0; f < 7; ++f) a.advance(f);
+  ASSERT_FALSE(a.state().failed) << a.state().failure;
+  ASSERT_GT(a.contact_report().nodes, 0) << "the probe touches by now";
+  std::string bytes, error;
+  ASSERT_TRUE(a.save(bytes));
+  SceneSimulation b(ps);
+  ASSERT_TRUE(b.load(bytes, error)) << error;
+  for (int f = 7; f < 14; ++f) {
+    a.advance(f);
+    b.advance(f);
+    ASSERT_EQ(b.state().u, a.state().u) << "frame " << f;
+    EXPECT_EQ(b.frame_iterations(), a.frame_iterations()) << "frame " << f;
+    EXPECT_EQ(b.contact_report().force, a.contact_report().force) << "frame " << f;
+  }
+  EXPECT_GT(a.contact_report().force.norm(), 0.0) << "the probe presses";
+  SceneSimulation c(ps);
+  EXPECT_FALSE(c.load(std::string_view(bytes).substr(0, bytes.size() - 3), error));
+  EXPECT_NE(error.find("state snapshot"), std::string::npos) << error;
+}
+
 TEST(SceneSnapshot, AReferenceModelIsNotSaved) {
   const fs::path box = dir() / "box.obj";
   std::ofstream(box) << "v 0 0 0\nv 0.05 0 0\nv 0 0.05 0\nv 0 0 0.05\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
