@@ -5,8 +5,10 @@
 #include <iomanip>
 #include <sstream>
 
+#include "app/mesh_prep/self_intersections.hpp"
 #include "app/scene/mesh_io.hpp"
 #include "app/scene/organ_generator.hpp"
+#include "app/scene/scan_like_organ.hpp"
 #include "app/run/output_dir.hpp"
 #include "app/run/scene_run.hpp"
 #include "app/studies/paper_cube.hpp"
@@ -52,6 +54,19 @@ int cmd_mesh_info(const std::string& path, double scale, std::ostream& out, std:
   if (!check.ok()) {
     out << "valid organ: no\n";
     err << "vdmsim: error: " << path << ": " << vdm::to_string(check.problem) << ": " << check.message << "\n";
+    return 2;
+  }
+  const SelfIntersections crossing = find_self_intersections(oriented, 10);
+  if (crossing.any) {
+    out << "crossings:  " << crossing.pairs.size() << (crossing.pairs.size() >= 10 ? " or more" : "")
+        << " pairs of triangles pass through each other\n";
+    for (const auto& [a, b] : crossing.pairs) {
+      const vdm::Vec3 c = (x.row(oriented.triangles(a, 0)) + x.row(oriented.triangles(a, 1)) + x.row(oriented.triangles(a, 2))) / 3;
+      out << "            triangles " << a << " and " << b << " (near " << c.x() << " " << c.y() << " " << c.z() << ")\n";
+    }
+    out << "valid organ: no\n";
+    err << "vdmsim: error: " << path << ": self-intersection: the surface passes through itself (" << crossing.text()
+        << "); `vdmsim prepare-mesh` repairs it\n";
     return 2;
   }
   out << "valid organ: yes\n";
@@ -102,8 +117,31 @@ int cmd_run(const std::string& scene_path, const std::string& out_dir, int frame
   return cmd_run(scene_path, opt, out, err, terminal);
 }
 
+namespace {
+int write_scan_like(int level, const std::string& out_path, std::ostream& out, std::ostream& err) {
+  ScanLikeOptions opt;
+  opt.level = level;
+  const vdm::SurfaceMesh mesh = make_scan_like_liver(opt);
+  std::ostringstream header;
+  header << "vdmsim liver as a CT segmentation gives it, by `vdmsim make-organ liver --scan-like --level " << level
+         << "`\nunits: millimetres, scanner coordinates; bumpy, cropped open, folded through itself: "
+            "run `vdmsim prepare-mesh` on it";
+  std::string error;
+  const std::filesystem::path parent = std::filesystem::path(out_path).parent_path();
+  if ((!parent.empty() && !prepare_output_dir(parent.string(), error)) || !save_obj(mesh, out_path, header.str(), error)) {
+    err << "vdmsim: error: " << error << "\n";
+    return 2;
+  }
+  const vdm::Vec3 lo = mesh.positions.colwise().minCoeff(), hi = mesh.positions.colwise().maxCoeff();
+  out << "scan-like liver level " << level << ": " << mesh.node_count() << " nodes, " << mesh.triangle_count()
+      << " triangles, size " << (hi - lo).x() << " x " << (hi - lo).y() << " x " << (hi - lo).z()
+      << " mm (open, self-intersecting) -> " << out_path << "\n";
+  return 0;
+}
+}  // namespace
+
 int cmd_make_organ(const std::string& organ, int level, const std::string& out_path, std::ostream& out,
-                   std::ostream& err) {
+                   std::ostream& err, bool scan_like) {
   if (organ != "liver") {
     err << "vdmsim: error: unknown organ '" << organ << "' (expected liver)\n";
     return 2;
@@ -112,6 +150,7 @@ int cmd_make_organ(const std::string& organ, int level, const std::string& out_p
     err << "vdmsim: error: --level " << level << " is out of range (1 to 7; 4, 5, 6 give 2562, 10242, 40962 nodes)\n";
     return 2;
   }
+  if (scan_like) return write_scan_like(level, out_path, out, err);
   vdm::SurfaceMesh mesh = make_liver_mesh(level);
   const vdm::MeshCheck check = vdm::check_and_orient_surface(mesh);
   if (!check.ok() || check.flipped) {
