@@ -21,6 +21,39 @@
 
 namespace vdmsim {
 
+namespace {
+// The size and volume in the file's units and, after `scale`, in metres and litres; a note
+// when the organ would be over 1 m or under 1 cm across, with the --scale that fits.
+void print_units(const vdm::Vec3& lo, const vdm::Vec3& hi, double volume, double scale, std::ostream& out) {
+  const vdm::Vec3 size = hi - lo;
+  const double s3 = scale * scale * scale;
+  out << "in file units: size " << size.x() / scale << " x " << size.y() / scale << " x " << size.z() / scale;
+  if (volume >= 0) out << ", volume " << volume / s3;
+  out << "\n";
+  out << "in metres:  size " << size.x() << " x " << size.y() << " x " << size.z() << " m";
+  if (volume >= 0) out << ", volume " << volume * 1000 << " litres";
+  out << " (after --scale " << scale << ")\n";
+  const double extent = size.maxCoeff();
+  if (extent > 1.0 || extent < 0.01) {
+    double fit = scale;
+    for (double f : {1e-3, 1e-2, 1e-1, 1e1, 1e2, 1e3, 1e-6, 1e6})
+      if (extent * f >= 0.03 && extent * f <= 0.6) {
+        fit = scale * f;
+        break;
+      }
+    out << "note:       " << extent << " m across is " << (extent > 1.0 ? "over 1 m" : "under 1 cm")
+        << ": implausible for an organ";
+    if (fit != scale) {
+      out << "; --scale " << fit << " makes it " << extent * fit / scale << " m";
+      if (std::abs(fit - 1e-3) < 1e-12) out << " (the file in millimetres)";
+      if (std::abs(fit - 1e-2) < 1e-12) out << " (the file in centimetres)";
+      if (std::abs(fit - 1) < 1e-12) out << " (the file in metres)";
+    }
+    out << "\n";
+  }
+}
+}  // namespace
+
 int cmd_mesh_info(const std::string& path, double scale, std::ostream& out, std::ostream& err) {
   MeshLoadOptions opt;
   opt.scale = scale;
@@ -48,6 +81,8 @@ int cmd_mesh_info(const std::string& path, double scale, std::ostream& out, std:
   out << "bbox min:   " << lo.x() << " " << lo.y() << " " << lo.z() << "\n";
   out << "bbox max:   " << hi.x() << " " << hi.y() << " " << hi.z() << "\n";
   out << "bbox size:  " << (hi - lo).x() << " " << (hi - lo).y() << " " << (hi - lo).z() << "\n";
+  print_units(lo, hi, check.ok() ? vdm::enclosed_volume(x, oriented.triangles, x.colwise().mean().transpose()) : -1, scale,
+              out);
   if (r.welded_nodes) out << "welded:     " << r.welded_nodes << " coincident vertices merged\n";
   if (r.dropped_nodes) out << "dropped:    " << r.dropped_nodes << " unreferenced vertices\n";
   if (check.flipped) out << "note:       the surface was oriented inward; it is used flipped outward\n";

@@ -13,6 +13,7 @@
 #include "app/cli/commands.hpp"
 #include "app/compare/compare_command.hpp"
 #include "app/mesh_prep/prepare_mesh.hpp"
+#include "app/mesh_prep/ray_locate.hpp"
 #include "app/run/program_version.hpp"
 #include "app/scene/scene_reference.hpp"
 
@@ -43,6 +44,16 @@ int main(int argc, char** argv) {
   prepare_mesh->add_option("--smoothing", prep_opt.smoothing,
                            "Smoothing strength: the time step of two mean-curvature-flow steps over the squared target "
                            "edge (default 0.5; 0: none); the volume is restored after");
+
+  std::string locate_mesh;
+  double locate_scale = 1.0;
+  std::vector<double> locate_from, locate_toward;
+  auto* locate = app.add_subcommand(
+      "locate", "The first point of a mesh's surface along a ray, and its outward normal (to place instruments)");
+  locate->add_option("MESH", locate_mesh, "Organ surface mesh (closed)")->required();
+  locate->add_option("--scale", locate_scale, "Mesh units to metres (as the scene's organ.scale)");
+  locate->add_option("--from", locate_from, "The ray's start X Y Z (m, after --scale)")->expected(3)->required();
+  locate->add_option("--toward", locate_toward, "The ray's direction DX DY DZ (any length)")->expected(3)->required();
 
   std::string experiment, out_dir;
   auto* paper = app.add_subcommand("paper", "Reproduce an experiment of the VDM paper");
@@ -136,6 +147,9 @@ int main(int argc, char** argv) {
   }
   try {
     if (prepare_mesh->parsed()) return vdmsim::cmd_prepare_mesh(prep_opt, std::cout, std::cerr);
+    if (locate->parsed())
+      return vdmsim::cmd_locate(locate_mesh, locate_scale, vdm::Vec3(locate_from[0], locate_from[1], locate_from[2]),
+                                vdm::Vec3(locate_toward[0], locate_toward[1], locate_toward[2]), std::cout, std::cerr);
     if (mesh_info->parsed()) return vdmsim::cmd_mesh_info(mesh_path, mesh_scale, std::cout, std::cerr);
     if (run->parsed()) {
       run_opt.render = !no_render;
