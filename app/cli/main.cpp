@@ -43,7 +43,7 @@ int main(int argc, char** argv) {
       ->check(CLI::Range(1, 50));
   prepare_mesh->add_option("--smoothing", prep_opt.smoothing,
                            "Smoothing strength: the time step of two mean-curvature-flow steps over the squared target "
-                           "edge (default 0.5; 0: none); the volume is restored after");
+                           "edge (default 0.1; 0: none); the volume is restored after");
 
   std::string locate_mesh;
   double locate_scale = 1.0;

@@ -13,7 +13,7 @@ struct PrepareMeshOptions {
   double edge_length = 0;    // target edge in metres (after scale)
   bool center = false;       // move the bounding box's centre to the origin
   int iterations = 5;        // isotropic remeshing passes
-  double smoothing = 0.5;    // smoothing time step over the squared target edge (0: none)
+  double smoothing = 0.1;    // smoothing time step over the squared target edge (0: none)
 };
 
 int cmd_prepare_mesh(const PrepareMeshOptions& options, std::ostream& out, std::ostream& err);

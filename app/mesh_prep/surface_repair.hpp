@@ -32,7 +32,7 @@ struct RemeshOptions {
   double edge_length = 0;   // target edge (mesh units)
   int iterations = 5;       // isotropic remeshing passes
   int smoothing_steps = 2;       // shape smoothing (implicit mean curvature flow) steps, volume restored after
-  double smoothing = 0.5;        // their time step over the squared target edge (0: no smoothing)
+  double smoothing = 0.1;        // their time step over the squared target edge (0: no smoothing)
 };
 
 // Remeshes the closed surface `mesh` to triangles of edge near `edge_length`, smooths it

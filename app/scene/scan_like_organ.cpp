@@ -28,7 +28,7 @@ void push_fold(vdm::SurfaceMesh& m) {
   const vdm::NodeMat& x = m.positions;
   int top = -1;
   for (int i = 0; i < m.node_count(); ++i)
-    if (x(i, 0) < -0.085 && x(i, 0) > -0.095 && std::abs(x(i, 1)) < 0.01 && (top < 0 || x(i, 2) > x(top, 2))) top = i;
+    if (x(i, 0) < -0.08 && x(i, 0) > -0.1 && std::abs(x(i, 1)) < 0.015 && (top < 0 || x(i, 2) > x(top, 2))) top = i;
   if (top < 0) return;
   const vdm::Vec3 p0 = x.row(top);
   double bottom = p0.z();
