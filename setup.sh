@@ -21,7 +21,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   libfcl-dev libyaml-cpp-dev libpng-dev libdeflate-dev libosmesa6-dev libglm-dev libimgui-dev
   fonts-dejavu-core ffmpeg gmsh libgmsh-dev libsuitesparse-dev libopenblas0-serial libbullet-dev
-  python3-meshio
+  python3-meshio libcgal-dev
 )
 
 if [ "$install" = 1 ]; then

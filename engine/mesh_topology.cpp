@@ -49,6 +49,7 @@ const char* to_string(MeshProblem p) {
     case MeshProblem::non_manifold_vertex: return "non-manifold vertex";
     case MeshProblem::multiple_components: return "several connected components";
     case MeshProblem::zero_volume: return "zero volume";
+    case MeshProblem::self_intersection: return "self-intersection";
   }
   return "unknown";
 }

@@ -24,6 +24,8 @@ enum class MeshProblem {
   non_manifold_vertex,      // the triangles around a node do not form one fan
   multiple_components,      // more than one connected piece
   zero_volume,              // closed but encloses no volume
+  self_intersection,        // two triangles pass through each other (found by the app's CGAL test,
+                            // app/mesh_prep/self_intersections.hpp, not by check_and_orient_surface)
 };
 
 const char* to_string(MeshProblem p);

@@ -5,8 +5,10 @@
 #include <iomanip>
 #include <sstream>
 
+#include "app/mesh_prep/self_intersections.hpp"
 #include "app/scene/mesh_io.hpp"
 #include "app/scene/organ_generator.hpp"
+#include "app/scene/scan_like_organ.hpp"
 #include "app/run/output_dir.hpp"
 #include "app/run/scene_run.hpp"
 #include "app/studies/paper_cube.hpp"
@@ -18,6 +20,39 @@
 #include "engine/stopwatch.hpp"
 
 namespace vdmsim {
+
+namespace {
+// The size and volume in the file's units and, after `scale`, in metres and litres; a note
+// when the organ would be over 1 m or under 1 cm across, with the --scale that fits.
+void print_units(const vdm::Vec3& lo, const vdm::Vec3& hi, double volume, double scale, std::ostream& out) {
+  const vdm::Vec3 size = hi - lo;
+  const double s3 = scale * scale * scale;
+  out << "in file units: size " << size.x() / scale << " x " << size.y() / scale << " x " << size.z() / scale;
+  if (volume >= 0) out << ", volume " << volume / s3;
+  out << "\n";
+  out << "in metres:  size " << size.x() << " x " << size.y() << " x " << size.z() << " m";
+  if (volume >= 0) out << ", volume " << volume * 1000 << " litres";
+  out << " (after --scale " << scale << ")\n";
+  const double extent = size.maxCoeff();
+  if (extent > 1.0 || extent < 0.01) {
+    double fit = scale;
+    for (double f : {1e-3, 1e-2, 1e-1, 1e1, 1e2, 1e3, 1e-6, 1e6})
+      if (extent * f >= 0.03 && extent * f <= 0.6) {
+        fit = scale * f;
+        break;
+      }
+    out << "note:       " << extent << " m across is " << (extent > 1.0 ? "over 1 m" : "under 1 cm")
+        << ": implausible for an organ";
+    if (fit != scale) {
+      out << "; --scale " << fit << " makes it " << extent * fit / scale << " m";
+      if (std::abs(fit - 1e-3) < 1e-12) out << " (the file in millimetres)";
+      if (std::abs(fit - 1e-2) < 1e-12) out << " (the file in centimetres)";
+      if (std::abs(fit - 1) < 1e-12) out << " (the file in metres)";
+    }
+    out << "\n";
+  }
+}
+}  // namespace
 
 int cmd_mesh_info(const std::string& path, double scale, std::ostream& out, std::ostream& err) {
   MeshLoadOptions opt;
@@ -46,12 +81,27 @@ int cmd_mesh_info(const std::string& path, double scale, std::ostream& out, std:
   out << "bbox min:   " << lo.x() << " " << lo.y() << " " << lo.z() << "\n";
   out << "bbox max:   " << hi.x() << " " << hi.y() << " " << hi.z() << "\n";
   out << "bbox size:  " << (hi - lo).x() << " " << (hi - lo).y() << " " << (hi - lo).z() << "\n";
+  print_units(lo, hi, check.ok() ? vdm::enclosed_volume(x, oriented.triangles, x.colwise().mean().transpose()) : -1, scale,
+              out);
   if (r.welded_nodes) out << "welded:     " << r.welded_nodes << " coincident vertices merged\n";
   if (r.dropped_nodes) out << "dropped:    " << r.dropped_nodes << " unreferenced vertices\n";
   if (check.flipped) out << "note:       the surface was oriented inward; it is used flipped outward\n";
   if (!check.ok()) {
     out << "valid organ: no\n";
     err << "vdmsim: error: " << path << ": " << vdm::to_string(check.problem) << ": " << check.message << "\n";
+    return 2;
+  }
+  const SelfIntersections crossing = find_self_intersections(oriented, 10);
+  if (crossing.any) {
+    out << "crossings:  " << crossing.pairs.size() << (crossing.pairs.size() >= 10 ? " or more" : "")
+        << " pairs of triangles pass through each other\n";
+    for (const auto& [a, b] : crossing.pairs) {
+      const vdm::Vec3 c = (x.row(oriented.triangles(a, 0)) + x.row(oriented.triangles(a, 1)) + x.row(oriented.triangles(a, 2))) / 3;
+      out << "            triangles " << a << " and " << b << " (near " << c.x() << " " << c.y() << " " << c.z() << ")\n";
+    }
+    out << "valid organ: no\n";
+    err << "vdmsim: error: " << path << ": self-intersection: the surface passes through itself (" << crossing.text()
+        << "); `vdmsim prepare-mesh` repairs it\n";
     return 2;
   }
   out << "valid organ: yes\n";
@@ -102,8 +152,31 @@ int cmd_run(const std::string& scene_path, const std::string& out_dir, int frame
   return cmd_run(scene_path, opt, out, err, terminal);
 }
 
+namespace {
+int write_scan_like(int level, const std::string& out_path, std::ostream& out, std::ostream& err) {
+  ScanLikeOptions opt;
+  opt.level = level;
+  const vdm::SurfaceMesh mesh = make_scan_like_liver(opt);
+  std::ostringstream header;
+  header << "vdmsim liver as a CT segmentation gives it, by `vdmsim make-organ liver --scan-like --level " << level
+         << "`\nunits: millimetres, scanner coordinates; bumpy, cropped open, folded through itself: "
+            "run `vdmsim prepare-mesh` on it";
+  std::string error;
+  const std::filesystem::path parent = std::filesystem::path(out_path).parent_path();
+  if ((!parent.empty() && !prepare_output_dir(parent.string(), error)) || !save_obj(mesh, out_path, header.str(), error)) {
+    err << "vdmsim: error: " << error << "\n";
+    return 2;
+  }
+  const vdm::Vec3 lo = mesh.positions.colwise().minCoeff(), hi = mesh.positions.colwise().maxCoeff();
+  out << "scan-like liver level " << level << ": " << mesh.node_count() << " nodes, " << mesh.triangle_count()
+      << " triangles, size " << (hi - lo).x() << " x " << (hi - lo).y() << " x " << (hi - lo).z()
+      << " mm (open, self-intersecting) -> " << out_path << "\n";
+  return 0;
+}
+}  // namespace
+
 int cmd_make_organ(const std::string& organ, int level, const std::string& out_path, std::ostream& out,
-                   std::ostream& err) {
+                   std::ostream& err, bool scan_like) {
   if (organ != "liver") {
     err << "vdmsim: error: unknown organ '" << organ << "' (expected liver)\n";
     return 2;
@@ -112,6 +185,7 @@ int cmd_make_organ(const std::string& organ, int level, const std::string& out_p
     err << "vdmsim: error: --level " << level << " is out of range (1 to 7; 4, 5, 6 give 2562, 10242, 40962 nodes)\n";
     return 2;
   }
+  if (scan_like) return write_scan_like(level, out_path, out, err);
   vdm::SurfaceMesh mesh = make_liver_mesh(level);
   const vdm::MeshCheck check = vdm::check_and_orient_surface(mesh);
   if (!check.ok() || check.flipped) {

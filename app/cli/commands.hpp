@@ -23,9 +23,11 @@ int paper_beams(const std::vector<BeamCase>& beams, const BeamConfig& config, co
 int cmd_calibrate(const std::string& mesh, double scale, double young, double poisson, int steps, double tet_size,
                   const std::string& out_path, std::ostream& out, std::ostream& err);
 
-// Meshes the project's liver at icosphere `level` and writes it as OBJ to `out_path`.
+// Meshes the project's liver at icosphere `level` and writes it as OBJ to `out_path`; with
+// `scan_like`, damaged as a CT segmentation gives it (app/scene/scan_like_organ.hpp: millimetres,
+// scanner coordinates, bumpy, cropped open, self-intersecting), for prepare-mesh.
 int cmd_make_organ(const std::string& organ, int level, const std::string& out_path, std::ostream& out,
-                   std::ostream& err);
+                   std::ostream& err, bool scan_like = false);
 
 // vdmsim check SCENE: validates the scene and its mesh without simulating.
 int cmd_check(const std::string& scene_path, std::ostream& out, std::ostream& err);

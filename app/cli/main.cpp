@@ -12,6 +12,8 @@
 #include "app/studies/bench.hpp"
 #include "app/cli/commands.hpp"
 #include "app/compare/compare_command.hpp"
+#include "app/mesh_prep/prepare_mesh.hpp"
+#include "app/mesh_prep/ray_locate.hpp"
 #include "app/run/program_version.hpp"
 #include "app/scene/scene_reference.hpp"
 #include "app/sweep/sweep_command.hpp"
@@ -27,6 +29,33 @@ int main(int argc, char** argv) {
   mesh_info->add_option("MESH", mesh_path, "Mesh file (OBJ, STL, PLY, glTF, ...)")->required();
   mesh_info->add_option("--scale", mesh_scale, "Multiply coordinates by this factor");
 
+  vdmsim::PrepareMeshOptions prep_opt;
+  auto* prepare_mesh = app.add_subcommand(
+      "prepare-mesh",
+      "Make a scanned surface an organ: repair, remesh, smooth; writes a closed outward OBJ in metres");
+  prepare_mesh->add_option("IN", prep_opt.in, "The surface as segmented (OBJ, STL, PLY, ...; any units)")->required();
+  prepare_mesh->add_option("--out", prep_opt.out, "Output OBJ (metres)")->required();
+  prepare_mesh->add_option("--scale", prep_opt.scale, "Input units to metres (0.001 for millimetres)");
+  auto* prep_nodes = prepare_mesh->add_option("--nodes", prep_opt.nodes, "Target node count (default 10000)");
+  prepare_mesh->add_option("--edge-length", prep_opt.edge_length, "Target edge length in metres (instead of --nodes)")
+      ->excludes(prep_nodes);
+  prepare_mesh->add_flag("--center", prep_opt.center, "Move the bounding box's centre to the origin");
+  prepare_mesh->add_option("--iterations", prep_opt.iterations, "Isotropic remeshing passes (default 5)")
+      ->check(CLI::Range(1, 50));
+  prepare_mesh->add_option("--smoothing", prep_opt.smoothing,
+                           "Smoothing strength: the time step of two mean-curvature-flow steps over the squared target "
+                           "edge (default 0.1; 0: none); the volume is restored after");
+
+  std::string locate_mesh;
+  double locate_scale = 1.0;
+  std::vector<double> locate_from, locate_toward;
+  auto* locate = app.add_subcommand(
+      "locate", "The first point of a mesh's surface along a ray, and its outward normal (to place instruments)");
+  locate->add_option("MESH", locate_mesh, "Organ surface mesh (closed)")->required();
+  locate->add_option("--scale", locate_scale, "Mesh units to metres (as the scene's organ.scale)");
+  locate->add_option("--from", locate_from, "The ray's start X Y Z (m, after --scale)")->expected(3)->required();
+  locate->add_option("--toward", locate_toward, "The ray's direction DX DY DZ (any length)")->expected(3)->required();
+
   std::string experiment, out_dir;
   auto* paper = app.add_subcommand("paper", "Reproduce an experiment of the VDM paper");
   paper->add_option("EXPERIMENT", experiment, "cube-stress | anisotropy | beam-stretch | beam-bend | beam-twist | all")->required();
@@ -38,6 +67,10 @@ int main(int argc, char** argv) {
   make_organ->add_option("ORGAN", organ, "Organ to generate: liver")->required();
   make_organ->add_option("--level", organ_level, "Subdivision level: 4, 5, 6 give 2562, 10242, 40962 nodes");
   make_organ->add_option("--out", organ_out, "Output OBJ file")->required();
+  bool organ_scan_like = false;
+  make_organ->add_flag("--scan-like", organ_scan_like,
+                       "Damage it as a CT segmentation would (millimetres, scanner coordinates, bumpy, cropped open, "
+                       "folded through itself): an input for prepare-mesh");
 
   std::string calib_mesh, calib_out;
   double calib_scale = 1.0, calib_young = 3000, calib_poisson = 0.45, calib_tet = 0;
@@ -137,6 +170,10 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
+    if (prepare_mesh->parsed()) return vdmsim::cmd_prepare_mesh(prep_opt, std::cout, std::cerr);
+    if (locate->parsed())
+      return vdmsim::cmd_locate(locate_mesh, locate_scale, vdm::Vec3(locate_from[0], locate_from[1], locate_from[2]),
+                                vdm::Vec3(locate_toward[0], locate_toward[1], locate_toward[2]), std::cout, std::cerr);
     if (mesh_info->parsed()) return vdmsim::cmd_mesh_info(mesh_path, mesh_scale, std::cout, std::cerr);
     if (run->parsed()) {
       run_opt.render = !no_render;
@@ -154,7 +191,7 @@ int main(int argc, char** argv) {
       vdmsim::write_scene_reference(std::cout);
       return 0;
     }
-    if (make_organ->parsed()) return vdmsim::cmd_make_organ(organ, organ_level, organ_out, std::cout, std::cerr);
+    if (make_organ->parsed()) return vdmsim::cmd_make_organ(organ, organ_level, organ_out, std::cout, std::cerr, organ_scan_like);
     if (calibrate->parsed())
       return vdmsim::cmd_calibrate(calib_mesh, calib_scale, calib_young, calib_poisson, calib_steps, calib_tet, calib_out,
                                    std::cout, std::cerr);

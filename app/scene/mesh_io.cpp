@@ -1,5 +1,6 @@
 #include "app/scene/mesh_io.hpp"
 
+#include "app/mesh_prep/self_intersections.hpp"
 #include "app/scene/assimp_import.hpp"
 
 #include "app/scene/obj_reader.hpp"
@@ -123,6 +124,14 @@ MeshLoadResult load_surface_mesh(const std::string& path, const MeshLoadOptions&
       return fail(std::string(vdm::to_string(check.problem)) + ": " + check.message);
     }
     out.flipped = check.flipped;
+    // A surface through itself encloses no well-defined volume (O(n log n): about 0.1 s at
+    // 40k nodes).
+    const SelfIntersections crossing = find_self_intersections(out.mesh, 5);
+    if (crossing.any) {
+      out.problem = vdm::MeshProblem::self_intersection;
+      return fail("self-intersection: the surface passes through itself (" + crossing.text() +
+                  "); `vdmsim prepare-mesh` repairs it");
+    }
   }
   out.ok = true;
   return out;

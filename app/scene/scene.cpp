@@ -321,6 +321,8 @@ void read_organ(Reader& r, const YAML::Node& organ, SceneDef& s, const std::file
     }
   }
   if (const YAML::Node n = organ["scale"]) r.number(n, "organ.scale", s.scale, KEY("organ.scale"));
+  if (const YAML::Node n = organ["rotate_deg"]) r.vec3(n, "organ.rotate_deg", s.rotate_deg, KEY("organ.rotate_deg"));
+  if (const YAML::Node n = organ["translate"]) r.vec3(n, "organ.translate", s.translate, KEY("organ.translate"));
   if (const YAML::Node n = organ["model"]) {
     std::string model;
     if (r.text(n, "organ.model", model) && !vdm::parse_model_kind(model, s.model)) {

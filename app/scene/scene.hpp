@@ -101,6 +101,8 @@ struct SceneDef {
   // organ
   std::string mesh_path;       // resolved against the scene file's folder
   double scale = 1.0;
+  vdm::Vec3 rotate_deg = vdm::Vec3::Zero();  // organ.rotate_deg: about the scaled mesh's bounding-box centre, x then y then z
+  vdm::Vec3 translate = vdm::Vec3::Zero();   // organ.translate (m), after the rotation
   vdm::Vec3 bulk_modulus = vdm::Vec3::Constant(20000.0);  // Pa per axis; inf allowed
   double connectivity_modulus = 2000.0;
   vdm::CapsuleForm capsule = vdm::CapsuleForm::membrane;  // vdm: membrane | paper

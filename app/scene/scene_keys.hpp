@@ -105,6 +105,12 @@ inline constexpr SceneKey kSceneKeys[] = {
       .eg("mesh: ../meshes/liver_L5.obj"),
   key("organ.scale", KT::number, "Multiplies the mesh's coordinates to give metres.").in("mesh units to metres").above(0)
       .by_default([] { return yaml_number(SceneDef().scale); }).eg("scale: 0.001"),
+  key("organ.rotate_deg", KT::vector3, "Turns the organ, after `scale`, about the centre of its bounding box (as scaled): "
+      "about the fixed x axis, then y, then z (extrinsic). Regions, instruments and the camera are in the frame after "
+      "`scale`, `rotate_deg` and `translate`.").in("degrees")
+      .by_default([] { return yaml_vector(SceneDef().rotate_deg); }).eg("rotate_deg: [0, 0, 90]"),
+  key("organ.translate", KT::vector3, "Moves the organ, after `scale` and `rotate_deg`.").in("m")
+      .by_default([] { return yaml_vector(SceneDef().translate); }).eg("translate: [0.09, -0.16, 1.23]"),
   key("organ.material", KT::section, "The tissue's material. For `model: vdm` give either `bulk_modulus` and "
       "`connectivity_modulus`, or `young_modulus` and `poisson_ratio` (mapped to them by the rule of [the model page](model.md)).")
       .eg("material: {bulk_modulus: 20000, connectivity_modulus: 2000, density: 1060}"),

@@ -45,10 +45,17 @@ std::vector<int> select_nodes(const Region& region, const vdm::NodeMat& rest, co
     const vdm::Vec3 lo = rest.colwise().minCoeff(), hi = rest.colwise().maxCoeff();
     std::ostringstream m;
     m << "the region selects no node of the organ (the organ spans [" << lo.x() << ", " << lo.y() << ", " << lo.z()
-      << "] to [" << hi.x() << ", " << hi.y() << ", " << hi.z() << "] m after scale)";
+      << "] to [" << hi.x() << ", " << hi.y() << ", " << hi.z() << "] m after scale, rotate_deg and translate)";
     problems.push_back({region.where, field, m.str(), false});
   }
   return out;
+}
+
+void place_organ(vdm::NodeMat& x, const vdm::Vec3& rotate_deg, const vdm::Vec3& translate) {
+  if (x.rows() == 0 || (rotate_deg.isZero() && translate.isZero())) return;
+  const vdm::Vec3 c = 0.5 * (x.colwise().minCoeff() + x.colwise().maxCoeff()).transpose();
+  const Eigen::Matrix3d R = rotation_from_degrees(rotate_deg);
+  for (Eigen::Index i = 0; i < x.rows(); ++i) x.row(i) = (R * (x.row(i).transpose() - c) + c + translate).transpose();
 }
 
 bool prepare_scene(const std::string& path, PreparedScene& out, std::vector<SceneProblem>& problems) {
@@ -147,7 +154,9 @@ bool prepare_scene_def(const SceneDef& scene, PreparedScene& out, std::vector<Sc
     problems.push_back({s.file, "organ.mesh", mesh.error, false});
     return false;
   }
-  vdm::TissueDef def = vdm::default_tissue(mesh.mesh);
+  vdm::SurfaceMesh placed = mesh.mesh;
+  place_organ(placed.positions, s.rotate_deg, s.translate);
+  vdm::TissueDef def = vdm::default_tissue(placed);
   const int n = def.mesh.node_count();
   def.bulk_modulus = vdm::NodeMat(n, 3);
   for (int d = 0; d < 3; ++d) def.bulk_modulus.col(d).setConstant(s.bulk_modulus[d]);

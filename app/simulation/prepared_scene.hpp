@@ -37,6 +37,10 @@ struct PreparedScene {
 // with every problem in `problems` (warnings are there too on success).
 bool prepare_scene(const std::string& path, PreparedScene& out, std::vector<SceneProblem>& problems);
 // The same from an already loaded (and possibly edited) scene.
+// Places the scaled organ as organ.rotate_deg and organ.translate say: turned about the centre
+// of its bounding box, about x, then y, then z (fixed axes), then moved.
+void place_organ(vdm::NodeMat& x, const vdm::Vec3& rotate_deg, const vdm::Vec3& translate);
+
 bool prepare_scene_def(const SceneDef& scene, PreparedScene& out, std::vector<SceneProblem>& problems);
 
 }  // namespace vdmsim

@@ -293,14 +293,24 @@ TEST(MeshIoErrors, HugeHeaderClaimIsRefusedWithoutCrash) {
 
 // --- third-party organ meshes (../shared/assets), skipped when absent ---
 
-TEST(MeshIoShared, LiverSmooth) {
+// SOFA's liver passes through itself where a triangle is folded over its neighbours (near
+// (-2.1, 4.0, -1.0)): it is refused as an organ, naming the triangles, and read as it is when
+// not validated.
+TEST(MeshIoShared, LiverSmoothIsRefusedForItsSelfIntersection) {
   const fs::path p = fs::path(VDMSIM_SHARED_ASSETS) / "organs/liver-smooth.obj";
   if (!fs::exists(p)) GTEST_SKIP() << "shared assets absent (" << p << "): skipping";
   const MeshLoadResult r = load_surface_mesh(p.string());
-  ASSERT_TRUE(r.ok) << r.error;
-  EXPECT_EQ(r.mesh.node_count(), 2194);
-  EXPECT_EQ(r.mesh.triangle_count(), 4384);
-  EXPECT_NEAR(vdm::enclosed_volume(r.mesh.positions, r.mesh.triangles, r.mesh.positions.colwise().mean().transpose()),
+  ASSERT_FALSE(r.ok);
+  EXPECT_EQ(r.problem, vdm::MeshProblem::self_intersection);
+  EXPECT_NE(r.error.find("self-intersection"), std::string::npos) << r.error;
+  EXPECT_NE(r.error.find("triangles 811 and 1958"), std::string::npos) << r.error;
+  MeshLoadOptions raw;
+  raw.validate = false;
+  const MeshLoadResult q = load_surface_mesh(p.string(), raw);
+  ASSERT_TRUE(q.ok) << q.error;
+  EXPECT_EQ(q.mesh.node_count(), 2194);
+  EXPECT_EQ(q.mesh.triangle_count(), 4384);
+  EXPECT_NEAR(vdm::enclosed_volume(q.mesh.positions, q.mesh.triangles, q.mesh.positions.colwise().mean().transpose()),
               39.27, 0.01);
 }
 
@@ -313,14 +323,15 @@ TEST(MeshIoShared, LiverCoarseDropsInteriorNodes) {
   EXPECT_EQ(r.mesh.triangle_count(), 274);
 }
 
-TEST(MeshIoShared, EveryOrganIsAValidSurface) {
+// Every shared organ is read, and either valid or refused for its self-intersection only.
+TEST(MeshIoShared, EveryOrganIsValidOrSelfIntersecting) {
   const fs::path dir = fs::path(VDMSIM_SHARED_ASSETS) / "organs";
   if (!fs::exists(dir)) GTEST_SKIP() << "shared assets absent (" << dir << "): skipping";
   int seen = 0;
   for (const auto& e : fs::directory_iterator(dir)) {
     if (e.path().extension() != ".obj") continue;
     const MeshLoadResult r = load_surface_mesh(e.path().string());
-    EXPECT_TRUE(r.ok) << r.error;
+    EXPECT_TRUE(r.ok || r.problem == vdm::MeshProblem::self_intersection) << r.error;
     ++seen;
   }
   EXPECT_GE(seen, 2);
