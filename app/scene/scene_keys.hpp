@@ -364,7 +364,7 @@ inline constexpr SceneKey kSceneKeys[] = {
       .by_default([] { return yaml_bool(RenderDef().settings.shadows); }).eg("shadows: false"),
   key("render.png_compression", KT::integer, "The PNG files' zlib level (1 is fast and about as small as 6 for these "
       "images).").range(0, 9).by_default([] { return std::to_string(RenderDef().png_compression); }).eg("png_compression: 6"),
-  key("render.fps", KT::number, "The video's frame rate (`run --video`).").in("frames per second").above(0, 240)
+  key("render.fps", KT::number, "The video's frame rate (`run --video`).").in("frames per second").range(1, 240)
       .by_default([] { return yaml_number(RenderDef().fps); }).eg("fps: 60"),
 
   // render.camera
