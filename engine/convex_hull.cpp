@@ -39,6 +39,11 @@ bool convex_hull(const std::vector<Vec3>& p, ConvexHull& out, std::string& error
     error = "a convex shape needs at least 4 points, got " + std::to_string(p.size());
     return false;
   }
+  if (p.size() > kMaxHullPoints) {
+    error = "the convex shape has " + std::to_string(p.size()) + " points, more than the limit of " +
+            std::to_string(kMaxHullPoints) + ": simplify (decimate) its mesh";
+    return false;
+  }
   // Extent and tolerance.
   Vec3 lo = p[0], hi = p[0];
   for (const Vec3& q : p) {

@@ -2,6 +2,7 @@
 // The convex hull of a point set (an instrument's collision shape from a mesh): vertices,
 // outward triangles and face planes. Built once when a scene is prepared, never per step.
 #include <array>
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -20,8 +21,13 @@ struct ConvexHull {
   Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();  // axis-aligned bounds of the vertices (m)
 };
 
+// The most points a hull is built from: the build is O(n f) (f: the hull's faces, up to 2n)
+// and each contact query O(f); a mesh with more vertices is to be simplified first.
+constexpr std::size_t kMaxHullPoints = 10000;
+
 // Builds the hull of `points` (incremental, O(n f)). False with a message when the points
-// span no volume (fewer than four, or all on one plane, relative to their extent).
+// span no volume (fewer than four, or all on one plane, relative to their extent), or when
+// they are more than kMaxHullPoints.
 bool convex_hull(const std::vector<Vec3>& points, ConvexHull& out, std::string& error);
 
 // Signed distance from x to the hull's surface (negative inside), the closest surface point

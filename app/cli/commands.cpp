@@ -85,7 +85,10 @@ int cmd_mesh_info(const std::string& path, double scale, std::ostream& out, std:
               out);
   if (r.welded_nodes) out << "welded:     " << r.welded_nodes << " coincident vertices merged\n";
   if (r.dropped_nodes) out << "dropped:    " << r.dropped_nodes << " unreferenced vertices\n";
-  if (check.flipped) out << "note:       the surface was oriented inward; it is used flipped outward\n";
+  if (check.flipped) {
+    out << "note:       the surface was oriented inward; it is used flipped outward\n";
+    err << "vdmsim: warning: " << flipped_surface_note(path) << "\n";
+  }
   if (!check.ok()) {
     out << "valid organ: no\n";
     err << "vdmsim: error: " << path << ": " << vdm::to_string(check.problem) << ": " << check.message << "\n";
@@ -343,6 +346,7 @@ int cmd_calibrate(const std::string& mesh_path, double scale, double young, doub
     err << "vdmsim: error: " << mesh.error << "\n";
     return 2;
   }
+  if (mesh.flipped) err << "vdmsim: warning: " << flipped_surface_note(mesh_path) << "\n";
   const auto t0 = vdm::Clock::now();
   vdm::fem::TetMesh tets;
   std::string error;

@@ -15,8 +15,30 @@
 #include "app/mesh_prep/prepare_mesh.hpp"
 #include "app/mesh_prep/ray_locate.hpp"
 #include "app/run/program_version.hpp"
+#include "app/scene/scene.hpp"
 #include "app/scene/scene_reference.hpp"
 #include "app/sweep/sweep_command.hpp"
+
+namespace {
+// --frames: a whole number from 1 to kMaxFrames, or a message naming the bound.
+CLI::Validator frame_count() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        long long n = 0;
+        try {
+          size_t used = 0;
+          n = std::stoll(text, &used);
+          if (used != text.size()) return "expected a whole number of frames, got '" + text + "'";
+        } catch (const std::exception&) {
+          return "expected a whole number of frames from 1 to " + std::to_string(vdmsim::kMaxFrames) + ", got '" + text + "'";
+        }
+        if (n < 1 || n > vdmsim::kMaxFrames)
+          return text + " frames is out of range: from 1 to " + std::to_string(vdmsim::kMaxFrames) + " (10 million)";
+        return "";
+      },
+      "1 to " + std::to_string(vdmsim::kMaxFrames));
+}
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"vdmsim: soft-tissue surgical simulation with the Volume Distribution Method"};
@@ -91,7 +113,7 @@ int main(int argc, char** argv) {
   auto* run = app.add_subcommand("run", "Simulate and render a scene: PNG frames, metrics.csv, run.json");
   run->add_option("SCENE", scene_path, "Scene file (YAML)")->required();
   run->add_option("--out", run_opt.out_dir, "Output folder (default: out/<scene name>)");
-  run->add_option("--frames", run_opt.frames, "Simulate only this many frames")->check(CLI::PositiveNumber);
+  run->add_option("--frames", run_opt.frames, "Simulate only this many frames")->check(frame_count());
   run->add_flag("--no-render", no_render, "Do not render images (metrics.csv and run.json only)");
   run->add_flag("--video", run_opt.video, "Also write video.mp4 (H.264, needs the ffmpeg program)");
   run->add_flag("--export-mesh", run_opt.export_mesh,
@@ -131,7 +153,7 @@ int main(int argc, char** argv) {
   sweep->add_option("--max-parallel", sweep_opt.max_parallel, "--slurm: array tasks running at a time (default: all)")
       ->check(CLI::PositiveNumber)
       ->needs(sweep_slurm);
-  sweep->add_option("--frames", sweep_opt.frames, "Simulate only this many frames of each run")->check(CLI::PositiveNumber);
+  sweep->add_option("--frames", sweep_opt.frames, "Simulate only this many frames of each run")->check(frame_count());
   sweep->add_flag("--no-render", sweep_no_render, "Do not render images (metrics.csv and run.json only; no summary.png)");
   sweep->add_flag("--video", sweep_opt.video, "Also write each run's video.mp4 (needs ffmpeg)");
   auto* sweep_task = sweep->add_option("--task", sweep_opt.task,

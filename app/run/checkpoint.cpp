@@ -1,5 +1,7 @@
 #include "app/run/checkpoint.hpp"
 
+#include "app/run/output_dir.hpp"
+
 #include <algorithm>
 #include <cctype>
 #include <cstdint>
@@ -116,23 +118,14 @@ std::vector<std::string> RunInputs::changes_since(const RunInputs& earlier) cons
 }
 
 bool write_checkpoint(const std::string& path, const Checkpoint& cp, std::string& error) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream f(tmp);
-    f << "{\"run_hash\": \"" << cp.run_hash << "\", \"inputs\": \"" << cp.inputs << "\", \"frame\": " << cp.frame
-      << ", \"frames\": " << cp.frames
-      << ", \"state_hash\": \"" << cp.state_hash << "\", \"range\": \"" << std::hexfloat << cp.range_lo << ' '
-      << cp.range_hi << "\"}\n";
-    f.flush();
-    if (!f) {
-      error = path + ": cannot write the checkpoint (disk full?)";
-      return false;
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, path, ec);
-  if (ec) {
-    error = path + ": cannot write the checkpoint (" + ec.message() + ")";
+  std::ostringstream f;
+  f << "{\"run_hash\": \"" << cp.run_hash << "\", \"inputs\": \"" << cp.inputs << "\", \"frame\": " << cp.frame
+    << ", \"frames\": " << cp.frames
+    << ", \"state_hash\": \"" << cp.state_hash << "\", \"range\": \"" << std::hexfloat << cp.range_lo << ' '
+    << cp.range_hi << "\"}\n";
+  std::string why;
+  if (!write_file_atomically(path, f.str(), why)) {  // (removes its .tmp on failure)
+    error = path + ": cannot write the checkpoint (" + why + ")";
     return false;
   }
   return true;
@@ -196,7 +189,7 @@ bool write_state_file(const std::string& path, const StateFile& sf, std::string&
     sum.bytes(&sf.max_volume_error, sizeof sf.max_volume_error);
     sum.bytes(sf.snapshot.data(), sf.snapshot.size());
     f.write(reinterpret_cast<const char*>(&sum.h), sizeof sum.h);
-    f.flush();
+    f.close();
     if (!f) {
       error = path + ": cannot write the state snapshot (disk full?)";
       std::remove(tmp.c_str());
@@ -205,6 +198,7 @@ bool write_state_file(const std::string& path, const StateFile& sf, std::string&
   }
   if (std::rename(tmp.c_str(), path.c_str()) != 0) {
     error = path + ": cannot move the state snapshot into place";
+    std::remove(tmp.c_str());
     return false;
   }
   return true;

@@ -19,7 +19,8 @@ double RunTally::median_step() const {
 }
 
 void FrameLoop::run(int first, RunTally& tally, RunOutcome& outcome) {
-  tally.step_ms.reserve(static_cast<size_t>(setup.frames));
+  // Grown as frames are done: a run stopped early (or failing at once) holds only what it used.
+  tally.step_ms.reserve(static_cast<size_t>(std::min(setup.frames, 1 << 16)));
   outcome.done = first;
   outcome.state_frame = first - 1;
   progress.restart();
@@ -83,8 +84,10 @@ bool FrameLoop::write(int f, RunTally& tally, RunOutcome& outcome) {
   outcome.last_hash = state_hash(sim.state());
   if (options.frame_done_ms) options.frame_done_ms->push_back(vdm::ms_since(run_start));
   progress.show(setup.rendering ? "render" : "simulate", outcome.done, setup.frames);
-  // A checkpoint every K frames, once this frame's images are on disk.
-  if (outcome.done % std::max(1, options.checkpoint_every) == 0 && outcome.done < setup.frames) {
+  // A checkpoint after the first frame written (a disk that fills up early still leaves a run
+  // to resume) and every K frames, once this frame's images are on disk.
+  const bool due = f == setup.start || outcome.done % std::max(1, options.checkpoint_every) == 0;
+  if (due && outcome.done < setup.frames) {
     metrics.flush();
     if (setup.rendering && !output.flush()) {
       outcome.fail(output.error());

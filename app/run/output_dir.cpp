@@ -32,19 +32,21 @@ bool prepare_output_dir(const std::string& dir, std::string& error) {
 
 bool write_file_atomically(const std::filesystem::path& path, const std::string& body, std::string& error) {
   const std::filesystem::path tmp = path.string() + ".tmp";
+  std::error_code ec;
   {
     std::ofstream f(tmp, std::ios::binary);
     f << body;
-    f.flush();
+    f.close();  // what close flushes can fail too (a full disk)
     if (!f) {
-      error = tmp.string() + ": write failed";
+      error = path.string() + ": write failed (disk full?)";
+      std::filesystem::remove(tmp, ec);  // no half-written .tmp left behind
       return false;
     }
   }
-  std::error_code ec;
   std::filesystem::rename(tmp, path, ec);
   if (ec) {
     error = path.string() + ": " + ec.message();
+    std::filesystem::remove(tmp, ec);
     return false;
   }
   return true;

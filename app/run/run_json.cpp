@@ -1,24 +1,13 @@
 #include "app/run/run_json.hpp"
 
+#include "app/run/json_text.hpp"
+
 #include <cmath>
 #include <iomanip>
 #include <sstream>
 
 namespace vdmsim {
 namespace {
-
-std::string json_escape(const std::string& s) {
-  std::string o;
-  for (char c : s) {
-    if (c == '"' || c == '\\') o += '\\';
-    if (static_cast<unsigned char>(c) < 0x20) {
-      o += ' ';
-      continue;
-    }
-    o += c;
-  }
-  return o;
-}
 
 // The contact's method and how its solves went: the linear-solver iterations of every contact
 // solve, and the steps whose active set was still changing when the iteration cap was reached.

@@ -111,6 +111,15 @@ int set_up_run(const PreparedScene& ps, const RunOptions& opt, RunSetup& setup, 
         << "\n";
     return 2;
   }
+  // Checked before anything is simulated: ffmpeg reads the frames through a pattern
+  // (DIR/frames/frame_%05d.png), in which a '%' of the folder's name would be taken for another
+  // number and the video would fail only after every frame was rendered.
+  if (opt.video && setup.dir.string().find('%') != std::string::npos) {
+    err << "vdmsim: error: --out " << setup.dir.string()
+        << ": with --video the output folder's path may not contain '%' (ffmpeg reads the frames through a "
+           "%-pattern): choose another folder\n";
+    return 2;
+  }
   if (opt.video && render::find_program("ffmpeg").empty()) {
     err << "vdmsim: error: --video needs the ffmpeg program, which is not installed (apt-get install ffmpeg)\n";
     return 1;

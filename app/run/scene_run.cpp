@@ -140,6 +140,7 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
   record.wall_s = vdm::ms_since(t_run) / 1000.0;
   if (!write_file_atomically(setup.dir / "run.json", run_json(record), error)) {
     err << "vdmsim: error: " << error << "\n";
+    report(record, out, err);  // what stopped the run, too (often the same full disk)
     return 1;
   }
   return report(record, out, err);

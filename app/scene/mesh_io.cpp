@@ -137,6 +137,10 @@ MeshLoadResult load_surface_mesh(const std::string& path, const MeshLoadOptions&
   return out;
 }
 
+std::string flipped_surface_note(const std::string& path) {
+  return path + ": the surface is oriented inward (its triangles face into the organ): it is used flipped outward";
+}
+
 bool save_obj(const vdm::SurfaceMesh& mesh, const std::string& path, const std::string& header,
               std::string& error) {
   std::ofstream f(path);

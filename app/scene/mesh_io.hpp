@@ -27,6 +27,10 @@ struct MeshLoadOptions {
 
 MeshLoadResult load_surface_mesh(const std::string& path, const MeshLoadOptions& options = {});
 
+// What every command that loads an organ says, as a warning, when its surface was inward and
+// has been flipped (MeshLoadResult::flipped): "<path>: the surface is oriented inward ...".
+std::string flipped_surface_note(const std::string& path);
+
 // Writes a Wavefront OBJ (positions and triangles, full precision). False with a message
 // naming the file on failure.
 bool save_obj(const vdm::SurfaceMesh& mesh, const std::string& path, const std::string& header,

@@ -8,6 +8,38 @@
 #include <vector>
 
 namespace vdmsim {
+namespace {
+
+// The whole token as a number (strtod's syntax); false when anything is left after it.
+bool parse_number(const std::string& tok, double& out) {
+  char* end = nullptr;
+  out = std::strtod(tok.c_str(), &end);
+  return end != tok.c_str() && *end == '\0';
+}
+
+// A whole token as a whole number.
+bool parse_integer(const std::string& tok, long& out) {
+  char* end = nullptr;
+  errno = 0;
+  out = std::strtol(tok.c_str(), &end, 10);
+  return end != tok.c_str() && *end == '\0' && errno == 0;
+}
+
+// A face corner: "i", "i/t", "i//n" or "i/t/n", each part a whole number; `vertex` is i.
+bool parse_face_corner(const std::string& tok, long& vertex) {
+  std::vector<std::string> parts(1);
+  for (const char c : tok) {
+    if (c == '/') parts.emplace_back();
+    else parts.back() += c;
+  }
+  if (parts.size() > 3 || !parse_integer(parts[0], vertex)) return false;
+  long ignored = 0;
+  for (size_t k = 1; k < parts.size(); ++k)
+    if (!(k == 1 && parts.size() == 3 && parts[k].empty()) && !parse_integer(parts[k], ignored)) return false;
+  return true;
+}
+
+}  // namespace
 
 bool read_obj(const std::string& path, vdm::SurfaceMesh& mesh, std::string& error) {
   std::ifstream f(path, std::ios::binary);
@@ -30,25 +62,28 @@ bool read_obj(const std::string& path, vdm::SurfaceMesh& mesh, std::string& erro
     ++line_no;
     if (line.size() < 2) continue;
     if (line[0] == 'v' && (line[1] == ' ' || line[1] == '\t')) {
-      const char* p = line.c_str() + 2;
+      // x y z, then optionally w or a colour: every token a number with nothing after it
+      // ("0.05abc" is an error, not 0.05).
+      std::istringstream ls(line.substr(2));
+      std::string tok;
       vdm::Vec3 x;
-      for (int d = 0; d < 3; ++d) {
-        char* end = nullptr;
-        errno = 0;
-        x[d] = std::strtod(p, &end);
-        if (end == p) return fail("a vertex needs three numbers: '" + line.substr(0, 80) + "'");
-        p = end;
+      int count = 0;
+      while (ls >> tok) {
+        double value = 0;
+        if (!parse_number(tok, value))
+          return fail("'" + tok.substr(0, 40) + "' is not a number (in '" + line.substr(0, 80) + "')");
+        if (count < 3) x[count] = value;
+        ++count;
       }
+      if (count < 3) return fail("a vertex needs three numbers: '" + line.substr(0, 80) + "'");
       v.push_back(x);
     } else if (line[0] == 'f' && (line[1] == ' ' || line[1] == '\t')) {
       poly.clear();
       std::istringstream ls(line.substr(2));
       std::string tok;
       while (ls >> tok) {
-        char* end = nullptr;
-        const long idx = std::strtol(tok.c_str(), &end, 10);  // "i", "i/t", "i//n", "i/t/n"
-        if (end == tok.c_str() || (*end != '\0' && *end != '/'))
-          return fail("bad face index '" + tok.substr(0, 40) + "'");
+        long idx = 0;
+        if (!parse_face_corner(tok, idx)) return fail("bad face index '" + tok.substr(0, 40) + "'");
         const long resolved = idx > 0 ? idx - 1 : static_cast<long>(v.size()) + idx;  // negative: relative
         if (idx == 0 || resolved < 0 || resolved >= static_cast<long>(v.size())) {
           std::ostringstream m;

@@ -1,5 +1,7 @@
 #include "app/scene/scene.hpp"
 
+#include "app/scene/utf8.hpp"
+
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -871,6 +873,14 @@ SceneLoadResult load_scene(const std::string& path) {
     res.problems.push_back({path, "scene", "no such scene file", false});
     return res;
   }
+  // Bounded before parsing: the YAML tree of a large file takes about 80 times its size.
+  if (const auto bytes = std::filesystem::file_size(path, ec); !ec && bytes > kMaxSceneFileBytes) {
+    res.problems.push_back({path, "scene",
+                            "the file is " + std::to_string(bytes) + " bytes, more than the limit of " +
+                                std::to_string(kMaxSceneFileBytes) + " (10 MB) for a scene file",
+                            false});
+    return res;
+  }
   YAML::Node root;
   try {
     const std::vector<YAML::Node> documents = YAML::LoadAllFromFile(path);
@@ -897,7 +907,14 @@ SceneLoadResult load_scene(const std::string& path) {
   }
   r.check_keys(root, "", "");
   const std::filesystem::path base = std::filesystem::path(path).parent_path();
-  if (const YAML::Node n = root["name"]) r.text(n, "name", s.name);
+  if (const YAML::Node n = root["name"]) {
+    // Into run.json, messages and the default folder name: UTF-8 only.
+    if (r.text(n, "name", s.name))
+      if (const size_t bad = invalid_utf8_at(s.name); bad != std::string::npos) {
+        r.error(n, "name", "not valid UTF-8 (byte " + std::to_string(bad + 1) + " of the name): save the scene as UTF-8");
+        s.name.clear();
+      }
+  }
   if (s.name.empty()) s.name = std::filesystem::path(path).stem().string();
   if (const YAML::Node organ = r.required(root, "organ", "", "the organ: {mesh, material, ...}")) read_organ(r, organ, s, base);
   if (const YAML::Node sim = root["simulation"]) read_simulation(r, sim, s);

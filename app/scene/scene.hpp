@@ -2,6 +2,7 @@
 // Scene files (YAML, architecture.md): parsed into plain, immutable data, validated before
 // anything runs. Every problem is reported as "file:line:col: field: what was expected".
 #include <array>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -150,6 +151,13 @@ struct SceneLoadResult {
   std::vector<SceneProblem> problems;  // errors and warnings, in file order
   bool ok() const;
 };
+
+// The most frames a run may have (simulation.frames, --frames): a run keeps a few numbers per
+// frame (the step times).
+constexpr int kMaxFrames = 10000000;
+
+// Scene files larger than this are refused before they are parsed.
+constexpr std::uintmax_t kMaxSceneFileBytes = 10u << 20;
 
 SceneLoadResult load_scene(const std::string& path);
 

@@ -124,7 +124,7 @@ inline constexpr SceneKey kSceneKeys[] = {
       .eg("loads: [{sphere: {center: [0, 0, 0.06], radius: 0.02}, force: [0, 0, -2], t: [0, 1]}]"),
   key("organ.prescribed", KT::region_list, "Prescribed motion: a region's nodes moved rigidly from rest, ramped over a time interval.")
       .eg("prescribed: [{nodes: [5, 6], translate: [0, 0, -0.015], t: [0, 1]}]"),
-  key("organ.tet_size", KT::number, "`model: fem` only: the largest tetrahedron edge; 0 grades the tetrahedra from the surface.")
+  key("organ.tet_size", KT::number, "`model: fem` only: the largest tetrahedron edge; 0 grades the tetrahedra from the surface. Refused when the organ would need more than 5 million tetrahedra of that edge (its volume over a regular tetrahedron's).")
       .in("m").range(0, std::numeric_limits<double>::infinity())
       .by_default([] { return yaml_number(SceneDef().tet_size); }).eg("tet_size: 0.01"),
 
@@ -192,7 +192,7 @@ inline constexpr SceneKey kSceneKeys[] = {
       .eg("t: [0.5, 1.5]"),
 
   // simulation
-  key("simulation.frames", KT::integer, "How many frames to simulate: one quasi-static step per frame.").range(1, 10000000)
+  key("simulation.frames", KT::integer, "How many frames to simulate: one quasi-static step per frame.").range(1, kMaxFrames)
       .by_default([] { return std::to_string(SceneDef().frames); }).eg("frames: 90"),
   key("simulation.dt", KT::number, "Simulated time per frame.").in("s").above(0, 10)
       .by_default([] { return yaml_number(SceneDef().dt); }).eg("dt: 0.0333333"),
@@ -302,7 +302,7 @@ inline constexpr SceneKey kSceneKeys[] = {
       .range(0, std::numeric_limits<double>::infinity())
       .allowing(">= 0, and <= the radius (cylinder) or half the smallest size (box)").for_shapes("cylinder box")
       .by_default([] { return yaml_number(tools::ProbeShape().rounding); }).eg("type: box, size: [0.03, 0.006, 0.08], rounding: 0.0005"),
-  key("instruments[].shape.mesh", KT::file, "The mesh whose convex hull is the shape.").for_shapes("convex").needed()
+  key("instruments[].shape.mesh", KT::file, "The mesh whose convex hull is the shape: at most 10,000 vertices (after coincident ones are merged).").for_shapes("convex").needed()
       .eg("type: convex, mesh: ../meshes/tool.obj"),
   key("instruments[].shape.scale", KT::number, "Multiplies the mesh's coordinates to give metres.").in("mesh units -> m")
       .above(0).for_shapes("convex").by_default([] { return yaml_number(ConvexDef().scale); })
@@ -370,7 +370,7 @@ inline constexpr SceneKey kSceneKeys[] = {
       .by_default([] { return yaml_bool(RenderDef().settings.shadows); }).eg("shadows: false"),
   key("render.png_compression", KT::integer, "The PNG files' zlib level (1 is fast and about as small as 6 for these "
       "images).").range(0, 9).by_default([] { return std::to_string(RenderDef().png_compression); }).eg("png_compression: 6"),
-  key("render.fps", KT::number, "The video's frame rate (`run --video`).").in("frames per second").above(0, 240)
+  key("render.fps", KT::number, "The video's frame rate (`run --video`).").in("frames per second").range(1, 240)
       .by_default([] { return yaml_number(RenderDef().fps); }).eg("fps: 60"),
 
   // render.camera

@@ -6,6 +6,7 @@
 
 #include "app/scene/mesh_io.hpp"
 #include "app/simulation/organ_models.hpp"
+#include "app/simulation/tet_budget.hpp"
 
 namespace vdmsim {
 
@@ -154,6 +155,7 @@ bool prepare_scene_def(const SceneDef& scene, PreparedScene& out, std::vector<Sc
     problems.push_back({s.file, "organ.mesh", mesh.error, false});
     return false;
   }
+  if (mesh.flipped) problems.push_back({s.file, "organ.mesh", flipped_surface_note(s.mesh_path), true});
   vdm::SurfaceMesh placed = mesh.mesh;
   place_organ(placed.positions, s.rotate_deg, s.translate);
   vdm::TissueDef def = vdm::default_tissue(placed);
@@ -191,6 +193,10 @@ bool prepare_scene_def(const SceneDef& scene, PreparedScene& out, std::vector<Sc
   std::string error;
   if (!vdm::build_tissue_model(def, out.model, error)) {
     problems.push_back({s.file, "organ", error, false});
+    return false;
+  }
+  if (s.model == vdm::ModelKind::fem && !check_tet_budget(out.model.rest, s.tet_size, error)) {
+    problems.push_back({s.file, "organ.tet_size", error, false});
     return false;
   }
   if (!build_reference_model(s, out.model, out.reference, error)) {

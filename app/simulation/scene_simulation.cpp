@@ -1,6 +1,7 @@
 #include "app/simulation/scene_simulation.hpp"
 
 #include "app/simulation/organ_models.hpp"
+#include "app/simulation/tool_depth.hpp"
 #include "engine/state_snapshot.hpp"
 #include "engine/stopwatch.hpp"
 
@@ -36,6 +37,7 @@ SceneSimulation::SceneSimulation(const PreparedScene& ps)
   instrument_force_.assign(s.instruments.size(), vdm::Vec3::Zero());
   const vdm::NodeMat& X = ps.model.rest.positions;
   organ_size_ = (X.colwise().maxCoeff() - X.colwise().minCoeff()).norm();
+  holder_.assign(static_cast<size_t>(ps.model.n), -1);
   peak_force_.assign(s.instruments.size(), 0.0);
   if (s.has(Effect::grasp)) grasps_.resize(graspers_.size());
   // External forces only when the scene has loads: an empty force is none (1 MB at 40k nodes).
@@ -66,6 +68,47 @@ std::string SceneSimulation::unsound() const {
                   "range",
                   moved, size);
     return text;
+  }
+  if (!conflict_.empty()) return conflict_;
+  return deep_probe();
+}
+
+void SceneSimulation::note_hold(int node, int holder, const vdm::Vec3& before, const vdm::Vec3& after) {
+  const int earlier = holder_[static_cast<size_t>(node)];
+  holder_[static_cast<size_t>(node)] = holder;
+  if (earlier == -1) return;
+  // Apart by more than 5 % of the organ's size: not two holds of one piece of tissue moving
+  // together, but the tissue torn between them.
+  const double gap = (after - before).norm();
+  if (!(gap > 0.05 * organ_size_) || gap <= conflict_gap_) return;
+  conflict_gap_ = gap;
+  const auto name = [](int h) {
+    return h >= 0 ? "instruments[" + std::to_string(h) + "]" : "organ.prescribed[" + std::to_string(-2 - h) + "]";
+  };
+  char gap_text[32];
+  std::snprintf(gap_text, sizeof gap_text, "%.3g", gap);
+  conflict_ = "node " + std::to_string(node) + " is held by both " + name(earlier) + " and " + name(holder) +
+              ", which move it to places " + gap_text +
+              " m apart: they pull the same tissue against each other (the model cannot tear tissue)";
+}
+
+// A probe's tip deeper inside the organ than 1 cm and twice the probe's size: contact could
+// not push the organ away (a rigid material, bulk_modulus inf, or nodes held in place), and the
+// force it reports is not the tissue's.
+std::string SceneSimulation::deep_probe() const {
+  if (!contact_simulated()) return "";
+  for (size_t k = 0; k < probes_.size(); ++k) {
+    const vdm::Vec3 tip = tools::pose_at(*probes_[k], time_).tip;
+    const double limit = std::max(0.01, 2 * tools::instrument_size(*probes_[k]));
+    const double depth = depth_inside(state_.x, ps_.model.rest.triangles, tip);
+    if (depth > limit) {
+      char text[300];
+      std::snprintf(text, sizeof text,
+                    "instruments[%zu]'s tip is %.3g m inside the organ (more than %.3g m): contact could not push the "
+                    "organ away (is it rigid, bulk_modulus inf, or held in place?) and its force would be wrong",
+                    probe_index_[k], depth, limit);
+      return text;
+    }
   }
   return "";
 }
@@ -167,6 +210,11 @@ void SceneSimulation::advance(int f) {
     const vdm::Vec3 per_node = ramp(t, s.loads[k].t0, s.loads[k].t1) * s.loads[k].force / double(nodes.size());
     for (int i : nodes) input_.force.row(i) += per_node.transpose();
   }
+  // Every hold of a node (organ.prescribed, a grasp) is noted: two that move one node to
+  // places far apart pull the tissue against each other (unsound()).
+  std::fill(holder_.begin(), holder_.end(), -1);
+  conflict_.clear();
+  conflict_gap_ = 0;
   for (size_t k = 0; k < s.prescribed.size(); ++k) {
     const PrescribedDef& p = s.prescribed[k];
     const double a = ramp(t, p.t0, p.t1);
@@ -174,8 +222,10 @@ void SceneSimulation::advance(int f) {
     const vdm::Vec3 c = ps_.prescribed_about[k];
     for (int i : ps_.prescribed_nodes[k]) {
       const vdm::Vec3 X = m.rest.positions.row(i);
+      const vdm::Vec3 before = input_.prescribed_u.row(i);
       input_.prescribed.row(i).setOnes();
       input_.prescribed_u.row(i) = (R * (X - c) + c + a * p.translate - X).transpose();
+      note_hold(i, -2 - static_cast<int>(k), before, input_.prescribed_u.row(i).transpose());
     }
   }
   times_.loads += ms_since(t_loads);
@@ -183,7 +233,11 @@ void SceneSimulation::advance(int f) {
   for (size_t k = 0; k < grasps_.size(); ++k) {
     const tools::InstrumentPose pose = tools::pose_at(*graspers_[k], t);
     grasps_[k].update(*graspers_[k], pose, state_.x);
+    earlier_hold_.clear();
+    for (int i : grasps_[k].held()) earlier_hold_.emplace_back(i, input_.prescribed_u.row(i).transpose());
     grasps_[k].apply(pose, m.rest.positions, input_);
+    for (const auto& [i, before] : earlier_hold_)
+      note_hold(i, static_cast<int>(grasper_index_[k]), before, input_.prescribed_u.row(i).transpose());
   }
   if (!grasps_.empty()) times_.grasp += ms_since(t_grasp);
 

@@ -51,8 +51,10 @@ class SceneSimulation {
   long unconverged_contact_steps() const { return unconverged_steps_; }
   long contact_iterations() const { return contact_iterations_; }
   // Why the last frame's results cannot be trusted, or empty: a non-finite value among those a
-  // run writes (displacement, volume, pressure, residual, stress, reactions, forces), or a
-  // displacement larger than twice the organ's size (a material or load far out of range).
+  // run writes (displacement, volume, pressure, residual, stress, reactions, forces), a
+  // displacement larger than twice the organ's size (a material or load far out of range), two
+  // holds (graspers, organ.prescribed) moving the same node to places far apart, or a probe's
+  // tip far inside the organ (contact could not push it away: a rigid organ?).
   std::string unsound() const;
   const StageTimes& stage_times() const { return times_; }
   // A snapshot of the simulation between frames (the engine's state with its warm starts and
@@ -82,6 +84,15 @@ class SceneSimulation {
   std::vector<double> peak_force_;
   long unconverged_steps_ = 0, contact_iterations_ = 0;
   double organ_size_ = 0;  // the rest surface's bounding-box diagonal (m), for unsound()
+  // Holds of the same node against each other, found by advance(): the node's holders
+  // (per node: -1 none, k >= 0 instruments[k], <= -2 organ.prescribed[-2 - k]) and the
+  // message of the farthest apart this frame (empty: none).
+  std::vector<int> holder_;
+  std::vector<std::pair<int, vdm::Vec3>> earlier_hold_;  // (node, its earlier holder's target)
+  double conflict_gap_ = 0;
+  std::string conflict_;
+  void note_hold(int node, int holder, const vdm::Vec3& before, const vdm::Vec3& after);
+  std::string deep_probe() const;
   // The forces of the frame just simulated (instrument_force_, peak_force_).
   void measure_forces();
 };

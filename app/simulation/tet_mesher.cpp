@@ -1,5 +1,7 @@
 #include "app/simulation/tet_mesher.hpp"
 
+#include "app/simulation/tet_budget.hpp"
+
 #include <dlfcn.h>
 #include <gmshc.h>  // the C API's declarations only: the library is opened on first use
 
@@ -232,6 +234,7 @@ bool mesh_box_with_disk(const BoxWithDisk& c, vdm::fem::TetMesh& out, std::strin
 
 bool tetrahedralize(const vdm::SurfaceMesh& surface, double max_size, vdm::fem::TetMesh& out, std::string& error,
                     TetInterior interior) {
+  if (!check_tet_budget(surface, max_size, error)) return false;
   const int ns = surface.node_count();
   std::vector<std::size_t> tags(static_cast<size_t>(ns));
   std::vector<double> coords(3 * static_cast<size_t>(ns));

@@ -144,6 +144,8 @@ TEST(BadInputCli, EveryBrokenSceneExitsWith2NamingFileAndProblem) {
        "instruments[0].radius"},
       {"not_yaml.yaml", "organ: [unclosed\n", "not valid YAML"},
       {"antialias.yaml", scene("", ok_sim, "render: {antialias: fxaa}\n"), "render.antialias"},
+      // Issue 31: a Latin-1 name made run.json invalid JSON.
+      {"latin1_name.yaml", "name: caf\xe9" + scene("", ok_sim).substr(9), "name: not valid UTF-8"},
   };
   for (const SceneCase& c : cases) {
     const std::string p = write(c.name, c.text);

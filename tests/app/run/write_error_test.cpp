@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -76,4 +77,52 @@ TEST(WriteError, AFullDiskStopsTheRunCleanlyAndKeepsEarlierFrames) {
     std::string error;
     EXPECT_TRUE(render::read_png((run / "frames" / name).string(), im, error)) << error;
   }
+}
+
+// Issue 31: a disk that fills up before the 30th frame (the first periodic checkpoint) left
+// nothing to resume and a 0-byte run.json.tmp. Now the first checkpoint follows the first
+// frame, a write that fails leaves no .tmp behind, and the run resumes to the end.
+TEST(WriteError, AFullDiskEarlyLeavesAResumableRunAndNoTmpFile) {
+  const fs::path out = fs::path(VDMSIM_BUILD_DIR) / "test-output" / "write_error_early";
+  fs::remove_all(out);
+  fs::create_directories(out);
+  const std::string scene = (out / "early.yaml").string();
+  std::ofstream(scene) << "name: early\norgan:\n  mesh: " << VDMSIM_SOURCE_DIR
+                       << "/assets/meshes/liver_L4.obj\n"
+                          "  fixed: [{box: {min: [-0.3, -0.2, -0.2], max: [0.3, 0.2, -0.03]}}]\n"
+                          "  prescribed: [{sphere: {center: [0.035, 0, 0.06], radius: 0.015}, translate: [0, 0, -0.01], "
+                          "t: [0, 0.4]}]\n"
+                          "simulation: {frames: 40, dt: 0.01, effects: []}\n";
+  const fs::path run = out / "run";
+  const pid_t pid = fork();
+  if (pid == 0) {
+    // Files may not grow past 700 bytes: metrics.csv reaches it after a few rows, run.json (900
+    // bytes) cannot be written at all; checkpoint.json (300 bytes) fits.
+    signal(SIGXFSZ, SIG_IGN);
+    rlimit lim{700, 700};
+    setrlimit(RLIMIT_FSIZE, &lim);
+    const std::string log = (out / "stderr.txt").string();
+    freopen(log.c_str(), "w", stderr);
+    freopen("/dev/null", "w", stdout);
+    execl(VDMSIM_BINARY, VDMSIM_BINARY, "run", scene.c_str(), "--out", run.string().c_str(), "--no-render", (char*)nullptr);
+    _exit(127);
+  }
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 1);
+  std::stringstream err;
+  err << std::ifstream(out / "stderr.txt").rdbuf();
+  EXPECT_NE(err.str().find("metrics.csv"), std::string::npos) << err.str();
+  EXPECT_NE(err.str().find("run.json"), std::string::npos) << err.str();
+  for (const auto& entry : fs::directory_iterator(run))
+    EXPECT_NE(entry.path().extension(), ".tmp") << entry.path() << " left behind";
+  ASSERT_TRUE(fs::exists(run / "checkpoint.json")) << err.str();
+  // With room again, the run continues from its checkpoint to the end.
+  const std::string resume = std::string(VDMSIM_BINARY) + " run " + scene + " --out " + run.string() + " --no-render --resume";
+  EXPECT_EQ(std::system((resume + " > " + (out / "resume.txt").string() + " 2>&1").c_str()), 0);
+  std::stringstream js;
+  js << std::ifstream(run / "run.json").rdbuf();
+  EXPECT_NE(js.str().find("\"status\": \"completed\""), std::string::npos) << js.str();
+  EXPECT_NE(js.str().find("\"frames\": 40"), std::string::npos) << js.str();
 }

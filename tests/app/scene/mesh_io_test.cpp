@@ -225,6 +225,33 @@ TEST(MeshIoErrors, NanCoordinate) {
   expect_error(load_surface_mesh(p), p, "non-finite");
 }
 
+TEST(MeshIoErrors, ObjNumberWithTrailingCharactersNamesTheLine) {
+  // Issue 31: "0.05abc" was read as 0.05. Each case breaks line 3 of the octahedron.
+  const std::string verts[] = {"v 1 0 0", "v -1 0 0", "v 0 1 0", "v 0 -1 0", "v 0 0 1", "v 0 0 -1"};
+  const std::string faces = "f 1 3 5\nf 3 2 5\nf 2 4 5\nf 4 1 5\nf 3 1 6\nf 2 3 6\nf 4 2 6\nf 1 4 6\n";
+  for (const std::string& bad : {std::string("v 0 1 0.05abc"), std::string("v 0abc 1 0"), std::string("v 0 1,5 0"),
+                                 std::string("v 0 1 0 1x")}) {
+    std::string text;
+    for (int i = 0; i < 6; ++i) text += (i == 2 ? bad : verts[i]) + "\n";
+    const std::string p = write_text("trailing.obj", text + faces).string();
+    const MeshLoadResult r = load_surface_mesh(p);
+    expect_error(r, p + ": line 3: ", "is not a number");
+  }
+  for (const std::string& bad : {std::string("f 1 3 5x"), std::string("f 1/2abc 3 5"), std::string("f 1//x 3 5")}) {
+    std::string text;
+    for (const std::string& v : verts) text += v + "\n";
+    const std::string p = write_text("trailing_face.obj", text + bad + "\n" + faces.substr(faces.find('\n') + 1)).string();
+    expect_error(load_surface_mesh(p), p + ": line 7: ", "bad face index");
+  }
+  // What OBJ allows stays valid: a w coordinate, a colour, texture and normal indices, CRLF.
+  std::string ok;
+  for (const std::string& v : verts) ok += v + " 1\r\n";
+  ok += "vt 0 0\nvn 0 0 1\nf 1/1/1 3//1 5/1\r\n" + faces.substr(faces.find('\n') + 1);
+  const MeshLoadResult r = load_surface_mesh(write_text("allowed.obj", ok).string());
+  EXPECT_TRUE(r.ok) << r.error;
+  EXPECT_EQ(r.mesh.node_count(), 6);
+}
+
 TEST(MeshIoErrors, OpenSurface) {
   vdm::SurfaceMesh m = reference_box();
   m.triangles.conservativeResize(m.triangle_count() - 2, 3);

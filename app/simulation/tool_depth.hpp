@@ -1,0 +1,13 @@
+#pragma once
+// How deep a point is inside an organ's closed surface (its current positions): for the run's
+// guard against an instrument far inside the organ, which contact could not push away (a
+// rigid material, nodes held in place) while the run reported no force.
+#include "engine/types.hpp"
+
+namespace vdmsim {
+
+// The distance from `p` to the surface when `p` is inside it (its winding number over the
+// outward triangles is about 1), else 0. O(triangles).
+double depth_inside(const vdm::NodeMat& x, const vdm::TriMat& triangles, const vdm::Vec3& p);
+
+}  // namespace vdmsim
