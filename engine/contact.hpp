@@ -3,6 +3,7 @@
 // kinematic: nodes that penetrate an instrument are projected onto its surface and held
 // there as prescribed displacements for the step; nodes whose reaction would pull the
 // instrument (adhesion) are released and the step solved again (active set).
+// Option constraint (sliding, with Coulomb friction): engine/contact_constraint.cpp.
 // Option penalty (frictionless): the surface triangles are sampled, and every sample inside
 // an instrument is pushed out along the instrument's normal by the pressure k_c * depth,
 // spread on the triangle's nodes by barycentric weights (so a thin probe between nodes still
@@ -86,8 +87,8 @@ struct ContactSettings {
   int max_constraint_iterations = 30;
   // constraint: the step's contact solve has converged when no contact point is off the tool's
   // surface (inside it, or apart from it while pushed) by more than this fraction of the
-  // smallest tool's size, no sticking point slipped by more, and the last Gauss-Seidel pass
-  // changed no force by more than 1e-3 of the largest.
+  // smallest tool's size, no sticking point slipped by more, and the forces the last
+  // Gauss-Seidel pass found would move none by more.
   double constraint_tolerance = 0.005;
   // constraint: the rings of neighbours around the contact nodes on which their compliance
   // is computed (engine/contact_compliance.hpp).

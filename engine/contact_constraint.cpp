@@ -12,11 +12,11 @@
 // and slips measured, then a projected Gauss-Seidel over the contacts finds the forces that
 // satisfy the laws on the linear model `point = point_solved + W (f - f_solved)`, and the
 // organ is solved again with them. W, the compliance between contact points, comes from
-// PatchCompliance (the nodes' compliance on a patch of the surface around them; the fluid's
-// pressure and the organ outside the patch only stiffen it), times a scale fitted after each
-// solve to what the solve moved against what W predicted. The loop ends when the measured
-// gaps and slips are within the tolerance and the Gauss-Seidel changes no force: the state is
-// then the organ's exact equilibrium under forces that satisfy the laws.
+// PatchCompliance (the nodes' compliance on a patch of the surface around them), times a
+// scale fitted after the first correction to what the solve moved against what W
+// predicted. The loop ends when the measured gaps and slips are within the tolerance and the
+// forces the pass found would move no point by more: the state is then the organ's exact
+// equilibrium under forces that satisfy the laws.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
