@@ -107,6 +107,15 @@ double deepest_in_triangle(const ToolShape& t, const Vec3& a, const Vec3& b, con
   return best;
 }
 
+
+// Contact points in a fixed order (tool, triangle, node), whatever order the broad phase
+// found them in: the Gauss-Seidel's result depends on the order.
+bool in_order(const ContactPoint& a, const ContactPoint& b) {
+  if (a.tool != b.tool) return a.tool < b.tool;
+  if (a.triangle != b.triangle) return a.triangle < b.triangle;
+  return a.node[0] < b.node[0];
+}
+
 }  // namespace
 
 void ContactSolver::find_contact_points(const TissueModel& m, const StepInput& base, const std::vector<ToolShape>& tools,
@@ -245,6 +254,7 @@ void ContactSolver::step_constraint(const TissueModel& m, const StepInput& base,
   contacts_.clear();
   // Before the solve the positions are the step's start.
   find_contact_points(m, base, tools, s.x, s.u, settings_.activation, true, rep);
+  std::sort(contacts_.begin(), contacts_.end(), in_order);
   rep.collision_ms += ms_since(t0);
 
   const int max_it = std::max(1, settings_.max_constraint_iterations);
@@ -286,6 +296,7 @@ void ContactSolver::step_constraint(const TissueModel& m, const StepInput& base,
     const size_t before = contacts_.size();
     find_contact_points(m, base, tools, s.x, s.work->start.u, -settings_.constraint_tolerance, false, rep);
     const bool added = contacts_.size() > before;
+    if (added) std::sort(contacts_.begin(), contacts_.end(), in_order);
     const int C = static_cast<int>(contacts_.size());
     if (C == 0) {
       rep.converged = true;
