@@ -5,6 +5,7 @@
 #include <iomanip>
 #include <sstream>
 
+#include "app/check/scene_sanity.hpp"
 #include "app/mesh_prep/self_intersections.hpp"
 #include "app/scene/mesh_io.hpp"
 #include "app/scene/organ_generator.hpp"
@@ -127,11 +128,18 @@ int cmd_check(const std::string& scene_path, std::ostream& out, std::ostream& er
   PreparedScene ps;
   std::vector<SceneProblem> problems;
   const bool ok = prepare_scene(scene_path, ps, problems);
-  if (!report(problems, err) || !ok) return 2;
+  if (!ok) {
+    report(problems, err);
+    return 2;
+  }
+  const SanityReport sanity = scene_sanity(ps);
+  problems.insert(problems.end(), sanity.problems.begin(), sanity.problems.end());
+  if (!report(problems, err)) return 2;
   out << scene_path << ": ok (" << ps.model.n << " nodes, " << ps.scene.frames << " frames of " << ps.scene.dt
       << " s, effects:";
   for (Effect e : ps.scene.effects) out << ' ' << to_string(e);
   out << ")\n";
+  print_sanity(ps, sanity, out);
   return 0;
 }
 

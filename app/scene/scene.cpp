@@ -308,6 +308,28 @@ void check_vdm_conditioning(Reader& r, const YAML::Node& mat, const SceneDef& s)
   }
 }
 
+// Warns about the organ keys that organ.model does not use (they would change nothing).
+void warn_unused_by_model(Reader& r, const YAML::Node& organ, vdm::ModelKind model) {
+  struct Use {
+    const char* key;  // under organ.material, or organ.tet_size
+    bool vdm, fem, mass_spring;
+  };
+  static const Use uses[] = {{"connectivity_modulus", true, false, false}, {"capsule", true, false, false},
+                             {"poisson_ratio", true, true, false},        {"thickness", false, false, true},
+                             {"volume_modulus", false, false, true},      {"tet_size", false, true, false}};
+  const YAML::Node mat = organ["material"];
+  for (const Use& u : uses) {
+    const bool top = std::string(u.key) == "tet_size";
+    if (!top && !(mat && mat.IsMap())) continue;
+    const YAML::Node n = top ? organ[u.key] : mat[u.key];
+    if (!n) continue;
+    const bool used = model == vdm::ModelKind::vdm ? u.vdm : model == vdm::ModelKind::fem ? u.fem : u.mass_spring;
+    if (used) continue;
+    r.warn(n, std::string(top ? "organ." : "organ.material.") + u.key,
+           std::string("ignored by organ.model ") + vdm::to_string(model) + " (docs/scene-reference.md says which models use it)");
+  }
+}
+
 void read_organ(Reader& r, const YAML::Node& organ, SceneDef& s, const std::filesystem::path& base) {
   const std::string f = "organ";
   if (!r.require_map(organ, f)) return;
@@ -389,8 +411,10 @@ void read_organ(Reader& r, const YAML::Node& organ, SceneDef& s, const std::file
         }
       }
       if (s.model == vdm::ModelKind::vdm) check_vdm_conditioning(r, mat, s);
+      s.material_given = true;
     }
   }
+  warn_unused_by_model(r, organ, s.model);
   if (const YAML::Node list = organ["fixed"]) {
     if (r.require_sequence(list, "organ.fixed"))
       for (size_t i = 0; i < list.size(); ++i) {

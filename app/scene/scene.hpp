@@ -116,6 +116,7 @@ struct SceneDef {
   double thickness = 0.005;     // mass_spring: skin thickness giving the springs' stiffness (m)
   double volume_modulus = 0;    // mass_spring: volume spring K_v (Pa), 0 = none
   double tet_size = 0;          // fem: largest tet edge (m) for gmsh, 0 = graded from the surface
+  bool material_given = false;  // the scene has organ.material (false: every modulus is a default)
   std::vector<FixedDef> fixed;
   std::vector<LoadDef> loads;
   std::vector<PrescribedDef> prescribed;

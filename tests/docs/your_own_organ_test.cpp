@@ -56,7 +56,7 @@ TEST(YourOwnOrganDoc, TheTutorialRunsEndToEnd) {
   ASSERT_GE(page.commands.size(), 7u);
   ASSERT_NE(page.yaml.find("name: my_liver"), std::string::npos);
   std::ofstream(work / "my_organ/my_liver.yaml") << page.yaml;
-  std::string prepare_report, locate_output;
+  std::string prepare_report, locate_output, check_output;
   for (const std::string& cmd : page.commands) {
     int code = -1;
     const std::string output = run(work, cmd, code);
@@ -69,6 +69,7 @@ TEST(YourOwnOrganDoc, TheTutorialRunsEndToEnd) {
     }
     if (cmd.find(" prepare-mesh ") != std::string::npos) prepare_report = output;
     if (cmd.find(" locate ") != std::string::npos) locate_output = output;
+    if (cmd.find(" check ") != std::string::npos) check_output = output;
   }
   EXPECT_NE(prepare_report.find("targets: smallest angle >= 20 deg met, volume within 2 % met, mean distance <= 1.5 mm met"),
             std::string::npos)
@@ -76,6 +77,11 @@ TEST(YourOwnOrganDoc, TheTutorialRunsEndToEnd) {
   EXPECT_NE(prepare_report.find("prepared   10011 nodes"), std::string::npos) << prepare_report;  // as the page shows
   EXPECT_NE(locate_output.find("point: 0.05 0 0.0488382"), std::string::npos) << locate_output;
   EXPECT_NE(locate_output.find("normal: -0.0298858"), std::string::npos) << locate_output;
+  // check's report, as the page shows it: no warning, the probe touching and 10 mm deep.
+  EXPECT_EQ(check_output.find("warning"), std::string::npos) << check_output;
+  EXPECT_NE(check_output.find("fixed:      1578 of 10011 nodes (15.8 %) on every axis"), std::string::npos) << check_output;
+  EXPECT_NE(check_output.find("first touches the organ at t = 0.2667 s, deepest 10.04 mm"), std::string::npos)
+      << check_output;
   EXPECT_TRUE(fs::exists(work / "out/my_liver/run.json"));
 }
 

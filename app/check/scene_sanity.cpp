@@ -1,0 +1,142 @@
+#include "app/check/scene_sanity.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <sstream>
+
+namespace vdmsim {
+
+namespace {
+
+std::string num(double v, int digits = 4) {
+  std::ostringstream s;
+  s << std::setprecision(digits) << v;
+  return s.str();
+}
+
+std::string share(int part, int whole) { return num(whole > 0 ? 100.0 * part / whole : 0.0, 3) + " %"; }
+
+std::string instrument_name(size_t k) {
+  return "instruments[" + std::to_string(k) + "]";
+}
+
+// How far across a region is (m; 0 for node lists and `all`).
+double region_extent(const Region& r) {
+  if (r.kind == Region::Kind::box) return (r.max - r.min).norm();
+  if (r.kind == Region::Kind::sphere) return 2 * r.radius;
+  return 0;
+}
+
+void check_fixed(const SceneDef& s, const FixedCount& c, double organ_size, std::vector<SceneProblem>& out) {
+  if (c.nodes == 0 || c.fixed < c.nodes) return;
+  std::string message = "all " + std::to_string(c.nodes) + " nodes are fixed on every axis: nothing can move";
+  size_t widest = 0;
+  for (size_t k = 0; k < s.fixed.size(); ++k)
+    if (region_extent(s.fixed[k].region) > region_extent(s.fixed[widest].region)) widest = k;
+  const double extent = s.fixed.empty() ? 0 : region_extent(s.fixed[widest].region);
+  if (extent > 10 * organ_size)
+    message += " (organ.fixed[" + std::to_string(widest) + "] is " + num(extent) + " m across, the organ " + num(organ_size) +
+               " m: a region in millimetres? regions are in metres, after organ.scale)";
+  else
+    message += "; fix only the part of the organ that rests on something";
+  out.push_back({s.fixed.empty() ? s.file : s.fixed[widest].region.where, "organ.fixed", message, false});
+}
+
+void check_instruments(const SceneDef& s, const std::vector<InstrumentReach>& reach, double organ_size, double end,
+                       std::vector<SceneProblem>& out) {
+  for (size_t k = 0; k < reach.size(); ++k) {
+    const InstrumentReach& r = reach[k];
+    const InstrumentDef& def = s.instruments[k];
+    const std::string where = k < s.instrument_where.size() ? s.instrument_where[k] : s.file;
+    // A grasper holds the nodes within grasp_width of its closed jaws: it need not touch.
+    const bool grasps = def.type == InstrumentDef::Type::grasper && s.has(Effect::grasp);
+    const bool meant_to_touch = s.has(Effect::contact) || grasps;
+    const double reach = grasps ? def.grasp_width : 0.0;
+    if (meant_to_touch && !r.touches && r.closest > reach) {
+      std::string message = "never touches the organ in the " + std::to_string(s.frames) + " frames (closest " +
+                            num(r.closest) + " m, at t = " + num(r.closest_at) + " s" +
+                            (grasps ? ": farther than its grasp_width, " + num(def.grasp_width) + " m" : "") + ")";
+      if (r.closest > 10 * organ_size)
+        message += ": the organ is " + num(organ_size) + " m across; keyframes in millimetres? tips are in metres";
+      out.push_back({where, instrument_name(k), message, true});
+    }
+    if (r.start_distance < 0)
+      out.push_back({where, instrument_name(k),
+                     "starts inside the organ: " + num(r.start_depth * 1000) +
+                         " mm into the rest surface at t = 0 (a reversed axis, or a tip on the wrong side?)",
+                     true});
+  }
+  // The script that ends last, when it ends after the last frame.
+  double last = 0;
+  size_t which = 0;
+  for (size_t k = 0; k < s.instruments.size(); ++k)
+    for (const Keyframe& key : s.instruments[k].script)
+      if (key.t > last) {
+        last = key.t;
+        which = k;
+      }
+  // A shortfall under 1 % of a frame is the round-off of a dt written with few digits.
+  if (last > end + 0.01 * s.dt) {
+    const long needed = static_cast<long>(std::ceil(last / s.dt - 0.01));
+    out.push_back({s.file, "simulation.frames",
+                   "the script of " + instrument_name(which) + " runs to t = " + num(last) + " s but " +
+                       std::to_string(s.frames) + " frames of " + num(s.dt) + " s end at " + num(end) +
+                       " s: the rest is not simulated; " + std::to_string(needed) + " frames cover it",
+                   true});
+  }
+}
+
+void check_material(const SceneDef& s, std::vector<SceneProblem>& out) {
+  if (s.material_given) return;
+  const SceneDef d;
+  std::string values;
+  if (s.model == vdm::ModelKind::vdm)
+    values = "bulk_modulus " + num(d.bulk_modulus.x(), 6) + " Pa, connectivity_modulus " + num(d.connectivity_modulus, 6) + " Pa";
+  else
+    values = "young_modulus " + num(d.young_modulus, 6) + " Pa" +
+             (s.model == vdm::ModelKind::fem ? ", poisson_ratio " + num(d.poisson_ratio) : ", thickness " + num(d.thickness) + " m");
+  out.push_back({s.file, "organ.material",
+                 "not given: the default material is used (" + values + ", density " + num(d.density, 6) +
+                     " kg/m^3); give your tissue's",
+                 true});
+}
+
+}  // namespace
+
+SanityReport scene_sanity(const PreparedScene& ps) {
+  const SceneDef& s = ps.scene;
+  SanityReport r;
+  r.end_time = s.frames * s.dt;
+  r.fixed = count_fixed(s, ps.model.rest.positions);
+  for (const InstrumentDef& def : s.instruments)
+    r.reach.push_back(instrument_reach(def, ps.model.rest, reach_times(def, s.frames, s.dt)));
+  check_fixed(s, r.fixed, ps.model.size, r.problems);
+  check_instruments(s, r.reach, ps.model.size, r.end_time, r.problems);
+  check_material(s, r.problems);
+  return r;
+}
+
+void print_sanity(const PreparedScene& ps, const SanityReport& report, std::ostream& out) {
+  const SceneDef& s = ps.scene;
+  const FixedCount& c = report.fixed;
+  out << "fixed:      " << c.fixed << " of " << c.nodes << " nodes (" << share(c.fixed, c.nodes) << ") on every axis";
+  if (c.partly) out << ", " << c.partly << " (" << share(c.partly, c.nodes) << ") on some axes";
+  out << "\n";
+  for (size_t k = 0; k < c.per_region.size(); ++k)
+    out << "            organ.fixed[" << k << "]: " << c.per_region[k] << " nodes (" << share(c.per_region[k], c.nodes)
+        << ")\n";
+  for (size_t k = 0; k < report.reach.size(); ++k) {
+    const InstrumentReach& r = report.reach[k];
+    out << instrument_name(k) << " ("
+        << (s.instruments[k].type == InstrumentDef::Type::probe ? "probe" : "grasper") << "): ";
+    if (r.touches)
+      out << "first touches the organ at t = " << num(r.first_touch) << " s, deepest " << num(r.deepest * 1000)
+          << " mm into the rest surface at t = " << num(r.deepest_at) << " s\n";
+    else
+      out << "does not touch the organ (closest " << num(r.closest * 1000) << " mm, at t = " << num(r.closest_at)
+          << " s)\n";
+  }
+}
+
+}  // namespace vdmsim
