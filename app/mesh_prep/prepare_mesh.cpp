@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <exception>
 #include <iomanip>
 #include <sstream>
 
@@ -39,9 +40,7 @@ void print_row(std::ostream& out, const std::string& what, const MeshQuality& q,
       << q.smallest_angle_deg << " deg  mean edge " << q.mean_edge * 1000 << " mm\n";
 }
 
-}  // namespace
-
-int cmd_prepare_mesh(const PrepareMeshOptions& opt, std::ostream& out, std::ostream& err) {
+int prepare_mesh(const PrepareMeshOptions& opt, std::ostream& out, std::ostream& err) {
   const auto t0 = vdm::Clock::now();
   auto progress = [&](const std::string& line) {
     out << "[" << std::fixed << std::setprecision(1) << vdm::ms_since(t0) / 1000 << " s] " << line << "\n" << std::defaultfloat;
@@ -188,6 +187,19 @@ int cmd_prepare_mesh(const PrepareMeshOptions& opt, std::ostream& out, std::ostr
   out << "wrote " << opt.out << " (" << after.nodes << " nodes, closed, outward, no self-intersection) in "
       << std::setprecision(3) << vdm::ms_since(t0) / 1000 << " s\n";
   return 0;
+}
+
+}  // namespace
+
+int cmd_prepare_mesh(const PrepareMeshOptions& opt, std::ostream& out, std::ostream& err) {
+  // CGAL reports what it cannot do with a surface by throwing (its checks and assertions):
+  // that is bad input, not a crash.
+  try {
+    return prepare_mesh(opt, out, err);
+  } catch (const std::exception& e) {
+    err << "vdmsim: error: " << opt.in << ": the mesh library could not process this surface: " << e.what() << "\n";
+    return 2;
+  }
 }
 
 }  // namespace vdmsim
