@@ -99,7 +99,10 @@ RunInputs RunInputs::parse(const std::string& text) {
 
 std::vector<std::string> RunInputs::changes_since(const RunInputs& earlier) const {
   std::vector<std::string> out;
-  for (const auto& [what, h] : items) {
+  // (Items by name, not structured bindings: clang 14, the fuzz build's, cannot capture those.)
+  for (const auto& item : items) {
+    const std::string& what = item.first;
+    const std::string& h = item.second;
     const auto it = std::find_if(earlier.items.begin(), earlier.items.end(), [&](const auto& e) { return e.first == what; });
     if (it == earlier.items.end()) out.push_back(what + " (not in the interrupted run)");
     else if (it->second != h)
@@ -109,8 +112,8 @@ std::vector<std::string> RunInputs::changes_since(const RunInputs& earlier) cons
                          ? " (" + it->second + " then, " + h + " now)"
                          : ""));
   }
-  for (const auto& [what, h] : earlier.items) {
-    (void)h;
+  for (const auto& item : earlier.items) {
+    const std::string& what = item.first;
     if (std::none_of(items.begin(), items.end(), [&](const auto& e) { return e.first == what; }))
       out.push_back(what + " (in the interrupted run, not in this one)");
   }

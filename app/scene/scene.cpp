@@ -10,6 +10,8 @@
 #include <cstdlib>
 #include <filesystem>
 #include <limits>
+#include <fstream>
+#include <iterator>
 #include <sstream>
 
 #include "app/scene/scene_keys.hpp"
@@ -907,17 +909,51 @@ SceneLoadResult load_scene(const std::string& path) {
   }
   YAML::Node root;
   try {
-    const std::vector<YAML::Node> documents = YAML::LoadAllFromFile(path);
-    if (documents.size() > 1) {
+    // One document: yaml-cpp 0.7's LoadAll loops forever on some inputs (the fuzz pass found
+    // ",p, 2"), so the first document is parsed alone and the others found from their markers.
+    std::ifstream in(path, std::ios::binary);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    int documents = 1, second_line = 0;
+    {
+      std::istringstream lines(text);
+      std::string line;
+      bool content = false, ended = false;
+      for (int number = 1; std::getline(lines, line); ++number) {
+        if (!line.empty() && line.back() == '\r') line.pop_back();
+        auto marker = [&](const char* m) {
+          return line.compare(0, 3, m) == 0 && (line.size() == 3 || line[3] == ' ' || line[3] == '\t' || line[3] == '#');
+        };
+        const size_t first = line.find_first_not_of(" \t");
+        const bool blank = first == std::string::npos || line[first] == '#';
+        if (marker("---")) {
+          if (content || ended) {
+            ++documents;
+            if (!second_line) second_line = number;
+            ended = false;
+          }
+          content = line.find_first_not_of(" \t", 3) != std::string::npos && line[line.find_first_not_of(" \t", 3)] != '#';
+        } else if (marker("...")) {
+          ended = content;
+        } else if (!blank && line[0] != '%') {
+          if (ended) {
+            ++documents;
+            if (!second_line) second_line = number;
+            ended = false;
+          }
+          content = true;
+        }
+      }
+    }
+    if (documents > 1) {
       std::ostringstream where;
-      where << path << ':' << documents[1].Mark().line + 1 << ':' << documents[1].Mark().column + 1;
+      where << path << ':' << second_line << ":1";
       res.problems.push_back({where.str(), "scene",
-                              "the file holds " + std::to_string(documents.size()) +
+                              "the file holds " + std::to_string(documents) +
                                   " YAML documents (separated by '---'); a scene is one",
                               false});
       return res;
     }
-    if (!documents.empty()) root = documents[0];
+    root = YAML::Load(text);
   } catch (const YAML::Exception& e) {
     std::ostringstream where;
     where << path << ':' << e.mark.line + 1 << ':' << e.mark.column + 1;
