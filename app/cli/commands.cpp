@@ -112,29 +112,18 @@ int cmd_mesh_info(const std::string& path, double scale, std::ostream& out, std:
   return 0;
 }
 
-namespace {
-// Prints every problem; returns true when there is no error (warnings allowed).
-bool report(const std::vector<SceneProblem>& problems, std::ostream& err) {
-  bool ok = true;
-  for (const SceneProblem& p : problems) {
-    err << (p.warning ? "vdmsim: " : "vdmsim: error: ") << p.text() << "\n";
-    ok = ok && p.warning;
-  }
-  return ok;
-}
-}  // namespace
 
 int cmd_check(const std::string& scene_path, std::ostream& out, std::ostream& err) {
   PreparedScene ps;
   std::vector<SceneProblem> problems;
   const bool ok = prepare_scene(scene_path, ps, problems);
   if (!ok) {
-    report(problems, err);
+    report_problems(problems, err);
     return 2;
   }
   const SanityReport sanity = scene_sanity(ps);
   problems.insert(problems.end(), sanity.problems.begin(), sanity.problems.end());
-  if (!report(problems, err)) return 2;
+  if (!report_problems(problems, err)) return 2;
   out << scene_path << ": ok (" << ps.model.n << " nodes, " << ps.scene.frames << " frames of " << ps.scene.dt
       << " s, effects:";
   for (Effect e : ps.scene.effects) out << ' ' << to_string(e);
@@ -147,7 +136,7 @@ int cmd_run(const std::string& scene_path, const RunOptions& options, std::ostre
   PreparedScene ps;
   std::vector<SceneProblem> problems;
   const bool ok = prepare_scene(scene_path, ps, problems);
-  if (!report(problems, err) || !ok) return 2;
+  if (!report_problems(problems, err) || !ok) return 2;
   return run_scene(ps, options, out, err, terminal);
 }
 

@@ -986,4 +986,13 @@ SceneLoadResult load_scene(const std::string& path) {
   return res;
 }
 
+bool report_problems(const std::vector<SceneProblem>& problems, std::ostream& err) {
+  bool ok = true;
+  for (const SceneProblem& p : problems) {
+    err << (p.warning ? "vdmsim: " : "vdmsim: error: ") << p.text() << "\n";
+    ok = ok && p.warning;
+  }
+  return ok;
+}
+
 }  // namespace vdmsim

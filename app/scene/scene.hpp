@@ -147,6 +147,10 @@ struct SceneProblem {
   std::string text() const;
 };
 
+// Prints every problem to `err` ("vdmsim: error: ..." or "vdmsim: ..." for a warning);
+// true when none is an error.
+bool report_problems(const std::vector<SceneProblem>& problems, std::ostream& err);
+
 struct SceneLoadResult {
   SceneDef scene;
   std::vector<SceneProblem> problems;  // errors and warnings, in file order

@@ -15,15 +15,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-bool report(const std::vector<SceneProblem>& problems, std::ostream& err) {
-  bool ok = true;
-  for (const SceneProblem& p : problems) {
-    err << (p.warning ? "vdmsim: " : "vdmsim: error: ") << p.text() << "\n";
-    ok = ok && p.warning;
-  }
-  return ok;
-}
-
 // Every run's scene must load: a value out of range is the sweep file's error, named at the
 // value (and the scene's own message).
 bool check_run_scenes(const SweepPlan& plan, const fs::path& runs, const std::vector<int>& which, std::ostream& err) {
@@ -65,7 +56,7 @@ int cmd_sweep(const SweepOptions& o, std::ostream& out, std::ostream& err, bool 
   SweepFile sweep;
   std::vector<SceneProblem> problems;
   const bool read = read_sweep_file(o.sweep_file, sweep, problems);
-  if (!report(problems, err) || !read) return 2;
+  if (!report_problems(problems, err) || !read) return 2;
   const SweepPlan plan = plan_sweep(sweep);
   const int n = int(plan.runs.size());
   if (o.task >= n) {
