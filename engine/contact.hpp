@@ -232,8 +232,10 @@ class ContactSolver {
   std::vector<int> compliance_nodes_;           // the nodes of the last compliance computed
   long compliance_refreshes_ = -1;              // the engine's refresh count then
   PatchCompliance compliance_;
-  Eigen::MatrixXd delassus_;                    // 3C x 3C: the compliance in the contacts' frames
-  Eigen::VectorXd residual_c_, lambda_c_, change_c_;
+  // The Gauss-Seidel's arrays, in vectors that keep their capacity (Eigen's resize would
+  // allocate whenever the number of contacts changes): the compliance in the contacts' frames
+  // (3C x 3C, the Delassus operator), residuals, forces, predicted residuals, forces solved with.
+  std::vector<double> delassus_, residual_c_, lambda_c_, change_c_, lambda_solved_;
   std::vector<Eigen::Matrix3d> frames_;
   double compliance_scale_ = 1.0;               // fitted: the organ's compliance over the patch's
   NodeMat contact_force_;                        // N x 3

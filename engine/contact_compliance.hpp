@@ -13,10 +13,13 @@
 // found, corrects both, with a scale fitted to what its first correction moved against
 // what the patch predicted. (A free rim, the other choice, leaves the patch floating along
 // such axes; measured on a sliding probe it took twice the solves.)
+//
+// How: the patch's nodes are numbered ring by ring from the contact nodes outward (breadth
+// first), so every node's neighbours are in its own ring or the next or last: the patch
+// matrix is banded with about a ring's width, and an envelope (skyline) LDL^T factorises it
+// without fill outside the envelope and without a fill-reducing ordering. Every array is kept
+// between calls, so once the patches have reached their working size nothing is allocated.
 #include <vector>
-
-#include <Eigen/Dense>
-#include <Eigen/SparseCholesky>
 
 #include "engine/neighbour_lists.hpp"
 #include "engine/sparse.hpp"
@@ -32,18 +35,24 @@ class PatchCompliance {
   bool compute(const NeighbourLists& neighbours, const AxisStiffness& K, const FlagMat& fixed_a,
                const FlagMat& fixed_b, const std::vector<int>& nodes, int rings);
   // W^d between nodes[a] and nodes[b].
-  double at(int d, int a, int b) const { return w_[d](a, b); }
+  double at(int d, int a, int b) const { return w_[d][static_cast<size_t>(a) * static_cast<size_t>(count_) + b]; }
   int patch_size() const { return static_cast<int>(patch_.size()); }
 
  private:
-  std::vector<int> patch_;  // the patch's nodes (the contact nodes first)
-  std::vector<int> local_;  // N: a node's index in patch_, or -1
-  std::vector<Eigen::Triplet<double>> triplets_;
+  // Factorises the axis-d patch matrix (rows: the patch's unknowns) in place; false if a
+  // pivot is not positive.
+  bool factorise(int rows);
+  std::vector<int> patch_;   // the patch's nodes, ring by ring (the contact nodes first)
+  std::vector<int> local_;   // N: a node's index in patch_, or -1
   std::vector<int> unknown_;  // per patch node: its row in this axis's system, or -1 (fixed)
-  SpMat matrix_;
-  Eigen::SimplicialLDLT<SpMat> ldlt_;
-  Eigen::MatrixXd rhs_, solution_;
-  Eigen::MatrixXd w_[3];
+  std::vector<int> node_of_row_;
+  // The envelope: row r holds columns first_[r] .. r-1 at env_[start_[r] ...], its diagonal
+  // at diag_[r]. After factorise(): L's strictly lower rows and D.
+  std::vector<int> first_;
+  std::vector<size_t> start_;
+  std::vector<double> env_, diag_, work_;
+  int count_ = 0;  // contact nodes
+  std::vector<double> w_[3];  // count_ x count_, row-major
 };
 
 }  // namespace vdm

@@ -24,6 +24,7 @@
 #include <limits>
 
 #include "engine/contact.hpp"
+#include "engine/headroom.hpp"
 #include "engine/step_workspace.hpp"
 #include "engine/stopwatch.hpp"
 
@@ -108,6 +109,23 @@ double deepest_in_triangle(const ToolShape& t, const Vec3& a, const Vec3& b, con
 }
 
 
+// The gap of a surface point to a tool, and the tool's surface point and normal it is measured
+// to: the nearest surface point, except for a point deeper than a quarter of the tool's size.
+// There the tool moved across a good part of itself in one step (a fast tool), the nearest
+// surface may be its far side, and the point is pushed out back along its motion relative to
+// the tool instead (to the face that came to it, as kinematic contact does). `start`: the
+// point at the step's start.
+double contact_gap(const ToolShape& t, const Vec3& point, const Vec3& start, Vec3& surface, Vec3& normal) {
+  const double d = tool_distance(t, point, surface, normal);
+  if (d >= -0.25 * t.size()) return d;
+  Vec3 dir;
+  const Vec3 exit = push_out(t, point, (point - start) - t.motion_at(point), dir);
+  if (!exit.allFinite() || !dir.allFinite()) return d;
+  surface = exit;
+  normal = dir;
+  return -(exit - point).norm();
+}
+
 // Contact points in a fixed order (tool, triangle, node), whatever order the broad phase
 // found them in: the Gauss-Seidel's result depends on the order.
 bool in_order(const ContactPoint& a, const ContactPoint& b) {
@@ -143,6 +161,8 @@ void ContactSolver::find_contact_points(const TissueModel& m, const StepInput& b
     c.gap = gap;
     c.surface = surface;
     c.normal = normal;
+    if (gap < -0.25 * tools[static_cast<size_t>(k)].size())
+      c.gap = contact_gap(tools[static_cast<size_t>(k)], c.point, c.start, c.surface, c.normal);
     if (warm)
       for (const ContactPoint& l : last_contacts_)
         if (l.tool == k && l.triangle == tri && (tri >= 0 || l.node[0] == nodes[0])) {
@@ -291,7 +311,7 @@ void ContactSolver::step_constraint(const TissueModel& m, const StepInput& base,
       c.point = point_of(c, s.x);
       c.solved = c.point;
       const ToolShape& t = tools[static_cast<size_t>(c.tool)];
-      c.gap = tool_distance(t, c.point, c.surface, c.normal);
+      c.gap = contact_gap(t, c.point, c.start, c.surface, c.normal);
     }
     const size_t before = contacts_.size();
     find_contact_points(m, base, tools, s.x, s.work->start.u, -settings_.constraint_tolerance, false, rep);
@@ -316,22 +336,28 @@ void ContactSolver::step_constraint(const TissueModel& m, const StepInput& base,
     if (contact_nodes_ != compliance_nodes_ || compliance_refreshes_ != s.stats.total_refreshes) {
       compliance_.compute(m.neighbours, s.work->K, m.held, base.prescribed, contact_nodes_,
                           std::max(0, settings_.compliance_rings));
-      compliance_nodes_ = contact_nodes_;
+      assign_with_headroom(compliance_nodes_, contact_nodes_.begin(), contact_nodes_.end());
       compliance_refreshes_ = s.stats.total_refreshes;
     }
     // The compliance in the contacts' frames (the Delassus operator) and the residuals there:
     // the gap along n, the slip over the step relative to the tool along t1, t2.
-    frames_.resize(static_cast<size_t>(C));
-    delassus_.resize(3 * C, 3 * C);
-    residual_c_.resize(3 * C);
-    lambda_c_.resize(3 * C);
+    resize_with_headroom(frames_, static_cast<size_t>(C));
+    const size_t n3 = 3 * static_cast<size_t>(C);
+    resize_square_with_headroom(delassus_, n3);
+    resize_with_headroom(residual_c_, n3);
+    resize_with_headroom(lambda_c_, n3);
+    resize_with_headroom(change_c_, n3);
+    resize_with_headroom(lambda_solved_, n3);
+    Eigen::Map<Eigen::MatrixXd> delassus(delassus_.data(), 3 * C, 3 * C);
+    Eigen::Map<Eigen::VectorXd> residual_c(residual_c_.data(), 3 * C), lambda_c(lambda_c_.data(), 3 * C),
+        change_c(change_c_.data(), 3 * C), lambda_solved(lambda_solved_.data(), 3 * C);
     for (int a = 0; a < C; ++a) {
       const ContactPoint& c = contacts_[static_cast<size_t>(a)];
       frames_[static_cast<size_t>(a)] = contact_frame(c.normal);
       const Eigen::Matrix3d& F = frames_[static_cast<size_t>(a)];
       const Vec3 slip = c.point - c.start - tools[static_cast<size_t>(c.tool)].motion_at(c.point);
-      residual_c_.segment<3>(3 * a) = Vec3(c.gap, F.col(1).dot(slip), F.col(2).dot(slip));
-      lambda_c_.segment<3>(3 * a) = F.transpose() * c.force;
+      residual_c.segment<3>(3 * a) = Vec3(c.gap, F.col(1).dot(slip), F.col(2).dot(slip));
+      lambda_c.segment<3>(3 * a) = F.transpose() * c.force;
     }
     for (int a = 0; a < C; ++a) {
       const ContactPoint& ca = contacts_[static_cast<size_t>(a)];
@@ -346,26 +372,26 @@ void ContactSolver::step_constraint(const TissueModel& m, const StepInput& base,
           }
         const Eigen::Matrix3d block = compliance_scale_ * frames_[static_cast<size_t>(a)].transpose() * w.asDiagonal() *
                                       frames_[static_cast<size_t>(b)];
-        delassus_.block<3, 3>(3 * a, 3 * b) = block;
-        delassus_.block<3, 3>(3 * b, 3 * a) = block.transpose();
+        delassus.block<3, 3>(3 * a, 3 * b) = block;
+        delassus.block<3, 3>(3 * b, 3 * a) = block.transpose();
       }
     }
-    // Projected Gauss-Seidel: change_c_ holds the predicted residuals as the forces change.
-    change_c_ = residual_c_;
-    const Eigen::VectorXd lambda_solved = lambda_c_;
+    // Projected Gauss-Seidel: change_c holds the predicted residuals as the forces change.
+    change_c = residual_c;
+    lambda_solved = lambda_c;
     double largest = 0.0;
     for (int sweep = 0; sweep < 200; ++sweep) {
       double moved = 0.0;
       largest = 0.0;
       for (int a = 0; a < C; ++a) {
-        const Eigen::Matrix3d A = delassus_.block<3, 3>(3 * a, 3 * a);
-        const Vec3 old = lambda_c_.segment<3>(3 * a);
+        const Eigen::Matrix3d A = delassus.block<3, 3>(3 * a, 3 * a);
+        const Vec3 old = lambda_c.segment<3>(3 * a);
         Vec3 f = old;
         if (!(A(0, 0) > 0.0)) {  // a point that cannot move (every node fixed): no force
           f.setZero();
         } else {
-          f[0] = std::max(0.0, old[0] - change_c_[3 * a] / A(0, 0));
-          const Eigen::Vector2d qt = change_c_.segment<2>(3 * a + 1) + A.block<2, 1>(1, 0) * (f[0] - old[0]);
+          f[0] = std::max(0.0, old[0] - change_c[3 * a] / A(0, 0));
+          const Eigen::Vector2d qt = change_c.segment<2>(3 * a + 1) + A.block<2, 1>(1, 0) * (f[0] - old[0]);
           const Eigen::Matrix2d Att = A.block<2, 2>(1, 1);
           Eigen::Vector2d ft = old.tail<2>();
           if (mu > 0.0 && Att.determinant() > 1e-12 * Att.squaredNorm()) ft -= Att.inverse() * qt;
@@ -375,8 +401,8 @@ void ContactSolver::step_constraint(const TissueModel& m, const StepInput& base,
         }
         const Vec3 delta = f - old;
         if (delta.squaredNorm() > 0.0) {
-          change_c_.noalias() += delassus_.middleCols<3>(3 * a) * delta;
-          lambda_c_.segment<3>(3 * a) = f;
+          change_c.noalias() += delassus.middleCols<3>(3 * a) * delta;
+          lambda_c.segment<3>(3 * a) = f;
         }
         moved = std::max(moved, delta.cwiseAbs().maxCoeff());
         largest = std::max(largest, f.cwiseAbs().maxCoeff());
@@ -388,12 +414,12 @@ void ContactSolver::step_constraint(const TissueModel& m, const StepInput& base,
     double violation = 0.0, change = 0.0;
     for (int a = 0; a < C; ++a) {
       const Vec3 f = lambda_solved.segment<3>(3 * a);
-      const Vec3 r = residual_c_.segment<3>(3 * a);
+      const Vec3 r = residual_c.segment<3>(3 * a);
       violation = std::max(violation, f[0] > 0.0 ? std::abs(r[0]) : std::max(0.0, -r[0]));
       if (f[0] > 0.0 && f.tail<2>().norm() < mu * f[0] * (1.0 - 1e-3)) violation = std::max(violation, r.tail<2>().norm());
       // (tangentially only where the point sticks: a slipping point's slip is free)
-      const Vec3 g = lambda_c_.segment<3>(3 * a);
-      const Vec3 dq = change_c_.segment<3>(3 * a) - r;
+      const Vec3 g = lambda_c.segment<3>(3 * a);
+      const Vec3 dq = change_c.segment<3>(3 * a) - r;
       const bool sticks = g[0] > 0.0 && g.tail<2>().norm() < mu * g[0] * (1.0 - 1e-3);
       change = std::max(change, sticks ? dq.norm() : std::abs(dq[0]));
     }
@@ -406,8 +432,8 @@ void ContactSolver::step_constraint(const TissueModel& m, const StepInput& base,
     for (int a = 0; a < C; ++a) {
       ContactPoint& c = contacts_[static_cast<size_t>(a)];
       const Eigen::Matrix3d& F = frames_[static_cast<size_t>(a)];
-      c.force = F * lambda_c_.segment<3>(3 * a);
-      c.predicted = F * (change_c_.segment<3>(3 * a) - residual_c_.segment<3>(3 * a));
+      c.force = F * lambda_c.segment<3>(3 * a);
+      c.predicted = F * (change_c.segment<3>(3 * a) - residual_c.segment<3>(3 * a));
     }
     predicted = true;
   }

@@ -142,7 +142,12 @@ TEST(NoAllocation, HalvedStepAfterWarmUp) {
 // Contact steps with a tool of each kind pressing the cube's top further each step (the
 // active set changes): nothing allocated once warmed up.
 // `borrow`: ContactSolver::step with the input itself (not a copy) for its solves.
-long allocations_in_contact_steps(ToolShape::Kind kind, ContactSettings settings = {}, bool borrow = false) {
+// `whole_press`: the warm-up is a whole press, a withdrawal and a second press, and the
+// withdrawal and press are then repeated and counted (constraint contact keeps arrays sized
+// by the number of contact points, which grows as the tool goes deeper: they are warm once
+// they have held the largest contact).
+long allocations_in_contact_steps(ToolShape::Kind kind, ContactSettings settings = {}, bool borrow = false,
+                                  bool whole_press = false) {
   const double L = 0.1;
   const TissueModel m = scenario::build(scenario::cube_on_table(L, 6));
   SimState s = make_sim_state(m);
@@ -165,20 +170,36 @@ long allocations_in_contact_steps(ToolShape::Kind kind, ContactSettings settings
   }
   std::vector<ToolShape> tools(1);
   const double reach = kind == ToolShape::Kind::capsule ? 0.04 : 0.02;  // centre to the bottom
-  auto press = [&](int k) {
-    t.previous = Eigen::Isometry3d(Eigen::Translation3d(0, 0, L / 2 + reach - 0.001 * (k - 1)));
+  auto press = [&](int k, int from) {
+    t.previous = Eigen::Isometry3d(Eigen::Translation3d(0, 0, L / 2 + reach - 0.001 * from));
     t.pose = Eigen::Isometry3d(Eigen::Translation3d(0, 0, L / 2 + reach - 0.001 * k));
     tools[0] = t;
     if (borrow) contact.step(m, input, tools, s, rep);
     else contact.step(m, base, tools, s, rep);
   };
-  for (int k = 1; k <= 3; ++k) press(k);  // warm-up
+  // The depths of the counted steps (a step from the depth before).
+  std::vector<int> counted = {4, 5, 6, 7, 8};
+  if (whole_press) {
+    // Down, back up and down again (the contacts of a press after a withdrawal differ from
+    // the first's): once as the warm-up, then counted.
+    counted = {7, 6, 5, 4, 3, 2, 1, 2, 3, 4, 5, 6, 7, 8};
+    for (int k = 1; k <= 8; ++k) press(k, k - 1);
+    int last = 8;
+    for (int k : counted) {
+      press(k, last);
+      last = k;
+    }
+  } else {
+    for (int k = 1; k <= 3; ++k) press(k, k - 1);  // warm-up
+  }
   long total = 0;
-  for (int k = 4; k <= 8; ++k) {
+  int from = whole_press ? 8 : 3;
+  for (int k : counted) {
     g_allocations = 0;
     g_counting = true;
-    press(k);
+    press(k, from);
     g_counting = false;
+    from = k;
     total += g_allocations;
     EXPECT_GT(rep.nodes, 0);
   }
@@ -195,6 +216,15 @@ TEST(NoAllocation, ContactStepAfterWarmUp) {
   ContactSettings refit_every_query;
   refit_every_query.lazy_refit = false;
   EXPECT_EQ(allocations_in_contact_steps(ToolShape::Kind::box, refit_every_query), 0);
+}
+
+TEST(NoAllocation, ConstraintContactStepAfterWarmUp) {
+  ContactSettings frictional;
+  frictional.method = ContactSettings::Method::constraint;
+  frictional.friction = 0.3;
+  for (ToolShape::Kind kind :
+       {ToolShape::Kind::capsule, ToolShape::Kind::cylinder, ToolShape::Kind::box, ToolShape::Kind::convex})
+    EXPECT_EQ(allocations_in_contact_steps(kind, frictional, false, true), 0) << static_cast<int>(kind);
 }
 
 TEST(NoAllocation, PenaltyContactStepAfterWarmUp) {
