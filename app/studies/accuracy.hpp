@@ -31,10 +31,11 @@ struct AccuracyConfig {
 
 struct AccuracyRow {
   AccuracyConfig config;
-  std::string scene_file;        // the scene this row ran (DIR/scenes/...)
+  std::string scene_file;        // the scene this row ran, relative to DIR (runs/<index>_<name>/scene.yaml)
   int nodes = 0;
   double median_ms = 0, p95_ms = 0;  // time per step over the loaded frames, on the study's typical
-                                     // node: time_ratio() times the study's yardstick time
+                                     // node: as measured, over yardstick_ms, times the median
+                                     // yardstick_ms of all the study's tasks
   double measured_median_ms = 0;     // the median as measured, on the node that ran it
   double yardstick_ms = 0;           // the yardstick's median step time, measured in the same task
   double rms_mm = 0, max_mm = 0;     // surface displacement error against the reference

@@ -90,7 +90,7 @@ bool write_accuracy_plot(const std::string& path, const std::vector<AccuracyRow>
   for (const char* scenario : {"probe_poke", "grasp_lift"}) {
     render::Panel p;
     p.title = scenario;
-    p.x_label = "median time per step (ms)";
+    p.x_label = "median time per step (ms, on the study's typical node)";
     p.y_label = "RMS surface displacement error (mm)";
     p.log_x = p.log_y = true;
     std::vector<std::pair<double, double>> front;
