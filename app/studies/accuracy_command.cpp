@@ -212,7 +212,7 @@ int run_accuracy(const AccuracyOptions& o, std::ostream& out, std::ostream& err,
   } else if (!jobs.empty()) {
     LocalRunSettings s;
     s.label = "accuracy";
-    s.on_stop = "configurations stop (the next study runs them from their start)";
+    s.on_stop = "configurations stop (to run again from their start)";
     s.parallel = o.jobs > 0 ? o.jobs : default_parallel();
     s.terminal = terminal;
     const std::vector<std::string> command = task_command(o, dir);
