@@ -1,8 +1,9 @@
 #pragma once
-// Runs a sweep's runs on this machine, N child processes at a time, with one progress line for
-// the whole sweep (`vdmsim sweep`'s runs, `vdmsim accuracy`'s configurations). Ctrl-C (or SIGTERM) stops cleanly: no further run starts, the running ones
-// are told once and stop after their current frame (run.json: interrupted), to be continued
-// by the next `vdmsim sweep`.
+// Runs a sweep's runs on this machine (`vdmsim sweep`'s runs, `vdmsim accuracy`'s
+// configurations), N child processes at a time, with one progress line for the whole sweep.
+// Ctrl-C (or SIGTERM) stops cleanly: no further run starts, the running ones are told once
+// and stop (a scene run after its current frame, run.json: interrupted), to be continued by
+// the next `vdmsim sweep`.
 #include <functional>
 #include <ostream>
 #include <string>
