@@ -8,7 +8,7 @@
 #include <string>
 #include <unistd.h>
 
-#include "app/studies/accuracy.hpp"
+#include "app/studies/accuracy_command.hpp"
 #include "app/studies/bench.hpp"
 #include "app/cli/commands.hpp"
 #include "app/compare/compare_command.hpp"
@@ -137,6 +137,23 @@ int main(int argc, char** argv) {
                                       "writes accuracy.csv, accuracy.png, recommendations.md");
   accuracy->add_option("--out", accuracy_opt.out_dir, "Output folder (default: out/accuracy)");
   accuracy->add_flag("--quick", accuracy_opt.quick, "Coarser meshes, fewer knob values (under 2 minutes)");
+  accuracy->add_option("--scenario", accuracy_opt.scenario, "Only this scenario: probe_poke or grasp_lift (default: both)");
+  accuracy->add_option("--only", accuracy_opt.only,
+                       "Only these knobs, comma-separated (solver, tolerance, refresh, nonlinear, mesh, capsule, model); "
+                       "the reference and the baseline always run");
+  accuracy->add_option("--jobs", accuracy_opt.jobs, "Configurations at a time on this machine (default: the number of cores)")
+      ->check(CLI::PositiveNumber);
+  auto* accuracy_slurm = accuracy->add_flag(
+      "--slurm", accuracy_opt.slurm, "Run the configurations as one Slurm job array (sbatch), wait for it, then measure");
+  accuracy->add_option("--partition", accuracy_opt.partition, "--slurm: the partition to submit to (default: the cluster's)")
+      ->needs(accuracy_slurm);
+  accuracy->add_option("--max-parallel", accuracy_opt.max_parallel, "--slurm: array tasks running at a time (default: all)")
+      ->check(CLI::PositiveNumber)
+      ->needs(accuracy_slurm);
+  accuracy->add_option("--task", accuracy_opt.task,
+                       "Run only configuration I (0-based; what each Slurm array task does), no report")
+      ->check(CLI::NonNegativeNumber)
+      ->excludes(accuracy_slurm);
   vdmsim::SweepOptions sweep_opt;
   bool sweep_no_render = false;
   auto* sweep = app.add_subcommand("sweep",
@@ -202,7 +219,7 @@ int main(int argc, char** argv) {
       return vdmsim::cmd_run(scene_path, run_opt, std::cout, std::cerr, isatty(2) != 0);
     }
     if (bench->parsed()) return vdmsim::cmd_bench(bench_out, bench_quick, std::cout, std::cerr, bench_only, bench_case_fd);
-    if (accuracy->parsed()) return vdmsim::run_accuracy(accuracy_opt, std::cout, std::cerr);
+    if (accuracy->parsed()) return vdmsim::run_accuracy(accuracy_opt, std::cout, std::cerr, isatty(2) != 0);
     if (sweep->parsed()) {
       sweep_opt.render = !sweep_no_render;
       return vdmsim::cmd_sweep(sweep_opt, std::cout, std::cerr, isatty(2) != 0);

@@ -30,7 +30,7 @@ std::string knobs(const AccuracyConfig& c) {
 bool write_accuracy_csv(const std::string& path, const std::vector<AccuracyRow>& rows, std::string& error) {
   std::ofstream f(path);
   f << "scenario,varied,model,nodes,solver,tolerance,refresh_every,nonlinear_iterations,median_ms,p95_ms,"
-       "rms_error_mm,max_error_mm,rms_vs_baseline_mm,force_rms_error_n,force_rel_error,volume_rel_error,young_modulus_pa,pareto,"
+       "measured_median_ms,yardstick_ms,rms_error_mm,max_error_mm,rms_vs_baseline_mm,force_rms_error_n,force_rel_error,volume_rel_error,young_modulus_pa,pareto,"
        "scene,note\n";
   f << std::setprecision(6);
   for (const AccuracyRow& r : rows) {
@@ -43,9 +43,10 @@ bool write_accuracy_csv(const std::string& path, const std::vector<AccuracyRow>&
     // The measured columns, empty when the row failed (or, for rms_vs_baseline_mm and
     // young_modulus_pa, when they do not apply).
     if (r.failed) {
-      f << std::string(10, ',');
+      f << std::string(12, ',');
     } else {
-      f << ',' << r.median_ms << ',' << r.p95_ms << ',' << r.rms_mm << ',' << r.max_mm << ',';
+      f << ',' << r.median_ms << ',' << r.p95_ms << ',' << r.measured_median_ms << ',' << r.yardstick_ms << ','
+        << r.rms_mm << ',' << r.max_mm << ',';
       if (r.rms_vs_baseline_mm >= 0) f << r.rms_vs_baseline_mm;
       f << ',' << r.force_rms_n << ',' << r.force_rel << ',' << r.volume_rel_error << ',';
       if (r.young_modulus > 0) f << r.young_modulus;
@@ -89,7 +90,7 @@ bool write_accuracy_plot(const std::string& path, const std::vector<AccuracyRow>
   for (const char* scenario : {"probe_poke", "grasp_lift"}) {
     render::Panel p;
     p.title = scenario;
-    p.x_label = "median time per step (ms)";
+    p.x_label = "median time per step (ms, on the study's typical node)";
     p.y_label = "RMS surface displacement error (mm)";
     p.log_x = p.log_y = true;
     std::vector<std::pair<double, double>> front;
@@ -162,7 +163,9 @@ bool write_recommendations(const std::string& path, const std::vector<AccuracyRo
     << "For each use, among the configurations whose time per step fits the budget (the 95th percentile for\n"
     << "real-time uses), the fastest of those within 5 % of the smallest error (the converged reference itself\n"
     << "excluded). Errors are against the reference: RMS / max surface\n"
-    << "displacement error and the instrument force's RMS error relative to its peak.\n\n";
+    << "displacement error and the instrument force's RMS error relative to its peak. Times are per step on\n"
+    << "the study's typical node: each configuration's ratio to the timing yardstick run in the same task,\n"
+    << "times the yardstick's median over all tasks (docs/accuracy.md).\n\n";
   f << std::setprecision(3);
   for (const char* scenario : {"probe_poke", "grasp_lift"}) {
     f << "## " << scenario << "\n\n";

@@ -25,8 +25,8 @@ struct Running {
 // The sweep's progress on stderr: redrawn in place on a terminal, a line per run otherwise.
 class SweepProgress {
  public:
-  SweepProgress(std::ostream& err, bool terminal, bool quiet, size_t total)
-      : err_(err), terminal_(terminal), quiet_(quiet), total_(total) {}
+  SweepProgress(std::ostream& err, const std::string& label, bool terminal, bool quiet, size_t total)
+      : err_(err), label_(label), terminal_(terminal), quiet_(quiet), total_(total) {}
   void finished(const RunJob& job, int code, double seconds, size_t running) {
     ++done_;
     if (code != 0) ++failed_;
@@ -38,12 +38,12 @@ class SweepProgress {
     }
     char took[32];
     std::snprintf(took, sizeof took, "%.1f", seconds);
-    err_ << "sweep: " << done_ << "/" << total_ << " " << job.dir.filename().string() << ": " << what << " in " << took
+    err_ << label_ << ": " << done_ << "/" << total_ << " " << job.dir.filename().string() << ": " << what << " in " << took
          << " s\n";
   }
   void show(size_t running) {
     if (quiet_ || !terminal_) return;
-    err_ << "\rsweep: " << done_ << "/" << total_ << " runs done" << (failed_ ? ", " + std::to_string(failed_) + " failed" : "")
+    err_ << "\r" << label_ << ": " << done_ << "/" << total_ << " runs done" << (failed_ ? ", " + std::to_string(failed_) + " failed" : "")
          << ", " << running << " running   " << std::flush;
   }
   void end() {
@@ -52,26 +52,31 @@ class SweepProgress {
 
  private:
   std::ostream& err_;
+  std::string label_;
   bool terminal_, quiet_;
   size_t total_, done_ = 0, failed_ = 0;
 };
 
 }  // namespace
 
-bool run_locally(const std::vector<RunJob>& jobs, const SweepOptions& options, const LocalRunSettings& settings,
+int default_parallel() {
+  const unsigned n = std::thread::hardware_concurrency();
+  return n ? int(n) : 1;
+}
+
+bool run_locally(const std::vector<RunJob>& jobs, const JobCommand& command, const LocalRunSettings& settings,
                  std::vector<int>& codes, std::ostream& err) {
   const StopSignals signals;
-  const std::string program = own_program();
   codes.assign(jobs.size(), -1);
   std::vector<Running> running;
-  SweepProgress progress(err, settings.terminal, settings.quiet, jobs.size());
+  SweepProgress progress(err, settings.label, settings.terminal, settings.quiet, jobs.size());
   size_t next = 0;
   bool stopping = false;
   auto start = [&](size_t j, bool resume) {
     const RunJob& job = jobs[j];
     if (!resume) clear_run_results(job.dir);
     std::string error;
-    const pid_t pid = start_process(run_command(program, job, options, resume), job.dir / "run.log",
+    const pid_t pid = start_process(command(job, resume), job.dir / "run.log",
                                     settings.forward_signals, error);
     if (pid < 0) {
       err << "vdmsim: error: " << error << "\n";
@@ -85,8 +90,8 @@ bool run_locally(const std::vector<RunJob>& jobs, const SweepOptions& options, c
     if (!stopping && signals.received()) {
       stopping = true;
       if (!settings.quiet)
-        err << (settings.terminal ? "\n" : "") << "sweep: stopping: " << running.size()
-            << " running runs finish their current frame; `vdmsim sweep` again continues\n";
+        err << (settings.terminal ? "\n" : "") << settings.label << ": stopping: " << running.size()
+            << " running: the " << settings.on_stop << "; `vdmsim " << settings.label << "` again continues\n";
       if (settings.forward_signals)
         for (const Running& r : running) kill(-r.pid, signals.received());
     }

@@ -49,48 +49,58 @@ std::string array_indices(const std::vector<int>& indices) {
   return out;
 }
 
-std::string batch_script(const std::vector<RunJob>& jobs, const SweepOptions& o, const fs::path& dir,
-                         const std::string& program) {
+std::string batch_script(const std::vector<RunJob>& jobs, const SlurmArray& array, const fs::path& dir) {
   std::vector<int> indices;
   for (const RunJob& j : jobs) indices.push_back(j.index);
-  const int limit = o.max_parallel > 0 ? o.max_parallel : int(jobs.size());
+  const int limit = array.max_parallel > 0 ? array.max_parallel : int(jobs.size());
   std::ostringstream s;
   s << "#!/bin/sh\n"
-    << "# vdmsim sweep " << o.sweep_file << ": one array task per run (written by vdmsim sweep --slurm)\n"
-    << "#SBATCH --job-name=vdmsim-sweep\n"
+    << "# " << array.what << ": one array task per run (written by vdmsim " << array.name << " --slurm)\n"
+    << "#SBATCH --job-name=vdmsim-" << array.name << "\n"
     << "#SBATCH --array=" << array_indices(indices) << "%" << limit << "\n"
     << "#SBATCH --ntasks=1\n"
     << "#SBATCH --cpus-per-task=1\n"
     << "#SBATCH --output=" << (dir / "slurm" / "task_%a.out").string() << "\n";
-  if (!o.partition.empty()) s << "#SBATCH --partition=" << o.partition << "\n";
-  s << "exec " << shell_quote(program) << " sweep " << shell_quote(fs::absolute(o.sweep_file).string()) << " --out "
-    << shell_quote(dir.string()) << " --task \"$SLURM_ARRAY_TASK_ID\"";
-  if (o.frames > 0) s << " --frames " << o.frames;
-  if (!o.render) s << " --no-render";
-  if (o.video) s << " --video";
-  s << "\n";
+  if (!array.partition.empty()) s << "#SBATCH --partition=" << array.partition << "\n";
+  s << "exec";
+  for (const std::string& word : array.task_command) s << " " << shell_quote(word);
+  s << " --task \"$SLURM_ARRAY_TASK_ID\"\n";
   return s.str();
 }
 
-int run_on_slurm(const std::vector<RunJob>& jobs, const SweepOptions& o, const fs::path& dir, std::ostream& err) {
+SlurmArray sweep_array(const SweepOptions& o, const fs::path& dir) {
+  SlurmArray a;
+  a.name = "sweep";
+  a.what = "vdmsim sweep " + o.sweep_file;
+  a.task_command = {own_program(), "sweep", fs::absolute(o.sweep_file).string(), "--out", dir.string()};
+  if (o.frames > 0) a.task_command.insert(a.task_command.end(), {"--frames", std::to_string(o.frames)});
+  if (!o.render) a.task_command.push_back("--no-render");
+  if (o.video) a.task_command.push_back("--video");
+  a.partition = o.partition;
+  a.max_parallel = o.max_parallel;
+  return a;
+}
+
+int run_on_slurm(const std::vector<RunJob>& jobs, const SlurmArray& array, const fs::path& dir, std::ostream& err) {
   const fs::path slurm = dir / "slurm";
+  const fs::path script = slurm / (array.name + ".sbatch");
+  const std::string label = array.name;
   std::string error;
-  if (!prepare_output_dir(slurm.string(), error) ||
-      !write_file_atomically(slurm / "sweep.sbatch", batch_script(jobs, o, dir, own_program()), error)) {
+  if (!prepare_output_dir(slurm.string(), error) || !write_file_atomically(script, batch_script(jobs, array, dir), error)) {
     err << "vdmsim: error: " << error << "\n";
     return 1;
   }
   const StopSignals signals;
   std::string said;
-  const int code = run_program({"sbatch", "--parsable", (slurm / "sweep.sbatch").string()}, said);
+  const int code = run_program({"sbatch", "--parsable", script.string()}, said);
   const std::string job = trim(said.substr(0, said.find(';')));
   if (code != 0 || job.empty() || !std::all_of(job.begin(), job.end(), ::isdigit)) {
-    err << "vdmsim: error: sbatch " << (slurm / "sweep.sbatch").string() << " failed"
+    err << "vdmsim: error: sbatch " << script.string() << " failed"
         << (code < 0 ? "" : " (exit " + std::to_string(code) + ")") << ": " << trim(said)
         << (code < 0 ? " (is Slurm installed here? --slurm submits from a cluster's login node)" : "") << "\n";
     return 1;
   }
-  err << "sweep: submitted " << jobs.size() << " runs as Slurm job array " << job << " (" << slurm.string()
+  err << label << ": submitted " << jobs.size() << " runs as Slurm job array " << job << " (" << slurm.string()
       << "/task_<run>.out has each task's output)\n";
   bool cancelled = false;
   std::string last;
@@ -100,7 +110,7 @@ int run_on_slurm(const std::vector<RunJob>& jobs, const SweepOptions& o, const f
     if (!cancelled && signals.received()) {
       cancelled = true;
       run_program({"scancel", job}, said);
-      err << "sweep: stopping: cancelled job " << job << "; its runs stop after their current frame\n";
+      err << label << ": stopping: cancelled job " << job << "; its runs stop\n";
     }
     std::map<std::string, int> states;
     if (!queued_tasks(job, states, said)) {
@@ -114,7 +124,7 @@ int run_on_slurm(const std::vector<RunJob>& jobs, const SweepOptions& o, const f
       if (states.empty()) break;
       std::string now;
       for (const auto& [state, count] : states) now += (now.empty() ? "" : ", ") + std::to_string(count) + " " + state;
-      if (now != last) err << "sweep: job " << job << ": " << now << "\n";
+      if (now != last) err << label << ": job " << job << ": " << now << "\n";
       last = now;
     }
     // Polls often at first, then every 10 s at most (squeue is a query of the controller).
@@ -123,7 +133,7 @@ int run_on_slurm(const std::vector<RunJob>& jobs, const SweepOptions& o, const f
       std::this_thread::sleep_for(std::chrono::milliseconds(50));
     wait_s = std::min(10.0, wait_s * 1.3);
   }
-  err << "sweep: job " << job << " " << (cancelled ? "cancelled" : "done") << "\n";
+  err << label << ": job " << job << " " << (cancelled ? "cancelled" : "done") << "\n";
   return cancelled ? 130 : 0;
 }
 

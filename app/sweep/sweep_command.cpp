@@ -2,9 +2,8 @@
 
 #include <unistd.h>
 
-#include <thread>
-
 #include "app/run/output_dir.hpp"
+#include "app/sweep/child_process.hpp"
 #include "app/sweep/local_runner.hpp"
 #include "app/sweep/slurm_runner.hpp"
 #include "app/sweep/summary.hpp"
@@ -45,9 +44,10 @@ bool check_run_scenes(const SweepPlan& plan, const fs::path& runs, const std::ve
   return ok;
 }
 
-int jobs_default() {
-  const unsigned n = std::thread::hardware_concurrency();
-  return n ? int(n) : 1;
+// Each run is `vdmsim run` of its folder's scene, with the sweep's options.
+JobCommand sweep_run_command(const SweepOptions& o) {
+  const std::string program = own_program();
+  return [program, o](const RunJob& job, bool resume) { return run_command(program, job, o, resume); };
 }
 
 }  // namespace
@@ -108,7 +108,7 @@ int cmd_sweep(const SweepOptions& o, std::ostream& out, std::ostream& err, bool 
     LocalRunSettings s;
     s.forward_signals = false;
     s.quiet = true;
-    const bool all = run_locally(jobs, o, s, codes, err);
+    const bool all = run_locally(jobs, sweep_run_command(o), s, codes, err);
     const RunResult r = read_run_result(jobs[0].dir);
     out << plan.runs[size_t(o.task)].folder << ": " << r.status << (r.reason.empty() ? "" : ": " + r.reason) << "\n";
     return !all ? 130 : codes[0] == 0 ? 0 : codes[0] == 130 ? 130 : 1;
@@ -119,14 +119,14 @@ int cmd_sweep(const SweepOptions& o, std::ostream& out, std::ostream& err, bool 
       << " to continue, " << jobs.size() - size_t(resumable) << " to run\n";
   int code = 0;
   if (!jobs.empty() && o.slurm) {
-    code = run_on_slurm(jobs, o, dir, err);
+    code = run_on_slurm(jobs, sweep_array(o, dir), dir, err);
     if (code == 1) return 1;
   } else if (!jobs.empty()) {
     LocalRunSettings s;
-    s.parallel = o.jobs > 0 ? o.jobs : jobs_default();
+    s.parallel = o.jobs > 0 ? o.jobs : default_parallel();
     s.terminal = terminal;
     std::vector<int> codes;
-    if (!run_locally(jobs, o, s, codes, err)) code = 130;
+    if (!run_locally(jobs, sweep_run_command(o), s, codes, err)) code = 130;
   }
 
   std::vector<RunResult> results;

@@ -216,7 +216,16 @@ class SweepReader {
   }
 
   void read_vary(const YAML::Node& vary) { read_lists(vary, "vary", false); }
-  void read_zip(const YAML::Node& zip) { read_lists(zip, "zip", true); }
+
+  // One group (a mapping), or several (a list of mappings): an axis of the grid each.
+  void read_zip(const YAML::Node& zip) {
+    if (!zip.IsSequence()) return read_lists(zip, "zip", true);
+    if (zip.size() == 0) {
+      error(zip, "zip", "expected a mapping of scene keys to lists (one group), or a list of such mappings (several groups), got an empty list");
+      return;
+    }
+    for (size_t g = 0; g < zip.size(); ++g) read_lists(zip[g], "zip[" + std::to_string(g) + "]", true);
+  }
 
   void read_cases(const YAML::Node& cases) {
     if (!cases.IsSequence() || cases.size() == 0) {
@@ -257,6 +266,43 @@ std::string one_line_yaml(const YAML::Node& node) {
   e.SetMapFormat(YAML::Flow);
   e.SetSeqFormat(YAML::Flow);
   e << node;
+  return e.c_str();
+}
+
+namespace {
+
+void emit_keeping_quotes(YAML::Emitter& e, const YAML::Node& node) {
+  const std::string& tag = node.Tag();
+  if (!tag.empty() && tag != "?" && tag != "!") e << YAML::VerbatimTag(tag);
+  if (node.IsMap()) {
+    if (node.Style() == YAML::EmitterStyle::Flow) e << YAML::Flow;
+    e << YAML::BeginMap;
+    for (auto it = node.begin(); it != node.end(); ++it) {
+      e << YAML::Key;
+      emit_keeping_quotes(e, it->first);
+      e << YAML::Value;
+      emit_keeping_quotes(e, it->second);
+    }
+    e << YAML::EndMap;
+  } else if (node.IsSequence()) {
+    if (node.Style() == YAML::EmitterStyle::Flow) e << YAML::Flow;
+    e << YAML::BeginSeq;
+    for (size_t i = 0; i < node.size(); ++i) emit_keeping_quotes(e, node[i]);
+    e << YAML::EndSeq;
+  } else if (node.IsScalar()) {
+    // Quoted where it was written ("0.5", 'yes'): the tag "!" marks a quoted scalar.
+    if (tag == "!") e << YAML::DoubleQuoted;
+    e << node.Scalar();
+  } else {
+    e << YAML::Null;
+  }
+}
+
+}  // namespace
+
+std::string yaml_text_keeping_quotes(const YAML::Node& node) {
+  YAML::Emitter e;
+  emit_keeping_quotes(e, node);
   return e.c_str();
 }
 

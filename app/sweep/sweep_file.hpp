@@ -1,7 +1,7 @@
 #pragma once
 // A sweep file (docs/sweeps.md): a base scene and what to vary in it, as a grid (`vary:`,
-// every combination), lists varied together (`zip:`), or an explicit list of runs
-// (`cases:`). Every problem is named with the sweep file's line and column and the field.
+// every combination), lists varied together (`zip:`, one group or a list of groups, each an
+// axis of the grid), or an explicit list of runs (`cases:`). Every problem is named with the sweep file's line and column and the field.
 #include <yaml-cpp/yaml.h>
 
 #include <filesystem>
@@ -26,7 +26,7 @@ struct SweepKey {
   std::string where;  // file:line:col of the key in the sweep file
 };
 
-// A grid axis: one key of `vary:`, or all the keys of `zip:` (their values taken together).
+// A grid axis: one key of `vary:`, or all the keys of a `zip:` group (their values taken together).
 struct SweepAxis {
   std::vector<size_t> keys;                     // into SweepFile::keys
   std::vector<std::vector<SweepValue>> values;  // per key, the same count each
@@ -43,7 +43,7 @@ struct SweepFile {
   std::filesystem::path base;       // the base scene (absolute)
   YAML::Node base_yaml;             // the base scene's YAML, its file paths made absolute
   std::vector<SweepKey> keys;       // every varied key, in the order first written
-  std::vector<SweepAxis> axes;      // vary's keys, then zip (the grid: the first axis slowest)
+  std::vector<SweepAxis> axes;      // vary's keys, then zip's groups (the grid: the first axis slowest)
   std::vector<SweepCase> cases;     // or these
 };
 
@@ -58,5 +58,9 @@ void rebase_scene_files(YAML::Node scene, const std::filesystem::path& folder);
 
 // A value in one line of YAML (flow style).
 std::string one_line_yaml(const YAML::Node& node);
+
+// A node as YAML text, in the styles it was read with (block or flow), its quoted scalars
+// quoted: "0.5" stays a string, 'yes' stays a string (yaml-cpp's own emitter drops the quotes).
+std::string yaml_text_keeping_quotes(const YAML::Node& node);
 
 }  // namespace vdmsim

@@ -37,10 +37,8 @@ PlannedRun make_run(const SweepFile& sweep, int index, int digits,
     run.wheres[key] = value->where;
     said += (said.empty() ? "" : ", ") + sweep.keys[key].path.text + " = " + value->text;
   }
-  YAML::Emitter e;
-  e << scene;
   run.scene_text = "# vdmsim sweep " + sweep.file.string() + ", run " + std::to_string(index) + ": " + sweep.base.string() +
-                   (said.empty() ? std::string() : " with " + said) + "\n" + e.c_str() + "\n";
+                   (said.empty() ? std::string() : " with " + said) + "\n" + yaml_text_keeping_quotes(scene) + "\n";
   return run;
 }
 

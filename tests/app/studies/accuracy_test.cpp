@@ -48,6 +48,35 @@ TEST(Accuracy, EveryScenarioHasAReferenceFirstAndEveryKnobVaried) {
   }
 }
 
+TEST(Accuracy, ScenarioAndKnobsNarrowTheStudyKeepingItsReferenceAndBaseline) {
+  const std::vector<AccuracyConfig> all = accuracy_configs(true);
+  AccuracyOptions o;
+  o.quick = true;
+  std::vector<int> which;
+  std::string error;
+  ASSERT_TRUE(select_accuracy_configs(o, which, error)) << error;
+  EXPECT_EQ(which.size(), all.size());
+  o.scenario = "grasp_lift";
+  o.only = "tolerance,mesh";
+  ASSERT_TRUE(select_accuracy_configs(o, which, error)) << error;
+  std::vector<std::string> varied;
+  for (int i : which) {
+    EXPECT_EQ(all[size_t(i)].scenario, "grasp_lift");
+    varied.push_back(all[size_t(i)].varied);
+  }
+  // The indices are the whole study's, in its order: the reference first.
+  EXPECT_EQ(varied, (std::vector<std::string>{"reference", "baseline", "tolerance", "tolerance", "mesh"}));
+  EXPECT_GT(which.front(), 0);
+  o.only = "tolerance,meshes";
+  EXPECT_FALSE(select_accuracy_configs(o, which, error));
+  EXPECT_NE(error.find("--only: unknown knob 'meshes'; known knobs: solver, tolerance"), std::string::npos) << error;
+  o.only.clear();
+  o.scenario = "liver";
+  EXPECT_FALSE(select_accuracy_configs(o, which, error));
+  EXPECT_NE(error.find("--scenario: unknown scenario 'liver'; known scenarios: probe_poke, grasp_lift"), std::string::npos)
+      << error;
+}
+
 TEST(Accuracy, ParetoFrontKeepsOnlyUndominatedRowsPerScenario) {
   std::vector<AccuracyRow> rows = {
       row("probe_poke", "reference", 100, 0),    // never on the front

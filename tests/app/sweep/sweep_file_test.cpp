@@ -87,6 +87,84 @@ TEST(SweepFile, ZipTakesListsTogether) {
   EXPECT_EQ(plan.runs[3].values, (std::vector<std::string>{"1100", "10000", "0.003"}));
 }
 
+TEST(SweepFile, SeveralZipGroupsAreAxesOfTheGridWithVary) {
+  vdmsim::SweepFile sweep;
+  std::vector<vdmsim::SceneProblem> problems;
+  ASSERT_TRUE(read("zips.yaml",
+                   "vary:\n  organ.material.density: [1000, 1100]\n"
+                   "zip:\n"
+                   "  - organ.material.bulk_modulus: [10000, 40000]\n"
+                   "    instruments[0].radius: [0.003, 0.005]\n"
+                   "  - organ.material.connectivity_modulus: [1000, 2000, 3000]\n"
+                   "    organ.material.damping: [0.1, 0.2, 0.3]\n",
+                   sweep, problems))
+      << all_text(problems);
+  const vdmsim::SweepPlan plan = vdmsim::plan_sweep(sweep);
+  ASSERT_EQ(plan.runs.size(), 12u);  // 2 densities x 2 pairs x 3 pairs
+  EXPECT_EQ(plan.columns, (std::vector<std::string>{"organ.material.density", "organ.material.bulk_modulus",
+                                                    "instruments[0].radius", "organ.material.connectivity_modulus",
+                                                    "organ.material.damping"}));
+  // vary slowest, then the first group, the last group fastest; each group's values together.
+  EXPECT_EQ(plan.runs[0].values, (std::vector<std::string>{"1000", "10000", "0.003", "1000", "0.1"}));
+  EXPECT_EQ(plan.runs[1].values, (std::vector<std::string>{"1000", "10000", "0.003", "2000", "0.2"}));
+  EXPECT_EQ(plan.runs[4].values, (std::vector<std::string>{"1000", "40000", "0.005", "2000", "0.2"}));
+  EXPECT_EQ(plan.runs[11].values, (std::vector<std::string>{"1100", "40000", "0.005", "3000", "0.3"}));
+  const YAML::Node scene = YAML::Load(plan.runs[4].scene_text);
+  EXPECT_EQ(scene["organ"]["material"]["bulk_modulus"].as<double>(), 40000);
+  EXPECT_EQ(scene["instruments"][0]["radius"].as<double>(), 0.005);
+  EXPECT_EQ(scene["organ"]["material"]["damping"].as<double>(), 0.2);
+
+  // A group's lists of different lengths, a key in two groups, groups that are not mappings.
+  ASSERT_FALSE(read("zips_bad.yaml",
+                    "zip:\n"
+                    "  - organ.material.bulk_modulus: [10000, 40000]\n"
+                    "  - organ.material.connectivity_modulus: [1000, 2000, 3000]\n"
+                    "    organ.material.damping: [0.1, 0.2]\n"
+                    "  - organ.material.bulk_modulus: [1, 2]\n"
+                    "  - [organ.material.density]\n",
+                    sweep, problems));
+  const std::string said = all_text(problems);
+  EXPECT_NE(said.find("zips_bad.yaml:5:29: zip[1].organ.material.damping: zip: lists go together, so each has as many "
+                      "values as the first (3 at "),
+            std::string::npos)
+      << said;
+  EXPECT_NE(said.find("zips_bad.yaml:6:5: zip[2].organ.material.bulk_modulus: 'organ.material.bulk_modulus' is varied twice"),
+            std::string::npos)
+      << said;
+  EXPECT_NE(said.find("zips_bad.yaml:7:5: zip[3]: expected a mapping of scene keys to lists of values"), std::string::npos)
+      << said;
+  problems.clear();
+  ASSERT_FALSE(read("zips_empty.yaml", "zip: []\n", sweep, problems));
+  EXPECT_NE(all_text(problems).find("zip: expected a mapping of scene keys to lists (one group), or a list of such mappings"),
+            std::string::npos)
+      << all_text(problems);
+}
+
+TEST(SweepFile, QuotedValuesStayQuotedInTheRunsScene) {
+  vdmsim::SweepFile sweep;
+  std::vector<vdmsim::SceneProblem> problems;
+  ASSERT_TRUE(read("quoted.yaml", "cases:\n  - {name: \"0.5\"}\n  - {name: 'yes'}\n  - {name: 0.5}\n", sweep, problems))
+      << all_text(problems);
+  const vdmsim::SweepPlan plan = vdmsim::plan_sweep(sweep);
+  ASSERT_EQ(plan.runs.size(), 3u);
+  // Written quoted, read back as the strings they were; the unquoted one stays plain.
+  EXPECT_NE(plan.runs[0].scene_text.find("name: \"0.5\"\n"), std::string::npos) << plan.runs[0].scene_text;
+  EXPECT_NE(plan.runs[1].scene_text.find("name: \"yes\"\n"), std::string::npos) << plan.runs[1].scene_text;
+  EXPECT_NE(plan.runs[2].scene_text.find("name: 0.5\n"), std::string::npos) << plan.runs[2].scene_text;
+  const YAML::Node quoted = YAML::Load(plan.runs[0].scene_text), plain = YAML::Load(plan.runs[2].scene_text);
+  EXPECT_EQ(quoted["name"].Tag(), "!");  // a quoted scalar: a string, never a number
+  EXPECT_EQ(plain["name"].Tag(), "?");
+  // The base's own values keep their form (numbers plain, flow lists in flow style).
+  EXPECT_NE(plan.runs[0].scene_text.find("bulk_modulus: 20000"), std::string::npos) << plan.runs[0].scene_text;
+  EXPECT_EQ(quoted["organ"]["material"]["bulk_modulus"].Tag(), "?");
+  // The run's scene is a scene like any: it loads, with the quoted name.
+  const fs::path file = vdmsim::test::scratch_dir("sweep_file") / "quoted_run.yaml";
+  std::ofstream(file) << plan.runs[1].scene_text;
+  const vdmsim::SceneLoadResult loaded = vdmsim::load_scene(file.string());
+  ASSERT_TRUE(loaded.ok()) << all_text(loaded.problems);
+  EXPECT_EQ(loaded.scene.name, "yes");
+}
+
 TEST(SweepFile, UnknownKeyNamesLineColumnAndTheClosestKey) {
   vdmsim::SweepFile sweep;
   std::vector<vdmsim::SceneProblem> problems;
