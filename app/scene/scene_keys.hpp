@@ -379,7 +379,7 @@ inline constexpr SceneKey kSceneKeys[] = {
       .eg("views: [shaded, stress]"),
   key("render.stress", KT::section, "What the stress view shows and its colours.")
       .eg("stress: {quantity: magnitude, colormap: viridis, range: auto}"),
-  key("render.hud", KT::boolean, "The overlay: scene name, frame, time, contact force, pressure, volume error.")
+  key("render.hud", KT::boolean, "The overlay: scene name, frame, time, contact force, fluid pressure, volume error.")
       .by_default([] { return yaml_bool(RenderDef().hud); }).eg("hud: false"),
   key("render.hud_step_time", KT::boolean, "Add each step's wall-clock time to the HUD (then the pictures differ from run "
       "to run).").by_default([] { return yaml_bool(RenderDef().hud_step_time); }).eg("hud_step_time: true"),
