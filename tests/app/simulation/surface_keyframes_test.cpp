@@ -105,6 +105,17 @@ TEST(SurfaceKeyframes, ARayThatMissesTheOrganIsAnErrorAtItsLineAndColumn) {
       << err.str();
 }
 
+TEST(SurfaceKeyframes, ARayFromFarBeyondDoublePrecisionIsAMissNotANaN) {
+  // The ray's products overflow: no tip made of NaNs, a miss.
+  const fs::path p = scene_file("far", "cube", "",
+                                "      - {t: 0, on_surface: {from: [1e300, 1e300, 1e300], toward: [-1, -1, -1]}}\n");
+  PreparedScene ps;
+  std::vector<SceneProblem> problems;
+  EXPECT_FALSE(prepare_scene(p.string(), ps, problems));
+  ASSERT_FALSE(problems.empty());
+  EXPECT_NE(problems.back().text().find("misses the organ"), std::string::npos) << problems.back().text();
+}
+
 TEST(SurfaceKeyframes, ARayFromInsideTheOrganIsAnError) {
   const fs::path p = scene_file("inside", "cube", "",
                                 "      - {t: 0, on_surface: {from: [0, 0, 0], toward: [0, 0, -1]}}\n");
