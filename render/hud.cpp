@@ -59,11 +59,6 @@ std::string format_number(double v, int digits) {
 
 namespace {
 
-std::string with_unit(double v, const std::string& si, int digits = 3) {
-  const auto [scale, unit] = display_unit(si, v);
-  return format_number(v * scale, digits) + " " + unit;
-}
-
 void draw_colour_bar(ImDrawList* dl, const ImGuiLayer& layer, const StressView& view, int width, int height) {
   ImFont* body = layer.font(FontRole::body);
   ImFont* small = layer.font(FontRole::small);
@@ -106,18 +101,7 @@ void draw_hud(ImDrawList* dl, const ImGuiLayer& layer, const HudInfo& hud, int w
   ImFont* title = layer.font(FontRole::title);
   ImFont* body = layer.font(FontRole::body);
   const float fs = body->FontSize;
-  std::vector<std::string> lines;
-  char buf[160];
-  std::snprintf(buf, sizeof buf, "frame %d / %d    t = %.3f s", hud.frame, hud.frames - 1, hud.time_s);
-  lines.push_back(buf);
-  lines.push_back(hud.has_contact ? "contact force  " + with_unit(hud.contact_force_n, "N") : "contact  not simulated");
-  lines.push_back("pressure  " + with_unit(hud.pressure_pa, "Pa"));
-  std::snprintf(buf, sizeof buf, "volume error  %.2e", hud.volume_rel_error);
-  lines.push_back(buf);
-  if (hud.show_step_time) {
-    std::snprintf(buf, sizeof buf, "step  %.2f ms", hud.step_ms);
-    lines.push_back(buf);
-  }
+  const std::vector<std::string> lines = hud_lines(hud);
   float text_w = text_size(title, hud.scene_name).x;
   for (const std::string& l : lines) text_w = std::max(text_w, text_size(body, l).x);
   const float pad = fs * 0.6f, line_h = fs * 1.3f;

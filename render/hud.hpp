@@ -1,10 +1,11 @@
 #pragma once
 // The heads-up display drawn over each frame (render-internal): a panel with the scene name,
-// frame and time, contact force, pressure, volume error and step time; in the stress view a
+// frame and time, contact force, fluid pressure, volume error and step time; in the stress view a
 // colour bar with ticks and units.
 #include <string>
 #include <vector>
 
+#include "render/hud_text.hpp"
 #include "render/imgui_layer.hpp"
 #include "render/number_format.hpp"
 #include "render/render_scene.hpp"

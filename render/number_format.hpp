@@ -13,5 +13,8 @@ std::vector<double> nice_ticks(double lo, double hi, int target);
 std::pair<double, std::string> display_unit(const std::string& si_unit, double magnitude);
 // A compact number: up to `digits` significant digits, no trailing zeros.
 std::string format_number(double v, int digits = 3);
+// `v`, or 0 when it is within round-off of zero for a quantity whose values are of the order of
+// `scale` (|v| < 1e-12 scale): a pressure of 3e-17 Pa where the moduli are 20 kPa is a zero.
+double zero_if_roundoff(double v, double scale);
 
 }  // namespace render

@@ -54,8 +54,11 @@ struct HudInfo {
   double time_s = 0;
   bool has_contact = false;
   double contact_force_n = 0;
-  double pressure_pa = 0;
+  double pressure_pa = 0;       // the fluid's (the model's internal) pressure
   double volume_rel_error = 0;
+  // The order of the pressures and forces the scene can have (its moduli, and those times the
+  // organ's size squared): values below 1e-12 of these are round-off, shown as 0.
+  double pressure_scale_pa = 0, force_scale_n = 0;
   double step_ms = 0;
   bool show_step_time = false;  // wall-clock time differs run to run: opt-in (bit-identical pictures without)
 };

@@ -17,6 +17,7 @@
 #include "render/edge_aa.hpp"
 #include "render/gl_context.hpp"
 #include "render/gl_program.hpp"
+#include "render/gizmo.hpp"
 #include "render/hud.hpp"
 #include "render/imgui_layer.hpp"
 #include "render/instrument_geometry.hpp"
@@ -184,7 +185,8 @@ struct Renderer::Impl {
   bool make_backdrop(std::string& error);
   void set_view_proj();
   GlProgram& use(Material m);
-  void draw_hud_layer(const RenderScene& scene, const StressView* view, Image& out);
+  void draw_hud_layer(const RenderScene& scene, const StressView* view, bool hud, Image& out);
+  void draw_overlay(const RenderScene& scene, const StressView* view, bool hud);
   void draw_frame(const RenderScene& scene, const StressView* view, bool hud, Image& out);
   bool draw(const RenderScene& scene, const StressView* view, bool hud, Image& out);
   float* map_organ_buffer();
@@ -242,7 +244,9 @@ bool Renderer::Impl::init(const vdm::SurfaceMesh& rest, std::string& error) {
   radius = std::max(0.5 * (hi - lo).norm(), 1e-6);
   floor_z = lo.z() - 0.02 * radius;
   const double aspect = double(settings.width) / settings.height;
-  camera = settings.auto_camera ? auto_frame(lo, hi, settings.camera.fov_deg, aspect) : settings.camera;
+  if (!settings.auto_camera) camera = settings.camera;
+  else if (settings.has_focus_box) camera = auto_frame(settings.focus_lo, settings.focus_hi, settings.camera.fov_deg, aspect);
+  else camera = auto_frame(lo, hi, settings.camera.fov_deg, aspect);
 
   // The floor's shadow mask: a square of the floor around the organ, seen along the key
   // light.
@@ -731,37 +735,33 @@ void Renderer::Impl::draw_frame(const RenderScene& scene, const StressView* view
     timer.mark("read");
     smoother.apply(out);
     timer.mark("edge aa");
-    if (hud) {
-      draw_hud_layer(scene, view, out);
+    if (hud || settings.gizmo) {
+      draw_hud_layer(scene, view, hud, out);
       timer.mark("hud");
     }
     return;
   }
-  if (hud) {
+  if (hud || settings.gizmo) {
     glDisable(GL_DEPTH_TEST);
-    ImDrawList* dl = imgui.begin(settings.width, settings.height);
-    draw_hud(dl, imgui, scene.hud, settings.width, settings.height, view);
-    imgui.end();
+    draw_overlay(scene, view, hud);
     timer.mark("hud");
   }
   fb->resolve_and_read(out);
   timer.mark("resolve+read");
 }
 
-// The HUD on transparent black (ImGui blends colour by its alpha and alpha by ONE,
+// The overlay (HUD, gizmo) on transparent black (ImGui blends colour by its alpha and alpha by ONE,
 // ONE_MINUS_SRC_ALPHA: the layer is premultiplied), read back where it was drawn and
 // composited over the smoothed frame: the same pixels as drawing it over the frame, to a
 // level of rounding, with its text and panel edges left as ImGui anti-aliased them. Drawn in
 // the frame's own (single-sample) target, whose picture has been read into `out` already and
 // is not needed again (the next frame starts from the backdrop): no buffer of its own.
-void Renderer::Impl::draw_hud_layer(const RenderScene& scene, const StressView* view, Image& out) {
+void Renderer::Impl::draw_hud_layer(const RenderScene& scene, const StressView* view, bool hud, Image& out) {
   fb->bind_draw();
   glClearColor(0, 0, 0, 0);
   glClear(GL_COLOR_BUFFER_BIT);
   glDisable(GL_DEPTH_TEST);
-  ImDrawList* dl = imgui.begin(settings.width, settings.height);
-  draw_hud(dl, imgui, scene.hud, settings.width, settings.height, view);
-  imgui.end();
+  draw_overlay(scene, view, hud);
   int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
   if (imgui.drawn_bounds(x0, y0, x1, y1)) {
     if (hud_layer.width != x1 - x0 || hud_layer.height != y1 - y0) hud_layer = Image(x1 - x0, y1 - y0);
@@ -771,6 +771,15 @@ void Renderer::Impl::draw_hud_layer(const RenderScene& scene, const StressView* 
     composite_over(out, hud_layer, x0, y0);
   }
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+// The HUD (when `hud`) and the orientation gizmo (when the settings ask for it), into the
+// bound framebuffer.
+void Renderer::Impl::draw_overlay(const RenderScene& scene, const StressView* view, bool hud) {
+  ImDrawList* dl = imgui.begin(settings.width, settings.height);
+  if (hud) draw_hud(dl, imgui, scene.hud, settings.width, settings.height, view);
+  if (settings.gizmo) draw_gizmo(dl, imgui, camera, settings.width, settings.height);
+  imgui.end();
 }
 
 std::unique_ptr<Renderer> Renderer::create(const RenderSettings& settings, const vdm::SurfaceMesh& rest, std::string& error) {

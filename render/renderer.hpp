@@ -2,7 +2,7 @@
 // The offscreen renderer: draws a RenderScene with OpenGL 4.5 core on OSMesa into an RGBA
 // image. Two views: `shaded` (tissue material, key and fill lights, soft specular, floor
 // shadow) and `stress` (the organ coloured by a quantity through a colour map with a fixed
-// range), each with an optional ImGui HUD (scene, frame, time, force, pressure, volume
+// range), each with an optional ImGui HUD (scene, frame, time, force, fluid pressure, volume
 // error, step time; a colour bar with units in the stress view). Anti-aliased (RenderSettings::antialias).
 #include <memory>
 #include <string>

@@ -11,4 +11,6 @@ const char* to_string(Antialias a) {
   return "edge";
 }
 
+const char* to_string(CameraFocus f) { return f == CameraFocus::instruments ? "instruments" : "organ"; }
+
 }  // namespace render

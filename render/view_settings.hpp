@@ -16,13 +16,22 @@ enum class Antialias { none, edge, msaa };
 
 const char* to_string(Antialias a);  // "edge", "msaa", "none"
 
+// What the automatic camera frames: the organ's rest bounding box, or the instruments'
+// working area (a box the scene's side computes: RenderSettings::focus_lo, focus_hi).
+enum class CameraFocus { organ, instruments };
+const char* to_string(CameraFocus f);  // "organ", "instruments"
+
 struct RenderSettings {
   int width = 1280, height = 720;
   Antialias antialias = Antialias::edge;
   int samples = 4;           // MSAA samples per pixel, used when antialias == msaa
   int msaa_samples() const { return antialias == Antialias::msaa ? samples : 1; }
-  bool auto_camera = true;   // frame the organ's rest bounding box
+  bool auto_camera = true;   // frame the organ's rest bounding box (or the focus box)
+  CameraFocus focus = CameraFocus::organ;
+  bool has_focus_box = false;               // auto_camera frames [focus_lo, focus_hi] instead
+  Eigen::Vector3d focus_lo = Eigen::Vector3d::Zero(), focus_hi = Eigen::Vector3d::Zero();  // m
   Camera camera;             // used when !auto_camera
+  bool gizmo = false;        // small x, y, z axes in the bottom-left corner
   bool floor = true;         // a floor under the organ, with the key light's shadow
   bool shadows = true;
 };

@@ -102,6 +102,30 @@ void check_material(const SceneDef& s, std::vector<SceneProblem>& out) {
                  true});
 }
 
+// Coordinates of the order of `scale`, those within round-off of zero (and -0) printed as 0.
+std::string point(const vdm::Vec3& v, double scale) {
+  std::string s;
+  for (int d = 0; d < 3; ++d) s += (d ? " " : "") + num(std::abs(v[d]) < 1e-12 * scale ? 0.0 : v[d]);
+  return s;
+}
+
+// Where instrument k's keyframes placed on the organ (on_surface) put its tip.
+void print_placements(const PreparedScene& ps, size_t k, std::ostream& out) {
+  const std::vector<SurfacePlacement>& list = ps.scene.surface_keyframes;
+  const double size = std::max(ps.model.size, 1e-300);
+  for (size_t j = 0; j < list.size() && j < ps.surface_hits.size(); ++j) {
+    const SurfacePlacement& p = list[j];
+    if (p.instrument != k) continue;
+    const SurfaceHit& h = ps.surface_hits[j];
+    out << "            script[" << p.keyframe << "] (t = " << num(ps.scene.instruments[k].script[p.keyframe].t)
+        << " s): tip " << point(h.tip, size) << " m, ";
+    if (p.depth == 0) out << "on";
+    else out << num(std::abs(p.depth) * 1000) << " mm " << (p.depth > 0 ? "inside" : "outside");
+    out << " the surface point " << point(h.point, size) << " (outward normal " << point(h.normal, 1.0) << ")"
+        << (p.align ? ", axis along the inward normal" : "") << "\n";
+  }
+}
+
 }  // namespace
 
 SanityReport scene_sanity(const PreparedScene& ps) {
@@ -136,6 +160,7 @@ void print_sanity(const PreparedScene& ps, const SanityReport& report, std::ostr
     else
       out << "does not touch the organ (closest " << num(r.closest * 1000) << " mm, at t = " << num(r.closest_at)
           << " s)\n";
+    print_placements(ps, k, out);
   }
 }
 

@@ -23,16 +23,20 @@ RayHit first_hit(const vdm::SurfaceMesh& mesh, const vdm::Vec3& from, const vdm:
     if (std::abs(det) <= 1e-14 * scale) continue;  // parallel to the triangle
     const vdm::Vec3 s = from - a;
     const double u = s.dot(p) / det;
-    if (u < 0 || u > 1) continue;
+    // Written so that a NaN (from a start so far away that the products overflow) is a miss.
+    if (!(u >= 0 && u <= 1)) continue;
     const vdm::Vec3 q = s.cross(e1);
     const double v = d.dot(q) / det;
-    if (v < 0 || u + v > 1) continue;
+    if (!(v >= 0 && u + v <= 1)) continue;
     const double t = e2.dot(q) / det;
-    if (t < 0 || t >= best.distance) continue;
+    if (!(t >= 0 && t < best.distance)) continue;
+    // A start so far from the surface that from + t d has lost the triangle's digits is a miss.
+    const vdm::Vec3 point = from + t * d;
+    if (!((point - a).norm() <= 2 * (e1.norm() + e2.norm()))) continue;
     best.hit = true;
     best.distance = t;
     best.triangle = k;
-    best.point = from + t * d;
+    best.point = point;
     best.normal = e1.cross(e2).normalized();
   }
   if (!best.hit) best.distance = 0;

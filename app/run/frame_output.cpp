@@ -4,7 +4,9 @@
 #include <pthread.h>
 
 #include <algorithm>
+#include <cmath>
 
+#include "app/run/instrument_focus.hpp"
 #include "engine/stopwatch.hpp"
 #include "render/png_io.hpp"
 #include <cstdio>
@@ -92,7 +94,7 @@ void FrameOutput::render_loop(std::string* start_error, bool* started) {
   pthread_setname_np(pthread_self(), "vdmsim-render");  // for profilers (perf, top -H)
   {
     std::string error;
-    auto renderer = render::Renderer::create(ps_->scene.render.settings, ps_->model.rest, error);
+    auto renderer = render::Renderer::create(framed_settings(*ps_), ps_->model.rest, error);
     std::lock_guard<std::mutex> lock(mutex_);
     renderer_ = std::move(renderer);
     *started = renderer_ != nullptr;
@@ -181,6 +183,16 @@ void FrameOutput::set_stress_range(double lo, double hi) {
   view_.hi = hi;
 }
 
+namespace {
+// The largest of the scene's moduli (Pa): the order of the pressures it can have.
+double stiffness_scale(const SceneDef& s) {
+  double scale = std::max(s.connectivity_modulus, s.young_modulus);
+  for (int d = 0; d < 3; ++d)
+    if (std::isfinite(s.bulk_modulus[d])) scale = std::max(scale, s.bulk_modulus[d]);
+  return scale;
+}
+}  // namespace
+
 bool FrameOutput::write(int f, int frames, const SceneSimulation& sim) {
   const RenderDef& rd = ps_->scene.render;
   const vdm::SimState& st = sim.state();
@@ -207,6 +219,8 @@ bool FrameOutput::write(int f, int frames, const SceneSimulation& sim) {
   hud.has_contact = sim.contact_simulated();
   hud.contact_force_n = sim.contact_simulated() ? sim.total_force().norm() : 0.0;  // with the grasped nodes
   hud.pressure_pa = st.pressure;
+  hud.pressure_scale_pa = stiffness_scale(ps_->scene);
+  hud.force_scale_n = hud.pressure_scale_pa * ps_->model.size * ps_->model.size;
   hud.volume_rel_error = st.volume_rel_error;
   hud.step_ms = sim.frame_step_ms();
   if (rd.stress) render::scalar_field(view_.quantity, st, scene.scalar);

@@ -643,6 +643,50 @@ void read_shape(Reader& r, const YAML::Node& n, const std::string& f, Instrument
   }
 }
 
+// A keyframe's on_surface, depth and align (a tip placed on the organ, resolved when the organ
+// is loaded): appended to `out` for instruments[instrument].script[keyframe].
+void read_surface_placement(Reader& r, const YAML::Node& kf, const std::string& fk, size_t instrument, size_t keyframe,
+                            std::vector<SurfacePlacement>& out) {
+  const YAML::Node on = kf["on_surface"];
+  if (!on) {
+    for (const char* k : {"depth", "align"})
+      if (const YAML::Node n = kf[k])
+        r.error(n, Reader::sub(fk, k),
+                std::string(k) + " places the tip relative to the surface: give on_surface: {from: [x, y, z], toward: "
+                "[dx, dy, dz]} beside it");
+    return;
+  }
+  const std::string fo = Reader::sub(fk, "on_surface");
+  if (!r.require_map(on, fo)) return;
+  r.check_keys(on, fo, "instruments[].script[].on_surface");
+  SurfacePlacement p;
+  p.instrument = instrument;
+  p.keyframe = keyframe;
+  p.where = r.where(on);
+  bool ok = true;
+  if (kf["tip"]) {
+    r.error(kf["tip"], Reader::sub(fk, "tip"), "give tip or on_surface, not both (on_surface places the tip)");
+    ok = false;
+  }
+  const YAML::Node from = r.required(on, "from", fo, "where the ray starts, outside the organ [x, y, z] (m)");
+  const YAML::Node toward = r.required(on, "toward", fo, "the ray's direction [dx, dy, dz]");
+  ok = from && r.vec3(from, Reader::sub(fo, "from"), p.from, KEY("instruments[].script[].on_surface.from")) && ok;
+  ok = toward && r.vec3(toward, Reader::sub(fo, "toward"), p.toward, KEY("instruments[].script[].on_surface.toward")) && ok;
+  if (toward && ok && !(p.toward.norm() > 0)) {
+    r.error(toward, Reader::sub(fo, "toward"), "the direction must not be zero");
+    ok = false;
+  }
+  if (const YAML::Node n = kf["depth"]) ok = r.number(n, Reader::sub(fk, "depth"), p.depth, KEY("instruments[].script[].depth")) && ok;
+  if (const YAML::Node n = kf["align"]) {
+    ok = r.boolean(n, Reader::sub(fk, "align"), p.align) && ok;
+    if (p.align && kf["axis"]) {
+      r.error(n, Reader::sub(fk, "align"), "give axis or align, not both (align sets the axis along the inward normal)");
+      ok = false;
+    }
+  }
+  if (ok) out.push_back(p);
+}
+
 void read_instruments(Reader& r, const YAML::Node& list, SceneDef& s, const std::filesystem::path& base) {
   if (!r.require_sequence(list, "instruments")) return;
   for (size_t i = 0; i < list.size(); ++i) {
@@ -724,6 +768,7 @@ void read_instruments(Reader& r, const YAML::Node& list, SceneDef& s, const std:
         if (v.norm() < 1e-9) r.error(ax, Reader::sub(fk, "axis"), "the axis must not be zero");
         else key.axis = v.normalized();
       }
+      read_surface_placement(r, kf, fk, s.instruments.size(), in.script.size(), s.surface_keyframes);
       if (const YAML::Node jaw = kf["jaw"]) {
         const std::string j = jaw.IsScalar() ? jaw.Scalar() : "";
         if (j == "open" || j == "closed") key.jaw_closed = j == "closed";
@@ -731,9 +776,10 @@ void read_instruments(Reader& r, const YAML::Node& list, SceneDef& s, const std:
       }
       in.script.push_back(key);
     }
-    if (!in.script.empty() && !in.script.front().tip)
+    const bool first_on_surface = script.size() > 0 && script[0].IsMap() && script[0]["on_surface"];
+    if (!in.script.empty() && !in.script.front().tip && !first_on_surface)
       r.error(script[0], Reader::sub(Reader::item(Reader::sub(fi, "script"), 0), "tip"),
-              "the first keyframe must give the tip position [x, y, z] (m)");
+              "the first keyframe must give the tip position [x, y, z] (m), or place it with on_surface");
     s.instruments.push_back(in);
     s.instrument_skins.push_back(skin);
     s.instrument_convex.push_back(convex);
@@ -787,6 +833,7 @@ void read_render(Reader& r, const YAML::Node& n, SceneDef& s) {
   if (const YAML::Node v = n["hud_step_time"]) r.boolean(v, "render.hud_step_time", d.hud_step_time);
   if (const YAML::Node v = n["floor"]) r.boolean(v, "render.floor", d.settings.floor);
   if (const YAML::Node v = n["shadows"]) r.boolean(v, "render.shadows", d.settings.shadows);
+  if (const YAML::Node v = n["gizmo"]) r.boolean(v, "render.gizmo", d.settings.gizmo);
   if (const YAML::Node v = n["png_compression"]) r.integer(v, "render.png_compression", d.png_compression, KEY("render.png_compression"));
   if (const YAML::Node v = n["fps"]) r.number(v, "render.fps", d.fps, KEY("render.fps"));
   if (const YAML::Node cam = n["camera"]; cam && r.require_map(cam, "render.camera")) {
@@ -802,6 +849,22 @@ void read_render(Reader& r, const YAML::Node& n, SceneDef& s) {
       if (target) r.vec3(target, "render.camera.target", c.target, KEY("render.camera.target"));
       if (eye && target && (c.eye - c.target).norm() < 1e-9)
         r.error(target, "render.camera.target", "the target must differ from the eye");
+    }
+    if (const YAML::Node f = cam["focus"]) {
+      std::string t;
+      if (r.text(f, "render.camera.focus", t)) {
+        if (t == "organ") d.settings.focus = render::CameraFocus::organ;
+        else if (t == "instruments") d.settings.focus = render::CameraFocus::instruments;
+        else {
+          const std::string near = closest(t, {"organ", "instruments"});
+          r.error(f, "render.camera.focus", "unknown focus '" + t + "'" + (near.empty() ? "" : " (did you mean '" + near + "'?)") +
+                                                "; expected organ or instruments");
+        }
+      }
+      if (!d.settings.auto_camera)
+        r.error(f, "render.camera.focus", "is for the automatic camera: give eye and target, or focus, not both");
+      else if (d.settings.focus == render::CameraFocus::instruments && s.instruments.empty())
+        r.warn(f, "render.camera.focus", "the scene has no instruments: the organ is framed");
     }
     if (const YAML::Node up = cam["up"]; up && r.vec3(up, "render.camera.up", c.up, KEY("render.camera.up")) && c.up.norm() < 1e-9)
       r.error(up, "render.camera.up", "the up vector must not be zero");

@@ -75,6 +75,19 @@ struct ConvexDef {
   std::string where;                // file:line:col of the mesh field
 };
 
+// A keyframe whose tip is placed on the organ (instruments[].script[].on_surface): where the
+// ray from `from` along `toward` first meets the placed organ's surface, moved `depth` along the
+// inward normal there; with `align`, the axis along the inward normal. prepare_scene_def
+// resolves it into the keyframe's tip (and axis); until then the keyframe has neither.
+struct SurfacePlacement {
+  size_t instrument = 0, keyframe = 0;      // which keyframe: instruments[instrument].script[keyframe]
+  vdm::Vec3 from = vdm::Vec3::Zero();       // m
+  vdm::Vec3 toward = -vdm::Vec3::UnitZ();   // not zero
+  double depth = 0;                         // m, inward (negative: outside)
+  bool align = false;
+  std::string where;                        // file:line:col of the on_surface key
+};
+
 using Keyframe = tools::Keyframe;
 using InstrumentDef = tools::InstrumentDef;
 
@@ -133,6 +146,7 @@ struct SceneDef {
   std::vector<std::string> instrument_where;  // file:line:col of each instrument
   std::vector<SkinDef> instrument_skins;      // one per instrument
   std::vector<ConvexDef> instrument_convex;   // one per instrument (present: shape convex)
+  std::vector<SurfacePlacement> surface_keyframes;  // keyframes placed on the organ, in file order
   bool has_render = false;     // the scene has a render: section
   RenderDef render;
 

@@ -329,13 +329,31 @@ inline constexpr SceneKey kSceneKeys[] = {
   // instruments[].script[]
   key("instruments[].script[].t", KT::number, "The keyframe's time; each keyframe's comes after the one before.").in("s")
       .range(0, std::numeric_limits<double>::infinity()).needed().eg("t: 0.5"),
-  key("instruments[].script[].tip", KT::vector3, "Where the working end is. The first keyframe must give it.").in("m")
+  key("instruments[].script[].tip", KT::vector3, "Where the working end is. The first keyframe must give it "
+      "(or `on_surface`).").in("m")
       .by_default("the previous keyframe's").eg("tip: [0.035, 0, 0.0453]"),
   key("instruments[].script[].axis", KT::vector3, "The direction from the handle toward the tip (normalised; not zero).")
       .in("unit vector").by_default("the previous keyframe's; [0, 0, -1] at the first").eg("axis: [0, 0.2, -1]"),
+  key("instruments[].script[].on_surface", KT::section, "The tip placed on the organ instead of at `tip`: where the ray "
+      "from `from` along `toward` first meets the organ's surface (as placed by `organ.scale`, `rotate_deg` and "
+      "`translate`), then moved `depth` along the surface's inward normal there. Found when the scene is loaded; "
+      "`vdmsim check` prints where. A ray that misses the organ, or starts inside it, is an error.")
+      .eg("on_surface: {from: [0.035, 0, 0.3], toward: [0, 0, -1]}"),
+  key("instruments[].script[].depth", KT::number, "With `on_surface`: how far the tip goes past the surface point, "
+      "along the inward normal (negative: it stays outside, that far from the surface).").in("m").range(-1, 1)
+      .by_default([] { return yaml_number(0.0); }).eg("on_surface: {from: [0.035, 0, 0.3], toward: [0, 0, -1]}, depth: 0.005"),
+  key("instruments[].script[].align", KT::boolean, "With `on_surface`: the axis set along the inward normal at the "
+      "surface point, so that the instrument pushes straight in (give `axis` or `align`, not both).")
+      .by_default([] { return yaml_bool(false); }).eg("on_surface: {from: [0.035, 0, 0.3], toward: [0, 0, -1]}, align: true"),
   key("instruments[].script[].jaw", KT::choice, "Grasper: the jaws' state, reached at this keyframe (they swing "
       "linearly from the previous keyframe).").one_of([] { return Words{"open", "closed"}; })
       .by_default("the previous keyframe's; open at the first").eg("jaw: closed"),
+
+  // instruments[].script[].on_surface
+  key("instruments[].script[].on_surface.from", KT::vector3, "Where the ray starts, outside the organ.").in("m").needed()
+      .eg("from: [0.035, 0, 0.3], toward: [0, 0, -1]"),
+  key("instruments[].script[].on_surface.toward", KT::vector3, "The ray's direction (any length, not zero).")
+      .in("direction").needed().eg("from: [0.035, 0, 0.3], toward: [0, 0, -1]"),
 
   // render
   key("render.width", KT::integer, "The image width.").in("pixels").range(16, 8192)
@@ -349,7 +367,8 @@ inline constexpr SceneKey kSceneKeys[] = {
       "whatever is asked). A scene without `antialias` that gives `samples` gets msaa for 2 to 16, none for 1.")
       .range(1, 16).allowing("1, 2, 4, 8 or 16").by_default([] { return std::to_string(RenderDef().settings.samples); })
       .eg("antialias: msaa, samples: 4"),
-  key("render.camera", KT::section, "The camera. Leave out `eye` and `target` for automatic framing of the organ.")
+  key("render.camera", KT::section, "The camera. Leave out `eye` and `target` for automatic framing of the organ "
+      "(or of the instruments' working area, with `focus`).")
       .eg("camera: {eye: [0.16, -0.24, 0.19], target: [0.025, 0, 0.025], up: [0, 0, 1], fov_deg: 35}"),
   key("render.views", KT::choice_list, "The pictures drawn each frame: `shaded` (what a camera sees) into "
       "`frames/frame_NNNNN.png`, `stress` (the organ coloured by `stress.quantity`) into `stress/stress_NNNNN.png`.")
@@ -360,10 +379,12 @@ inline constexpr SceneKey kSceneKeys[] = {
       .eg("views: [shaded, stress]"),
   key("render.stress", KT::section, "What the stress view shows and its colours.")
       .eg("stress: {quantity: magnitude, colormap: viridis, range: auto}"),
-  key("render.hud", KT::boolean, "The overlay: scene name, frame, time, contact force, pressure, volume error.")
+  key("render.hud", KT::boolean, "The overlay: scene name, frame, time, contact force, fluid pressure, volume error.")
       .by_default([] { return yaml_bool(RenderDef().hud); }).eg("hud: false"),
   key("render.hud_step_time", KT::boolean, "Add each step's wall-clock time to the HUD (then the pictures differ from run "
       "to run).").by_default([] { return yaml_bool(RenderDef().hud_step_time); }).eg("hud_step_time: true"),
+  key("render.gizmo", KT::boolean, "Small x, y and z axes (red, green, blue) in the bottom-left corner, turned as the "
+      "camera sees them.").by_default([] { return yaml_bool(RenderDef().settings.gizmo); }).eg("gizmo: true"),
   key("render.floor", KT::boolean, "A floor under the organ, with the organ's and the instruments' soft shadow.")
       .by_default([] { return yaml_bool(RenderDef().settings.floor); }).eg("floor: false"),
   key("render.shadows", KT::boolean, "Instruments cast soft shadows on the organ and the floor.")
@@ -378,6 +399,10 @@ inline constexpr SceneKey kSceneKeys[] = {
       .eg("eye: [0.16, -0.24, 0.19], target: [0.025, 0, 0.025]"),
   key("render.camera.target", KT::vector3, "The point the camera looks at; give `eye` with it.").in("m")
       .by_default("automatic framing").eg("eye: [0.16, -0.24, 0.19], target: [0.025, 0, 0.025]"),
+  key("render.camera.focus", KT::choice, "What the automatic camera frames (without `eye` and `target`): the `organ`, "
+      "or the `instruments`' working area: where their tips go while in or near contact over the script, with room "
+      "around it for the dent.").one_of([] { return Words{"organ", "instruments"}; })
+      .by_default([] { return std::string(render::to_string(RenderDef().settings.focus)); }).eg("focus: instruments"),
   key("render.camera.up", KT::vector3, "Which way is up in the picture (not zero).").in("unit vector")
       .by_default([] { return yaml_vector(RenderDef().settings.camera.up); }).eg("up: [0, 1, 0]"),
   key("render.camera.fov_deg", KT::number, "The vertical field of view.").in("degrees").range(1, 170)

@@ -158,6 +158,8 @@ bool prepare_scene_def(const SceneDef& scene, PreparedScene& out, std::vector<Sc
   if (mesh.flipped) problems.push_back({s.file, "organ.mesh", flipped_surface_note(s.mesh_path), true});
   vdm::SurfaceMesh placed = mesh.mesh;
   place_organ(placed.positions, s.rotate_deg, s.translate);
+  // Keyframes placed on the organ get their tips before anything reads the scripts.
+  if (!resolve_surface_keyframes(out.scene, placed, out.surface_hits, problems)) return false;
   vdm::TissueDef def = vdm::default_tissue(placed);
   const int n = def.mesh.node_count();
   def.bulk_modulus = vdm::NodeMat(n, 3);

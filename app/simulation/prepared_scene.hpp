@@ -8,6 +8,7 @@
 
 #include "app/scene/scene.hpp"
 #include "app/simulation/organ_models.hpp"
+#include "app/simulation/surface_keyframes.hpp"
 #include "engine/tissue_model.hpp"
 #include "render/render_scene.hpp"
 
@@ -30,6 +31,7 @@ struct PreparedScene {
   std::vector<std::vector<int>> prescribed_nodes;  // per organ.prescribed entry
   std::vector<vdm::Vec3> prescribed_about;         // rotation centre per entry (m)
   std::vector<InstrumentSkin> skins;               // per instrument
+  std::vector<SurfaceHit> surface_hits;            // per scene.surface_keyframes entry: where each landed
   ReferenceModel reference;                        // organ.model fem or mass_spring (vdm: vdm::step)
 };
 

@@ -80,8 +80,16 @@ TEST(YourOwnOrganDoc, TheTutorialRunsEndToEnd) {
   // check's report, as the page shows it: no warning, the probe touching and 10 mm deep.
   EXPECT_EQ(check_output.find("warning"), std::string::npos) << check_output;
   EXPECT_NE(check_output.find("fixed:      1578 of 10011 nodes (15.8 %) on every axis"), std::string::npos) << check_output;
-  EXPECT_NE(check_output.find("first touches the organ at t = 0.2667 s, deepest 10.04 mm"), std::string::npos)
+  EXPECT_NE(check_output.find("first touches the organ at t = 0.2667 s, deepest 10 mm"), std::string::npos)
       << check_output;
+  // The keyframes placed on the surface: the point locate prints, the tip 10 mm along the normal.
+  EXPECT_NE(check_output.find("script[1] (t = 0.5 s): tip 0.0503 0.0014 0.03894 m, 10 mm inside the surface point "
+                              "0.05 0 0.04884 (outward normal -0.02989 -0.14 0.9897), axis along the inward normal"),
+            std::string::npos)
+      << check_output;
+  // The pictures, framed on the probe's working area.
+  EXPECT_TRUE(fs::exists(work / "out/my_liver/frames/frame_00014.png"));
+  EXPECT_TRUE(fs::exists(work / "out/my_liver/stress/stress_00014.png"));
   EXPECT_TRUE(fs::exists(work / "out/my_liver/run.json"));
 }
 

@@ -1,6 +1,7 @@
 // The renderer says when it could not draw a frame (engine-independent: a sphere).
 #include <gtest/gtest.h>
 
+#include <array>
 #include <string>
 
 #include "engine/shapes.hpp"
@@ -37,6 +38,80 @@ TEST(Renderer, AFrameOpenGLCannotDrawIsReportedAndTheNextIsDrawn) {
   EXPECT_FALSE(r->draw_stress(scene, view, true, stress));
   EXPECT_FALSE(r->error().empty());
   EXPECT_TRUE(r->draw_stress(scene, view, true, stress)) << r->error();
+}
+
+}  // namespace
+
+namespace {
+
+// Pixels of `a` and `b` that differ, counted in the image's four quadrants (top-left,
+// top-right, bottom-left, bottom-right; rows from the top).
+std::array<int, 4> differences(const Image& a, const Image& b) {
+  std::array<int, 4> n{0, 0, 0, 0};
+  for (int y = 0; y < a.height; ++y)
+    for (int x = 0; x < a.width; ++x) {
+      const size_t i = 4 * (size_t(y) * size_t(a.width) + size_t(x));
+      if (a.rgba[i] != b.rgba[i] || a.rgba[i + 1] != b.rgba[i + 1] || a.rgba[i + 2] != b.rgba[i + 2])
+        ++n[size_t((y >= a.height / 2 ? 2 : 0) + (x >= a.width / 2 ? 1 : 0))];
+    }
+  return n;
+}
+
+// Pixels of the gizmo's z axis colour (a saturated blue: nothing else in the picture is blue)
+// in the bottom-left quadrant.
+int blue_pixels_bottom_left(const Image& im) {
+  int n = 0;
+  for (int y = im.height / 2; y < im.height; ++y)
+    for (int x = 0; x < im.width / 2; ++x) {
+      const size_t i = 4 * (size_t(y) * size_t(im.width) + size_t(x));
+      if (im.rgba[i + 2] > 180 && im.rgba[i] < 130 && im.rgba[i + 2] > im.rgba[i + 1] + 50) ++n;
+    }
+  return n;
+}
+
+TEST(Renderer, TheGizmoIsDrawnInTheBottomLeftCornerOnlyWhenAsked) {
+  const vdm::SurfaceMesh sphere = vdm::make_icosphere(0.05, 3);
+  render::RenderSettings settings;
+  settings.width = 320;
+  settings.height = 240;
+  std::string error;
+  auto plain = render::Renderer::create(settings, sphere, error);
+  ASSERT_TRUE(plain) << error;
+  settings.gizmo = true;
+  auto with = render::Renderer::create(settings, sphere, error);
+  ASSERT_TRUE(with) << error;
+  render::RenderScene scene;
+  scene.positions = &sphere.positions;
+  Image a, b;
+  ASSERT_TRUE(plain->draw_shaded(scene, false, a)) << plain->error();
+  ASSERT_TRUE(with->draw_shaded(scene, false, b)) << with->error();
+  const std::array<int, 4> d = differences(a, b);
+  EXPECT_GT(d[2], 400);  // the disc and its axes
+  EXPECT_EQ(d[0] + d[1] + d[3], 0) << d[0] << " " << d[1] << " " << d[3];
+  EXPECT_EQ(blue_pixels_bottom_left(a), 0);  // a tissue-red sphere on a grey floor
+  EXPECT_GT(blue_pixels_bottom_left(b), 10);
+}
+
+TEST(Renderer, AFocusBoxIsFramedInsteadOfTheOrgan) {
+  const vdm::SurfaceMesh sphere = vdm::make_icosphere(0.05, 3);
+  render::RenderSettings settings;
+  settings.width = 96;
+  settings.height = 64;
+  settings.has_focus_box = true;
+  settings.focus_lo = Eigen::Vector3d(0.03, -0.01, 0.03);
+  settings.focus_hi = Eigen::Vector3d(0.05, 0.01, 0.06);
+  std::string error;
+  auto r = render::Renderer::create(settings, sphere, error);
+  ASSERT_TRUE(r) << error;
+  const render::Camera want = render::auto_frame(settings.focus_lo, settings.focus_hi, settings.camera.fov_deg, 96.0 / 64.0);
+  EXPECT_EQ(r->camera().eye, want.eye);
+  EXPECT_EQ(r->camera().target, want.target);
+  // An explicit camera wins over the box.
+  settings.auto_camera = false;
+  settings.camera.eye = Eigen::Vector3d(0, -1, 0.5);
+  auto fixed = render::Renderer::create(settings, sphere, error);
+  ASSERT_TRUE(fixed) << error;
+  EXPECT_EQ(fixed->camera().eye, settings.camera.eye);
 }
 
 }  // namespace

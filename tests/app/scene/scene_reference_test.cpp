@@ -129,6 +129,18 @@ std::vector<SceneProblem> problems_with(const std::string& path, const std::stri
   YAML::Node into = holder(root, path);
   const YAML::Node add = YAML::Load("{" + entries + "}");
   for (auto it = add.begin(); it != add.end(); ++it) into[it->first.Scalar()] = it->second;
+  // A keyframe placed on the surface gives no tip, and one aligned with the surface no axis:
+  // the base keyframe's go.
+  if (path.rfind("instruments[].script[].", 0) == 0) {
+    YAML::Node key = root["instruments"][0]["script"][0];
+    if (path.find("on_surface") != std::string::npos || add["on_surface"]) key.remove("tip");
+    if (add["align"]) key.remove("axis");
+  }
+  // The camera's focus is for the automatic camera: the base camera's eye and target go.
+  if (add["focus"]) {
+    into.remove("eye");
+    into.remove("target");
+  }
   YAML::Emitter e;
   e << root;
   fs::create_directories(dir / "scenes");

@@ -1,0 +1,52 @@
+#include "app/run/instrument_focus.hpp"
+
+#include <algorithm>
+#include <limits>
+
+#include "app/check/instrument_reach.hpp"
+#include "app/simulation/tool_depth.hpp"
+
+namespace vdmsim {
+
+double working_distance(const InstrumentDef& def) { return std::max(0.005, 3 * def.radius); }
+
+bool instruments_working_area(const PreparedScene& ps, vdm::Vec3& lo, vdm::Vec3& hi) {
+  const SceneDef& s = ps.scene;
+  const vdm::SurfaceMesh& rest = ps.model.rest;
+  if (s.instruments.empty()) return false;
+  const double inf = std::numeric_limits<double>::infinity();
+  vdm::Vec3 near_lo = vdm::Vec3::Constant(inf), near_hi = vdm::Vec3::Constant(-inf);
+  vdm::Vec3 all_lo = near_lo, all_hi = near_hi;
+  bool any_near = false;
+  double radius = 0, deepest = 0;
+  for (const InstrumentDef& def : s.instruments) {
+    radius = std::max(radius, def.radius);
+    for (double t : reach_times(def, s.frames, s.dt)) {
+      const vdm::Vec3 tip = tools::pose_at(def, t).tip;
+      all_lo = all_lo.cwiseMin(tip);
+      all_hi = all_hi.cwiseMax(tip);
+      if (smallest_distance(def, t, rest.positions) > working_distance(def)) continue;
+      any_near = true;
+      near_lo = near_lo.cwiseMin(tip);
+      near_hi = near_hi.cwiseMax(tip);
+      deepest = std::max(deepest, depth_inside(rest.positions, rest.triangles, tip));
+    }
+  }
+  const double pad = std::max({0.06 * ps.model.size, 5 * radius, 2 * deepest});
+  lo = (any_near ? near_lo : all_lo) - vdm::Vec3::Constant(pad);
+  hi = (any_near ? near_hi : all_hi) + vdm::Vec3::Constant(pad);
+  return true;
+}
+
+render::RenderSettings framed_settings(const PreparedScene& ps) {
+  render::RenderSettings settings = ps.scene.render.settings;
+  vdm::Vec3 lo, hi;
+  if (settings.auto_camera && settings.focus == render::CameraFocus::instruments && instruments_working_area(ps, lo, hi)) {
+    settings.has_focus_box = true;
+    settings.focus_lo = lo;
+    settings.focus_hi = hi;
+  }
+  return settings;
+}
+
+}  // namespace vdmsim
