@@ -32,9 +32,10 @@ double smallest_to_shape(const vdm::ToolShape& shape, const vdm::NodeMat& x) {
 std::vector<double> reach_times(const InstrumentDef& def, int frames, double dt) {
   std::vector<double> times{0.0};
   const int stride = frames > kMaxSampledFrames ? (frames + kMaxSampledFrames - 1) / kMaxSampledFrames : 1;
-  for (int f = stride; f < frames; f += stride) times.push_back(f * dt);
-  if (frames > 0) times.push_back(frames * dt);
-  const double end = (frames + 0.01) * dt;  // a keyframe within round-off of the last frame
+  // Frame f is the scene at f dt: frames 0 .. frames - 1.
+  for (int f = stride; f < frames - 1; f += stride) times.push_back(f * dt);
+  if (frames > 1) times.push_back((frames - 1) * dt);
+  const double end = (frames - 1 + 0.01) * dt;  // a keyframe within round-off of the last frame
   for (const Keyframe& k : def.script)
     if (k.t > 0 && k.t <= end) times.push_back(k.t);
   std::sort(times.begin(), times.end());

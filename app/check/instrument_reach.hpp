@@ -18,9 +18,9 @@ struct InstrumentReach {
   double deepest_at = 0;
 };
 
-// The times the pass samples for `def`: t = 0, every frame's end f dt (f = 1 .. frames; every
-// k-th frame when there are more than kMaxSampledFrames), and the script's keyframe times up to
-// the last frame's, sorted.
+// The times the pass samples for `def`: every frame's time f dt (f = 0 .. frames - 1; every
+// k-th frame when there are more than kMaxSampledFrames, and the last), and the script's
+// keyframe times up to the last frame's, sorted.
 constexpr int kMaxSampledFrames = 20000;
 std::vector<double> reach_times(const InstrumentDef& def, int frames, double dt);
 

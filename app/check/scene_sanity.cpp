@@ -78,11 +78,12 @@ void check_instruments(const SceneDef& s, const std::vector<InstrumentReach>& re
       }
   // A shortfall under 1 % of a frame is the round-off of a dt written with few digits.
   if (last > end + 0.01 * s.dt) {
-    const long needed = static_cast<long>(std::ceil(last / s.dt - 0.01));
+    // Frame f is the scene at f dt: the script's last time needs frames 0 .. ceil(last / dt).
+    const long needed = static_cast<long>(std::ceil(last / s.dt - 0.01)) + 1;
     out.push_back({s.file, "simulation.frames",
                    "the script of " + instrument_name(which) + " runs to t = " + num(last) + " s but " +
-                       std::to_string(s.frames) + " frames of " + num(s.dt) + " s end at " + num(end) +
-                       " s: the rest is not simulated; " + std::to_string(needed) + " frames cover it",
+                       std::to_string(s.frames) + " frames of " + num(s.dt) + " s (the first at t = 0) end at t = " +
+                       num(end) + " s: the rest is not simulated; " + std::to_string(needed) + " frames cover it",
                    true});
   }
 }
@@ -131,7 +132,7 @@ void print_placements(const PreparedScene& ps, size_t k, std::ostream& out) {
 SanityReport scene_sanity(const PreparedScene& ps) {
   const SceneDef& s = ps.scene;
   SanityReport r;
-  r.end_time = s.frames * s.dt;
+  r.end_time = std::max(s.frames - 1, 0) * s.dt;  // frame f is the scene at f dt
   r.fixed = count_fixed(s, ps.model.rest.positions);
   for (const InstrumentDef& def : s.instruments)
     r.reach.push_back(instrument_reach(def, ps.model.rest, reach_times(def, s.frames, s.dt)));

@@ -42,7 +42,7 @@ void FrameLoop::run(int first, RunTally& tally, RunOutcome& outcome) {
       outcome.fail(why + " at frame " + std::to_string(f));
       break;
     }
-    tally.add_step(sim.frame_step_ms());
+    if (sim.frame_stepped()) tally.add_step(sim.frame_step_ms());  // an inertial frame 0 takes none
     tally.max_volume_error = std::max(tally.max_volume_error, std::abs(state.volume_rel_error));
     if (!(f < setup.start ? replay(f, outcome) : write(f, tally, outcome))) break;
   }

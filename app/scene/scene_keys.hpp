@@ -192,9 +192,11 @@ inline constexpr SceneKey kSceneKeys[] = {
       .eg("t: [0.5, 1.5]"),
 
   // simulation
-  key("simulation.frames", KT::integer, "How many frames to simulate: one quasi-static step per frame.").range(1, kMaxFrames)
-      .by_default([] { return std::to_string(SceneDef().frames); }).eg("frames: 90"),
-  key("simulation.dt", KT::number, "Simulated time per frame.").in("s").above(0, 10)
+  key("simulation.frames", KT::integer, "How many frames to simulate and write: frame f is the scene at t = f dt, "
+      "frame 0 at t = 0 (before the script moves anything) and the last at (frames - 1) dt; one step per frame "
+      "after the first.").range(1, kMaxFrames)
+      .by_default([] { return std::to_string(SceneDef().frames); }).eg("frames: 91"),
+  key("simulation.dt", KT::number, "Simulated time from one frame to the next.").in("s").above(0, 10)
       .by_default([] { return yaml_number(SceneDef().dt); }).eg("dt: 0.0333333"),
   key("simulation.effects", KT::choice_list, "The effects simulated: only these run (an unlisted effect costs nothing, "
       "and its metrics.csv columns stay empty). `contact`: instruments push the tissue; `grasp`: graspers hold it; "

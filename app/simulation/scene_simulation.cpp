@@ -200,7 +200,13 @@ void SceneSimulation::advance(int f) {
   const SceneDef& s = ps_.scene;
   const vdm::TissueModel& m = ps_.model;
   const double t = frame_time(f, s.dt);
+  // Where the instruments were at the start of this frame's step: frame 0's step (a settle at
+  // t = 0) does not move them.
+  const double t_start = f == 0 ? t : frame_time(f - 1, s.dt);
   time_ = t;
+  // With inertia the state at t = 0 is the initial condition, the organ at rest: a step here
+  // would integrate the motion over a whole dt and label it t = 0.
+  frame_stepped_ = !(f == 0 && m.use_inertia);
   // Scripted loads and motions for this frame.
   const auto t_loads = Clock::now();
   input_.force.setZero();
@@ -230,7 +236,7 @@ void SceneSimulation::advance(int f) {
   }
   times_.loads += ms_since(t_loads);
   const auto t_grasp = Clock::now();
-  for (size_t k = 0; k < grasps_.size(); ++k) {
+  for (size_t k = 0; frame_stepped_ && k < grasps_.size(); ++k) {
     const tools::InstrumentPose pose = tools::pose_at(*graspers_[k], t);
     grasps_[k].update(*graspers_[k], pose, state_.x);
     earlier_hold_.clear();
@@ -244,16 +250,21 @@ void SceneSimulation::advance(int f) {
   frame_step_ms_ = 0;
   frame_iterations_ = 0;
   frame_fallbacks_ = 0;
+  if (!frame_stepped_) {  // frame 0 with inertia: the organ at rest, nothing held yet
+    measure_forces();
+    return;
+  }
   if (contact_) {
     // Sub-step when an instrument moves more than its size in a frame, so it cannot tunnel.
     double substeps = 1;
     for (const tools::InstrumentDef& in : s.instruments) {
-      const double move = tools::instrument_motion(in, tools::pose_at(in, t), tools::pose_at(in, t - s.dt));
+      const double move = tools::instrument_motion(in, tools::pose_at(in, t), tools::pose_at(in, t_start));
       substeps = std::max(substeps, std::ceil(move / tools::instrument_size(in)));
     }
     const int n_sub = static_cast<int>(std::min(substeps, 1000.0));
     for (int j = 1; j <= n_sub; ++j) {
-      const double tj = t - s.dt + s.dt * j / n_sub, tprev = t - s.dt + s.dt * (j - 1) / n_sub;
+      const double tj = j == n_sub ? t : t_start + (t - t_start) * j / n_sub;
+      const double tprev = t_start + (t - t_start) * (j - 1) / n_sub;
       for (size_t k = 0; k < probes_.size(); ++k)
         tools_[k] = tools::probe_shape(*probes_[k], tools::pose_at(*probes_[k], tj), tools::pose_at(*probes_[k], tprev));
       for (size_t k = 0; k < graspers_.size(); ++k) {

@@ -24,13 +24,20 @@ struct StageTimes {
 class SceneSimulation {
  public:
   explicit SceneSimulation(const PreparedScene& prepared);
-  // Simulates frame f, which ends at time (f + 1) dt.
+  // Simulates frame f, the scene at time f dt; call it for f = 0, 1, 2, ... in turn. Frame 0
+  // is the scene at t = 0, before the script moves anything: with inertia the initial
+  // condition (the organ at rest, no step taken); quasi-static, the equilibrium under what
+  // acts at t = 0, found by one step with the instruments held at their t = 0 poses (the rest
+  // shape unless an instrument starts touching the organ, a grasper starts closed on it, or a
+  // load or gravity acts at t = 0). Frame f >= 1 is one step from (f - 1) dt to f dt.
   void advance(int f);
-  // The time at which frame f ends (its time(), known without simulating it).
-  static double frame_time(int f, double dt) { return (f + 1) * dt; }
+  // The time of frame f (its time(), known without simulating it).
+  static double frame_time(int f, double dt) { return f * dt; }
 
   const vdm::SimState& state() const { return state_; }
   double time() const { return time_; }
+  // Whether the last frame took a step (all but an inertial scene's frame 0).
+  bool frame_stepped() const { return frame_stepped_; }
   double frame_step_ms() const { return frame_step_ms_; }   // engine time of the last frame
   int frame_iterations() const { return frame_iterations_; }
   int frame_fallbacks() const { return frame_fallbacks_; }  // solves redone by the direct solver
@@ -79,6 +86,7 @@ class SceneSimulation {
   vdm::StepInput input_;
   StageTimes times_;
   double time_ = 0, frame_step_ms_ = 0;
+  bool frame_stepped_ = false;
   int frame_iterations_ = 0, frame_fallbacks_ = 0;
   std::vector<vdm::Vec3> instrument_force_;
   std::vector<double> peak_force_;

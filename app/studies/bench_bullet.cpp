@@ -156,11 +156,13 @@ struct BulletProbe::Impl {
     if (body) world.removeSoftBody(body.get());
   }
 
+  // Frame f is the scene at f dt, as in vdmsim's runs: frame 0 takes no step (the body at rest,
+  // the probe at its t = 0 pose), frame f >= 1 steps from (f - 1) dt to f dt.
   double advance(int f) {
-    const double t0 = f * dt, h = dt / set.substeps;
-    vdm::Capsule cap;
+    const double t0 = (f - 1) * dt, h = dt / set.substeps;
+    vdm::Capsule cap = tools::probe_capsule(probe_def, tools::pose_at(probe_def, f * dt));
     const auto start = Clock::now();
-    for (int j = 1; j <= set.substeps; ++j) {
+    for (int j = 1; f > 0 && j <= set.substeps; ++j) {
       cap = tools::probe_capsule(probe_def, tools::pose_at(probe_def, t0 + j * h));
       probe_motion->setWorldTransform(capsule_transform(cap));
       world.stepSimulation(btScalar(h), 0);

@@ -88,8 +88,11 @@ TEST(YourOwnOrganDoc, TheTutorialRunsEndToEnd) {
             std::string::npos)
       << check_output;
   // The pictures, framed on the probe's working area.
-  EXPECT_TRUE(fs::exists(work / "out/my_liver/frames/frame_00014.png"));
-  EXPECT_TRUE(fs::exists(work / "out/my_liver/stress/stress_00014.png"));
+  // Frame 15 (t = 0.5 s), the deepest press, as the page shows it; frames: 31 is t = 0 to 1 s.
+  EXPECT_TRUE(fs::exists(work / "out/my_liver/frames/frame_00015.png"));
+  EXPECT_TRUE(fs::exists(work / "out/my_liver/stress/stress_00015.png"));
+  EXPECT_TRUE(fs::exists(work / "out/my_liver/stress/stress_00030.png"));
+  EXPECT_FALSE(fs::exists(work / "out/my_liver/stress/stress_00031.png"));
   EXPECT_TRUE(fs::exists(work / "out/my_liver/run.json"));
 }
 

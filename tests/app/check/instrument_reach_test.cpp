@@ -36,9 +36,10 @@ TEST(InstrumentReach, SamplesEveryFrameAndTheKeyframesWithinTheFrames) {
   a.tip = vdm::Vec3::Zero();
   def.script = {a, b, c};
   const std::vector<double> t = vdmsim::reach_times(def, 10, 0.1);
-  ASSERT_EQ(t.size(), 12u);  // 0, 0.1 .. 1.0 and 0.25; not 3 (after the last frame)
+  // Frames 0 .. 9 at 0, 0.1 .. 0.9 and the keyframe 0.25; not 3 (after the last frame)
+  ASSERT_EQ(t.size(), 11u);
   EXPECT_EQ(t.front(), 0.0);
-  EXPECT_DOUBLE_EQ(t.back(), 1.0);
+  EXPECT_DOUBLE_EQ(t.back(), 0.9);
   EXPECT_DOUBLE_EQ(t[3], 0.25);
   EXPECT_LE(vdmsim::reach_times(def, 10000000, 1e-3).size(), size_t(vdmsim::kMaxSampledFrames) + 3);
 }
@@ -46,7 +47,7 @@ TEST(InstrumentReach, SamplesEveryFrameAndTheKeyframesWithinTheFrames) {
 TEST(InstrumentReach, AProbePressed10MmTouchesHalfWayAndGoes10MmDeep) {
   const vdm::SurfaceMesh organ = vdmsim::make_liver_mesh(5);  // 10242 nodes
   const InstrumentDef def = press(organ, 0.05, 0, 0.01);
-  const std::vector<double> times = vdmsim::reach_times(def, 200, 0.01);  // 200 frames to t = 2
+  const std::vector<double> times = vdmsim::reach_times(def, 201, 0.01);  // 201 frames: t = 0 to 2
   const auto t0 = std::chrono::steady_clock::now();
   const vdmsim::InstrumentReach r = vdmsim::instrument_reach(def, organ, times);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -39,8 +39,9 @@ std::string scene(const std::string& name, const std::string& organ, const std::
 }
 
 // A probe coming down on the top of the liver (surface near z = 0.06 at x = 0.035).
+// Frames 0 to 30: t = 0 to 1 s, the whole script.
 const std::string kPress =
-    "simulation: {frames: 30, effects: [contact]}\n"
+    "simulation: {frames: 31, effects: [contact]}\n"
     "instruments:\n  - type: probe\n    script:\n"
     "      - {t: 0, tip: [0.035, 0, 0.075]}\n      - {t: 1, tip: [0.035, 0, 0.05]}\n";
 
@@ -122,7 +123,20 @@ TEST(CheckReportCli, AScriptLongerThanTheFramesSaysTheFramesNeeded) {
   EXPECT_EQ(r.code, 0) << r.output;
   EXPECT_TRUE(has(r.output, "warning: simulation.frames: the script of instruments[0] runs to t = 1.3 s but 20 frames"))
       << r.output;
-  EXPECT_TRUE(has(r.output, "39 frames cover it")) << r.output;
+  // Frame f is at f / 30 s: t = 1.3 s is frame 39, so frames 0 .. 39.
+  EXPECT_TRUE(has(r.output, "20 frames of 0.03333 s (the first at t = 0) end at t = 0.6333 s")) << r.output;
+  EXPECT_TRUE(has(r.output, "40 frames cover it")) << r.output;
+  // With those 40 frames the script is covered: no warning; with 39 it is not.
+  for (const int frames : {39, 40}) {
+    const std::string q = scene("covered" + std::to_string(frames) + ".yaml", kMaterial + kTable,
+                                "simulation: {frames: " + std::to_string(frames) + ", effects: [contact]}\n"
+                                "instruments:\n  - type: probe\n    script:\n"
+                                "      - {t: 0, tip: [0.035, 0, 0.075]}\n      - {t: 0.6, tip: [0.035, 0, 0.05]}\n"
+                                "      - {t: 1.3, tip: [0.035, 0, 0.075]}\n");
+    const auto c = check(q);
+    EXPECT_EQ(c.code, 0) << c.output;
+    EXPECT_EQ(has(c.output, "warning: simulation.frames:"), frames == 39) << c.output;
+  }
 }
 
 TEST(CheckReportCli, ADefaultMaterialIsWarned) {

@@ -654,16 +654,18 @@ TEST(Scene, DuplicateKeysMergeKeysAndSecondDocumentsAreErrors) {
 }
 
 // A frame whose results cannot be trusted stops the run as failed, with the frames before it
-// kept: here a region of the 20 cm liver prescribed 1 m away (more than twice the organ's size).
+// kept: here a region of the 20 cm liver prescribed 1 m away (more than twice the organ's size)
+// at frame 2 (t = 0.08 s), after frames 0 (at rest) and 1 (0.5 m away).
 TEST(SceneRun, AnImplausibleFrameFailsTheRun) {
   const std::string path = write_scene(
       "thrown.yaml", scene_text("  prescribed: [{sphere: {center: [0.035, 0, 0.06], radius: 0.015}, translate: [0, 0, 1.0], "
-                                "t: [0, 0.12]}]\n"));
+                                "t: [0, 0.08]}]\n"));
   const fs::path out = scene_dir() / "thrown_out";
   fs::remove_all(out);
   std::ostringstream o, e;
   EXPECT_EQ(cmd_run(path, out.string(), -1, false, false, false, 30, o, e, false), 1) << e.str();
   EXPECT_NE(e.str().find("more than twice the organ's size"), std::string::npos) << e.str();
+  EXPECT_NE(e.str().find("at frame 2"), std::string::npos) << e.str();
   EXPECT_NE(json_of(out).find("\"status\": \"failed\""), std::string::npos) << json_of(out);
   EXPECT_EQ(read_lines(out / "metrics.csv").size(), 3u) << "the two frames before it kept";
 }

@@ -21,7 +21,7 @@ PreparedScene prepare_example(const std::string& name) {
 }
 
 TEST(InstrumentForces, AGraspAndLiftPullsTheJawsDownHarderAsItLifts) {
-  // grasp_lift.yaml: the jaws close at 0.6 s and lift the lobe 20 mm by 1.6 s (frames 17 to 47).
+  // grasp_lift.yaml: the jaws close at 0.6 s and lift the lobe 20 mm by 1.6 s (frames 18 to 48).
   PreparedScene ps = prepare_example("grasp_lift.yaml");
   ps.scene.has_render = false;
   SceneSimulation sim(ps);

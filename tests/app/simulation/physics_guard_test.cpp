@@ -62,7 +62,9 @@ TEST(PhysicsGuard, TwoGraspersPullingTheSameNodesApartFail) {
   EXPECT_NE(r.said.find("is held by both instruments[0] and instruments[1]"), std::string::npos) << r.said;
   EXPECT_NE(r.said.find("pull the same tissue against each other"), std::string::npos) << r.said;
   EXPECT_NE(r.json.find("\"status\": \"failed\""), std::string::npos) << r.json;
-  EXPECT_NE(r.json.find("\"frames\": 1,"), std::string::npos) << r.json;  // frame 0 (closing) kept
+  // Frames 0 (t = 0, jaws open) and 1 (t = 0.1 s, closing) kept; frame 2 pulls apart.
+  EXPECT_NE(r.said.find("at frame 2"), std::string::npos) << r.said;
+  EXPECT_NE(r.json.find("\"frames\": 2,"), std::string::npos) << r.json;
 }
 
 TEST(PhysicsGuard, TwoGraspersLiftingTheSameNodesTogetherComplete) {

@@ -67,7 +67,8 @@ TEST(SurfaceKeyframes, ATipPlacedFiveMillimetresDeepIsFiveMillimetresInsideThePl
   const vdm::SurfaceMesh& rest = ps.model.rest;
   EXPECT_NEAR(depth_inside(rest.positions, rest.triangles, *script[1].tip), 0.005, 1e-12);
   EXPECT_EQ(depth_inside(rest.positions, rest.triangles, *script[0].tip), 0.0);
-  const InstrumentReach reach = instrument_reach(ps.scene.instruments[0], rest, reach_times(ps.scene.instruments[0], 10, 0.1));
+  // 11 frames of 0.1 s: t = 0 to 1 s, the whole script.
+  const InstrumentReach reach = instrument_reach(ps.scene.instruments[0], rest, reach_times(ps.scene.instruments[0], 11, 0.1));
   EXPECT_NEAR(reach.deepest, 0.005, 1e-12);
   EXPECT_NEAR(reach.deepest_at, 1.0, 1e-12);
   EXPECT_NEAR(reach.start_distance, 0.01, 1e-12);  // the capsule's end 10 mm above the node under it
