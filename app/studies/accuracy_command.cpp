@@ -157,15 +157,10 @@ int run_accuracy(const AccuracyOptions& o, std::ostream& out, std::ostream& err,
     return 2;
   }
   if (o.task >= 0) which = {o.task};
-  std::error_code ec;
-  const fs::path dir = fs::absolute(o.out_dir, ec).lexically_normal();
-  if (!prepare_output_dir((dir / "runs").string(), error)) {
-    err << "vdmsim: error: " << error << "\n";
-    return 2;
-  }
   // The study's folder is one study's at a time (a task works in its own run folder only).
+  fs::path dir;
   OutputLock lock;
-  if (o.task < 0 && !lock.acquire(dir, error)) {
+  if (!open_sweep_dir(o.out_dir, o.task >= 0, dir, lock, error)) {
     err << "vdmsim: error: " << error << "\n";
     return 2;
   }

@@ -48,6 +48,14 @@ void clear_run_results(const fs::path& dir) {
   for (const char* old : {"run.json", "checkpoint.json", "state.bin", "run.log"}) fs::remove(dir / old, ec);
 }
 
+bool open_sweep_dir(const std::string& out, bool task, std::filesystem::path& dir, OutputLock& lock,
+                    std::string& error) {
+  std::error_code ec;
+  dir = std::filesystem::absolute(out, ec).lexically_normal();
+  if (!prepare_output_dir((dir / "runs").string(), error)) return false;
+  return task || lock.acquire(dir, error);
+}
+
 bool write_run_scene(const fs::path& dir, const std::string& scene_text, std::string& error) {
   const fs::path scene = dir / "scene.yaml";
   std::error_code ec;

@@ -6,9 +6,16 @@
 #include <filesystem>
 #include <string>
 
+#include "app/run/output_dir.hpp"
 #include "app/run/scene_run.hpp"
 
 namespace vdmsim {
+
+// Opens a sweep's (or study's) folder: `out` made absolute into `dir`, DIR/runs created, and
+// the folder locked for this sweep unless `task` (a task works in its own run folder only).
+// False with `error`.
+bool open_sweep_dir(const std::string& out, bool task, std::filesystem::path& dir, OutputLock& lock,
+                    std::string& error);
 
 enum class RunFolderState {
   finished,     // completed, of this scene, its files and these options: nothing to do

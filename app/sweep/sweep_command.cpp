@@ -5,6 +5,7 @@
 #include "app/run/output_dir.hpp"
 #include "app/sweep/child_process.hpp"
 #include "app/sweep/local_runner.hpp"
+#include "app/sweep/run_folder.hpp"
 #include "app/sweep/slurm_runner.hpp"
 #include "app/sweep/summary.hpp"
 #include "app/sweep/sweep_plan.hpp"
@@ -63,20 +64,15 @@ int cmd_sweep(const SweepOptions& o, std::ostream& out, std::ostream& err, bool 
     err << "vdmsim: error: --task " << o.task << ": the sweep has " << n << " runs (0 to " << n - 1 << ")\n";
     return 2;
   }
-  std::error_code ec;
-  const fs::path dir = fs::absolute(o.out_dir, ec).lexically_normal();
-  const fs::path runs = dir / "runs";
-  std::string error;
-  if (!prepare_output_dir(runs.string(), error)) {
-    err << "vdmsim: error: " << error << "\n";
-    return 2;
-  }
   // The sweep's folder is one sweep's at a time (a task works in its own run's folder only).
+  fs::path dir;
   OutputLock lock;
-  if (o.task < 0 && !lock.acquire(dir, error)) {
+  std::string error;
+  if (!open_sweep_dir(o.out_dir, o.task >= 0, dir, lock, error)) {
     err << "vdmsim: error: " << error << "\n";
     return 2;
   }
+  const fs::path runs = dir / "runs";
   std::vector<int> which;
   for (int i = 0; i < n; ++i)
     if (o.task < 0 || i == o.task) which.push_back(i);
