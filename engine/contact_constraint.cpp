@@ -2,7 +2,8 @@
 //
 // Contact points are surface points: the nodes near a tool and, where a triangle's inside
 // meets a tool that none of its corners touches (a probe thinner than the edges), the
-// triangle's deepest point, its force spread on the corners by barycentric weights. Each
+// triangle's deepest point, its force spread on the corners by barycentric weights (more
+// points on a triangle that the tool meets, deeper than allowed, away from its points). Each
 // carries a force in its frame (n: the tool's outward normal, t1, t2):
 //   non-penetration   gap >= 0, f_n >= 0, gap f_n = 0;
 //   Coulomb friction  |f_t| <= mu f_n; below the cone the point moves with the tool over the
@@ -126,12 +127,30 @@ double contact_gap(const ToolShape& t, const Vec3& point, const Vec3& start, Vec
   return -(exit - point).norm();
 }
 
+// Whether triangle `tri` takes another point with tool k at `q`, `depth` deep (signed
+// distance, negative inside): fewer than eight points there, none within a fiftieth of the
+// tool's size, and every point within a quarter of it is shallower by half the penetration
+// allowed (`allowed`, m): the tool meets the triangle somewhere its points do not hold (a
+// tool moved across a large triangle, or the triangle turned about a point it is held at).
+bool takes_another_point(const std::vector<ContactPoint>& contacts, int tri, int k, const Vec3& q, double depth,
+                         const NodeMat& x, double size, double allowed) {
+  int count = 0;
+  for (const ContactPoint& c : contacts) {
+    if (c.triangle != tri || c.tool != k) continue;
+    const double d = (point_of(c, x) - q).norm();
+    if (++count >= 8 || d < 0.02 * size || (d < 0.25 * size && c.gap <= depth + 0.5 * allowed)) return false;
+  }
+  return true;
+}
+
 // Contact points in a fixed order (tool, triangle, node), whatever order the broad phase
 // found them in: the Gauss-Seidel's result depends on the order.
 bool in_order(const ContactPoint& a, const ContactPoint& b) {
   if (a.tool != b.tool) return a.tool < b.tool;
   if (a.triangle != b.triangle) return a.triangle < b.triangle;
-  return a.node[0] < b.node[0];
+  if (a.node[0] != b.node[0]) return a.node[0] < b.node[0];
+  if (a.weight[1] != b.weight[1]) return a.weight[1] < b.weight[1];
+  return a.weight[2] < b.weight[2];
 }
 
 }  // namespace
@@ -163,11 +182,11 @@ void ContactSolver::find_contact_points(const TissueModel& m, const StepInput& b
     c.normal = normal;
     if (gap < -0.25 * tools[static_cast<size_t>(k)].size())
       c.gap = contact_gap(tools[static_cast<size_t>(k)], c.point, c.start, c.surface, c.normal);
-    if (warm)
+    if (warm)  // the force the last step ended with there (a triangle's: all its points')
       for (const ContactPoint& l : last_contacts_)
         if (l.tool == k && l.triangle == tri && (tri >= 0 || l.node[0] == nodes[0])) {
-          c.force = l.force;
-          break;
+          c.force += l.force;
+          if (tri < 0) break;
         }
     if (tri < 0) node_tool_[static_cast<size_t>(nodes[0])] = k;
     else triangle_tool_[static_cast<size_t>(tri)] = k;
@@ -204,21 +223,25 @@ void ContactSolver::find_contact_points(const TissueModel& m, const StepInput& b
           corner_contact = true;
         }
       }
-      if (triangle_tool_[static_cast<size_t>(tri)] >= 0 || all_immobile) continue;
+      const int owner = triangle_tool_[static_cast<size_t>(tri)];
+      if ((owner >= 0 && owner != k) || all_immobile) continue;
       // The triangle's deepest inner point: where no corner touches this tool, any point
-      // closer than the limit; beside touching corners, only one deeper than the penetration
-      // allowed (ContactSettings::tolerance: the chord of a round tool between nodes held on
-      // it cuts into it).
-      const double need = (corner_contact ? -settings_.tolerance : limit) * size;
+      // closer than the limit; beside touching corners, or in a triangle that has points
+      // already, only one deeper than the penetration allowed (ContactSettings::tolerance:
+      // the chord of a round tool between nodes held on it cuts into it; a tool that moved
+      // across a large triangle meets it away from the point first placed).
+      const bool more = owner == k;
+      const double need = (corner_contact || more ? -settings_.tolerance : limit) * size;
       double bu = 0, bv = 0;
       Vec3 best_p, best_n;
       // (refined only where no corner touches: beside touching corners the samples' centroids
       // keep the point inside the triangle, away from the corners that hold it already)
       const double best = deepest_in_triangle(t, p[0], p[1], p[2], bu, bv, best_p, best_n, !corner_contact);
-      if (best < need) {
-        const double w[3] = {1.0 - bu - bv, bu, bv};
-        add(k, tri, nd, w, 3, best, best_p, best_n);
-      }
+      const Vec3 q = p[0] + bu * (p[1] - p[0]) + bv * (p[2] - p[0]);
+      const double allowed = settings_.tolerance * size;
+      if (best >= need || (more && !takes_another_point(contacts_, tri, k, q, best, x, size, allowed))) continue;
+      const double w[3] = {1.0 - bu - bv, bu, bv};
+      add(k, tri, nd, w, 3, best, best_p, best_n);
     }
   }
 }
