@@ -1,9 +1,10 @@
 #pragma once
-// Contact between the organ surface and rigid instruments (vdm-model.md section 5), default
-// kinematic: nodes that penetrate an instrument are projected onto its surface and held
-// there as prescribed displacements for the step; nodes whose reaction would pull the
-// instrument (adhesion) are released and the step solved again (active set).
-// Option constraint (sliding, with Coulomb friction): engine/contact_constraint.cpp.
+// Contact between the organ surface and rigid instruments (vdm-model.md section 5).
+// Default constraint: non-penetration at surface points with Coulomb friction (sliding and
+// sticking), engine/contact_constraint.cpp.
+// Option kinematic (sticking): nodes that penetrate an instrument are projected onto its
+// surface and held there as prescribed displacements for the step; nodes whose reaction
+// would pull the instrument (adhesion) are released and the step solved again (active set).
 // Option penalty (frictionless): the surface triangles are sampled, and every sample inside
 // an instrument is pushed out along the instrument's normal by the pressure k_c * depth,
 // spread on the triangle's nodes by barycentric weights (so a thin probe between nodes still
@@ -80,9 +81,10 @@ struct ContactSettings {
   // contact points, with Coulomb friction (engine/contact_constraint.cpp); kinematic: nodes
   // held on the tool (sticking); penalty: frictionless springs. The reference models (fem,
   // mass_spring) take kinematic contact whatever is chosen.
-  enum class Method { constraint, kinematic, penalty } method = Method::kinematic;
-  // constraint: the Coulomb friction coefficient (0: frictionless sliding).
-  double friction = 0.0;
+  enum class Method { constraint, kinematic, penalty } method = Method::constraint;
+  // constraint: the Coulomb friction coefficient (0: frictionless sliding). The default, 0.2,
+  // is a moderate value for moist tissue on a smooth metal instrument.
+  double friction = 0.2;
   // constraint: solves of the organ per step at most.
   int max_constraint_iterations = 30;
   // constraint: the step's contact solve has converged when no contact point is off the tool's

@@ -203,7 +203,7 @@ void ContactSolver::find_contact_points(const TissueModel& m, const StepInput& b
       triangle_mark_[static_cast<size_t>(tri)] = 0;
       int nd[3];
       Vec3 p[3];
-      bool corner_contact = false, all_immobile = true;
+      bool corner_contact = false, all_immobile = true, moved_corner = false;
       for (int v = 0; v < 3; ++v) {
         nd[v] = (*triangles_)(tri, v);
         p[v] = x.row(nd[v]).transpose();
@@ -213,7 +213,10 @@ void ContactSolver::find_contact_points(const TissueModel& m, const StepInput& b
           all_immobile = false;
           continue;
         }
-        if (immobile(nd[v])) continue;
+        if (immobile(nd[v])) {
+          moved_corner |= has_prescribed && base.prescribed.row(nd[v]).minCoeff() != 0;
+          continue;
+        }
         all_immobile = false;
         Vec3 sp, sn;
         const double dist = tool_distance(t, p[v], sp, sn);
@@ -224,7 +227,9 @@ void ContactSolver::find_contact_points(const TissueModel& m, const StepInput& b
         }
       }
       const int owner = triangle_tool_[static_cast<size_t>(tri)];
-      if ((owner >= 0 && owner != k) || all_immobile) continue;
+      // (a triangle with a corner the scene moves, e.g. grasped, goes where that corner is
+      // taken: it may lie in the jaw that holds it, and takes no point)
+      if ((owner >= 0 && owner != k) || all_immobile || moved_corner) continue;
       // The triangle's deepest inner point: where no corner touches this tool, any point
       // closer than the limit; beside touching corners, or in a triangle that has points
       // already, only one deeper than the penetration allowed (ContactSettings::tolerance:
@@ -256,6 +261,11 @@ double ContactSolver::deepest_surface_point(const std::vector<ToolShape>& tools,
     broad_phase(t, k, 0.0, candidates_, rep, true);
     for (int tri : candidates_) {
       triangle_mark_[static_cast<size_t>(tri)] = 0;
+      // (a triangle with a corner the scene moves on every axis, e.g. grasped, takes no point:
+      // input_ holds the scene's prescribed motion)
+      bool moved_corner = false;
+      for (int v = 0; v < 3; ++v) moved_corner |= input_.prescribed.row((*triangles_)(tri, v)).minCoeff() != 0;
+      if (moved_corner) continue;
       const Vec3 a = x.row((*triangles_)(tri, 0)).transpose(), b = x.row((*triangles_)(tri, 1)).transpose(),
                  c = x.row((*triangles_)(tri, 2)).transpose();
       Vec3 sp, sn;
@@ -468,8 +478,13 @@ void ContactSolver::step_constraint(const TissueModel& m, const StepInput& base,
   tool_force_.assign(tools.size(), Vec3::Zero());
   for (const ContactPoint& c : contacts_) tool_force_[static_cast<size_t>(c.tool)] -= c.force;
   for (const Vec3& f : tool_force_) rep.force += f;
+  const bool has_prescribed = base.prescribed.rows() == m.n, has_held = m.held.rows() == m.n;
   for (int i : contact_nodes_) {
     if (contact_force_.row(i).squaredNorm() == 0.0) continue;
+    // (a node held on every axis, e.g. grasped, takes its share of a triangle point's force
+    // through what holds it: it is not held by the tool)
+    if ((has_prescribed && base.prescribed.row(i).minCoeff() != 0) || (has_held && m.held.row(i).minCoeff() != 0))
+      continue;
     active_[static_cast<size_t>(i)] = 1;
     held_.push_back(i);
     s.reaction.row(i) = contact_force_.row(i);

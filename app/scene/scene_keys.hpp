@@ -254,7 +254,7 @@ inline constexpr SceneKey kSceneKeys[] = {
           default: return std::string("penalty");
         }
       })
-      .eg("method: penalty"),
+      .eg("method: kinematic"),
   key("simulation.contact.friction", KT::number, "`constraint` only: the Coulomb friction coefficient μ between tools and "
       "tissue (0: frictionless sliding; a point sticks while its tangential force is below μ times its normal force).")
       .in("friction coefficient (dimensionless)").range(0, 10)

@@ -111,18 +111,18 @@ TEST(ConstraintContact, FrictionlessSlideHasNoTangentialForce) {
   }
 }
 
-TEST(ConstraintContact, DeepFrictionlessSlideStaysCloseToTheLaws) {
+TEST(ConstraintContact, DeepFrictionlessSlideKeepsTheLaws) {
   // A 5 mm ball 4 mm deep over 2.5 mm cells: the contact patch is four cells across, and the
-  // surface between the contact points rides over the ball's front. The targets (5 % and 2 %)
-  // are not met here: measured up to 7.4 % tangential and 4.2 % inside.
+  // surface rides over the ball's front between the nodes (triangles take points of their
+  // own there).
   const TissueModel m = block();
   const double r = 0.005;
   const Slide run = press_and_slide(m, 0.0, 0.004, r, 40);
-  expect_steady(run, r, 0.05);
+  expect_steady(run, r);
   for (size_t j = 0; j < run.slide.size(); ++j) {
     const ContactReport& q = run.slide[j];
     EXPECT_GT(q.force.z(), 0.3);
-    EXPECT_LE(std::abs(q.force.x()), 0.08 * q.force.z()) << "slide step " << j;
+    EXPECT_LE(std::abs(q.force.x()), 0.05 * q.force.z()) << "slide step " << j;
   }
 }
 
@@ -174,33 +174,50 @@ TEST(ConstraintContact, SmallSidewaysPushSticks) {
   EXPECT_NEAR(moved, 1e-4, 1e-5) << "the tissue under the tip must move with the probe";
 }
 
+TEST(ConstraintContact, LargerSidewaysPushSlips) {
+  // 2 cm along x in twenty steps: past the cone, the tip slides over the tissue. The tissue
+  // that was under it lags far behind the probe, and the drag has reached the cone: at least
+  // mu times the normal force (more, by what the ball's front ploughs: its normals tilt).
+  const TissueModel m = block();
+  const double mu = 0.5, push = 0.02;
+  double moved = 0.0;
+  const ContactReport large = push_sideways(m, mu, push, 20, moved);
+  if (verbose())
+    std::printf("pushed %.4g m: the tissue under the tip moved %.4g m, drag / normal %.3f\n", push, moved,
+                -large.force.x() / large.force.z());
+  EXPECT_LT(moved, 0.25 * push) << "the tissue under the tip must slip behind the probe";
+  EXPECT_GT(moved, 0.0) << "friction drags the tissue along";
+  EXPECT_GT(-large.force.x(), 0.95 * mu * large.force.z());
+}
+
 TEST(ConstraintContact, ThinProbeBetweenNodesMovesTheSurface) {
-  // A 1 mm probe pressed 2 mm into a face with 5 mm edges, between the nodes: the triangle it
-  // meets carries it (no node is inside it). With friction mu = 1, the point stays on the
-  // probe's tip (with less, the single point slides off the 1 mm tip of this coarse mesh's
-  // cone-shaped dent past about 1.5 mm, and the probe passes by it).
+  // A 1 mm probe pressed 2 mm into a face with 5 mm edges, between the nodes: the triangles it
+  // meets carry it (no node is inside it), with or without friction. Where the surface slides
+  // off a point on the probe's tip, the triangle takes another where the tip meets it.
   const TissueModel m = block(0.005);
   const double r = 0.0005, depth = 0.002;
   const double x = 0.0021, y = 0.0013;  // inside a triangle, away from its nodes
-  SimState s = make_sim_state(m);
-  ContactSolver contact(m, constraint(1.0));
-  const StepInput base = make_step_input(m);
-  ContactReport rep;
-  for (int j = 1; j <= 10; ++j) {
-    contact.step(m, base, std::vector<Capsule>{probe(x, y, depth * j / 10, r, Vec3(0, 0, -depth / 10))}, s, rep);
-    if (verbose())
-      std::printf("step %d: F %.4g N, solves %d, pen %.3g, nodes %d, conv %d\n", j, rep.force.z(), rep.solves,
-                  rep.max_penetration, rep.nodes, int(rep.converged));
-    EXPECT_TRUE(rep.converged) << "step " << j;
-    EXPECT_LE(rep.max_penetration, 0.02 * r) << "step " << j;
+  for (const double mu : {0.0, 0.2, 1.0}) {
+    SimState s = make_sim_state(m);
+    ContactSolver contact(m, constraint(mu));
+    const StepInput base = make_step_input(m);
+    ContactReport rep;
+    for (int j = 1; j <= 10; ++j) {
+      contact.step(m, base, std::vector<Capsule>{probe(x, y, depth * j / 10, r, Vec3(0, 0, -depth / 10))}, s, rep);
+      if (verbose())
+        std::printf("mu %.1f step %d: F %.4g N, solves %d, pen %.3g, nodes %d, conv %d\n", mu, j, rep.force.z(),
+                    rep.solves, rep.max_penetration, rep.nodes, int(rep.converged));
+      EXPECT_TRUE(rep.converged) << "mu " << mu << ", step " << j;
+      EXPECT_LE(rep.max_penetration, 0.02 * r) << "mu " << mu << ", step " << j;
+    }
+    EXPECT_GT(rep.force.z(), 0.0) << "mu " << mu;
+    // The nodes round the probe went down with the surface under it.
+    double lowest = 0.0;
+    for (int i = 0; i < m.n; ++i)
+      if (std::hypot(m.rest.positions(i, 0) - x, m.rest.positions(i, 1) - y) < 0.006 && m.rest.positions(i, 2) > -1e-9)
+        lowest = std::min(lowest, s.u(i, 2));
+    EXPECT_LT(lowest, -0.5 * depth) << "mu " << mu;
   }
-  EXPECT_GT(rep.force.z(), 0.0);
-  // The nodes round the probe went down with the surface under it.
-  double lowest = 0.0;
-  for (int i = 0; i < m.n; ++i)
-    if (std::hypot(m.rest.positions(i, 0) - x, m.rest.positions(i, 1) - y) < 0.006 && m.rest.positions(i, 2) > -1e-9)
-      lowest = std::min(lowest, s.u(i, 2));
-  EXPECT_LT(lowest, -0.5 * depth);
 }
 
 TEST(ConstraintContact, TheBroadPhaseDoesNotChangeTheResult) {

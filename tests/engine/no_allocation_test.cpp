@@ -207,24 +207,28 @@ long allocations_in_contact_steps(ToolShape::Kind kind, ContactSettings settings
   return total;
 }
 
-TEST(NoAllocation, ContactStepAfterWarmUp) {
-  EXPECT_EQ(allocations_in_contact_steps(ToolShape::Kind::capsule), 0);
-  EXPECT_EQ(allocations_in_contact_steps(ToolShape::Kind::cylinder), 0);
-  EXPECT_EQ(allocations_in_contact_steps(ToolShape::Kind::box), 0);
-  EXPECT_EQ(allocations_in_contact_steps(ToolShape::Kind::convex), 0);
-  EXPECT_EQ(allocations_in_contact_steps(ToolShape::Kind::capsule, {}, true), 0);
-  ContactSettings refit_every_query;
+TEST(NoAllocation, KinematicContactStepAfterWarmUp) {
+  ContactSettings sticking;
+  sticking.method = ContactSettings::Method::kinematic;
+  EXPECT_EQ(allocations_in_contact_steps(ToolShape::Kind::capsule, sticking), 0);
+  EXPECT_EQ(allocations_in_contact_steps(ToolShape::Kind::cylinder, sticking), 0);
+  EXPECT_EQ(allocations_in_contact_steps(ToolShape::Kind::box, sticking), 0);
+  EXPECT_EQ(allocations_in_contact_steps(ToolShape::Kind::convex, sticking), 0);
+  EXPECT_EQ(allocations_in_contact_steps(ToolShape::Kind::capsule, sticking, true), 0);
+  ContactSettings refit_every_query = sticking;
   refit_every_query.lazy_refit = false;
   EXPECT_EQ(allocations_in_contact_steps(ToolShape::Kind::box, refit_every_query), 0);
 }
 
 TEST(NoAllocation, ConstraintContactStepAfterWarmUp) {
-  ContactSettings frictional;
-  frictional.method = ContactSettings::Method::constraint;
+  ContactSettings frictional;  // the default method
   frictional.friction = 0.3;
+  ContactSettings lazy_off = frictional;
+  lazy_off.lazy_refit = false;
   for (ToolShape::Kind kind :
        {ToolShape::Kind::capsule, ToolShape::Kind::cylinder, ToolShape::Kind::box, ToolShape::Kind::convex})
     EXPECT_EQ(allocations_in_contact_steps(kind, frictional, false, true), 0) << static_cast<int>(kind);
+  EXPECT_EQ(allocations_in_contact_steps(ToolShape::Kind::box, lazy_off, false, true), 0);
 }
 
 TEST(NoAllocation, PenaltyContactStepAfterWarmUp) {

@@ -129,7 +129,9 @@ TEST(PenaltyContact, ThinProbeBetweenNodesMeetsTheTriangle) {
   const Vec3 dir = c.normalized();
   auto thin = [&](double d, double step) { return capsule_shape(c - (d - r) * dir, c - (d - 0.1) * dir, r, -step * dir); };
   SimState sk = make_sim_state(m), sp = make_sim_state(m);
-  ContactSolver kinematic(m), pen(m, penalty(1e8));
+  ContactSettings sticking;
+  sticking.method = ContactSettings::Method::kinematic;
+  ContactSolver kinematic(m, sticking), pen(m, penalty(1e8));
   std::vector<ContactReport> kin_reps, pen_reps;
   press(m, kinematic, sk, 3, 0.0015, thin, &kin_reps);
   press(m, pen, sp, 3, 0.0015, thin, &pen_reps);
