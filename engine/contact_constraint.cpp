@@ -197,6 +197,8 @@ void ContactSolver::find_contact_points(const TissueModel& m, const StepInput& b
     const int k = static_cast<int>(kk);
     const ToolShape& t = tools[kk];
     const double size = t.size();
+    ToolShape before = t;  // the tool where it was at the step's start
+    before.pose = t.previous;
     candidates_.clear();
     broad_phase(t, kk, std::max(limit, 0.0) * size, candidates_, rep, true);
     for (int tri : candidates_) {
@@ -245,6 +247,15 @@ void ContactSolver::find_contact_points(const TissueModel& m, const StepInput& b
       const Vec3 q = p[0] + bu * (p[1] - p[0]) + bv * (p[2] - p[0]);
       const double allowed = settings_.tolerance * size;
       if (best >= need || (more && !takes_another_point(contacts_, tri, k, q, best, x, size, allowed))) continue;
+      // A triangle the tool was already through at the step's start (an instrument placed
+      // inside the organ) is left pierced: pushing its inside out of the tool would tear the
+      // surface off its corners. Its corners are kept out as nodes.
+      if (best < -0.25 * size) {
+        Vec3 q0 = Vec3::Zero(), sp, sn;
+        const double w0[3] = {1.0 - bu - bv, bu, bv};
+        for (int v = 0; v < 3; ++v) q0 += w0[v] * (m.rest.positions.row(nd[v]) + start_u.row(nd[v])).transpose();
+        if (tool_distance(before, q0, sp, sn) < -0.25 * size) continue;
+      }
       const double w[3] = {1.0 - bu - bv, bu, bv};
       add(k, tri, nd, w, 3, best, best_p, best_n);
     }

@@ -124,32 +124,44 @@ TEST(HardInstruments, ProbeStartingInsideTheOrganThenWithdrawn) {
 }
 
 TEST(HardInstruments, TwoProbesAtOnceGiveAMirrorSymmetricResult) {
+  // Kinematic contact is a projection: mirror symmetric to round-off. Constraint contact with
+  // friction is solved to its tolerance, each probe's contacts by their own Gauss-Seidel path,
+  // so the stick and slip of the two sides may differ within it: symmetric within 2 % of the
+  // probe's radius (the penetration allowed).
   const double R = 0.05, r = 0.006;
   const TissueModel m = ball(R, 4);
-  SimState s = make_sim_state(m);
-  const StepInput base = make_step_input(m);
-  ContactSolver cs(m);
-  ContactReport rep;
-  const double x = 0.02, z0 = std::sqrt(R * R - x * x);
-  for (int k = 0; k <= 15; ++k) {  // each 1.5 cm into the surface along -z
-    const double d = 1e-3 * k, v = k ? 1e-3 : 0.0;
-    const std::vector<Capsule> tools = {probe(Vec3(x, 0, z0 + 0.002 - d), -Vec3::UnitZ(), r, Vec3(0, 0, -v)),
-                                        probe(Vec3(-x, 0, z0 + 0.002 - d), -Vec3::UnitZ(), r, Vec3(0, 0, -v))};
-    cs.step(m, base, tools, s, rep);
-    expect_sensible(m, s, 0.03, "two probes step " + std::to_string(k));
-    ASSERT_FALSE(HasFailure());
-    EXPECT_LE(free_penetration(s, cs, tools), 0.02 * r) << "step " << k;
+  using Method = ContactSettings::Method;
+  for (const Method method : {Method::kinematic, Method::constraint}) {
+    const bool exact = method == Method::kinematic;
+    const std::string name = exact ? "kinematic" : "constraint";
+    ContactSettings settings;
+    settings.method = method;
+    SimState s = make_sim_state(m);
+    const StepInput base = make_step_input(m);
+    ContactSolver cs(m, settings);
+    ContactReport rep;
+    const double x = 0.02, z0 = std::sqrt(R * R - x * x);
+    for (int k = 0; k <= 15; ++k) {  // each 1.5 cm into the surface along -z
+      const double d = 1e-3 * k, v = k ? 1e-3 : 0.0;
+      const std::vector<Capsule> tools = {probe(Vec3(x, 0, z0 + 0.002 - d), -Vec3::UnitZ(), r, Vec3(0, 0, -v)),
+                                          probe(Vec3(-x, 0, z0 + 0.002 - d), -Vec3::UnitZ(), r, Vec3(0, 0, -v))};
+      cs.step(m, base, tools, s, rep);
+      expect_sensible(m, s, 0.03, name + ", two probes step " + std::to_string(k));
+      ASSERT_FALSE(HasFailure());
+      EXPECT_LE(free_penetration(s, cs, tools), 0.02 * r) << name << ", step " << k;
+    }
+    const Eigen::Matrix3d M = Vec3(-1, 1, 1).asDiagonal();
+    const auto map = hard::mirror_map(m.rest.positions, M, 1e-9);
+    const double umax = s.u.cwiseAbs().maxCoeff();
+    double worst = 0.0;
+    for (int i = 0; i < m.n; ++i) {
+      ASSERT_GE(map[i], 0);
+      worst = std::max(worst, (s.u.row(map[i]).transpose() - M * s.u.row(i).transpose()).norm());
+    }
+    EXPECT_GT(umax, 0.01) << name;
+    EXPECT_LE(worst, exact ? 1e-6 * umax : 0.02 * r) << name;
+    EXPECT_LT(std::abs(rep.force.x()), (exact ? 1e-6 : 0.02) * rep.force.norm()) << name << ": sideways forces cancel";
   }
-  const Eigen::Matrix3d M = Vec3(-1, 1, 1).asDiagonal();
-  const auto map = hard::mirror_map(m.rest.positions, M, 1e-9);
-  const double umax = s.u.cwiseAbs().maxCoeff();
-  int asym = 0;
-  for (int i = 0; i < m.n; ++i) {
-    ASSERT_GE(map[i], 0);
-    if ((s.u.row(map[i]).transpose() - M * s.u.row(i).transpose()).norm() > 1e-6 * umax) ++asym;
-  }
-  EXPECT_EQ(asym, 0);
-  EXPECT_LT(std::abs(rep.force.x()), 1e-6 * rep.force.norm()) << "sideways forces cancel";
 }
 
 tools::InstrumentDef grasper(double width) {
