@@ -247,14 +247,22 @@ void ContactSolver::find_contact_points(const TissueModel& m, const StepInput& b
       const Vec3 q = p[0] + bu * (p[1] - p[0]) + bv * (p[2] - p[0]);
       const double allowed = settings_.tolerance * size;
       if (best >= need || (more && !takes_another_point(contacts_, tri, k, q, best, x, size, allowed))) continue;
-      // A triangle the tool was already through at the step's start (an instrument placed
-      // inside the organ) is left pierced: pushing its inside out of the tool would tear the
-      // surface off its corners. Its corners are kept out as nodes.
+      // A triangle the tool was already deep through at the step's start (an instrument placed
+      // inside the organ, or withdrawn through the hole it left) is left pierced: pushing its
+      // inside out of the tool would tear the surface off its corners (its corners are kept
+      // out as nodes). Only where the tool's motion relative to it leads out nearby (a tool
+      // placed just under the surface: out ahead of its tip) is it pushed out that way.
       if (best < -0.25 * size) {
-        Vec3 q0 = Vec3::Zero(), sp, sn;
+        Vec3 q0 = Vec3::Zero(), sp, sn, dir;
         const double w0[3] = {1.0 - bu - bv, bu, bv};
         for (int v = 0; v < 3; ++v) q0 += w0[v] * (m.rest.positions.row(nd[v]) + start_u.row(nd[v])).transpose();
-        if (tool_distance(before, q0, sp, sn) < -0.25 * size) continue;
+        if (tool_distance(before, q0, sp, sn) < -0.25 * size) {
+          // (push_out turns to the nearest surface point when the way out is far)
+          const Vec3 relative = -t.motion_at(q0);
+          const Vec3 way = relative.norm() > 1e-9 * size ? Vec3(-relative.normalized()) : Vec3(before.pose.linear().col(2));
+          push_out(before, q0, relative, dir);
+          if (dir.dot(way) < 0.99) continue;
+        }
       }
       const double w[3] = {1.0 - bu - bv, bu, bv};
       add(k, tri, nd, w, 3, best, best_p, best_n);
@@ -459,12 +467,15 @@ void ContactSolver::step_constraint(const TissueModel& m, const StepInput& base,
     for (int a = 0; a < C; ++a) {
       const Vec3 f = lambda_solved.segment<3>(3 * a);
       const Vec3 r = residual_c.segment<3>(3 * a);
-      violation = std::max(violation, f[0] > 0.0 ? std::abs(r[0]) : std::max(0.0, -r[0]));
-      if (f[0] > 0.0 && f.tail<2>().norm() < mu * f[0] * (1.0 - 1e-3)) violation = std::max(violation, r.tail<2>().norm());
-      // (tangentially only where the point sticks: a slipping point's slip is free)
       const Vec3 g = lambda_c.segment<3>(3 * a);
-      const Vec3 dq = change_c.segment<3>(3 * a) - r;
+      violation = std::max(violation, f[0] > 0.0 ? std::abs(r[0]) : std::max(0.0, -r[0]));
+      // Tangentially only where the point sticks, by the forces it was solved with and by the
+      // pass's: a slipping point's slip is free. (A point the pass put on the cone may lie a
+      // hair inside it in the frame of its new normal, which turned with the solve.)
+      const bool stuck = f[0] > 0.0 && f.tail<2>().norm() < mu * f[0] * (1.0 - 1e-3);
       const bool sticks = g[0] > 0.0 && g.tail<2>().norm() < mu * g[0] * (1.0 - 1e-3);
+      if (stuck && sticks) violation = std::max(violation, r.tail<2>().norm());
+      const Vec3 dq = change_c.segment<3>(3 * a) - r;
       change = std::max(change, sticks ? dq.norm() : std::abs(dq[0]));
     }
     rep.collision_ms += ms_since(t0);
