@@ -173,7 +173,8 @@ TEST(StrainStress, MembraneStrainOfARotationAndOfAStretch) {
 // The strain against the same Green strain written another way, per triangle from the metric
 // tensors of its rest and deformed edges (E = ½ (G_def − G_rest) in the edges' coordinates,
 // pushed to the world by the rest edges' pseudo-inverse), averaged to the nodes by rest area
-// in the test itself: on a sphere with a random displacement of 20 % of its edges.
+// in the test itself: on a sphere whose nodes move at random by up to 4 mm (about a tenth of
+// an edge) on each axis.
 TEST(StrainStress, MembraneStrainMatchesTheMetricTensorForm) {
   TissueDef def = default_tissue(make_uv_sphere(0.05, 8, 9));
   const TissueModel m = build(def);
