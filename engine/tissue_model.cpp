@@ -141,6 +141,7 @@ bool build_tissue_model(const TissueDef& def, TissueModel& m, std::string& error
   if (m.membrane_capsule()) {
     m.capsule_tension = def.connectivity_modulus * m.rest_volume / m.rest_area;
     m.membrane_frames = membrane_frames(def.mesh);
+    m.membrane_inverse_areas = membrane_inverse_areas(def.mesh, m.membrane_frames);
     m.capsule_weight *= m.capsule_tension;
     m.capsule_diagonal = Vec::Zero(n);
     for (size_t e = 0; e < m.edges.size(); ++e) {

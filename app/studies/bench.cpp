@@ -243,30 +243,41 @@ Row bench_bullet(const std::string& mesh, int repeats) {
   return r;
 }
 
-// VDM and Bullet on the same mesh and probe script in one process, run after run in turn
-// (`pairs` pairs of 60-frame runs, VDM's then Bullet's; timed: the frames in contact after the
-// 20th), so that each ratio compares two runs made within a second of each other rather than
-// two processes started minutes apart (the isolated rows of bench.csv).
+// VDM (the default membrane capsule), VDM with the paper's capsule and Bullet on the same mesh
+// and probe script in one process, run after run in turn (`pairs` rounds of three 60-frame
+// runs; timed: the frames in contact after the 20th), so that each ratio compares runs made
+// within a second of each other rather than processes started minutes apart (the isolated
+// rows of bench.csv).
 struct SideBySide {
   long nodes = 0;
   int pairs = 0;
-  double vdm_ms = 0, bullet_ms = 0;                 // medians of all timed frames
+  double vdm_ms = 0, bullet_ms = 0, paper_ms = 0;    // medians of all timed frames
   double ratio = 0;                                 // bullet_ms / vdm_ms
-  double pair_ratio_median = 0, pair_ratio_min = 0;  // of each pair's medians, Bullet's over VDM's
+  double pair_ratio_median = 0, pair_ratio_min = 0;  // of each round's medians, Bullet's over VDM's
+  double paper_ratio = 0;                           // vdm_ms / paper_ms: what the membrane costs
+  double paper_pair_ratio_median = 0, paper_pair_ratio_max = 0;  // of each round's, VDM's over the paper's
 };
+
+// The medians of the timed frames of one VDM run of `ps` (frames in contact after the 20th).
+std::vector<double> vdm_probe_run(const PreparedScene& ps) {
+  std::vector<double> ms;
+  SceneSimulation sim(ps);
+  for (int f = 0; f < 60; ++f) {
+    sim.advance(f);
+    if (sim.contact_report().nodes > 0 && f > 20) ms.push_back(sim.frame_step_ms());
+  }
+  return ms;
+}
 
 SideBySide bench_side_by_side(const std::string& mesh, int pairs) {
   const PreparedScene ps = probe_scene(mesh, 60, false);
-  std::vector<double> vdm_all, bullet_all, ratios;
+  const PreparedScene paper =
+      bench_probe_scene(mesh, 60, false, kBenchTolerance, kBenchVolumeTolerance, vdm::CapsuleForm::paper);
+  std::vector<double> vdm_all, bullet_all, paper_all, ratios, paper_ratios;
   for (int k = 0; k < pairs; ++k) {
-    std::vector<double> vdm_ms, bullet_ms;
-    {
-      SceneSimulation sim(ps);
-      for (int f = 0; f < 60; ++f) {
-        sim.advance(f);
-        if (sim.contact_report().nodes > 0 && f > 20) vdm_ms.push_back(sim.frame_step_ms());
-      }
-    }
+    const std::vector<double> vdm_ms = vdm_probe_run(ps);
+    const std::vector<double> paper_ms = vdm_probe_run(paper);
+    std::vector<double> bullet_ms;
     {
       BulletProbe bullet(ps, BulletSettings{});
       for (int f = 0; f < 60; ++f) {
@@ -274,19 +285,25 @@ SideBySide bench_side_by_side(const std::string& mesh, int pairs) {
         if (bullet.touching() && f > 20) bullet_ms.push_back(ms);
       }
     }
-    const double v = quantile(vdm_ms, 0.5), b = quantile(bullet_ms, 0.5);
+    const double v = quantile(vdm_ms, 0.5), b = quantile(bullet_ms, 0.5), p = quantile(paper_ms, 0.5);
     if (v > 0) ratios.push_back(b / v);
+    if (p > 0) paper_ratios.push_back(v / p);
     vdm_all.insert(vdm_all.end(), vdm_ms.begin(), vdm_ms.end());
     bullet_all.insert(bullet_all.end(), bullet_ms.begin(), bullet_ms.end());
+    paper_all.insert(paper_all.end(), paper_ms.begin(), paper_ms.end());
   }
   SideBySide r;
   r.nodes = ps.model.n;
   r.pairs = int(ratios.size());
   r.vdm_ms = quantile(vdm_all, 0.5);
   r.bullet_ms = quantile(bullet_all, 0.5);
+  r.paper_ms = quantile(paper_all, 0.5);
   r.ratio = r.vdm_ms > 0 ? r.bullet_ms / r.vdm_ms : 0;
   r.pair_ratio_median = quantile(ratios, 0.5);
   r.pair_ratio_min = ratios.empty() ? 0 : *std::min_element(ratios.begin(), ratios.end());
+  r.paper_ratio = r.paper_ms > 0 ? r.vdm_ms / r.paper_ms : 0;
+  r.paper_pair_ratio_median = quantile(paper_ratios, 0.5);
+  r.paper_pair_ratio_max = paper_ratios.empty() ? 0 : *std::max_element(paper_ratios.begin(), paper_ratios.end());
   return r;
 }
 
@@ -584,15 +601,19 @@ int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::os
   // Bullet and VDM run after run in turn (after the isolated cases: its memory is not theirs).
   if (bullet && (only.empty() || std::string("liver_probe side by side").find(only) != std::string::npos)) {
     std::ofstream sc(dir / "bench_side_by_side.csv");
-    sc << "nodes,pairs,vdm_median_ms,bullet_median_ms,ratio,pair_ratio_median,pair_ratio_min\n";
+    sc << "nodes,pairs,vdm_median_ms,bullet_median_ms,ratio,pair_ratio_median,pair_ratio_min,paper_median_ms,"
+          "paper_ratio,paper_pair_ratio_median,paper_pair_ratio_max\n";
     for (const char* mesh : {"liver_L4.obj", "liver_L5.obj"}) {
       out << "bench: liver_probe side by side " << mesh << " ..." << std::flush;
       const SideBySide r = bench_side_by_side(mesh, quick ? 2 : 6);
       sc << r.nodes << ',' << r.pairs << ',' << std::setprecision(6) << r.vdm_ms << ',' << r.bullet_ms << ',' << r.ratio
-         << ',' << r.pair_ratio_median << ',' << r.pair_ratio_min << '\n';
+         << ',' << r.pair_ratio_median << ',' << r.pair_ratio_min << ',' << r.paper_ms << ',' << r.paper_ratio << ','
+         << r.paper_pair_ratio_median << ',' << r.paper_pair_ratio_max << '\n';
       out << " " << r.nodes << " nodes, runs in turn: bullet " << std::setprecision(3) << r.bullet_ms << " ms, vdm "
-          << r.vdm_ms << " ms: bullet takes " << r.ratio << "x VDM's time per step (pair by pair: median "
-          << r.pair_ratio_median << "x, lowest " << r.pair_ratio_min << "x, " << r.pairs << " pairs)\n";
+          << r.vdm_ms << " ms: bullet takes " << r.ratio << "x VDM's time per step (round by round: median "
+          << r.pair_ratio_median << "x, lowest " << r.pair_ratio_min << "x, " << r.pairs << " rounds); the paper's capsule "
+          << r.paper_ms << " ms: VDM takes " << r.paper_ratio << "x its time (round by round: median "
+          << r.paper_pair_ratio_median << "x, highest " << r.paper_pair_ratio_max << "x)\n";
     }
     sc.flush();
     if (!sc) {

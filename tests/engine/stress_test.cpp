@@ -170,6 +170,44 @@ TEST(StrainStress, MembraneStrainOfARotationAndOfAStretch) {
   }
 }
 
+// The strain against the same Green strain written another way, per triangle from the metric
+// tensors of its rest and deformed edges (E = ½ (G_def − G_rest) in the edges' coordinates,
+// pushed to the world by the rest edges' pseudo-inverse), averaged to the nodes by rest area
+// in the test itself: on a sphere whose nodes move at random by up to 4 mm (about a tenth of
+// an edge) on each axis.
+TEST(StrainStress, MembraneStrainMatchesTheMetricTensorForm) {
+  TissueDef def = default_tissue(make_uv_sphere(0.05, 8, 9));
+  const TissueModel m = build(def);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> jitter(-0.004, 0.004);
+  NodeMat u(m.n, 3);
+  for (Eigen::Index k = 0; k < u.size(); ++k) u.data()[k] = jitter(rng);
+  NodeMat want = NodeMat::Zero(m.n, 3);
+  Vec area = Vec::Zero(m.n);
+  for (int t = 0; t < m.rest.triangle_count(); ++t) {
+    const int a = m.rest.triangles(t, 0), b = m.rest.triangles(t, 1), c = m.rest.triangles(t, 2);
+    Eigen::Matrix<double, 3, 2> rest, def_edges;
+    rest.col(0) = (m.rest.positions.row(b) - m.rest.positions.row(a)).transpose();
+    rest.col(1) = (m.rest.positions.row(c) - m.rest.positions.row(a)).transpose();
+    def_edges.col(0) = rest.col(0) + (u.row(b) - u.row(a)).transpose();
+    def_edges.col(1) = rest.col(1) + (u.row(c) - u.row(a)).transpose();
+    const Eigen::Matrix2d G_rest = rest.transpose() * rest, G_def = def_edges.transpose() * def_edges;
+    const Eigen::Matrix<double, 2, 3> pinv = G_rest.inverse() * rest.transpose();
+    const Eigen::Matrix3d E3 = pinv.transpose() * (0.5 * (G_def - G_rest)) * pinv;
+    const double A = 0.5 * rest.col(0).cross(rest.col(1)).norm();
+    for (const int i : {a, b, c}) {
+      for (int d = 0; d < 3; ++d) want(i, d) += A * E3(d, d);
+      area[i] += A;
+    }
+  }
+  for (int i = 0; i < m.n; ++i) want.row(i) /= area[i];
+  std::vector<double> scratch(3 * size_t(m.n));
+  NodeMat E(m.n, 3);
+  membrane_axis_strain(m, u, E, scratch.data());
+  EXPECT_GT(want.cwiseAbs().maxCoeff(), 1e-2);
+  EXPECT_LE((E - want).cwiseAbs().maxCoeff(), 1e-12 * want.cwiseAbs().maxCoeff() + 1e-15);
+}
+
 // The strain's AVX2 path (four triangles per vector) gives the SSE2 path's bits, on a mesh whose
 // triangle count is not a multiple of four (a partial last block) under a random displacement.
 TEST(StrainStress, MembraneStrainSameBitsWithAndWithoutAvx2) {

@@ -108,22 +108,31 @@ TEST(Bench, QuickRunWritesTheContractCsvAndThePlot) {
   ASSERT_EQ(scaling_nodes.size(), 2u) << "2.5k and 10k nodes in turn (--quick)";
   EXPECT_LT(scaling_nodes[0], scaling_nodes[1]);
 #ifdef VDMSIM_HAVE_BULLET
-  // Bullet and VDM run after run in turn: both medians and their ratios, per mesh.
+  // VDM, VDM with the paper's capsule and Bullet run after run in turn: the medians and their
+  // ratios, per mesh.
   std::ifstream sc(out / "bench_side_by_side.csv");
   ASSERT_TRUE(std::getline(sc, line));
-  EXPECT_EQ(line, "nodes,pairs,vdm_median_ms,bullet_median_ms,ratio,pair_ratio_median,pair_ratio_min");
+  EXPECT_EQ(line,
+            "nodes,pairs,vdm_median_ms,bullet_median_ms,ratio,pair_ratio_median,pair_ratio_min,paper_median_ms,"
+            "paper_ratio,paper_pair_ratio_median,paper_pair_ratio_max");
   std::set<long> meshes;
   while (std::getline(sc, line)) {
     std::stringstream s(line);
-    std::string nodes, pairs, vdm, bullet, ratio, median, lowest;
-    for (std::string* f : {&nodes, &pairs, &vdm, &bullet, &ratio, &median, &lowest}) std::getline(s, *f, ',');
+    std::string nodes, pairs, vdm, bullet, ratio, median, lowest, paper, paper_ratio, paper_median, paper_highest;
+    for (std::string* f :
+         {&nodes, &pairs, &vdm, &bullet, &ratio, &median, &lowest, &paper, &paper_ratio, &paper_median, &paper_highest})
+      std::getline(s, *f, ',');
     meshes.insert(std::stol(nodes));
-    EXPECT_EQ(std::stol(pairs), 2) << line;  // --quick: two pairs of runs
+    EXPECT_EQ(std::stol(pairs), 2) << line;  // --quick: two rounds of runs
     EXPECT_GT(std::stod(vdm), 0) << line;
     EXPECT_GT(std::stod(bullet), 0) << line;
+    EXPECT_GT(std::stod(paper), 0) << line;
     EXPECT_NEAR(std::stod(ratio), std::stod(bullet) / std::stod(vdm), 1e-3 * std::stod(ratio)) << line;
+    EXPECT_NEAR(std::stod(paper_ratio), std::stod(vdm) / std::stod(paper), 1e-3 * std::stod(paper_ratio)) << line;
     EXPECT_GT(std::stod(lowest), 0) << line;
     EXPECT_LE(std::stod(lowest), std::stod(median)) << line;
+    EXPECT_GT(std::stod(paper_median), 0) << line;
+    EXPECT_LE(std::stod(paper_median), std::stod(paper_highest)) << line;
   }
   EXPECT_EQ(meshes.size(), 2u) << "2.5k and 10k nodes side by side";
 #endif
