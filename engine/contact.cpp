@@ -1,11 +1,13 @@
 #include "engine/contact.hpp"
+#include "engine/organ_solver.hpp"
 
 #include <algorithm>
 
 namespace vdm {
 
 ContactSolver::ContactSolver(const TissueModel& m, ContactSettings settings)
-    : settings_(settings), broad_(m, settings_), triangles_(&m.rest.triangles) {
+    : settings_(settings), broad_(m, settings_), triangles_(&m.rest.triangles), own_solver_(make_vdm_solver(m)) {
+  solver_ = own_solver_.get();
   // input_: the penalty method's copy of the scene's input, and the kinematic one's when it
   // does not borrow the caller's (step_kinematic() makes it then, on its first step).
   // SceneSimulation lends its input: none is made.
@@ -33,10 +35,11 @@ ContactSolver::ContactSolver(const TissueModel& m, ContactSettings settings)
     input_.spring_k = NodeMat::Zero(m.n, 3);
     input_.spring_u = NodeMat::Zero(m.n, 3);
   }
-  // x0_, u0_, v0_: with a reference model only (set_solver), sized by its first step.
 }
 
 ContactSolver::~ContactSolver() = default;
+
+void ContactSolver::set_solver(OrganSolver* solver) { solver_ = solver ? solver : own_solver_.get(); }
 
 void ContactSolver::broad_phase(const ToolShape& t, size_t k, double pad, std::vector<int>& found, ContactReport& rep,
                                 bool triangles) {
@@ -67,7 +70,7 @@ void ContactSolver::step_any(const TissueModel& m, const StepInput& base, const 
   rep = ContactReport();
   const long boxes = broad_.box_updates();
   if (settings_.method == ContactSettings::Method::penalty) step_penalty(m, base, tools, s, rep);
-  else if (settings_.method == ContactSettings::Method::constraint && !solver_) step_constraint(m, base, tools, s, rep);
+  else if (settings_.method == ContactSettings::Method::constraint) step_constraint(m, base, tools, s, rep);
   else step_kinematic(m, base, tools, s, rep, borrowed);
   rep.refit_boxes = broad_.box_updates() - boxes;
 }

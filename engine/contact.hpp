@@ -12,6 +12,7 @@
 // phase: exact point-versus-shape signed distance (engine/tool_shape.hpp). Once warmed up (the
 // same number and kinds of tools), a step allocates nothing in the contact code.
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -49,7 +50,7 @@ struct ContactSettings {
   // constraint: non-penetration as unilateral constraints along the tool's normal at surface
   // contact points, with Coulomb friction (engine/contact_constraint.cpp); kinematic: nodes
   // held on the tool (sticking); penalty: frictionless springs. The reference models (fem,
-  // mass_spring) take kinematic contact whatever is chosen.
+  // mass_spring) take kinematic and constraint contact; penalty contact needs vdm.
   enum class Method { constraint, kinematic, penalty } method = Method::kinematic;
   // constraint: the Coulomb friction coefficient (0: frictionless sliding).
   double friction = 0.0;
@@ -117,8 +118,10 @@ class ContactSolver {
             ContactReport& report);
   void step(const TissueModel& model, const StepInput& base, const std::vector<Capsule>& tools, SimState& state,
             ContactReport& report);
-  // Steps the organ with `solver` (fem, mass_spring) instead of vdm::step; null: vdm::step.
-  void set_solver(OrganSolver* solver) { solver_ = solver; }
+  // Steps the organ with `solver` (fem, mass_spring: the scene's organ model) instead of the
+  // VDM engine on the model it was made with; null: that engine again. Contact reaches the
+  // organ only through its OrganSolver (solve, rewind, the step's start).
+  void set_solver(OrganSolver* solver);
   // Per-node flag: held by an instrument after the last step.
   const std::vector<char>& active() const { return active_; }
   // What the next step carries over from the last (constraint contact: its contact points'
@@ -167,7 +170,8 @@ class ContactSolver {
   ContactBroadPhase broad_;
   const TriMat* triangles_ = nullptr;
   StepInput input_;
-  OrganSolver* solver_ = nullptr;
+  std::unique_ptr<OrganSolver> own_solver_;  // the VDM engine on the model
+  OrganSolver* solver_ = nullptr;             // the one used: own_solver_ or set_solver()'s
   std::vector<char> active_, mark_;  // mark_: nodes the broad phase found already
   std::vector<int> held_;       // the nodes flagged in active_
   std::vector<int> holder_;     // per node: the tool that holds it (while flagged in active_)
@@ -203,7 +207,6 @@ class ContactSolver {
   std::vector<Eigen::Matrix3d> frames_;
   double compliance_scale_ = 1.0;               // fitted: the organ's compliance over the patch's
   NodeMat contact_force_;                        // N x 3
-  NodeMat x0_, u0_, v0_;
 };
 
 }  // namespace vdm

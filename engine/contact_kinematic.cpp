@@ -8,7 +8,6 @@
 
 #include "engine/contact.hpp"
 #include "engine/organ_solver.hpp"
-#include "engine/step_workspace.hpp"
 #include "engine/stopwatch.hpp"
 
 namespace vdm {
@@ -16,23 +15,13 @@ namespace vdm {
 void ContactSolver::step_kinematic(const TissueModel& m, const StepInput& base, const std::vector<ToolShape>& tools,
                                    SimState& s, ContactReport& rep, StepInput* borrowed) {
   const auto t0 = Clock::now();
-  // The start of the step, for re-solving it with a reference model (fem, mass_spring); the
-  // VDM engine restores itself with rewind_step().
-  if (solver_) {
-    x0_ = s.x;
-    u0_ = s.u;
-    v0_ = s.velocity;
-  }
   // A node's position at the step's start (its own motion in the step is x minus that), once
-  // the step has been solved: the VDM engine keeps the start's u (StepWorkspace::start, the
-  // whole step's when it was done in parts) and its positions are X + u bit for bit (every
-  // pass that moves u writes x so), so no copy of x is made.
-  const NodeMat* start_u = solver_ ? nullptr : &s.work->start.u;
+  // the step has been solved: the organ solver keeps the start's u, and every model's
+  // positions are X + u bit for bit (every pass that moves u writes x so), so no copy of x is
+  // made.
   auto start_x = [&](int i) -> Vec3 {
-    return solver_ ? Vec3(x0_.row(i).transpose()) : Vec3((m.rest.positions.row(i) + start_u->row(i)).transpose());
+    return Vec3((m.rest.positions.row(i) + solver_->start_u(s).row(i)).transpose());
   };
-  const long step0 = s.step;
-  const double time0 = s.time;
   const bool has_prescribed = base.prescribed.rows() == m.n;
   // Nodes the scene itself moves (grasped, scripted) on every axis take no part in contact.
   auto driven = [&](int i) { return has_prescribed && base.prescribed.row(i).minCoeff() != 0; };
@@ -102,21 +91,10 @@ void ContactSolver::step_kinematic(const TissueModel& m, const StepInput& base, 
       in.prescribed.row(i).setOnes();
       in.prescribed_u.row(i) = held_target_[k] - m.rest.positions.row(i);
     }
-    if (it > 0) {  // solve the same step again from its start
-      if (solver_) {
-        s.u = u0_;
-        s.x = x0_;
-        s.velocity = v0_;
-        s.step = step0;
-        s.time = time0;
-      } else {
-        rewind_step(m, s);
-      }
-    }
-    // The engine's results pass only for the solve kept (finish_step_results below): the
-    // set's checks read the reactions of the held nodes alone.
-    if (solver_) solver_->step(in, s);
-    else vdm::step(m, in, s, StepResults::reactions);
+    if (it > 0) solver_->rewind(s);  // solve the same step again from its start
+    // The engine's results pass only for the solve kept (finish_step below): the set's
+    // checks read the reactions of the held nodes alone.
+    solver_->trial_step(in, s, StepResults::reactions);
     for (size_t k = 0; k < held_.size(); ++k) {
       in.prescribed.row(held_[k]) = saved_flags_[k];
       in.prescribed_u.row(held_[k]) = saved_u_[k];
@@ -167,7 +145,7 @@ void ContactSolver::step_kinematic(const TissueModel& m, const StepInput& base, 
       break;
     }
   }
-  if (!solver_) finish_step_results(m, s);
+  solver_->finish_step(s);
   std::sort(held_.begin(), held_.end());  // the force summed in node order
   tool_force_.assign(tools.size(), Vec3::Zero());
   for (int i : held_) {

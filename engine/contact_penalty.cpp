@@ -11,6 +11,7 @@
 #include <limits>
 
 #include "engine/contact.hpp"
+#include "engine/organ_solver.hpp"
 #include "engine/stopwatch.hpp"
 #include "engine/warnings.hpp"
 
@@ -72,9 +73,9 @@ double ContactSolver::penalty_forces(const std::vector<ToolShape>& tools, const 
 
 void ContactSolver::step_penalty(const TissueModel& m, const StepInput& base, const std::vector<ToolShape>& tools,
                                  SimState& s, ContactReport& rep) {
-  if (solver_) {  // fem and mass_spring take no springs: their steps could not be implicit
+  if (!solver_->takes_springs()) {  // fem and mass_spring: their steps could not be implicit
     s.failed = true;
-    s.failure = "penalty contact needs the vdm model (organ.model fem and mass_spring use kinematic contact)";
+    s.failure = "penalty contact needs the vdm model (organ.model fem and mass_spring take kinematic or constraint contact)";
     return;
   }
   const bool has_prescribed = base.prescribed.rows() == m.n;
@@ -97,12 +98,12 @@ void ContactSolver::step_penalty(const TissueModel& m, const StepInput& base, co
   double last_norm = std::numeric_limits<double>::infinity();  // residual of the last accepted iterate
   bool mixed = false;                                          // the current iterate is a mixed one
   for (int it = 0; it < max_it; ++it) {
-    if (it > 0) rewind_step(m, s);
+    if (it > 0) solver_->rewind(s);
     if (base.force.rows() == m.n) input_.force = base.force + penalty_force_;
     else input_.force = penalty_force_;
     input_.spring_k = penalty_spring_;
     input_.spring_u = iterate_;
-    vdm::step(m, input_, s, StepResults::none);  // the results of the last one only (below)
+    solver_->trial_step(input_, s, StepResults::none);  // the results of the last one only (below)
     ++rep.solves;
     rep.iterations += s.stats.iterations;
     if (s.failed) return;  // the caller stops; the state is the step's start
@@ -156,7 +157,7 @@ void ContactSolver::step_penalty(const TissueModel& m, const StepInput& base, co
     penalty_forces(tools, x_iterate_, rep);
     rep.collision_ms += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
   }
-  finish_step_results(m, s);
+  solver_->finish_step(s);
   t0 = Clock::now();
   const double deepest = penalty_forces(tools, s.x, rep, &base, &tool_force_);
   rep.collision_ms += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();

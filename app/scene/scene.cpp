@@ -535,7 +535,7 @@ void read_simulation(Reader& r, const YAML::Node& sim, SceneDef& s) {
             if (s.model != vdm::ModelKind::vdm)
               r.error(n, fc + ".method",
                       std::string("penalty contact needs organ.model vdm (") + vdm::to_string(s.model) +
-                          " takes kinematic contact)");
+                          " takes kinematic or constraint contact)");
           } else {
             const std::string near = closest(m, methods);
             r.error(n, fc + ".method", "unknown contact method '" + m + "'" +
