@@ -1,62 +1,33 @@
 #pragma once
-// Contact between the organ surface and rigid instruments (vdm-model.md section 5).
-// Default constraint: non-penetration at surface points with Coulomb friction (sliding and
-// sticking), engine/contact_constraint.cpp.
-// Option kinematic (sticking): nodes that penetrate an instrument are projected onto its
-// surface and held there as prescribed displacements for the step; nodes whose reaction
-// would pull the instrument (adhesion) are released and the step solved again (active set).
-// Option penalty (frictionless): the surface triangles are sampled, and every sample inside
-// an instrument is pushed out along the instrument's normal by the pressure k_c * depth,
-// spread on the triangle's nodes by barycentric weights (so a thin probe between nodes still
-// meets the surface). The forces are solved implicitly by a majorised Newton iteration: each
-// solve adds, per node and axis, a spring that bounds the penalty's stiffness from above
-// (StepInput::spring_k), which makes the iteration converge for any k_c.
-// Broad phase: an FCL BVHModel (AABB) of the organ, walked against each tool's oriented
-// bounding box (or, with
-// ContactSettings::fcl_shape_queries, queried by FCL against the tool's FCL shape: capsule,
-// cylinder, box, convex). The walk refits the tree lazily (ContactSettings::lazy_refit): a
-// box is updated only where a node left its box by more than a slack, and the walk inflates
-// the boxes by that slack, then keeps exactly the triangles that FCL's refit would give, in
-// the same order. Narrow phase: exact node-versus-shape signed distance
-// (engine/tool_shape.hpp). Once warmed up (the same number and kinds of tools), a step
-// allocates nothing in the contact code.
+// Contact between the organ surface and rigid instruments (vdm-model.md section 5). Three
+// methods, one file each; this class picks one per scene and owns their state:
+//  - constraint (engine/contact_constraint.cpp, the default): non-penetration at surface
+//    points with Coulomb friction (sliding and sticking);
+//  - kinematic (engine/contact_kinematic.cpp): nodes that penetrate an instrument are
+//    projected onto its surface and held there as prescribed displacements for the step;
+//    nodes whose reaction would pull the instrument (adhesion) are released and the step
+//    solved again (active set): the tissue sticks;
+//  - penalty (engine/contact_penalty.cpp): frictionless springs on samples of the surface
+//    triangles, solved implicitly.
+// Broad phase: the organ's bounding-volume tree (engine/contact_broad_phase.hpp). Narrow
+// phase: exact point-versus-shape signed distance (engine/tool_shape.hpp). Once warmed up (the
+// same number and kinds of tools), a step allocates nothing in the contact code.
 #include <cstdint>
 #include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
 
+#include "engine/capsule_probe.hpp"
+#include "engine/contact_broad_phase.hpp"
 #include "engine/contact_compliance.hpp"
+#include "engine/push_out.hpp"
 #include "engine/sim_state.hpp"
 #include "engine/tool_shape.hpp"
 
 namespace vdm {
 
 class OrganSolver;
-
-// A capsule: the segment p0-p1 swept by a sphere of `radius` (m). A probe is one.
-struct Capsule {
-  Vec3 p0 = Vec3::Zero(), p1 = Vec3::UnitZ();  // p0: centre of the tip's rounded end
-  double radius = 0.004;
-  Vec3 motion = Vec3::Zero();  // how far it moved since the last step (m): the push direction
-};
-
-// Where a node inside the capsule is pushed: back along its motion relative to the capsule,
-// `relative` (the node's displacement minus the capsule's; when zero, along the axis toward
-// the tip), to the capsule's surface. A node the probe runs into is pushed ahead of it
-// instead of sliding round its tip; a surface springing back into a retreating probe is
-// caught by the tip. On return `direction` is the push direction.
-Vec3 push_out(const Capsule& c, const Vec3& x, const Vec3& relative, Vec3& direction);
-// The same for any tool shape (`relative`: the node's displacement minus the tool's there;
-// when zero, along the shape's +z: toward its tip).
-Vec3 push_out(const ToolShape& t, const Vec3& x, const Vec3& relative, Vec3& direction);
-
-// A capsule as a tool shape.
-ToolShape to_tool(const Capsule& c);
-
-// Signed distance from x to the capsule's surface (negative inside), the closest surface
-// point and the outward normal there.
-double capsule_distance(const Capsule& c, const Vec3& x, Vec3& surface_point, Vec3& normal);
 
 struct ContactSettings {
   double activation = 1e-4;   // a node within this fraction of the tool's size of the surface counts as touching
@@ -80,13 +51,14 @@ struct ContactSettings {
   // constraint: non-penetration as unilateral constraints along the tool's normal at surface
   // contact points, with Coulomb friction (engine/contact_constraint.cpp); kinematic: nodes
   // held on the tool (sticking); penalty: frictionless springs. The reference models (fem,
-  // mass_spring) take kinematic contact whatever is chosen.
+  // mass_spring) take kinematic and constraint contact; penalty contact needs vdm.
   enum class Method { constraint, kinematic, penalty } method = Method::constraint;
   // constraint: the Coulomb friction coefficient (0: frictionless sliding). The default, 0.2,
   // is a moderate value for moist tissue on a smooth metal instrument.
   double friction = 0.2;
-  // constraint: solves of the organ per step at most.
-  int max_constraint_iterations = 30;
+  // constraint: solves of the organ per step at most (a press of a sharp blade on the 10k liver
+  // needed up to about 40; most steps take two to four).
+  int max_constraint_iterations = 60;
   // constraint: the step's contact solve has converged when no contact point is off the tool's
   // surface (inside it, or apart from it while pushed) by more than this fraction of the
   // smallest tool's size, no sticking point slipped by more, and the forces the last
@@ -149,8 +121,10 @@ class ContactSolver {
             ContactReport& report);
   void step(const TissueModel& model, const StepInput& base, const std::vector<Capsule>& tools, SimState& state,
             ContactReport& report);
-  // Steps the organ with `solver` (fem, mass_spring) instead of vdm::step; null: vdm::step.
-  void set_solver(OrganSolver* solver) { solver_ = solver; }
+  // Steps the organ with `solver` (fem, mass_spring: the scene's organ model) instead of the
+  // VDM engine on the model it was made with; null: that engine again. Contact reaches the
+  // organ only through its OrganSolver (solve, rewind, the step's start).
+  void set_solver(OrganSolver* solver);
   // Per-node flag: held by an instrument after the last step.
   const std::vector<char>& active() const { return active_; }
   // What the next step carries over from the last (constraint contact: its contact points'
@@ -165,7 +139,8 @@ class ContactSolver {
 
  private:
   // Appends to `found` the nodes (with `triangles`: the triangles) whose triangles overlap
-  // tool k (inflated by `pad`, m).
+  // tool k (inflated by `pad`, m) and that mark_ (triangle_mark_) has not flagged yet,
+  // flagging them; the tree as last refitted.
   void broad_phase(const ToolShape& t, size_t k, double pad, std::vector<int>& found, ContactReport& report,
                    bool triangles = false);
   void step_any(const TissueModel& model, const StepInput& base, const std::vector<ToolShape>& tools, SimState& state,
@@ -192,20 +167,15 @@ class ContactSolver {
   double penalty_forces(const std::vector<ToolShape>& tools, const NodeMat& x, ContactReport& report,
                         const StepInput* base = nullptr, std::vector<Vec3>* per_tool = nullptr);
   // Refits the organ's tree to positions x (nothing to do when they are those of the last refit).
-  void refit(const NodeMat& x);
-  // The lazy refit: node boxes that x left by more than the slack are reset, their triangles'
-  // leaves and those leaves' ancestors updated (all of them the first time).
-  void refit_lazy(const NodeMat& x);
-  bool refitted_ = false;
-  bool lazy() const { return settings_.lazy_refit && !settings_.fcl_shape_queries; }
+  void refit(const NodeMat& x) { broad_.refit(x); }
 
-  struct Fcl;
-  std::unique_ptr<Fcl> fcl_;
   ContactSettings settings_;
+  ContactBroadPhase broad_;
   const TriMat* triangles_ = nullptr;
   StepInput input_;
-  OrganSolver* solver_ = nullptr;
-  std::vector<char> active_, mark_;
+  std::unique_ptr<OrganSolver> own_solver_;  // the VDM engine on the model
+  OrganSolver* solver_ = nullptr;             // the one used: own_solver_ or set_solver()'s
+  std::vector<char> active_, mark_;  // mark_: nodes the broad phase found already
   std::vector<int> held_;       // the nodes flagged in active_
   std::vector<int> holder_;     // per node: the tool that holds it (while flagged in active_)
   std::vector<Vec3> tool_force_;
@@ -218,8 +188,7 @@ class ContactSolver {
   // held_ rather than as N x 3 arrays: a handful of nodes are held at a time (-2 MB at 40k).
   std::vector<Eigen::RowVector3d> held_target_, held_normal_;
   std::vector<int> candidates_;
-  std::vector<int> stack_;                // BVH walk
-  std::vector<char> triangle_mark_;       // penalty: triangles already found
+  std::vector<char> triangle_mark_;       // triangles the broad phase found already
   NodeMat penalty_force_, penalty_spring_, iterate_;  // penalty (N x 3)
   // Anderson acceleration of the penalty iteration: the last differences of the solves'
   // results (G) and residuals (F = G - u), a ring of kAnderson.
@@ -241,7 +210,6 @@ class ContactSolver {
   std::vector<Eigen::Matrix3d> frames_;
   double compliance_scale_ = 1.0;               // fitted: the organ's compliance over the patch's
   NodeMat contact_force_;                        // N x 3
-  NodeMat x0_, u0_, v0_;
 };
 
 }  // namespace vdm

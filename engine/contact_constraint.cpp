@@ -26,7 +26,7 @@
 
 #include "engine/contact.hpp"
 #include "engine/headroom.hpp"
-#include "engine/step_workspace.hpp"
+#include "engine/organ_solver.hpp"
 #include "engine/stopwatch.hpp"
 
 namespace vdm {
@@ -334,14 +334,14 @@ void ContactSolver::step_constraint(const TissueModel& m, const StepInput& base,
   bool predicted = false;  // the contacts hold a prediction of the next solve's motion
   for (int it = 0; it < max_it; ++it) {
     // The organ under the contact forces.
-    if (it > 0) rewind_step(m, s);
+    if (it > 0) solver_->rewind(s);
     for (const ContactPoint& c : contacts_)
       for (int v = 0; v < c.count; ++v) contact_force_.row(c.node[v]).setZero();
     for (const ContactPoint& c : contacts_)
       for (int v = 0; v < c.count; ++v) contact_force_.row(c.node[v]) += c.weight[v] * c.force.transpose();
     if (has_force) input_.force = base.force + contact_force_;
     else input_.force = contact_force_;
-    vdm::step(m, input_, s, StepResults::none);
+    solver_->trial_step(input_, s, StepResults::none);
     ++rep.solves;
     rep.iterations += s.stats.iterations;
     if (s.failed) return;  // the caller stops; the state is the step's start
@@ -366,7 +366,7 @@ void ContactSolver::step_constraint(const TissueModel& m, const StepInput& base,
       c.gap = contact_gap(t, c.point, c.start, c.surface, c.normal);
     }
     const size_t before = contacts_.size();
-    find_contact_points(m, base, tools, s.x, s.work->start.u, -settings_.constraint_tolerance, false, rep);
+    find_contact_points(m, base, tools, s.x, solver_->start_u(s), -settings_.constraint_tolerance, false, rep);
     const bool added = contacts_.size() > before;
     if (added) std::sort(contacts_.begin(), contacts_.end(), in_order);
     const int C = static_cast<int>(contacts_.size());
@@ -385,11 +385,11 @@ void ContactSolver::step_constraint(const TissueModel& m, const StepInput& base,
           node_slot_[static_cast<size_t>(c.node[v])] = static_cast<int>(contact_nodes_.size());
           contact_nodes_.push_back(c.node[v]);
         }
-    if (contact_nodes_ != compliance_nodes_ || compliance_refreshes_ != s.stats.total_refreshes) {
-      compliance_.compute(m.neighbours, s.work->K, m.held, base.prescribed, contact_nodes_,
+    if (contact_nodes_ != compliance_nodes_ || compliance_refreshes_ != solver_->contact_stiffness_version(s)) {
+      compliance_.compute(m.neighbours, solver_->contact_stiffness(m, s), m.held, base.prescribed, contact_nodes_,
                           std::max(0, settings_.compliance_rings));
       assign_with_headroom(compliance_nodes_, contact_nodes_.begin(), contact_nodes_.end());
-      compliance_refreshes_ = s.stats.total_refreshes;
+      compliance_refreshes_ = solver_->contact_stiffness_version(s);
     }
     // The compliance in the contacts' frames (the Delassus operator) and the residuals there:
     // the gap along n, the slip over the step relative to the tool along t1, t2.
@@ -492,7 +492,7 @@ void ContactSolver::step_constraint(const TissueModel& m, const StepInput& base,
     }
     predicted = true;
   }
-  finish_step_results(m, s);
+  solver_->finish_step(s);
   t0 = Clock::now();
   rep.max_penetration = deepest_surface_point(tools, s.x, rep);
   rep.collision_ms += ms_since(t0);

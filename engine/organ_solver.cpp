@@ -3,6 +3,9 @@
 #include <chrono>
 
 #include "engine/fem/fem_state.hpp"
+#include "engine/geometry.hpp"
+#include "engine/step_workspace.hpp"
+#include "engine/stiffness.hpp"
 #include "engine/stopwatch.hpp"
 #include "engine/warnings.hpp"
 
@@ -14,9 +17,65 @@ class VdmSolver final : public OrganSolver {
   explicit VdmSolver(const TissueModel& m) : m_(m) {}
   ModelKind kind() const override { return ModelKind::vdm; }
   void step(const StepInput& in, SimState& s) override { vdm::step(m_, in, s); }
+  void trial_step(const StepInput& in, SimState& s, StepResults results) override { vdm::step(m_, in, s, results); }
+  void finish_step(SimState& s) override { finish_step_results(m_, s); }
+  void rewind(SimState& s) override { rewind_step(m_, s); }
+  // The engine keeps the start's u (the whole step's when it was done in parts).
+  const NodeMat& start_u(const SimState& s) const override { return s.work->start.u; }
+  bool takes_springs() const override { return true; }
+  const AxisStiffness& contact_stiffness(const TissueModel&, const SimState& s) override { return s.work->K; }
+  long contact_stiffness_version(const SimState& s) const override { return s.stats.total_refreshes; }
 
  private:
   const TissueModel& m_;
+};
+
+// What a reference model shares: the common state's fields at the start of the step (what
+// rewind() brings back), and VDM's rest stiffness of the surface for contact's compliance.
+class ReferenceSolver : public OrganSolver {
+ public:
+  void trial_step(const StepInput& in, SimState& s, StepResults) override { step(in, s); }
+  void finish_step(SimState&) override {}
+  void rewind(SimState& s) override {
+    s.u = start_.u;
+    s.x = start_.x;
+    s.velocity = start_.velocity;
+    s.step = start_.step;
+    s.time = start_.time;
+  }
+  const NodeMat& start_u(const SimState& s) const override { return start_.u.rows() == s.u.rows() ? start_.u : s.u; }
+  bool takes_springs() const override { return false; }  // their steps could not take springs implicitly
+  const AxisStiffness& contact_stiffness(const TissueModel& surface, const SimState&) override {
+    if (rest_K_.diagonal.rows() != surface.n) {  // once: the rest geometry
+      NodeMat area(surface.n, 3);
+      distributed_area_vectors(surface.rest.positions, surface.rest.triangles, area);
+      Vec volumes(surface.n), norms = area.rowwise().norm(), scratch(surface.n);
+      const VolumeScale how = distributed_volumes(area, surface.rest_volume, volumes);
+      rest_K_.weight = Vec::Zero(static_cast<Eigen::Index>(surface.edges.size()));
+      rest_K_.diagonal = NodeMat::Zero(surface.n, 3);
+      assemble_stiffness(surface, area, norms, volumes, how, Vec(), rest_K_, scratch);
+    }
+    return rest_K_;
+  }
+  long contact_stiffness_version(const SimState&) const override { return 0; }
+
+ protected:
+  // Called by step() before it solves: where this step starts.
+  void remember_start(const SimState& s) {
+    start_.u = s.u;
+    start_.x = s.x;
+    start_.velocity = s.velocity;
+    start_.step = s.step;
+    start_.time = s.time;
+  }
+
+ private:
+  struct Start {
+    NodeMat u, x, velocity;
+    long step = -1;
+    double time = 0;
+  } start_;
+  AxisStiffness rest_K_;
 };
 
 // Copies a surface result into the common state and advances its clock.
@@ -29,12 +88,13 @@ void publish(const NodeMat& rest, const NodeMat& u_surface, const NodeMat& react
   s.time += dt;
 }
 
-class FemSolver final : public OrganSolver {
+class FemSolver final : public ReferenceSolver {
  public:
   FemSolver(fem::FemModel m, double dt) : m_(std::move(m)), s_(fem::make_fem_state(m_)), dt_(dt) {}
   ModelKind kind() const override { return ModelKind::fem; }
   void step(const StepInput& in, SimState& s) override {
     const auto t0 = Clock::now();
+    remember_start(s);
     const size_t warned = s_.warnings.size();
     fem::step(m_, in, s_);
     publish(m_.mesh.surface.positions, s_.u.topRows(m_.ns), s_.reaction.topRows(m_.ns), dt_, s);
@@ -56,12 +116,13 @@ class FemSolver final : public OrganSolver {
   double dt_;
 };
 
-class MassSpringSolver final : public OrganSolver {
+class MassSpringSolver final : public ReferenceSolver {
  public:
   MassSpringSolver(MassSpringModel m, double dt) : m_(std::move(m)), s_(make_mass_spring_state(m_)), dt_(dt) {}
   ModelKind kind() const override { return ModelKind::mass_spring; }
   void step(const StepInput& in, SimState& s) override {
     const auto t0 = Clock::now();
+    remember_start(s);
     vdm::step(m_, in, s_);
     publish(m_.rest, s_.u, s_.reaction, dt_, s);
     s.volume = s_.volume;

@@ -6,11 +6,18 @@
 // residual, converged, step_ms, solve_ms) and warnings. The SimState comes from
 // make_sim_state() on a TissueModel of the same surface. VDM-only fields (area vectors,
 // node volumes, strain, stress, reaction_pressure) stay as they are for fem and mass_spring.
+//
+// Contact (engine/contact.hpp) solves a step several times under other contact loads or
+// constraints: it takes the step with trial_step(), goes back to the step's start with
+// rewind(), reads where the step started with start_u(), and completes the step it keeps
+// with finish_step(). Every model does these, so every contact method runs on every model
+// that takes its loads (penalty contact needs takes_springs()).
 #include <memory>
 
 #include "engine/fem/fem_model.hpp"
 #include "engine/mass_spring.hpp"
 #include "engine/sim_state.hpp"
+#include "engine/sparse.hpp"
 
 namespace vdm {
 
@@ -24,6 +31,28 @@ class OrganSolver {
   virtual ModelKind kind() const = 0;
   // One quasi-static step; `state` is a SimState of this organ's surface.
   virtual void step(const StepInput& input, SimState& state) = 0;
+
+  // A step that may be solved again: `results` as vdm::step's (what it may leave to
+  // finish_step()). The reference models compute every result whatever it says.
+  virtual void trial_step(const StepInput& input, SimState& state, StepResults results) = 0;
+  // The results the last trial_step() left out (vdm: finish_step_results()).
+  virtual void finish_step(SimState& state) = 0;
+  // Puts `state` back at the start of its last step (u, x, velocity, step count and time;
+  // vdm: also the engine's geometry and matrices, rewind_step()), to solve that step again.
+  // The reference models are static: their next solve starts from their last solution, and
+  // reaches the same equilibrium in fewer iterations.
+  virtual void rewind(SimState& state) = 0;
+  // The displacements (N x 3) where the state's last step started (after it, or after
+  // rewind()); before any step, the state's own.
+  virtual const NodeMat& start_u(const SimState& state) const = 0;
+  // Whether a step takes StepInput::spring_k and spring_u (penalty contact needs them).
+  virtual bool takes_springs() const = 0;
+  // A per-axis stiffness of the surface (K^d on `surface`'s edges) from which constraint
+  // contact computes its compliance model, and a number that changes when it does. vdm: the
+  // engine's own K at its last refresh. The reference models: VDM's K of `surface` at rest
+  // (with its moduli): a model of their response that contact scales to the solves it sees.
+  virtual const AxisStiffness& contact_stiffness(const TissueModel& surface, const SimState& state) = 0;
+  virtual long contact_stiffness_version(const SimState& state) const = 0;
 };
 
 // The VDM engine (vdm::step on `model`, which must outlive the solver).

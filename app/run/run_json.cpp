@@ -15,8 +15,7 @@ void write_contact(const RunRecord& r, std::ostream& js) {
   const SceneDef& s = r.prepared.scene;
   using Method = vdm::ContactSettings::Method;
   const Method method = s.contact.method;
-  // The reference models take kinematic contact whatever the scene asks.
-  const bool constraint = method == Method::constraint && s.model == vdm::ModelKind::vdm;
+  const bool constraint = method == Method::constraint;
   const char* name = method == Method::penalty ? "penalty" : constraint ? "constraint" : "kinematic";
   js << "  \"contact\": {\"method\": \"" << name << '"';
   if (method == Method::penalty) js << ", \"stiffness_pa_per_m\": " << s.contact.penalty_stiffness;

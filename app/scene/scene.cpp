@@ -517,6 +517,10 @@ void read_simulation(Reader& r, const YAML::Node& sim, SceneDef& s) {
       if (const YAML::Node n = sol["warm_start"]) r.boolean(n, "simulation.solver.warm_start", s.solver.warm_start);
     }
   }
+  // The reference models take kinematic contact unless a scene names another method: the
+  // constraint method's friction does not converge on the FEM (docs/reference-models.md).
+  if (s.model != vdm::ModelKind::vdm && !(sim["contact"] && sim["contact"].IsMap() && sim["contact"]["method"]))
+    s.contact.method = vdm::ContactSettings::Method::kinematic;
   if (const YAML::Node con = sim["contact"]) {
     const std::string fc = "simulation.contact";
     if (r.require_map(con, fc)) {
@@ -535,7 +539,7 @@ void read_simulation(Reader& r, const YAML::Node& sim, SceneDef& s) {
             if (s.model != vdm::ModelKind::vdm)
               r.error(n, fc + ".method",
                       std::string("penalty contact needs organ.model vdm (") + vdm::to_string(s.model) +
-                          " takes kinematic contact)");
+                          " takes kinematic or constraint contact)");
           } else {
             const std::string near = closest(m, methods);
             r.error(n, fc + ".method", "unknown contact method '" + m + "'" +

@@ -46,7 +46,7 @@ SceneSimulation::SceneSimulation(const PreparedScene& ps)
   // benchmark repeat) builds its own, so that none starts where another ended.
   organ_ = make_organ_solver(ps.reference);
   if (s.has(Effect::contact) && !s.instruments.empty()) contact_ = std::make_unique<vdm::ContactSolver>(ps.model, s.contact);
-  if (contact_) contact_->set_solver(organ_.get());  // organ.model fem or mass_spring
+  if (contact_) contact_->set_solver(organ_.get());  // organ.model fem or mass_spring (null: vdm)
   tools_.resize(probes_.size() + 3 * graspers_.size());  // probes, then each grasper's two jaws and shaft
 }
 

@@ -148,11 +148,16 @@ TEST(PenaltyContact, ModelsWithoutSpringsAreRefused) {
   SimState s = make_sim_state(m);
   ContactSolver pen(m, penalty(1e8));
   // A reference model cannot take the springs: the step fails cleanly, state unchanged.
-  struct NoSprings : OrganSolver {
-    ModelKind kind() const override { return ModelKind::fem; }
-    void step(const StepInput&, SimState&) override { ADD_FAILURE() << "must not be called"; }
-  } fem;
-  pen.set_solver(&fem);
+  MassSpringDef def;
+  def.positions = m.rest.positions;
+  def.triangles = m.rest.triangles;
+  def.fixed = m.held;
+  MassSpringModel springs;
+  std::string error;
+  ASSERT_TRUE(build_mass_spring_model(def, springs, error)) << error;
+  const std::unique_ptr<OrganSolver> reference = make_mass_spring_solver(std::move(springs), 1.0);
+  ASSERT_FALSE(reference->takes_springs());
+  pen.set_solver(reference.get());
   ContactReport rep;
   const NodeMat before = s.u;
   pen.step(m, make_step_input(m), {probe_down(R - 0.002, 0.004, -0.002)}, s, rep);

@@ -221,7 +221,7 @@ TEST(SceneErrors, ContactMethodAndStiffness) {
   expect_error("contact_fem.yaml",
                scene_text("  model: fem\n  young_modulus: 3000\n  poisson_ratio: 0.45\n",
                           "  effects: [contact]\n  contact: {method: penalty}\n"),
-               "simulation.contact.method: penalty contact needs organ.model vdm (fem takes kinematic contact)");
+               "simulation.contact.method: penalty contact needs organ.model vdm (fem takes kinematic or constraint contact)");
   expect_error("contact_stiffness.yaml",
                scene_text("", "  effects: [contact]\n  contact: {method: penalty, stiffness: 0}\n"),
                "simulation.contact.stiffness:");
