@@ -242,8 +242,9 @@ inline constexpr SceneKey kSceneKeys[] = {
 
   // simulation.contact
   key("simulation.contact.method", KT::choice, "`constraint`: non-penetration constraints along the tool's normal at "
-      "surface points (nodes, and points inside triangles a thin tool meets), with Coulomb friction `friction` (slides; "
-      "`organ.model: vdm`: the reference models take `kinematic`); `kinematic`: nodes that enter a tool are put on its "
+      "surface points (nodes, and points inside triangles a thin tool meets), with Coulomb friction `friction` (slides "
+      "or sticks; the default for `organ.model: vdm`; the reference models take `kinematic` unless a method is named, "
+      "and converge with it without friction only); `kinematic`: nodes that enter a tool are put on its "
       "surface and held there for the step (the tissue sticks); `penalty`: frictionless and compliant, pushed out by "
       "stiffness × depth (slides; `organ.model: vdm` only).")
       .one_of([] { return Words{"constraint", "kinematic", "penalty"}; })

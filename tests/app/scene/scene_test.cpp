@@ -237,6 +237,30 @@ TEST(SceneErrors, ContactMethodAndStiffness) {
   EXPECT_NE(msg.find("simulation.contact: has no effect: contact is not in simulation.effects"), std::string::npos) << msg;
 }
 
+// Constraint contact with friction 0.2 is the default; the reference models take kinematic
+// contact unless the scene names a method (friction does not converge on the FEM).
+TEST(Scene, ContactMethodDefaultsByModel) {
+  using Method = vdm::ContactSettings::Method;
+  const std::string fem = "  model: fem\n  young_modulus: 3000\n  poisson_ratio: 0.45\n";
+  struct Case {
+    const char* file;
+    std::string organ, sim;
+    Method want;
+  };
+  const Case cases[] = {
+      {"default_vdm.yaml", "", "  effects: [contact]\n", Method::constraint},
+      {"default_fem.yaml", fem, "  effects: [contact]\n", Method::kinematic},
+      {"named_fem.yaml", fem, "  effects: [contact]\n  contact: {method: constraint}\n", Method::constraint},
+      {"named_vdm.yaml", "", "  effects: [contact]\n  contact: {method: kinematic}\n", Method::kinematic},
+  };
+  for (const Case& c : cases) {
+    const SceneLoadResult r = load_scene(write_scene(c.file, scene_text(c.organ, c.sim)));
+    ASSERT_TRUE(r.ok()) << c.file;
+    EXPECT_EQ(r.scene.contact.method, c.want) << c.file;
+    EXPECT_EQ(r.scene.contact.friction, 0.2) << c.file;
+  }
+}
+
 TEST(SceneErrors, RegionSelectingNothing) {
   expect_error("region.yaml", scene_text("  prescribed: [{box: {min: [5, 5, 5], max: [6, 6, 6]}, translate: [0, 0, -0.01]}]\n"),
                "organ.prescribed[0]: the region selects no node of the organ");
