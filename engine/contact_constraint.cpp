@@ -127,6 +127,9 @@ double contact_gap(const ToolShape& t, const Vec3& point, const Vec3& start, Vec
   return -(exit - point).norm();
 }
 
+// Whether `flags` (per node and axis; empty: none) holds node i on every axis.
+bool on_every_axis(const FlagMat& flags, int i) { return flags.rows() > i && flags.row(i).minCoeff() != 0; }
+
 // Whether triangle `tri` takes another point with tool k at `q`, `depth` deep (signed
 // distance, negative inside): fewer than eight points there, none within a fiftieth of the
 // tool's size, and every point within a quarter of it is shallower by half the penetration
@@ -158,12 +161,8 @@ bool in_order(const ContactPoint& a, const ContactPoint& b) {
 void ContactSolver::find_contact_points(const TissueModel& m, const StepInput& base, const std::vector<ToolShape>& tools,
                                         const NodeMat& x, const NodeMat& start_u, double limit, bool warm,
                                         ContactReport& rep) {
-  const bool has_prescribed = base.prescribed.rows() == m.n;
-  const bool has_held = m.held.rows() == m.n;
   // Nodes that cannot move on any axis take no force.
-  auto immobile = [&](int i) {
-    return (has_prescribed && base.prescribed.row(i).minCoeff() != 0) || (has_held && m.held.row(i).minCoeff() != 0);
-  };
+  auto immobile = [&](int i) { return on_every_axis(base.prescribed, i) || on_every_axis(m.held, i); };
   auto add = [&](int k, int tri, const int* nodes, const double* weights, int count, double gap, const Vec3& surface,
                  const Vec3& normal) {
     ContactPoint c;
@@ -216,7 +215,7 @@ void ContactSolver::find_contact_points(const TissueModel& m, const StepInput& b
           continue;
         }
         if (immobile(nd[v])) {
-          moved_corner |= has_prescribed && base.prescribed.row(nd[v]).minCoeff() != 0;
+          moved_corner |= on_every_axis(base.prescribed, nd[v]);
           continue;
         }
         all_immobile = false;
@@ -283,7 +282,7 @@ double ContactSolver::deepest_surface_point(const std::vector<ToolShape>& tools,
       // (a triangle with a corner the scene moves on every axis, e.g. grasped, takes no point:
       // input_ holds the scene's prescribed motion)
       bool moved_corner = false;
-      for (int v = 0; v < 3; ++v) moved_corner |= input_.prescribed.row((*triangles_)(tri, v)).minCoeff() != 0;
+      for (int v = 0; v < 3; ++v) moved_corner |= on_every_axis(input_.prescribed, (*triangles_)(tri, v));
       if (moved_corner) continue;
       const Vec3 a = x.row((*triangles_)(tri, 0)).transpose(), b = x.row((*triangles_)(tri, 1)).transpose(),
                  c = x.row((*triangles_)(tri, 2)).transpose();
@@ -500,13 +499,11 @@ void ContactSolver::step_constraint(const TissueModel& m, const StepInput& base,
   tool_force_.assign(tools.size(), Vec3::Zero());
   for (const ContactPoint& c : contacts_) tool_force_[static_cast<size_t>(c.tool)] -= c.force;
   for (const Vec3& f : tool_force_) rep.force += f;
-  const bool has_prescribed = base.prescribed.rows() == m.n, has_held = m.held.rows() == m.n;
   for (int i : contact_nodes_) {
     if (contact_force_.row(i).squaredNorm() == 0.0) continue;
     // (a node held on every axis, e.g. grasped, takes its share of a triangle point's force
     // through what holds it: it is not held by the tool)
-    if ((has_prescribed && base.prescribed.row(i).minCoeff() != 0) || (has_held && m.held.row(i).minCoeff() != 0))
-      continue;
+    if (on_every_axis(base.prescribed, i) || on_every_axis(m.held, i)) continue;
     active_[static_cast<size_t>(i)] = 1;
     held_.push_back(i);
     s.reaction.row(i) = contact_force_.row(i);
