@@ -56,7 +56,7 @@ void AxisIncompleteCholesky::analyze(const AxisMatrices& K) {
       }
 }
 
-int AxisIncompleteCholesky::factorize(const AxisMatrices& K, double omega) {
+int AxisIncompleteCholesky::factorize(const AxisMatrices& K, double omega, bool compensate) {
   // Right-looking: column k of L, then its updates of the rows below; an update that falls
   // outside the pattern is dropped and, times omega, taken off both diagonals instead.
   // In place: L holds K's lower values as the elimination updates them until column k
@@ -66,14 +66,26 @@ int AxisIncompleteCholesky::factorize(const AxisMatrices& K, double omega) {
   double* wd = work_diag_.data();
   // K's lower values, zero in the rows and columns of the constrained entries.
   const std::uint8_t* rm = K.row_mask.data();
+  for (size_t k = 0; k < 3 * size_t(n_); ++k) wd[k] = K.diag[k];
   for (int i = 0; i < n_; ++i)
     for (int p = lo_start_[size_t(i)]; p < lo_start_[size_t(i) + 1]; ++p) {
       const double v = K.off[size_t(lo_src_[size_t(p)])];
+      const size_t j = size_t(lo_col_[size_t(p)]);
       const std::uint8_t* mi = rm + 3 * size_t(i);
-      const std::uint8_t* mj = rm + 3 * size_t(lo_col_[size_t(p)]);
-      for (size_t d = 0; d < 3; ++d) L[3 * size_t(p) + d] = (mi[d] | mj[d]) ? 0.0f : float(v);
+      const std::uint8_t* mj = rm + 3 * j;
+      for (size_t d = 0; d < 3; ++d) {
+        const bool off = mi[d] | mj[d];
+        if (compensate && v > 0.0) {  // onto both diagonals (a constrained one stays 1)
+          L[3 * size_t(p) + d] = 0.0f;
+          if (!off) {
+            wd[3 * size_t(i) + d] += v;
+            wd[3 * j + d] += v;
+          }
+        } else {
+          L[3 * size_t(p) + d] = off ? 0.0f : float(v);
+        }
+      }
     }
-  for (size_t k = 0; k < 3 * size_t(n_); ++k) wd[k] = K.diag[k];
   const int* target = update_target_.data();
   for (int k = 0; k < n_; ++k) {
     for (int d = 0; d < 3; ++d) {

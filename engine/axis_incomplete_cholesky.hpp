@@ -20,7 +20,11 @@ class AxisIncompleteCholesky {
   // instead (omega = 1: L L^T has K's row sums, MIC(0)), a stronger preconditioner for a
   // Laplacian plus a diagonal. Returns the number of pivots (over the three axes) that were
   // not positive and had to be replaced (0 for M-matrices at omega = 0).
-  int factorize(const AxisMatrices& K, double omega = 0.0);
+  // `compensate`: the positive off-diagonal entries are moved onto the diagonals first (K +
+  // k_ij (e_i - e_j)(e_i - e_j)^T for each: a diagonally dominant M-matrix, spectrally above
+  // K), for a matrix far from an M-matrix (the capsule's bending term, whose two-ring pairs are
+  // positive), where the factorisation of K itself meets pivots near zero and overflows.
+  int factorize(const AxisMatrices& K, double omega = 0.0, bool compensate = false);
   // The factors of the last factorize() fitted to the constrained set of K (its row_mask,
   // from gather()) without factorising again: the entries constrained now but not then get
   // the identity's row and column (as factorize() would give them), the entries freed since

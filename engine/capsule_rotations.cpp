@@ -33,7 +33,9 @@ void fit_capsule_rotations(const TissueModel& m, const NodeMat& x, NodeRotations
   const NodeMat& X = m.rest.positions;
   const int* begin = m.neighbours.begin.data();
   const NeighbourLists::Entry* list = m.neighbours.entries.data();
-  const double* w = m.capsule_weight.data();
+  // The membrane's weights alone: the bending term's pairs (two edges apart, weights of either
+  // sign) would make the fit ill-posed on fine meshes; the load below rotates them all.
+  const double* w = m.capsule_membrane_weight.size() ? m.capsule_membrane_weight.data() : m.capsule_weight.data();
   for (int i = 0; i < m.n; ++i) {
     Mat3 S = Mat3::Zero();
     for (int k = begin[i]; k < begin[i + 1]; ++k) {
@@ -48,11 +50,23 @@ void fit_capsule_rotations(const TissueModel& m, const NodeMat& x, NodeRotations
 void add_corotation_load(const TissueModel& m, const NodeRotations& rotations, NodeMat& f) {
   const NodeMat& X = m.rest.positions;
   auto rotation = [&](int i) { return Eigen::Map<const Mat3>(rotations.data() + 9 * size_t(i)); };
+  const bool bending = m.bending_cot_weight.size() > 0;
+  const Vec& membrane = bending ? m.capsule_membrane_weight : m.capsule_weight;
+  // The bending term's rotated rest curvature over the area, h_k = (R_k − I)(C X)_k / M_k.
+  auto h = [&](int k) -> Eigen::Vector3d {
+    return (rotation(k) - Mat3::Identity()) * m.bending_rest_laplacian.row(k).transpose() * m.bending_inverse_area[k];
+  };
   for (size_t e = 0; e < m.edges.size(); ++e) {
     const int i = m.edges[e][0], j = m.edges[e][1];
-    const Eigen::Vector3d d = (X.row(i) - X.row(j)).transpose();
-    const Mat3 mean = 0.5 * (rotation(i) + rotation(j)) - Mat3::Identity();
-    const Eigen::Vector3d g = m.capsule_weight[Eigen::Index(e)] * (mean * d);
+    const double w = membrane[Eigen::Index(e)];
+    Eigen::Vector3d g = Eigen::Vector3d::Zero();
+    if (w != 0.0) {
+      const Eigen::Vector3d d = (X.row(i) - X.row(j)).transpose();
+      g = w * ((0.5 * (rotation(i) + rotation(j)) - Mat3::Identity()) * d);
+    }
+    // Bending, ½ D Σ_k |(C x)_k − R_k (C X)_k|² / M_k: the load D C h, edge by edge.
+    if (bending && m.bending_cot_weight[Eigen::Index(e)] != 0.0)
+      g += m.bending_modulus * m.bending_cot_weight[Eigen::Index(e)] * (h(i) - h(j));
     f.row(i) += g.transpose();
     f.row(j) -= g.transpose();
   }

@@ -5,7 +5,10 @@
 // rigid rotation of a patch then costs nothing, so a twist or a large bend carries.
 //
 // With the rotations fixed for a solve, the stiffness is the membrane's Laplacian as before
-// and the rotations enter as a load g_i = Σ_j w_ij (R̄_ij − I)(X_i − X_j) (N). No allocation.
+// and the rotations enter as a load g_i = Σ_j w_ij (R̄_ij − I)(X_i − X_j) (N). With the
+// bending term (capsule_bending.hpp) each node's rest curvature turns with it: energy
+// ½ D Σ_k |(C x)_k − R_k (C X)_k|² / M_k, whose load is D C h with h_k = (R_k − I)(C X)_k / M_k.
+// No allocation.
 #include <vector>
 
 #include "engine/tissue_model.hpp"

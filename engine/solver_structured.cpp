@@ -54,6 +54,19 @@ constexpr double kMaxRefit = 0.02;     // entries (over the node count) a refit 
 // next, and dP's own accuracy (a.s) must not drift.
 constexpr double kLooseS = 10.0;
 
+// A matrix with more than this share of positive off-diagonal entries is far from an
+// M-matrix (the capsule's bending term: about half of its two-ring pairs are positive; the
+// membrane's cotangent weights make a few per cent positive, on obtuse triangles): its
+// incomplete factorisation moves them onto the diagonal first (factorize's `compensate`).
+// Without it the modified IC(0) of the bending term meets pivots near zero and overflows.
+constexpr double kPositiveShare = 0.1;
+
+bool far_from_m_matrix(const AxisMatrices& K) {
+  size_t positive = 0;
+  for (const double v : K.off) positive += v > 0.0;
+  return double(positive) > kPositiveShare * double(K.off.size());
+}
+
 class StructuredSolver final : public LinearSolver {
  public:
   explicit StructuredSolver(const SolverSettings& s) : settings_(s) {}
@@ -103,10 +116,11 @@ class StructuredSolver final : public LinearSolver {
     s_valid_ = false;
     step_start_ = system.step_start;
     const bool new_shape = factor_mask_.rows() != system.mask->rows();
+    if (new_shape) compensate_ = far_from_m_matrix(K_);
     const bool mask_changed = new_shape || std::memcmp(factor_mask_.data(), system.mask->data(), size_t(factor_mask_.size())) != 0;
     // Springs (penalty contact) are stiff diagonal terms that change with every solve.
     if (factor_due_ || new_shape || system.springs || ++stale_ > kMaxStale) {
-      ic_.factorize(K_, kMicOmega);
+      ic_.factorize(K_, kMicOmega, compensate_);
       factor_mask_ = *system.mask;
       stale_ = 0;
       baseline_ = -1;
@@ -117,7 +131,7 @@ class StructuredSolver final : public LinearSolver {
       // factorisation again only when many entries changed at once, or when the solves
       // grow (kStaleGrowth).
       if (ic_.fit_to_mask(K_) > kMaxRefit * n_) {
-        ic_.factorize(K_, kMicOmega);
+        ic_.factorize(K_, kMicOmega, compensate_);
         stale_ = 0;
         baseline_ = -1;
         pending_factorizations_ = 3;
@@ -432,6 +446,7 @@ class StructuredSolver final : public LinearSolver {
   FlagMat factor_mask_;
   int stale_ = 0, baseline_ = -1;
   double last_pressure_ = 0.0;
+  bool compensate_ = false;  // far_from_m_matrix() at the first gather
   bool factor_due_ = false;
 };
 

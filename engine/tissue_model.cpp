@@ -3,6 +3,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "engine/capsule_bending.hpp"
 #include "engine/cotangent_laplacian.hpp"
 #include "engine/geometry.hpp"
 #include "engine/membrane_strain.hpp"
@@ -72,6 +73,14 @@ bool build_tissue_model(const TissueDef& def, TissueModel& m, std::string& error
     error = "connectivity_modulus must be finite and >= 0";
     return false;
   }
+  if (!(def.bending_modulus >= 0) || !std::isfinite(def.bending_modulus)) {
+    error = "bending_modulus must be finite and >= 0";
+    return false;
+  }
+  if (def.bending_modulus > 0 && def.capsule == CapsuleForm::paper) {
+    error = "bending_modulus needs a membrane capsule (membrane or corotational), not the paper's";
+    return false;
+  }
   if (!(def.axis_stiffness_floor >= 0 && def.axis_stiffness_floor <= 1)) {
     error = "axis_stiffness_floor must be in [0, 1]";
     return false;
@@ -100,9 +109,10 @@ bool build_tissue_model(const TissueDef& def, TissueModel& m, std::string& error
   m.rest = def.mesh;
   m.n = n;
   m.capsule = def.capsule;
+  CotangentWeights cot;
   if (m.capsule != CapsuleForm::paper) {
-    CotangentWeights cot = cotangent_weights(def.mesh.positions, def.mesh.triangles, def.capsule_delaunay);
-    m.edges = std::move(cot.edges);
+    cot = cotangent_weights(def.mesh.positions, def.mesh.triangles, def.capsule_delaunay);
+    m.edges = cot.edges;
     m.capsule_weight.resize(Eigen::Index(m.edges.size()));
     for (size_t e = 0; e < m.edges.size(); ++e) m.capsule_weight[Eigen::Index(e)] = cot.weights[e];
   } else {
@@ -143,6 +153,26 @@ bool build_tissue_model(const TissueDef& def, TissueModel& m, std::string& error
     m.membrane_frames = membrane_frames(def.mesh);
     m.membrane_inverse_areas = membrane_inverse_areas(def.mesh, m.membrane_frames);
     m.capsule_weight *= m.capsule_tension;
+    if (def.bending_modulus > 0) {
+      const std::vector<double> membrane(m.capsule_weight.data(), m.capsule_weight.data() + m.capsule_weight.size());
+      CapsulePairs pairs =
+          add_capsule_bending(def.mesh.positions, def.mesh.triangles, m.edges, membrane, cot.weights, def.bending_modulus);
+      m.edges = std::move(pairs.edges);
+      m.capsule_weight = Eigen::Map<const Vec>(pairs.weights.data(), Eigen::Index(pairs.weights.size()));
+      m.capsule_membrane_weight = Eigen::Map<const Vec>(pairs.membrane.data(), Eigen::Index(pairs.membrane.size()));
+      m.bending_modulus = def.bending_modulus;
+      m.bending_cot_weight = Vec::Zero(Eigen::Index(m.edges.size()));
+      m.bending_rest_laplacian = NodeMat::Zero(n, 3);
+      for (size_t e = 0, k = 0; e < m.edges.size(); ++e) {
+        if (k == cot.edges.size() || cot.edges[k] != m.edges[e]) continue;  // a two-ring pair
+        const double c = cot.weights[k++];
+        const int i = m.edges[e][0], j = m.edges[e][1];
+        m.bending_cot_weight[Eigen::Index(e)] = c;
+        m.bending_rest_laplacian.row(i) += c * (def.mesh.positions.row(i) - def.mesh.positions.row(j));
+        m.bending_rest_laplacian.row(j) -= c * (def.mesh.positions.row(i) - def.mesh.positions.row(j));
+      }
+      m.bending_inverse_area = barycentric_areas(def.mesh.positions, def.mesh.triangles).cwiseInverse();
+    }
     m.capsule_diagonal = Vec::Zero(n);
     for (size_t e = 0; e < m.edges.size(); ++e) {
       m.capsule_diagonal[m.edges[e][0]] += m.capsule_weight[Eigen::Index(e)];

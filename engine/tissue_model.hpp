@@ -43,6 +43,9 @@ struct TissueDef {
   // on obtuse triangles, the matrix stays SPD) or of its intrinsic Delaunay triangulation
   // (true: every weight >= 0, but a sliver's nodes are then held only loosely in line).
   bool capsule_delaunay = false;
+  // The capsule's thin-shell bending modulus D (N·m; membrane capsules; 0: none): energy
+  // ½ D ∫ |Δ_S u|² dA over the rest surface (engine/capsule_bending.hpp).
+  double bending_modulus = 0.0;
   // Floor of the per-axis bulk stiffness, as a fraction of the node's full-area stiffness:
   // k_i^d = B_i^d max((A_i^d)^2, floor |A_i|^2) / V_i. Without it a node whose area vector
   // has almost no component along d (a flat face, d in its plane) is held along d by the
@@ -80,10 +83,18 @@ struct TissueModel {
   CapsuleForm capsule = CapsuleForm::membrane;
   bool membrane_capsule() const { return capsule != CapsuleForm::paper; }
   // Membrane capsules only (empty for the paper's): the tension T = B_ij V_0 / A_0 (N/m), the
-  // fixed edge weights w_e = T c_e (N/m; c_e the cotangent weights, on `edges`) and their
-  // sums per node (the Laplacian's diagonal, N/m).
+  // fixed edge weights w_e = T c_e (N/m; c_e the cotangent weights, on `edges`), with the
+  // bending term's pair weights added when D > 0, and their sums per node (the diagonal, N/m).
   double capsule_tension = 0;
-  Vec capsule_weight;
+  double bending_modulus = 0;            // D (N·m); with it, `edges` also holds the pairs two edges apart
+  Vec capsule_weight;                    // membrane + bending, on `edges`
+  Vec capsule_membrane_weight;           // with bending: the membrane's part alone (the rotation fit); else empty
+  // With bending: the unit cotangent weights c_e on `edges` (0 on the two-ring pairs), the rest
+  // surface's Laplacian (C X)_i (m) and 1 / M_i (the barycentric rest areas): the corotational
+  // capsule rotates the bending term's rest curvature (capsule_rotations.hpp). Else empty.
+  Vec bending_cot_weight;
+  NodeMat bending_rest_laplacian;
+  Vec bending_inverse_area;
   Vec capsule_diagonal;
   std::vector<double> membrane_frames;   // per rest triangle: its basis and D^-1 (membrane_strain.hpp)
   Vec membrane_inverse_areas;            // per node: 1 / its rest triangles' area (membrane_strain.hpp)

@@ -95,6 +95,7 @@ void write_material(const SceneDef& s, const vdm::TissueModel& m, std::ostringst
      << ", " << modulus(s.bulk_modulus[2]) << "], \"connectivity_modulus_pa\": " << s.connectivity_modulus
      << ", \"capsule\": \"" << vdm::to_string(m.capsule) << '"';
   if (m.membrane_capsule()) js << ", \"capsule_tension_n_per_m\": " << m.capsule_tension;
+  if (m.bending_modulus > 0) js << ", \"bending_modulus_n_m\": " << m.bending_modulus;
   if (s.moduli_from_elastic)
     js << ", \"from\": {\"young_modulus_pa\": " << s.young_modulus << ", \"poisson_ratio\": " << s.poisson_ratio
        << ", \"rule\": \"docs/model.md: B = beta E, B_ij = gamma(nu) E\"}";

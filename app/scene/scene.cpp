@@ -317,6 +317,7 @@ void warn_unused_by_model(Reader& r, const YAML::Node& organ, vdm::ModelKind mod
     bool vdm, fem, mass_spring;
   };
   static const Use uses[] = {{"connectivity_modulus", true, false, false}, {"capsule", true, false, false},
+                             {"bending_modulus", true, false, false},
                              {"poisson_ratio", true, true, false},        {"thickness", false, false, true},
                              {"volume_modulus", false, false, true},      {"tet_size", false, true, false}};
   const YAML::Node mat = organ["material"];
@@ -394,6 +395,12 @@ void read_organ(Reader& r, const YAML::Node& organ, SceneDef& s, const std::file
         std::string form;
         if (r.text(n, "organ.material.capsule", form) && !vdm::parse_capsule_form(form, s.capsule))
           r.error(n, "organ.material.capsule", "unknown capsule '" + form + "'; expected membrane, corotational or paper");
+      }
+      if (const YAML::Node n = mat["bending_modulus"]) {
+        if (r.number(n, "organ.material.bending_modulus", s.bending_modulus, KEY("organ.material.bending_modulus")) &&
+            s.bending_modulus > 0 && s.capsule == vdm::CapsuleForm::paper)
+          r.error(n, "organ.material.bending_modulus",
+                  "needs a membrane capsule (capsule: membrane or corotational); the paper's capsule has no bending term");
       }
       if (const YAML::Node n = mat["density"]) r.number(n, "organ.material.density", s.density, KEY("organ.material.density"));
       if (const YAML::Node n = mat["damping"]) r.number(n, "organ.material.damping", s.damping, KEY("organ.material.damping"));

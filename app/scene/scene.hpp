@@ -119,7 +119,8 @@ struct SceneDef {
   vdm::Vec3 translate = vdm::Vec3::Zero();   // organ.translate (m), after the rotation
   vdm::Vec3 bulk_modulus = vdm::Vec3::Constant(20000.0);  // Pa per axis; inf allowed
   double connectivity_modulus = 2000.0;
-  vdm::CapsuleForm capsule = vdm::CapsuleForm::membrane;  // vdm: membrane | paper
+  vdm::CapsuleForm capsule = vdm::CapsuleForm::membrane;  // vdm: membrane | corotational | paper
+  double bending_modulus = 0.0;  // vdm, membrane capsules: the skin's bending modulus D (N m); 0 = none
   double density = 1060.0;
   double damping = 0.0;        // 1/s, with the inertia effect
   vdm::ModelKind model = vdm::ModelKind::vdm;  // organ.model: vdm | fem | mass_spring

@@ -140,6 +140,10 @@ inline constexpr SceneKey kSceneKeys[] = {
       "(the membrane in each node's rotated frame) or `paper` (the paper's edge weights).")
       .one_of([] { return Words{"membrane", "corotational", "paper"}; })
       .by_default([] { return std::string(vdm::to_string(SceneDef().capsule)); }).eg("capsule: corotational"),
+  key("organ.material.bending_modulus", KT::number, "The capsule's thin-shell bending modulus D (`model: vdm`, "
+      "`membrane` or `corotational` capsule): energy ½ D ∫ |Δu|² dA over the surface, so the skin resists bending as "
+      "well as stretch (docs/model.md, \"Bending\"). 0: no bending term.").in("N m").range(0, 1e6)
+      .by_default([] { return yaml_number(SceneDef().bending_modulus); }).eg("bending_modulus: 0.0005"),
   key("organ.material.density", KT::number, "Mass density: the weight with the `gravity` effect, the mass with `inertia`.")
       .in("kg/m^3").above(0, 1e5).by_default([] { return yaml_number(SceneDef().density); }).eg("density: 1060"),
   key("organ.material.damping", KT::number, "Mass-proportional damping, with the `inertia` effect.").in("1/s").range(0, 1e6)

@@ -166,6 +166,7 @@ bool prepare_scene_def(const SceneDef& scene, PreparedScene& out, std::vector<Sc
   for (int d = 0; d < 3; ++d) def.bulk_modulus.col(d).setConstant(s.bulk_modulus[d]);
   def.connectivity_modulus = s.connectivity_modulus;
   def.capsule = s.capsule;
+  def.bending_modulus = s.model == vdm::ModelKind::vdm ? s.bending_modulus : 0.0;
   def.density = s.density;
   def.dt = s.dt;
   def.gravity = s.gravity;

@@ -10,8 +10,18 @@ namespace {
 
 constexpr double kPoisson = 0.45;
 constexpr double kVolumeToYoung = 4;     // mass_spring: volume spring modulus / E
+constexpr double kConnectivity = 2000;   // vdm: B_ij (Pa) of every configuration
+
+// The bending variant's modulus (N m): a bending length sqrt(D / T) of 4.9 mm on the liver
+// (T = B_ij V/A = 41.7 N/m), about the probe's radius. Its price grows steeply with D
+// (docs/model.md, "Bending"): at sqrt(D / T) = V/A (21 mm) a step takes seconds.
+constexpr double kBending = 0.001;
 
 }  // namespace
+
+std::string capsule_label(const AccuracyConfig& c) {
+  return std::string(vdm::to_string(c.capsule)) + (c.bending > 0 ? "+bending" : "");
+}
 
 std::string level_mesh(int level) { return "liver_L" + std::to_string(level) + ".obj"; }
 
@@ -22,6 +32,7 @@ std::string config_name(const AccuracyConfig& c) {
     s << "_" << vdm::to_string(c.method) << "_tol" << std::setprecision(0) << std::scientific << c.tolerance << "_r"
       << c.refresh_every << "_n" << c.nonlinear_iterations;
   if (c.model == vdm::ModelKind::vdm && c.capsule != vdm::CapsuleForm::membrane) s << "_" << vdm::to_string(c.capsule);
+  if (c.model == vdm::ModelKind::vdm && c.bending > 0) s << "_bending";
   return s.str();
 }
 
@@ -33,10 +44,12 @@ std::string accuracy_scene_yaml(const AccuracyConfig& c, int frames, const std::
     << "organ:\n"
     << "  mesh: " << mesh_dir << "/" << level_mesh(c.level) << "\n"
     << "  model: " << vdm::to_string(c.model) << "\n";
-  if (c.model == vdm::ModelKind::vdm)
-    y << "  material: {bulk_modulus: 20000, connectivity_modulus: 2000, density: 1060, capsule: "
-      << vdm::to_string(c.capsule) << "}\n";
-  else if (c.model == vdm::ModelKind::fem)
+  if (c.model == vdm::ModelKind::vdm) {
+    y << "  material: {bulk_modulus: 20000, connectivity_modulus: " << kConnectivity << ", density: 1060, capsule: "
+      << vdm::to_string(c.capsule);
+    if (c.bending > 0) y << ", bending_modulus: " << c.bending;
+    y << "}\n";
+  } else if (c.model == vdm::ModelKind::fem)
     y << "  material: {young_modulus: " << kAccuracyStartYoung << ", poisson_ratio: " << kPoisson << ", density: 1060}\n";
   else
     y << "  material: {young_modulus: " << kAccuracyStartYoung << ", volume_modulus: " << kVolumeToYoung * kAccuracyStartYoung
@@ -118,6 +131,8 @@ std::vector<AccuracyConfig> accuracy_configs(bool quick) {
     // and what the paper's form gives up.
     for (vdm::CapsuleForm f : {vdm::CapsuleForm::paper, vdm::CapsuleForm::corotational})
       vary("capsule", [&](AccuracyConfig& c) { c.capsule = f; });
+    // The membrane with the bending term (vdm-model.md 3b): what resisting bending costs.
+    vary("capsule", [&](AccuracyConfig& c) { c.bending = kBending; });
     // The reference models on the coarse liver: their Newton solves cost seconds per step on
     // finer ones (mass_spring converges slowly where its membrane is pushed along its normal).
     vary("model", [&](AccuracyConfig& c) {

@@ -27,7 +27,11 @@ struct AccuracyConfig {
   int refresh_every = 1;
   int nonlinear_iterations = 1;
   vdm::CapsuleForm capsule = vdm::CapsuleForm::membrane;  // vdm: the capsule term's form (docs/model.md)
+  double bending = 0;          // vdm: the capsule's bending modulus D (N m; 0: none)
 };
+
+// The capsule column of accuracy.csv: the form, "+bending" with the bending term.
+std::string capsule_label(const AccuracyConfig& c);
 
 struct AccuracyRow {
   AccuracyConfig config;

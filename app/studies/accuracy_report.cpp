@@ -21,7 +21,7 @@ std::string knobs(const AccuracyConfig& c) {
   if (c.model == vdm::ModelKind::vdm)
     s << ", " << vdm::to_string(c.method) << ", tolerance " << c.tolerance << ", refresh every " << c.refresh_every
       << ", " << c.nonlinear_iterations << " nonlinear iteration" << (c.nonlinear_iterations > 1 ? "s" : "")
-      << ", " << vdm::to_string(c.capsule) << " capsule";
+      << ", " << capsule_label(c) << " capsule";
   return s.str();
 }
 
@@ -29,7 +29,7 @@ std::string knobs(const AccuracyConfig& c) {
 
 bool write_accuracy_csv(const std::string& path, const std::vector<AccuracyRow>& rows, std::string& error) {
   std::ofstream f(path);
-  f << "scenario,varied,model,nodes,solver,tolerance,refresh_every,nonlinear_iterations,median_ms,p95_ms,"
+  f << "scenario,varied,model,nodes,solver,tolerance,refresh_every,nonlinear_iterations,capsule,median_ms,p95_ms,"
        "measured_median_ms,yardstick_ms,rms_error_mm,max_error_mm,rms_vs_baseline_mm,force_rms_error_n,force_rel_error,volume_rel_error,young_modulus_pa,pareto,"
        "scene,note\n";
   f << std::setprecision(6);
@@ -37,9 +37,10 @@ bool write_accuracy_csv(const std::string& path, const std::vector<AccuracyRow>&
     const AccuracyConfig& c = r.config;
     f << c.scenario << ',' << c.varied << ',' << vdm::to_string(c.model) << ',' << r.nodes << ',';
     if (c.model == vdm::ModelKind::vdm)
-      f << vdm::to_string(c.method) << ',' << c.tolerance << ',' << c.refresh_every << ',' << c.nonlinear_iterations;
+      f << vdm::to_string(c.method) << ',' << c.tolerance << ',' << c.refresh_every << ',' << c.nonlinear_iterations << ','
+        << capsule_label(c);
     else
-      f << ",,,";
+      f << ",,,,";
     // The measured columns, empty when the row failed (or, for rms_vs_baseline_mm and
     // young_modulus_pa, when they do not apply).
     if (r.failed) {

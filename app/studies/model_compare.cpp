@@ -49,6 +49,7 @@ vdm::TissueModel surface_model(const vdm::SurfaceMesh& surface, const VdmParams&
   def.bulk = p.bulk;
   def.connectivity_modulus = p.connectivity;
   def.capsule = p.capsule;
+  def.bending_modulus = p.bending;
   def.solver = p.solver;
   def.fixed = c.fixed;
   def.compute_stress = false;

@@ -38,7 +38,7 @@ struct VdmParams {
   double bulk = 20000;                 // B (Pa)
   double connectivity = 2000;          // B_ij (Pa)
   vdm::CapsuleForm capsule = vdm::CapsuleForm::membrane;
-  double bending = 0;                  // unused by this engine version (kept for the interface)
+  double bending = 0;                  // the capsule's bending modulus D (N m; membrane capsules)
   vdm::SolverSettings solver;
 };
 

@@ -618,6 +618,23 @@ TEST(Scene, CapsuleFormReachesTheModel) {
   expect_error("capsule_bad.yaml", t, "organ.material.capsule: unknown capsule 'skin'; expected membrane, corotational or paper");
 }
 
+// The bending modulus reaches the model (its pairs two edges apart join the pattern); with the
+// paper's capsule it is an error naming the key.
+TEST(Scene, BendingModulusReachesTheModel) {
+  std::string t = scene_text();
+  t.replace(t.find("density: 1060}"), 14, "density: 1060, bending_modulus: 0.0002}");
+  PreparedScene ps, plain;
+  std::vector<SceneProblem> problems;
+  ASSERT_TRUE(prepare_scene(write_scene("bending.yaml", t), ps, problems));
+  ASSERT_TRUE(prepare_scene(write_scene("no_bending.yaml", scene_text()), plain, problems));
+  EXPECT_EQ(ps.model.bending_modulus, 0.0002);
+  EXPECT_EQ(plain.model.bending_modulus, 0.0);
+  EXPECT_GT(ps.model.edges.size(), 2 * plain.model.edges.size());
+  t = scene_text();
+  t.replace(t.find("density: 1060}"), 14, "density: 1060, capsule: paper, bending_modulus: 0.0002}");
+  expect_error("bending_paper.yaml", t, "organ.material.bending_modulus: needs a membrane capsule");
+}
+
 }  // namespace
 }  // namespace vdmsim
 

@@ -37,7 +37,7 @@ TEST(AccuracyCli, QuickStudyWritesTheTableThePlotAndRecommendations) {
   ASSERT_TRUE(std::getline(csv, line));
   const std::vector<std::string> header = split(line);
   ASSERT_EQ(line,
-            "scenario,varied,model,nodes,solver,tolerance,refresh_every,nonlinear_iterations,median_ms,p95_ms,"
+            "scenario,varied,model,nodes,solver,tolerance,refresh_every,nonlinear_iterations,capsule,median_ms,p95_ms,"
             "measured_median_ms,yardstick_ms,rms_error_mm,max_error_mm,rms_vs_baseline_mm,force_rms_error_n,force_rel_error,volume_rel_error,"
             "young_modulus_pa,pareto,scene,note");
   std::vector<std::map<std::string, std::string>> rows;

@@ -1,0 +1,63 @@
+#include "engine/capsule_bending.hpp"
+
+#include <algorithm>
+
+#include <Eigen/SparseCore>
+
+namespace vdm {
+
+Vec barycentric_areas(const NodeMat& x, const TriMat& tris) {
+  Vec M = Vec::Zero(x.rows());
+  for (Eigen::Index t = 0; t < tris.rows(); ++t) {
+    const Vec3 a = x.row(tris(t, 0)), b = x.row(tris(t, 1)), c = x.row(tris(t, 2));
+    const double third = 0.5 * (b - a).cross(c - a).norm() / 3.0;
+    for (int k = 0; k < 3; ++k) M[tris(t, k)] += third;
+  }
+  return M;
+}
+
+CapsulePairs add_capsule_bending(const NodeMat& positions, const TriMat& triangles,
+                                 const std::vector<std::array<int, 2>>& edges, const std::vector<double>& membrane,
+                                 const std::vector<double>& cot, double D) {
+  using Sp = Eigen::SparseMatrix<double>;
+  const Eigen::Index n = positions.rows();
+  std::vector<Eigen::Triplet<double>> t;
+  t.reserve(4 * edges.size());
+  for (size_t e = 0; e < edges.size(); ++e) {
+    const int i = edges[e][0], j = edges[e][1];
+    const double c = cot[e];
+    t.emplace_back(i, j, -c);
+    t.emplace_back(j, i, -c);
+    t.emplace_back(i, i, c);
+    t.emplace_back(j, j, c);
+  }
+  Sp C(n, n);
+  C.setFromTriplets(t.begin(), t.end());
+  const Vec M = barycentric_areas(positions, triangles);
+  const Vec inv_m = M.cwiseInverse();
+  const Sp K = Sp(D * (C * inv_m.asDiagonal() * C)).pruned(0.0, 0.0);
+
+  // K's strict upper triangle, column by column: pairs (i, j), i < j, sorted by (i, j) after.
+  std::vector<std::pair<std::array<int, 2>, double>> bending;
+  for (Eigen::Index j = 0; j < K.outerSize(); ++j)
+    for (Sp::InnerIterator it(K, j); it; ++it)
+      if (it.row() < j) bending.push_back({{int(it.row()), int(j)}, -it.value()});
+  std::sort(bending.begin(), bending.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+
+  // Merge the two sorted pair lists.
+  CapsulePairs out;
+  out.edges.reserve(edges.size() + bending.size());
+  size_t a = 0, b = 0;
+  while (a < edges.size() || b < bending.size()) {
+    const bool take_a = b == bending.size() || (a < edges.size() && edges[a] <= bending[b].first);
+    const bool take_b = a == edges.size() || (b < bending.size() && bending[b].first <= edges[a]);
+    out.edges.push_back(take_a ? edges[a] : bending[b].first);
+    out.membrane.push_back(take_a ? membrane[a] : 0.0);
+    out.weights.push_back((take_a ? membrane[a] : 0.0) + (take_b ? bending[b].second : 0.0));
+    a += take_a;
+    b += take_b;
+  }
+  return out;
+}
+
+}  // namespace vdm
