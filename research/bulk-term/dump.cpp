@@ -63,5 +63,16 @@ int main(int argc, char** argv) {
       CaseResult f = run_fem_case(tets, 3000, 0.45, lf, c.fem); save(nm + "_fem4_u.txt", f.u.back());
     }
   }
+  if (what == "beam6") {  // the finer beam surface (6 cells across, as the docs' finer FEM): surface and load cases only
+    BeamConfig c; c.cells_across = 6; c.cells_along = 30; c.steps = 10; c.stretch = 0.2; c.bend = 0.2; c.twist_deg = 30;
+    const vdm::SurfaceMesh s = vdm::fem::make_box_tets(vdm::Vec3(c.width, c.length, c.width), 6, 30, 6, vdm::Vec3(0, c.length / 2, 0)).surface;
+    save("beam6_X.txt", s.positions); save("beam6_T.txt", s.triangles);
+    for (BeamCase w : {BeamCase::stretch, BeamCase::bend, BeamCase::twist}) {
+      LoadCase lc = beam_load_case(c, w);
+      std::string nm = std::string("beam6_") + to_string(w);
+      save(nm + "_fixed.txt", lc.fixed.cast<int>()); save_ints(nm + "_moved.txt", lc.moved); save_ints("beam6_abc.txt", lc.tracked);
+      for (size_t k = 0; k < lc.targets.size(); ++k) save(nm + "_target" + std::to_string(k) + ".txt", lc.targets[k]);
+    }
+  }
   return 0;
 }

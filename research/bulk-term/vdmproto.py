@@ -286,14 +286,16 @@ class Beam:
     FEM = {"stretch": [4.88e-3, 10.04e-3, 15.59e-3], "bend": [3.32e-3, 10.00e-3, 17.01e-3],
            "twist": [1.32e-3, 2.61e-3, 4.00e-3]}
 
-    def __init__(self):
-        self.X, self.T = load("beam")
-        self.abc = np.loadtxt(D + "beam_abc.txt", dtype=int)
-        self.fixed = np.loadtxt(D + "beam_stretch_fixed.txt", dtype=int).astype(bool)
+    def __init__(self, name=None):
+        name = name or os.environ.get("BEAM", "beam")   # beam (4 cells across) or beam6 (dump.cpp beam6)
+        self.name = name
+        self.X, self.T = load(name)
+        self.abc = np.loadtxt(D + f"{name}_abc.txt", dtype=int)
+        self.fixed = np.loadtxt(D + f"{name}_stretch_fixed.txt", dtype=int).astype(bool)
         self.cases = {}
         for c in ("stretch", "bend", "twist"):
-            moved = np.loadtxt(D + f"beam_{c}_moved.txt", dtype=int)
-            targets = [np.loadtxt(D + f"beam_{c}_target{k}.txt") for k in range(10)]
+            moved = np.loadtxt(D + f"{name}_{c}_moved.txt", dtype=int)
+            targets = [np.loadtxt(D + f"{name}_{c}_target{k}.txt") for k in range(10)]
             self.cases[c] = (moved, targets)
 
     def run(self, model, case, it_max=200, anderson=8, tol=1e-10, steps=None):
