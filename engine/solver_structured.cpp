@@ -60,11 +60,17 @@ constexpr double kLooseS = 10.0;
 // incomplete factorisation moves them onto the diagonal first (factorize's `compensate`).
 // Without it the modified IC(0) of the bending term meets pivots near zero and overflows.
 constexpr double kPositiveShare = 0.1;
+// The relaxation for such a matrix: the compensated one is diagonally dominant, where MIC(0)
+// keeps its row sums safely. probe_poke with bending_modulus 1e-3 N m (10k liver): 583 PCG
+// iterations per contact frame at 0.9, 428 at 1, 984 at 0.5, 1252 at 0.
+constexpr double kCompensatedOmega = 1.0;
 
-bool far_from_m_matrix(const AxisMatrices& K) {
-  size_t positive = 0;
-  for (const double v : K.off) positive += v > 0.0;
-  return double(positive) > kPositiveShare * double(K.off.size());
+// Counted on the assembled weights (entry (i, j) is -w_ij), before any constraint: the same
+// answer for a run and for its resume from any step.
+bool far_from_m_matrix(const AxisStiffness& K) {
+  Eigen::Index positive = 0;
+  for (Eigen::Index e = 0; e < K.weight.size(); ++e) positive += K.weight[e] < 0.0;
+  return double(positive) > kPositiveShare * double(K.weight.size());
 }
 
 class StructuredSolver final : public LinearSolver {
@@ -116,11 +122,11 @@ class StructuredSolver final : public LinearSolver {
     s_valid_ = false;
     step_start_ = system.step_start;
     const bool new_shape = factor_mask_.rows() != system.mask->rows();
-    if (new_shape) compensate_ = far_from_m_matrix(K_);
+    if (new_shape) compensate_ = far_from_m_matrix(*system.K);
     const bool mask_changed = new_shape || std::memcmp(factor_mask_.data(), system.mask->data(), size_t(factor_mask_.size())) != 0;
     // Springs (penalty contact) are stiff diagonal terms that change with every solve.
     if (factor_due_ || new_shape || system.springs || ++stale_ > kMaxStale) {
-      ic_.factorize(K_, kMicOmega, compensate_);
+      ic_.factorize(K_, compensate_ ? kCompensatedOmega : kMicOmega, compensate_);
       factor_mask_ = *system.mask;
       stale_ = 0;
       baseline_ = -1;
@@ -131,7 +137,7 @@ class StructuredSolver final : public LinearSolver {
       // factorisation again only when many entries changed at once, or when the solves
       // grow (kStaleGrowth).
       if (ic_.fit_to_mask(K_) > kMaxRefit * n_) {
-        ic_.factorize(K_, kMicOmega, compensate_);
+        ic_.factorize(K_, compensate_ ? kCompensatedOmega : kMicOmega, compensate_);
         stale_ = 0;
         baseline_ = -1;
         pending_factorizations_ = 3;
