@@ -66,10 +66,12 @@ constexpr double kPositiveShare = 0.1;
 constexpr double kCompensatedOmega = 1.0;
 
 // Counted on the assembled weights (entry (i, j) is -w_ij), before any constraint: the same
-// answer for a run and for its resume from any step.
+// answer for a run and for its resume from any step. A weight counts when it is below -1e-9
+// of the largest: a right angle's cotangent comes out as +-1e-17 or so, not as 0.
 bool far_from_m_matrix(const AxisStiffness& K) {
+  const double floor = -1e-9 * (K.weight.size() ? K.weight.cwiseAbs().maxCoeff() : 0.0);
   Eigen::Index positive = 0;
-  for (Eigen::Index e = 0; e < K.weight.size(); ++e) positive += K.weight[e] < 0.0;
+  for (Eigen::Index e = 0; e < K.weight.size(); ++e) positive += K.weight[e] < floor;
   return double(positive) > kPositiveShare * double(K.weight.size());
 }
 
