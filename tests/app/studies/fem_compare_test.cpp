@@ -289,12 +289,9 @@ TEST(AgainstTheFem, Beams) {
         EXPECT_LT(worst_point(v, ff), targets[0]) << vdm::to_string(form);
       }
     }
-    // Why the bend and the twist die: the bulk term B (A_i^d)^2 / V_i is a spring from each
-    // node to its rest position, so it resists a part of the organ moving rigidly. With the
-    // skin alone (B = 1e-4 B_ij) the corotational capsule carries the bend and the twist to
-    // within the targets; the membrane's componentwise Laplacian still loses the twist.
     // The bending term at the section rule's modulus, with the rule's moduli and with the skin
-    // alone: measured, not asserted.
+    // alone: measured; asserted where it meets a target (the corotational skin alone's bend,
+    // which it brings from 10 % to within 5 %).
     for (const vdm::CapsuleForm form : {vdm::CapsuleForm::membrane, vdm::CapsuleForm::corotational})
       for (const bool alone : {false, true}) {
         VdmParams p = rule_params(form);
@@ -305,7 +302,14 @@ TEST(AgainstTheFem, Beams) {
         print_beam(std::string("vdm ") + vdm::to_string(form) + " + bending" + (alone ? ", skin alone" : ""), v, &ff,
                    seconds_since(t0));
         EXPECT_LT(largest_volume_error(v), 1e-9) << to_string(which) << ' ' << vdm::to_string(form);
+        if (alone && form == vdm::CapsuleForm::corotational && which == BeamCase::bend) {
+          EXPECT_LT(worst_point(v, ff), targets[1]);
+        }
       }
+    // Why the bend and the twist die: the bulk term B (A_i^d)^2 / V_i is a spring from each
+    // node to its rest position, so it resists a part of the organ moving rigidly. With the
+    // skin alone (B = 1e-4 B_ij) the corotational capsule carries the bend and the twist to
+    // within the targets; the membrane's componentwise Laplacian still loses the twist.
     for (const vdm::CapsuleForm form : {vdm::CapsuleForm::membrane, vdm::CapsuleForm::corotational}) {
       VdmParams skin = rule_params(form);
       skin.bulk = 1e-4 * skin.connectivity;
