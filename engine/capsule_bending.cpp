@@ -16,9 +16,9 @@ Vec barycentric_areas(const NodeMat& x, const TriMat& tris) {
   return M;
 }
 
-CapsulePairs add_capsule_bending(const NodeMat& positions, const TriMat& triangles,
-                                 const std::vector<std::array<int, 2>>& edges, const std::vector<double>& membrane,
-                                 const std::vector<double>& cot, double D) {
+CapsulePairs capsule_bending_pairs(const NodeMat& positions, const TriMat& triangles,
+                                   const std::vector<std::array<int, 2>>& edges, const std::vector<double>& cot,
+                                   double D) {
   using Sp = Eigen::SparseMatrix<double>;
   const Eigen::Index n = positions.rows();
   std::vector<Eigen::Triplet<double>> t;
@@ -52,8 +52,8 @@ CapsulePairs add_capsule_bending(const NodeMat& positions, const TriMat& triangl
     const bool take_a = b == bending.size() || (a < edges.size() && edges[a] <= bending[b].first);
     const bool take_b = a == edges.size() || (b < bending.size() && bending[b].first <= edges[a]);
     out.edges.push_back(take_a ? edges[a] : bending[b].first);
-    out.membrane.push_back(take_a ? membrane[a] : 0.0);
-    out.weights.push_back((take_a ? membrane[a] : 0.0) + (take_b ? bending[b].second : 0.0));
+    out.cot.push_back(take_a ? cot[a] : 0.0);
+    out.bending.push_back(take_b ? bending[b].second : 0.0);
     a += take_a;
     b += take_b;
   }

@@ -11,8 +11,8 @@
 //
 // K_b's rows sum to zero (C 1 = 0), so it is a Laplacian of the graph of pairs at most two
 // edges apart with weights w_ij = −(K_b)_ij of either sign: it adds to the membrane's edge
-// weights on the union of the two pair sets, and the step's matrices keep their form
-// (weights per pair, diagonal = their sums + bulk).
+// weights (T c_ij) on the union of the two pair sets, and the step's matrices keep their
+// form (weights per pair, diagonal = their sums + bulk).
 #include <array>
 #include <vector>
 
@@ -21,17 +21,17 @@
 namespace vdm {
 
 struct CapsulePairs {
-  std::vector<std::array<int, 2>> edges;  // unique pairs i < j, sorted
-  std::vector<double> membrane;           // the membrane's weight on each pair (0 off its edges)
-  std::vector<double> weights;            // membrane + bending (N/m)
+  std::vector<std::array<int, 2>> edges;  // unique pairs i < j, sorted: the edges and the two-ring pairs
+  std::vector<double> cot;                // the unit cotangent weight c_ij on each pair (0 off the edges)
+  std::vector<double> bending;            // the bending term's weight −(K_b)_ij (N/m)
 };
 
-// The membrane's pairs `edges` (i < j, sorted) with weights `membrane` (N/m) and their unit
-// cotangent weights `cot` (the same pairs), merged with the bending term of modulus `D`
-// (N·m) on the rest surface (`positions`, `triangles`: the barycentric areas M_i).
-CapsulePairs add_capsule_bending(const NodeMat& positions, const TriMat& triangles,
-                                 const std::vector<std::array<int, 2>>& edges, const std::vector<double>& membrane,
-                                 const std::vector<double>& cot, double D);
+// The Laplacian's pairs `edges` (i < j, sorted) with their unit cotangent weights `cot`,
+// joined by the bending term of modulus `D` (N·m) on the rest surface (`positions`,
+// `triangles`: the barycentric areas M_i).
+CapsulePairs capsule_bending_pairs(const NodeMat& positions, const TriMat& triangles,
+                                   const std::vector<std::array<int, 2>>& edges, const std::vector<double>& cot,
+                                   double D);
 
 // The barycentric rest areas M_i = Σ_{t∋i} |t| / 3 (m²).
 Vec barycentric_areas(const NodeMat& positions, const TriMat& triangles);

@@ -33,15 +33,17 @@ void fit_capsule_rotations(const TissueModel& m, const NodeMat& x, NodeRotations
   const NodeMat& X = m.rest.positions;
   const int* begin = m.neighbours.begin.data();
   const NeighbourLists::Entry* list = m.neighbours.entries.data();
-  // The membrane's weights alone: the bending term's pairs (two edges apart, weights of either
-  // sign) would make the fit ill-posed on fine meshes; the load below rotates them all.
-  const double* w = m.capsule_membrane_weight.size() ? m.capsule_membrane_weight.data() : m.capsule_weight.data();
+  // The membrane's weights alone (T c_e with bending): the bending term's pairs (two edges
+  // apart, weights of either sign) would make the fit ill-posed on fine meshes.
+  const bool bending = m.bending_cot_weight.size() > 0;
+  const double* w = bending ? m.bending_cot_weight.data() : m.capsule_weight.data();
+  const double scale = bending ? m.capsule_tension : 1.0;
   for (int i = 0; i < m.n; ++i) {
     Mat3 S = Mat3::Zero();
     for (int k = begin[i]; k < begin[i + 1]; ++k) {
       const int j = list[k].node;
       const Eigen::Vector3d d = (X.row(i) - X.row(j)).transpose(), e = (x.row(i) - x.row(j)).transpose();
-      S.noalias() += w[list[k].edge] * e * d.transpose();
+      S.noalias() += scale * w[list[k].edge] * e * d.transpose();
     }
     Eigen::Map<Mat3>(rotations.data() + 9 * size_t(i)) = polar_rotation(S).toRotationMatrix();
   }
@@ -51,14 +53,15 @@ void add_corotation_load(const TissueModel& m, const NodeRotations& rotations, N
   const NodeMat& X = m.rest.positions;
   auto rotation = [&](int i) { return Eigen::Map<const Mat3>(rotations.data() + 9 * size_t(i)); };
   const bool bending = m.bending_cot_weight.size() > 0;
-  const Vec& membrane = bending ? m.capsule_membrane_weight : m.capsule_weight;
-  // The bending term's rotated rest curvature over the area, h_k = (R_k − I)(C X)_k / M_k.
+  // The bending term's rotated rest curvature over the area, h_k = (R_k − I)(C X)_k / M_k, the
+  // barycentric area M_k a third of node k's rest triangles' (membrane_inverse_areas).
   auto h = [&](int k) -> Eigen::Vector3d {
-    return (rotation(k) - Mat3::Identity()) * m.bending_rest_laplacian.row(k).transpose() * m.bending_inverse_area[k];
+    return (rotation(k) - Mat3::Identity()) * m.bending_rest_laplacian.row(k).transpose() *
+           (3.0 * m.membrane_inverse_areas[k]);
   };
   for (size_t e = 0; e < m.edges.size(); ++e) {
     const int i = m.edges[e][0], j = m.edges[e][1];
-    const double w = membrane[Eigen::Index(e)];
+    const double w = bending ? m.capsule_tension * m.bending_cot_weight[Eigen::Index(e)] : m.capsule_weight[Eigen::Index(e)];
     Eigen::Vector3d g = Eigen::Vector3d::Zero();
     if (w != 0.0) {
       const Eigen::Vector3d d = (X.row(i) - X.row(j)).transpose();

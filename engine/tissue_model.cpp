@@ -154,24 +154,20 @@ bool build_tissue_model(const TissueDef& def, TissueModel& m, std::string& error
     m.membrane_inverse_areas = membrane_inverse_areas(def.mesh, m.membrane_frames);
     m.capsule_weight *= m.capsule_tension;
     if (def.bending_modulus > 0) {
-      const std::vector<double> membrane(m.capsule_weight.data(), m.capsule_weight.data() + m.capsule_weight.size());
       CapsulePairs pairs =
-          add_capsule_bending(def.mesh.positions, def.mesh.triangles, m.edges, membrane, cot.weights, def.bending_modulus);
+          capsule_bending_pairs(def.mesh.positions, def.mesh.triangles, m.edges, cot.weights, def.bending_modulus);
       m.edges = std::move(pairs.edges);
-      m.capsule_weight = Eigen::Map<const Vec>(pairs.weights.data(), Eigen::Index(pairs.weights.size()));
-      m.capsule_membrane_weight = Eigen::Map<const Vec>(pairs.membrane.data(), Eigen::Index(pairs.membrane.size()));
+      const Eigen::Index count = Eigen::Index(m.edges.size());
       m.bending_modulus = def.bending_modulus;
-      m.bending_cot_weight = Vec::Zero(Eigen::Index(m.edges.size()));
+      m.bending_cot_weight = Eigen::Map<const Vec>(pairs.cot.data(), count);
+      m.capsule_weight = m.capsule_tension * m.bending_cot_weight + Eigen::Map<const Vec>(pairs.bending.data(), count);
       m.bending_rest_laplacian = NodeMat::Zero(n, 3);
-      for (size_t e = 0, k = 0; e < m.edges.size(); ++e) {
-        if (k == cot.edges.size() || cot.edges[k] != m.edges[e]) continue;  // a two-ring pair
-        const double c = cot.weights[k++];
-        const int i = m.edges[e][0], j = m.edges[e][1];
-        m.bending_cot_weight[Eigen::Index(e)] = c;
-        m.bending_rest_laplacian.row(i) += c * (def.mesh.positions.row(i) - def.mesh.positions.row(j));
-        m.bending_rest_laplacian.row(j) -= c * (def.mesh.positions.row(i) - def.mesh.positions.row(j));
+      for (Eigen::Index e = 0; e < count; ++e) {
+        const int i = m.edges[size_t(e)][0], j = m.edges[size_t(e)][1];
+        const auto d = m.bending_cot_weight[e] * (def.mesh.positions.row(i) - def.mesh.positions.row(j));
+        m.bending_rest_laplacian.row(i) += d;
+        m.bending_rest_laplacian.row(j) -= d;
       }
-      m.bending_inverse_area = barycentric_areas(def.mesh.positions, def.mesh.triangles).cwiseInverse();
     }
     m.capsule_diagonal = Vec::Zero(n);
     for (size_t e = 0; e < m.edges.size(); ++e) {

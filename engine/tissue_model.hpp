@@ -88,13 +88,11 @@ struct TissueModel {
   double capsule_tension = 0;
   double bending_modulus = 0;            // D (N·m); with it, `edges` also holds the pairs two edges apart
   Vec capsule_weight;                    // membrane + bending, on `edges`
-  Vec capsule_membrane_weight;           // with bending: the membrane's part alone (the rotation fit); else empty
-  // With bending: the unit cotangent weights c_e on `edges` (0 on the two-ring pairs), the rest
-  // surface's Laplacian (C X)_i (m) and 1 / M_i (the barycentric rest areas): the corotational
-  // capsule rotates the bending term's rest curvature (capsule_rotations.hpp). Else empty.
+  // With bending: the unit cotangent weights c_e on `edges` (0 on the two-ring pairs; the
+  // membrane's part of a weight is T c_e) and the rest surface's Laplacian (C X)_i (m), for the
+  // corotational capsule (capsule_rotations.hpp). Else empty.
   Vec bending_cot_weight;
   NodeMat bending_rest_laplacian;
-  Vec bending_inverse_area;
   Vec capsule_diagonal;
   std::vector<double> membrane_frames;   // per rest triangle: its basis and D^-1 (membrane_strain.hpp)
   Vec membrane_inverse_areas;            // per node: 1 / its rest triangles' area (membrane_strain.hpp)

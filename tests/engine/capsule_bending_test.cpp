@@ -20,53 +20,51 @@
 namespace vdm {
 namespace {
 
-// Σ_pairs w (u_i − u_j)²: twice the energy of one component u over the pairs.
-double pair_energy2(const CapsulePairs& p, const Vec& u, bool membrane_only = false) {
+// Σ_pairs w (u_i − u_j)² with w the pairs' bending weights, or their cotangent weights
+// (`cot`): twice the energy of one component u over the pairs.
+double pair_energy2(const CapsulePairs& p, const Vec& u, bool cot = false) {
   double e = 0;
   for (size_t k = 0; k < p.edges.size(); ++k) {
     const double d = u[p.edges[k][0]] - u[p.edges[k][1]];
-    e += (membrane_only ? p.membrane[k] : p.weights[k]) * d * d;
+    e += (cot ? p.cot[k] : p.bending[k]) * d * d;
   }
   return e;
 }
 
-// The bending term alone (membrane weights zero) on `mesh` with modulus D.
-CapsulePairs bending_only(const SurfaceMesh& mesh, double D) {
+// The bending term's pairs on `mesh` with modulus D.
+CapsulePairs bending_pairs(const SurfaceMesh& mesh, double D) {
   const CotangentWeights cot = cotangent_weights(mesh.positions, mesh.triangles, false);
-  return add_capsule_bending(mesh.positions, mesh.triangles, cot.edges, std::vector<double>(cot.edges.size(), 0.0),
-                             cot.weights, D);
+  return capsule_bending_pairs(mesh.positions, mesh.triangles, cot.edges, cot.weights, D);
 }
 
 TEST(CapsuleBending, PairWeightsAreTheMatrixDCMinvC) {
   // On an irregular closed surface and a random field, the pairs' energy is D Σ |(C u)_i|² / M_i
-  // computed from the cotangent weights directly; the membrane's weights pass through.
+  // computed from the cotangent weights directly; the cotangent weights pass through.
   SurfaceMesh mesh = make_icosphere(0.05, 3);
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> jitter(-0.002, 0.002), value(-1.0, 1.0);
   for (int i = 0; i < mesh.node_count(); ++i)
     for (int d = 0; d < 3; ++d) mesh.positions(i, d) += jitter(rng);
   const CotangentWeights cot = cotangent_weights(mesh.positions, mesh.triangles, false);
-  std::vector<double> membrane(cot.edges.size());
-  for (size_t e = 0; e < membrane.size(); ++e) membrane[e] = 0.3 * cot.weights[e];
   const double D = 2e-3;
-  const CapsulePairs p = add_capsule_bending(mesh.positions, mesh.triangles, cot.edges, membrane, cot.weights, D);
+  const CapsulePairs p = capsule_bending_pairs(mesh.positions, mesh.triangles, cot.edges, cot.weights, D);
   EXPECT_GT(p.edges.size(), 2 * cot.edges.size());  // the two-ring pairs joined the edges
   Vec u(mesh.node_count());
   for (int i = 0; i < u.size(); ++i) u[i] = value(rng);
   Vec cu = Vec::Zero(u.size());
-  double membrane2 = 0;
+  double cot2 = 0;
   for (size_t e = 0; e < cot.edges.size(); ++e) {
     const int i = cot.edges[e][0], j = cot.edges[e][1];
     const double d = u[i] - u[j];
     cu[i] += cot.weights[e] * d;
     cu[j] -= cot.weights[e] * d;
-    membrane2 += membrane[e] * d * d;
+    cot2 += cot.weights[e] * d * d;
   }
   const Vec M = barycentric_areas(mesh.positions, mesh.triangles);
   double bending2 = 0;
   for (int i = 0; i < u.size(); ++i) bending2 += D * cu[i] * cu[i] / M[i];
-  EXPECT_NEAR(pair_energy2(p, u, true), membrane2, 1e-12 * membrane2);
-  EXPECT_NEAR(pair_energy2(p, u), membrane2 + bending2, 1e-10 * (membrane2 + bending2));
+  EXPECT_NEAR(pair_energy2(p, u, true), cot2, 1e-12 * cot2);
+  EXPECT_NEAR(pair_energy2(p, u), bending2, 1e-10 * bending2);
   // A translation costs nothing: the weights form a Laplacian (rows summing to zero).
   EXPECT_NEAR(pair_energy2(p, Vec::Constant(u.size(), 0.7)), 0.0, 1e-14);
 }
@@ -78,7 +76,7 @@ TEST(CapsuleBending, EnergyConvergesToTheContinuumOnASphere) {
   double previous_error = 1e300;
   for (int level = 2; level <= 5; ++level) {
     const SurfaceMesh mesh = make_icosphere(R, level);
-    const CapsulePairs p = bending_only(mesh, D);
+    const CapsulePairs p = bending_pairs(mesh, D);
     const Vec u = mesh.positions.col(2);
     const double energy = 0.5 * pair_energy2(p, u), error = std::abs(energy - exact) / exact;
     std::printf("icosphere level %d (%5d nodes): bending energy %.5f J, continuum %.5f J, %.2f %% off\n", level,
@@ -164,7 +162,7 @@ TEST(CapsuleBending, TheModelRefusesItWithThePapersCapsule) {
   def.bending_modulus = 1e-3;
   ASSERT_TRUE(build_tissue_model(def, m, error)) << error;
   EXPECT_EQ(m.bending_modulus, 1e-3);
-  EXPECT_EQ(m.capsule_membrane_weight.size(), m.capsule_weight.size());
+  EXPECT_EQ(m.bending_cot_weight.size(), m.capsule_weight.size());
 }
 
 }  // namespace
