@@ -22,7 +22,7 @@ inline V2 select(V2i m, V2 a) { return V2(V2i(a) & m); }      // m ? a : +0
 inline V2 select_not(V2i m, V2 a) { return V2(V2i(a) & ~m); }  // m ? +0 : a
 
 // What the gather reads of each node, packed: the pairs (u_x, u_y), (u_z, dV_x), (dV_y, dV_z)
-// with dV = A o u (without stress (u_x, u_y), (u_z, 0) and no third), each kind in a plane of
+// with dV = A o u (without the paper capsule's stress (u_x, u_y), (u_z, 0) and no third), each kind in a plane of
 // R pairs: pair k of node j at pair[k] + 2 (j & wrap). One index (2 j, scale 8) serves the
 // three loads (node-major rows of 6 cost a multiply by 3, a shift and an add per neighbour).
 // The planes are in the solver's spare scratch (6 N doubles; no array of the step's: the peak
@@ -71,30 +71,30 @@ inline V2i held_lanes(const std::uint8_t* m) {
 }
 
 // sum_j w_ij u_j over node i's neighbours (x and y in `wu_xy`, z in lane 0 of `wu_z_dv_x`),
-// and with stress sum_j dV_j (lane 1 of `wu_z_dv_x`, then `dv_yz`).
+// and with the paper capsule's stress sum_j dV_j (lane 1 of `wu_z_dv_x`, then `dv_yz`).
 struct NeighbourSums {
   V2 wu_xy = {0.0, 0.0}, wu_z_dv_x = {0.0, 0.0}, dv_yz = {0.0, 0.0};
 };
 
 // One neighbour j's terms: w_ij u_j on (x, y) and on z in lane 0; mulsd keeps lane 1, dV_x
 // unweighted (the bits of V2{w, 1.0} * row without building that pair), then dV_y, dV_z.
-// Without stress lane 1 of wu_z_dv_x is unused.
-template <bool Stress>
+// Without Tension lane 1 of wu_z_dv_x is unused.
+template <bool Tension>
 inline void add_neighbour(NeighbourSums& g, NeighbourLists::Entry e, const double* weight, const Planes& p) {
   const V2 w = simd::splat(weight[e.edge]);
   const std::ptrdiff_t j = 2 * (std::ptrdiff_t(e.node) & p.wrap);
   g.wu_xy += w * simd::load2(p.pair[0] + j);
   g.wu_z_dv_x += simd::mul_low(simd::load2(p.pair[1] + j), w);
-  if (Stress) g.dv_yz += simd::load2(p.pair[2] + j);
+  if (Tension) g.dv_yz += simd::load2(p.pair[2] + j);
   simd::keep_in_registers(g.wu_xy, g.wu_z_dv_x, g.dv_yz);
 }
 
 // Any node's list, in its order.
-template <bool Stress>
+template <bool Tension>
 inline NeighbourSums gather(const NeighbourLists::Entry* e, const NeighbourLists::Entry* end, const double* weight,
                             const Planes& p) {
   NeighbourSums g;
-  for (; e != end; ++e) add_neighbour<Stress>(g, *e, weight, p);
+  for (; e != end; ++e) add_neighbour<Tension>(g, *e, weight, p);
   return g;
 }
 
@@ -102,13 +102,13 @@ inline NeighbourSums gather(const NeighbourLists::Entry* e, const NeighbourLists
 // (entries e[0, kDegree) and e[kDegree, 2 kDegree)), the loops unrolled and the two lists
 // interleaved; each node's sums in its list's order (the bits of gather()).
 constexpr int kDegree = 6;
-template <bool Stress>
+template <bool Tension>
 inline void gather_pair_fixed(const NeighbourLists::Entry* e, const double* weight, const Planes& p, NeighbourSums& g0,
                               NeighbourSums& g1) {
 #pragma GCC unroll 6
   for (int k = 0; k < kDegree; ++k) {
-    add_neighbour<Stress>(g0, e[k], weight, p);
-    add_neighbour<Stress>(g1, e[kDegree + k], weight, p);
+    add_neighbour<Tension>(g0, e[k], weight, p);
+    add_neighbour<Tension>(g1, e[kDegree + k], weight, p);
   }
 }
 
@@ -117,9 +117,12 @@ struct LaneSums {
   V2 free2[3] = {}, rhs2[3] = {}, volume_row[3] = {};
 };
 
-// The whole pass for one case (stress or not, loads, springs).
-template <bool Stress, bool Loads, bool Springs>
+// The whole pass for one case (stress or not, loads, springs). Tension (with Stress): the
+// paper's capsule, whose stress sums its neighbours' dV (the membrane's comes from its strain,
+// after this pass: add_membrane_stress).
+template <bool Stress, bool Tension, bool Loads, bool Springs>
 class ResultsPass {
+  static_assert(Stress || !Tension, "the capsule's tension is part of the stress");
  public:
   ResultsPass(const TissueModel& m, const StepResultsInput& in, SimState& s, double* rows)
       : m_(m), rows_(rows), n_(m.n), ring_(result_ring_nodes(m.neighbours.reach, n_)),
@@ -130,8 +133,7 @@ class ResultsPass {
         diag_(in.K.diagonal.data()), mask_(in.mask.data()), f_(Loads ? in.force->data() : nullptr),
         k_(Springs ? in.springs->data() : nullptr), reaction_(s.reaction.data()), pressure_(s.reaction_pressure.data()),
         norms_(in.area_norms.data()), strain_(s.strain.data()), sigma_(s.stress.data()), bulk_(m.bulk.data()),
-        vol_(s.node_volumes.data()), bc_(m.connectivity_modulus), p_(s.pressure),
-        membrane_(m.membrane_capsule()) {}
+        vol_(s.node_volumes.data()), bc_(m.connectivity_modulus), p_(s.pressure) {}
 
   ResidualSums run(SimState& s) {
     // The nodes' results in chunks of kChunk, each once the planes hold its nodes'
@@ -179,7 +181,7 @@ class ResultsPass {
       const std::ptrdiff_t id = i + col_[d];
       u[d] = load<Pair>(u_ + id);
       const V2 a = load<Pair>(a_ + id);
-      dv[d] = Stress ? a * u[d] : V2{0.0, 0.0};
+      dv[d] = Tension ? a * u[d] : V2{0.0, 0.0};
       const V2 r = load<Pair>(rhs_ + id);
       acc.rhs2[d] += r * r;
       // The volume row's A u on the free entries: (A o u)_i there (a constrained entry's
@@ -191,11 +193,11 @@ class ResultsPass {
     double* yz = zx + 2 * ring_;                   // planes_.pair[2]
     simd::store2(xy, low_lanes(u[0], u[1]));
     simd::store2(zx, low_lanes(u[2], dv[0]));
-    if (Stress) simd::store2(yz, low_lanes(dv[1], dv[2]));
+    if (Tension) simd::store2(yz, low_lanes(dv[1], dv[2]));
     if (Pair) {
       simd::store2(xy + 2, high_lanes(u[0], u[1]));
       simd::store2(zx + 2, high_lanes(u[2], dv[0]));
-      if (Stress) simd::store2(yz + 2, high_lanes(dv[1], dv[2]));
+      if (Tension) simd::store2(yz + 2, high_lanes(dv[1], dv[2]));
     }
   }
 
@@ -206,11 +208,11 @@ class ResultsPass {
     NeighbourSums g0, g1;
     V2 degree;  // of nodes i and i + 1 (or 0)
     if (Pair && b2 - b0 == 2 * kDegree && b1 - b0 == kDegree) {
-      gather_pair_fixed<Stress>(entries_ + b0, weight_, planes_, g0, g1);
+      gather_pair_fixed<Tension>(entries_ + b0, weight_, planes_, g0, g1);
       degree = simd::splat(double(kDegree));
     } else {
-      g0 = gather<Stress>(entries_ + b0, entries_ + b1, weight_, planes_);
-      if (Pair) g1 = gather<Stress>(entries_ + b1, entries_ + b2, weight_, planes_);
+      g0 = gather<Tension>(entries_ + b0, entries_ + b1, weight_, planes_);
+      if (Pair) g1 = gather<Tension>(entries_ + b1, entries_ + b2, weight_, planes_);
       degree = V2{double(b1 - b0), Pair ? double(b2 - b1) : 0.0};
     }
     const V2 wu[3] = {low_lanes(g0.wu_xy, g1.wu_xy), high_lanes(g0.wu_xy, g1.wu_xy), low_lanes(g0.wu_z_dv_x, g1.wu_z_dv_x)};
@@ -262,7 +264,7 @@ class ResultsPass {
         store<Pair>(strain_ + id, eps);
         // The capsule's term: the paper's volumic tension; a membrane's stress comes from its
         // strain, after this pass (add_membrane_stress).
-        const V2 capsule = membrane_ ? V2{0.0, 0.0} : simd::splat(bc_) * (degree * dv - dv_sums[d]) * inv_v;
+        const V2 capsule = Tension ? simd::splat(bc_) * (degree * dv - dv_sums[d]) * inv_v : V2{0.0, 0.0};
         store<Pair>(sigma_ + id, load<Pair>(bulk_ + id) * eps + capsule);
       }
     }
@@ -310,21 +312,20 @@ class ResultsPass {
   double *strain_, *sigma_;
   const double *bulk_, *vol_;
   const double bc_, p_;
-  const bool membrane_;
 };
 
-template <bool Stress, bool Loads, bool Springs>
+template <bool Stress, bool Tension, bool Loads, bool Springs>
 ResidualSums results_pass(const TissueModel& m, const StepResultsInput& in, SimState& s, double* rows) {
-  return ResultsPass<Stress, Loads, Springs>(m, in, s, rows).run(s);
+  return ResultsPass<Stress, Tension, Loads, Springs>(m, in, s, rows).run(s);
 }
 
-template <bool Stress>
+template <bool Stress, bool Tension>
 ResidualSums results_pass(const TissueModel& m, const StepResultsInput& in, SimState& s, double* rows) {
   const bool loads = in.force != nullptr, springs = in.springs != nullptr;
-  if (loads && springs) return results_pass<Stress, true, true>(m, in, s, rows);
-  if (loads) return results_pass<Stress, true, false>(m, in, s, rows);
-  if (springs) return results_pass<Stress, false, true>(m, in, s, rows);
-  return results_pass<Stress, false, false>(m, in, s, rows);
+  if (loads && springs) return results_pass<Stress, Tension, true, true>(m, in, s, rows);
+  if (loads) return results_pass<Stress, Tension, true, false>(m, in, s, rows);
+  if (springs) return results_pass<Stress, Tension, false, true>(m, in, s, rows);
+  return results_pass<Stress, Tension, false, false>(m, in, s, rows);
 }
 
 }  // namespace
@@ -337,8 +338,10 @@ std::ptrdiff_t result_ring_nodes(int reach, std::ptrdiff_t n) {
 }
 
 ResidualSums compute_step_results(const TissueModel& m, const StepResultsInput& in, SimState& s, double* rows) {
-  const ResidualSums sums = m.compute_stress ? results_pass<true>(m, in, s, rows) : results_pass<false>(m, in, s, rows);
-  if (m.compute_stress && m.membrane_capsule()) add_membrane_stress(m, s, rows);  // rows: free again
+  if (!m.compute_stress) return results_pass<false, false>(m, in, s, rows);
+  if (!m.membrane_capsule()) return results_pass<true, true>(m, in, s, rows);
+  const ResidualSums sums = results_pass<true, false>(m, in, s, rows);
+  add_membrane_stress(m, s, rows);  // rows: free again
   return sums;
 }
 
