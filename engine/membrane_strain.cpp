@@ -71,11 +71,25 @@ inline void triangle_strain(const T ab[3], const T ac[3], const T f[kMembraneFra
 }
 
 // Triangle t's e added to its corners (triangle order: the sums are the same in both paths).
+// acc: 4 per node (the fourth unused), so that the AVX2 path adds a triangle's three as one
+// vector.
 inline void add_to_corners(const int* tri, const double e[3], double* acc) {
   for (int j = 0; j < 3; ++j) {
-    double* p = acc + 3 * size_t(tri[j]);
+    double* p = acc + 4 * size_t(tri[j]);
     p[0] += e[0], p[1] += e[1], p[2] += e[2];
   }
+}
+
+// The corners of triangles 4q .. 4q + 3 (row-major, 12 ints from t) as the vectors
+// (a0 a1 a2 a3), (b0 ...), (c0 ...): three loads and a shuffle each, where building them in
+// memory int by int stalled every block on the 128-bit load of what was just stored.
+VDM_AVX2 inline void block_corners(const int* t, __m128i& a, __m128i& b, __m128i& c) {
+  const __m128i x = _mm_loadu_si128(reinterpret_cast<const __m128i*>(t));      // a0 b0 c0 a1
+  const __m128i y = _mm_loadu_si128(reinterpret_cast<const __m128i*>(t + 4));  // b1 c1 a2 b2
+  const __m128i z = _mm_loadu_si128(reinterpret_cast<const __m128i*>(t + 8));  // c2 a3 b3 c3
+  a = _mm_shuffle_epi32(_mm_blend_epi32(_mm_blend_epi32(x, y, 0x4), z, 0x2), _MM_SHUFFLE(1, 2, 3, 0));
+  b = _mm_shuffle_epi32(_mm_blend_epi32(_mm_blend_epi32(x, y, 0x9), z, 0x4), _MM_SHUFFLE(2, 3, 0, 1));
+  c = _mm_shuffle_epi32(_mm_blend_epi32(_mm_blend_epi32(x, y, 0x2), z, 0x9), _MM_SHUFFLE(3, 0, 1, 2));
 }
 
 // Blocks [0, blocks) of four triangles, four lanes at once.
@@ -86,11 +100,14 @@ VDM_AVX2 void strain_blocks_avx2(const double* frames, const int* tris, int coun
     const double* f = frames + size_t(q) * kMembraneFrameBlock;
     const int* t = tris + 12 * size_t(q);
     const int lanes = std::min(4, count - 4 * q);
-    int ia[4] = {0, 0, 0, 0}, ib[4] = {0, 0, 0, 0}, ic[4] = {0, 0, 0, 0};
-    for (int l = 0; l < lanes; ++l) ia[l] = t[3 * l], ib[l] = t[3 * l + 1], ic[l] = t[3 * l + 2];
-    const __m128i va = _mm_loadu_si128(reinterpret_cast<const __m128i*>(ia));
-    const __m128i vb = _mm_loadu_si128(reinterpret_cast<const __m128i*>(ib));
-    const __m128i vc = _mm_loadu_si128(reinterpret_cast<const __m128i*>(ic));
+    __m128i va, vb, vc;
+    if (lanes == 4) {
+      block_corners(t, va, vb, vc);
+    } else {  // the last, partial block: its padding lanes read node 0 (their area is 0)
+      int last[12] = {};
+      std::copy(t, t + 3 * lanes, last);
+      block_corners(last, va, vb, vc);
+    }
     V4 ab[3], ac[3];
     const __m256d zero = _mm256_setzero_pd(), all = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
     for (int d = 0; d < 3; ++d) {
@@ -101,20 +118,25 @@ VDM_AVX2 void strain_blocks_avx2(const double* frames, const int* tris, int coun
     V4 fields[kMembraneFrameFields], e[3];
     for (int k = 0; k < kMembraneFrameFields; ++k) fields[k] = simd::load4(f + 4 * k);
     triangle_strain<V4>(ab, ac, fields, e);
-    double el[3][4];
-    for (int d = 0; d < 3; ++d) _mm256_storeu_pd(el[d], e[d]);
-    for (int l = 0; l < lanes; ++l) {
-      const double et[3] = {el[0][l], el[1][l], el[2][l]};
-      add_to_corners(t + 3 * l, et, acc);
-    }
+    // Lane l's (e_x, e_y, e_z, 0), added to each of its corners' four sums at once.
+    const __m256d lo_xy = _mm256_unpacklo_pd(e[0], e[1]), hi_xy = _mm256_unpackhi_pd(e[0], e[1]);
+    const __m256d lo_z = _mm256_unpacklo_pd(e[2], zero), hi_z = _mm256_unpackhi_pd(e[2], zero);
+    const __m256d per_lane[4] = {_mm256_permute2f128_pd(lo_xy, lo_z, 0x20), _mm256_permute2f128_pd(hi_xy, hi_z, 0x20),
+                                 _mm256_permute2f128_pd(lo_xy, lo_z, 0x31), _mm256_permute2f128_pd(hi_xy, hi_z, 0x31)};
+    for (int l = 0; l < lanes; ++l)
+      for (int j = 0; j < 3; ++j) {
+        double* p = acc + 4 * size_t(t[3 * l + j]);
+        _mm256_storeu_pd(p, _mm256_add_pd(_mm256_loadu_pd(p), per_lane[l]));
+      }
   }
 }
 
-// The area-weighted sums of E_dd (acc, 3 N, node-major) at the displacement u: the frames four
+// The area-weighted sums of E_dd (acc, 4 N, node-major, the fourth of each node's unused)
+// at the displacement u: the frames four
 // triangles at a time (with AVX2 the arithmetic too), the sums added triangle by triangle.
 // With the stress effect this runs every step.
 void accumulate_strain(const TissueModel& m, const NodeMat& u, double* acc) {
-  std::fill(acc, acc + 3 * size_t(m.n), 0.0);
+  std::fill(acc, acc + 4 * size_t(m.n), 0.0);
   const int* tris = m.rest.triangles.data();  // row-major
   const int count = int(m.rest.triangles.rows());
   const double* const uc[3] = {u.col(0).data(), u.col(1).data(), u.col(2).data()};
@@ -145,7 +167,7 @@ void membrane_axis_strain(const TissueModel& m, const NodeMat& u, NodeMat& strai
   accumulate_strain(m, u, acc);
   const double* inv_area = m.membrane_inverse_areas.data();
   for (int i = 0; i < m.n; ++i)
-    for (int d = 0; d < 3; ++d) strain_dd(i, d) = acc[3 * size_t(i) + size_t(d)] * inv_area[i];
+    for (int d = 0; d < 3; ++d) strain_dd(i, d) = acc[4 * size_t(i) + size_t(d)] * inv_area[i];
 }
 
 void add_membrane_stress(const TissueModel& m, SimState& s, double* scratch) {
@@ -155,7 +177,7 @@ void add_membrane_stress(const TissueModel& m, SimState& s, double* scratch) {
   const double bc = m.connectivity_modulus;
   for (int d = 0; d < 3; ++d) {
     double* stress = s.stress.col(d).data();
-    for (int i = 0; i < m.n; ++i) stress[i] += bc * (acc[3 * size_t(i) + size_t(d)] * inv_area[i]);
+    for (int i = 0; i < m.n; ++i) stress[i] += bc * (acc[4 * size_t(i) + size_t(d)] * inv_area[i]);
   }
 }
 

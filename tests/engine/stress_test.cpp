@@ -201,7 +201,7 @@ TEST(StrainStress, MembraneStrainMatchesTheMetricTensorForm) {
     }
   }
   for (int i = 0; i < m.n; ++i) want.row(i) /= area[i];
-  std::vector<double> scratch(3 * size_t(m.n));
+  std::vector<double> scratch(4 * size_t(m.n));
   NodeMat E(m.n, 3);
   membrane_axis_strain(m, u, E, scratch.data());
   EXPECT_GT(want.cwiseAbs().maxCoeff(), 1e-2);
