@@ -100,8 +100,8 @@ std::string SceneSimulation::deep_probe() const {
   for (size_t k = 0; k < probes_.size(); ++k) {
     const vdm::Vec3 tip = tools::pose_at(*probes_[k], time_).tip;
     const double limit = std::max(0.01, 2 * tools::instrument_size(*probes_[k]));
-    const double depth = depth_inside(state_.x, ps_.model.rest.triangles, tip);
-    if (depth > limit) {
+    if (deeper_inside(state_.x, ps_.model.rest.triangles, tip, limit)) {
+      const double depth = depth_inside(state_.x, ps_.model.rest.triangles, tip);
       char text[300];
       std::snprintf(text, sizeof text,
                     "instruments[%zu]'s tip is %.3g m inside the organ (more than %.3g m): contact could not push the "

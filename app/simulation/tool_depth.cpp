@@ -28,4 +28,11 @@ double depth_inside(const vdm::NodeMat& x, const vdm::TriMat& triangles, const v
   return nearest;
 }
 
+bool deeper_inside(const vdm::NodeMat& x, const vdm::TriMat& triangles, const vdm::Vec3& p, double limit) {
+  const double limit2 = limit * limit;
+  for (Eigen::Index i = 0; i < x.rows(); ++i)
+    if ((x.row(i).transpose() - p).squaredNorm() <= limit2) return false;
+  return depth_inside(x, triangles, p) > limit;
+}
+
 }  // namespace vdmsim

@@ -10,4 +10,9 @@ namespace vdmsim {
 // outward triangles is about 1), else 0. O(triangles).
 double depth_inside(const vdm::NodeMat& x, const vdm::TriMat& triangles, const vdm::Vec3& p);
 
+// depth_inside(x, triangles, p) > limit, without the triangles when some node is within
+// `limit` of p (the surface is then no farther): the run's per-frame guard, O(nodes) while
+// an instrument touches the organ.
+bool deeper_inside(const vdm::NodeMat& x, const vdm::TriMat& triangles, const vdm::Vec3& p, double limit);
+
 }  // namespace vdmsim
