@@ -131,10 +131,9 @@ VDM_AVX2 void strain_blocks_avx2(const double* frames, const int* tris, int coun
   }
 }
 
-// The area-weighted sums of E_dd (acc, 4 N, node-major, the fourth of each node's unused)
-// at the displacement u: the frames four
-// triangles at a time (with AVX2 the arithmetic too), the sums added triangle by triangle.
-// With the stress effect this runs every step.
+// The area-weighted sums of E_dd (acc, 4 N, node-major, the fourth of each node's unused) at
+// the displacement u: the frames four triangles at a time (with AVX2 the arithmetic too), the
+// sums added triangle by triangle. With the stress effect this runs every step.
 void accumulate_strain(const TissueModel& m, const NodeMat& u, double* acc) {
   std::fill(acc, acc + 4 * size_t(m.n), 0.0);
   const int* tris = m.rest.triangles.data();  // row-major
