@@ -23,8 +23,9 @@ inline V2 select_not(V2i m, V2 a) { return V2(V2i(a) & ~m); }  // m ? +0 : a
 
 // What the gather reads of each node, packed: the pairs (u_x, u_y), (u_z, dV_x), (dV_y, dV_z)
 // with dV = A o u (without the paper capsule's stress: (u_x, u_y), (u_z, 0) and no third),
-// each kind in a plane of R pairs: pair k of node j at pair[k] + 2 (j & wrap). One index (2 j, scale 8) serves the
-// three loads (node-major rows of 6 cost a multiply by 3, a shift and an add per neighbour).
+// each kind in a plane of R pairs: pair k of node j at pair[k] + 2 (j & wrap). One index
+// (2 j, scale 8) serves the three loads (node-major rows of 6 cost a multiply by 3, a shift
+// and an add per neighbour).
 // The planes are in the solver's spare scratch (6 N doubles; no array of the step's: the peak
 // memory at 40k nodes).
 //
