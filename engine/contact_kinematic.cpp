@@ -39,16 +39,20 @@ void ContactSolver::step_kinematic(const TissueModel& m, const StepInput& base, 
   // A node that was free at the end of the last step (no reaction: a held node keeps
   // sticking until its reaction would pull) and now lies inside or touching the tool, but
   // that its own motion in the last step, carried on through this one, would take clear of
-  // it: the rim of a dent that sinks faster than the instrument. Held, it would pull the
-  // tool and be released after the first solve, which would then be redone; left free, it
-  // is caught after the solve if it does enter the tool. The set the steps end with passes
-  // the same checks either way.
-  auto moves_clear = [&](int i, const ToolShape& t) {
+  // it through the face nearest to it (surface point p, outward normal n): the rim of a dent
+  // that sinks faster than the instrument. Held, it would pull the tool and be released after
+  // the first solve, which would then be redone; left free, it is caught after the solve if
+  // it does enter the tool. The set the steps end with passes the same checks either way. A
+  // motion that would carry it out through another face (across a thin jaw) does not count:
+  // the checks after the solve see where a node ends, not what it crossed.
+  auto moves_clear = [&](int i, const ToolShape& t, const Vec3& p, const Vec3& n) {
     const Vec3 v = s.velocity.row(i).transpose();
-    if (!(m.dt > 0.0) || v.squaredNorm() == 0.0 || s.reaction.rows() != m.n || s.reaction.row(i).squaredNorm() != 0.0)
+    if (!(m.dt > 0.0) || v.squaredNorm() == 0.0 || s.reaction.rows() != m.n || (s.reaction.row(i).array() != 0.0).any())
       return false;
+    const Vec3 ahead = s.x.row(i).transpose() + m.dt * v;
+    if (!((ahead - p).dot(n) > 0.0)) return false;
     Vec3 q, nq;
-    return tool_distance(t, Vec3(s.x.row(i).transpose() + m.dt * v), q, nq) > settings_.activation * t.size();
+    return tool_distance(t, ahead, q, nq) > settings_.activation * t.size();
   };
   // `after_solve`: the node may have moved this step (relative motion = its move - the tool's).
   // `known`: close_* hold node i's distances to every tool already.
@@ -60,7 +64,7 @@ void ContactSolver::step_kinematic(const TissueModel& m, const StepInput& base, 
       const double dist = close_d_[k];
       const Vec3 &p = close_p_[k], &nrm = close_n_[k];
       const double limit = allow_touch ? settings_.activation * t.size() : -settings_.tolerance * 0.5 * t.size();
-      if (dist < limit && !(after_solve == false && moves_clear(i, t))) {
+      if (dist < limit && !(after_solve == false && moves_clear(i, t, p, nrm))) {
         Vec3 dir;
         const Vec3 node_move = after_solve ? Vec3(s.x.row(i).transpose() - start_x(i)) : Vec3::Zero();
         const Vec3 target = dist < 0.0 ? push_out(t, x, node_move - t.motion_at(x), dir) : p;
