@@ -6,21 +6,10 @@
 
 namespace vdm {
 
-Vec barycentric_areas(const NodeMat& x, const TriMat& tris) {
-  Vec M = Vec::Zero(x.rows());
-  for (Eigen::Index t = 0; t < tris.rows(); ++t) {
-    const Vec3 a = x.row(tris(t, 0)), b = x.row(tris(t, 1)), c = x.row(tris(t, 2));
-    const double third = 0.5 * (b - a).cross(c - a).norm() / 3.0;
-    for (int k = 0; k < 3; ++k) M[tris(t, k)] += third;
-  }
-  return M;
-}
-
-CapsulePairs capsule_bending_pairs(const NodeMat& positions, const TriMat& triangles,
-                                   const std::vector<std::array<int, 2>>& edges, const std::vector<double>& cot,
-                                   double D) {
+CapsulePairs capsule_bending_pairs(const std::vector<std::array<int, 2>>& edges, const std::vector<double>& cot,
+                                   const Vec& area, double D) {
   using Sp = Eigen::SparseMatrix<double>;
-  const Eigen::Index n = positions.rows();
+  const Eigen::Index n = area.size();
   std::vector<Eigen::Triplet<double>> t;
   t.reserve(4 * edges.size());
   for (size_t e = 0; e < edges.size(); ++e) {
@@ -33,8 +22,7 @@ CapsulePairs capsule_bending_pairs(const NodeMat& positions, const TriMat& trian
   }
   Sp C(n, n);
   C.setFromTriplets(t.begin(), t.end());
-  const Vec M = barycentric_areas(positions, triangles);
-  const Vec inv_m = M.cwiseInverse();
+  const Vec inv_m = area.cwiseInverse();
   const Sp K = Sp(D * (C * inv_m.asDiagonal() * C)).pruned(0.0, 0.0);
 
   // K's strict upper triangle, column by column: pairs (i, j), i < j, sorted by (i, j) after.

@@ -27,13 +27,9 @@ struct CapsulePairs {
 };
 
 // The Laplacian's pairs `edges` (i < j, sorted) with their unit cotangent weights `cot`,
-// joined by the bending term of modulus `D` (N·m) on the rest surface (`positions`,
-// `triangles`: the barycentric areas M_i).
-CapsulePairs capsule_bending_pairs(const NodeMat& positions, const TriMat& triangles,
-                                   const std::vector<std::array<int, 2>>& edges, const std::vector<double>& cot,
-                                   double D);
-
-// The barycentric rest areas M_i = Σ_{t∋i} |t| / 3 (m²).
-Vec barycentric_areas(const NodeMat& positions, const TriMat& triangles);
+// joined by the bending term of modulus `D` (N·m) with the nodes' barycentric rest areas
+// `area` (M_i = Σ_{t∋i} |t| / 3, m²; the model has them from membrane_inverse_areas).
+CapsulePairs capsule_bending_pairs(const std::vector<std::array<int, 2>>& edges, const std::vector<double>& cot,
+                                   const Vec& area, double D);
 
 }  // namespace vdm

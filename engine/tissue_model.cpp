@@ -154,8 +154,9 @@ bool build_tissue_model(const TissueDef& def, TissueModel& m, std::string& error
     m.membrane_inverse_areas = membrane_inverse_areas(def.mesh, m.membrane_frames);
     m.capsule_weight *= m.capsule_tension;
     if (def.bending_modulus > 0) {
-      CapsulePairs pairs =
-          capsule_bending_pairs(def.mesh.positions, def.mesh.triangles, m.edges, cot.weights, def.bending_modulus);
+      // The barycentric areas: a third of each node's rest triangles'.
+      const Vec area = (3.0 * m.membrane_inverse_areas).cwiseInverse();
+      CapsulePairs pairs = capsule_bending_pairs(m.edges, cot.weights, area, def.bending_modulus);
       m.edges = std::move(pairs.edges);
       const Eigen::Index count = Eigen::Index(m.edges.size());
       m.bending_modulus = def.bending_modulus;
