@@ -23,6 +23,7 @@ struct ContactBroadPhase::Fcl {
   struct Slot {
     ToolShape::Kind kind = ToolShape::Kind::capsule;
     const ConvexHull* hull = nullptr;
+    double convex_growth = -1.0;  // a convex shape's growth (m, make_fcl_shape): rebuilt when more is needed
     std::shared_ptr<fcl::CollisionGeometryd> shape;
     std::unique_ptr<fcl::CollisionObjectd> object;
   };
@@ -57,13 +58,18 @@ struct ContactBroadPhase::Fcl {
 
 namespace {
 
-std::shared_ptr<fcl::CollisionGeometryd> make_fcl_shape(const ToolShape& t) {
+// A convex hull is built grown by `growth` (m): its vertices are scaled about the centroid so
+// that every face moves out by at least that much (the centroid is the inradius' centre), a
+// polytope that holds the hull rounded and inflated by `growth`.
+std::shared_ptr<fcl::CollisionGeometryd> make_fcl_shape(const ToolShape& t, double growth) {
   switch (t.kind) {
     case ToolShape::Kind::capsule: return std::make_shared<fcl::Capsuled>(1.0, 1.0);
     case ToolShape::Kind::cylinder: return std::make_shared<fcl::Cylinderd>(1.0, 1.0);
     case ToolShape::Kind::box: return std::make_shared<fcl::Boxd>(1.0, 1.0, 1.0);
     case ToolShape::Kind::convex: {
-      auto verts = std::make_shared<std::vector<fcl::Vector3d>>(t.hull->vertices.begin(), t.hull->vertices.end());
+      const double scale = 1.0 + growth / t.hull->inradius;
+      auto verts = std::make_shared<std::vector<fcl::Vector3d>>();
+      for (const Vec3& v : t.hull->vertices) verts->push_back(t.hull->centroid + scale * (v - t.hull->centroid));
       auto faces = std::make_shared<std::vector<int>>();
       for (const auto& tri : t.hull->triangles) faces->insert(faces->end(), {3, tri[0], tri[1], tri[2]});
       return std::make_shared<fcl::Convexd>(verts, int(t.hull->triangles.size()), faces);
@@ -72,7 +78,11 @@ std::shared_ptr<fcl::CollisionGeometryd> make_fcl_shape(const ToolShape& t) {
   return nullptr;
 }
 
-// Sizes the slot's shape to the tool inflated by `pad` (a convex hull is not inflated).
+// The share of the tool's size FCL's shapes are grown by (the query stays a superset).
+constexpr double kFclGrazeMargin = 1e-3;
+
+// Sizes the slot's shape to the tool inflated by `pad` (a convex hull is grown when it is
+// built: make_fcl_shape).
 void size_fcl_shape(fcl::CollisionGeometryd& g, const ToolShape& t, double pad) {
   switch (t.kind) {
     case ToolShape::Kind::capsule: {
@@ -435,13 +445,18 @@ void ContactBroadPhase::query(const ToolShape& t, size_t k, double pad, bool tri
   }
   if (fcl_->slots.size() <= k) fcl_->slots.resize(k + 1);
   Fcl::Slot& slot = fcl_->slots[k];
-  if (!slot.shape || slot.kind != t.kind || slot.hull != t.hull.get()) {
+  // FCL's GJK decides a graze to its own tolerance (about 1e-6): the shape is grown by a
+  // little more than that so that no triangle the exact test after it would take is missed.
+  const double grown = pad + kFclGrazeMargin * t.size();
+  const double convex_growth = t.kind == ToolShape::Kind::convex ? grown + t.rounding : 0.0;
+  if (!slot.shape || slot.kind != t.kind || slot.hull != t.hull.get() || convex_growth > slot.convex_growth) {
     slot.kind = t.kind;
     slot.hull = t.hull.get();
-    slot.shape = make_fcl_shape(t);
+    slot.convex_growth = convex_growth;
+    slot.shape = make_fcl_shape(t, convex_growth);
     slot.object = std::make_unique<fcl::CollisionObjectd>(slot.shape);
   }
-  size_fcl_shape(*slot.shape, t, pad);
+  size_fcl_shape(*slot.shape, t, grown);
   slot.object->setTransform(t.pose);
   slot.object->computeAABB();
   fcl_->result.clear();
