@@ -64,6 +64,12 @@ struct ContactSettings {
   // smallest tool's size, no sticking point slipped by more, and the forces the last
   // Gauss-Seidel pass found would move none by more.
   double constraint_tolerance = 0.005;
+  // constraint: the solves that only move the forces toward the laws stop at a relative
+  // residual of 1e-3 (when the model's tolerance is tighter); once the forces meet the laws
+  // they are solved again to the model's tolerance and checked again. A step is solved
+  // loosely only while each iteration brings it closer to the laws, and always ends on a
+  // solve to the model's tolerance. false: every solve to the model's tolerance.
+  bool loose_solves = true;
   // constraint: the rings of neighbours around the contact nodes on which their compliance
   // is computed (engine/contact_compliance.hpp).
   int compliance_rings = 6;
@@ -154,8 +160,9 @@ class ContactSolver {
                        SimState& state, ContactReport& report);
   // Adds the contact points of `tools` at positions x not yet in contacts_: nodes and
   // triangle points closer to a tool than `limit` times its size (negative: inside). With
-  // `warm`, each takes the force its match had at the end of the last step.
-  void find_contact_points(const TissueModel& model, const StepInput& base, const std::vector<ToolShape>& tools,
+  // `warm`, each takes the force its match had at the end of the last step. Returns how many
+  // it put in (some may take the place of a point left behind: takes_another_point).
+  int find_contact_points(const TissueModel& model, const StepInput& base, const std::vector<ToolShape>& tools,
                            const NodeMat& x, const NodeMat& start, double limit, bool warm, ContactReport& report);
   // The deepest point of the surface inside a tool (m), over every triangle near one.
   double deepest_surface_point(const std::vector<ToolShape>& tools, const NodeMat& x, ContactReport& report);

@@ -33,6 +33,11 @@ namespace vdm {
 
 namespace {
 
+// The relative residual of the contact iteration's intermediate solves (StepInput::tolerance).
+// The liver probe's displacements at 1e-3 are those at 1e-8 to 0.002 mm RMS (the accuracy
+// study) at a sixth of the iterations; the contact's own tolerance is 0.5 % of the tool's size.
+constexpr double kLooseTolerance = 1e-3;
+
 // An orthonormal frame whose first column is n.
 Eigen::Matrix3d contact_frame(const Vec3& n) {
   Vec3 t1 = std::abs(n.x()) < 0.6 ? n.cross(Vec3::UnitX()) : n.cross(Vec3::UnitY());
@@ -131,19 +136,28 @@ double contact_gap(const ToolShape& t, const Vec3& point, const Vec3& start, Vec
 bool on_every_axis(const FlagMat& flags, int i) { return flags.rows() > i && flags.row(i).minCoeff() != 0; }
 
 // Whether triangle `tri` takes another point with tool k at `q`, `depth` deep (signed
-// distance, negative inside): fewer than eight points there, none within a fiftieth of the
-// tool's size, and every point within a quarter of it is shallower by half the penetration
-// allowed (`allowed`, m): the tool meets the triangle somewhere its points do not hold (a
-// tool moved across a large triangle, or the triangle turned about a point it is held at).
+// distance, negative inside): none within a fiftieth of the tool's size, and every point
+// within a quarter of it is shallower by half the penetration allowed (`allowed`, m): the
+// tool meets the triangle somewhere its points do not hold (a tool moved across a large
+// triangle, or the triangle turned about a point it is held at). A triangle holds eight
+// points at most: the ninth takes the place of one apart from the tool with no force (left
+// behind by a tool that swept across the triangle), or is refused. Returns false to refuse;
+// `replace` is the index of the point to replace, or -1 to add one.
 bool takes_another_point(const std::vector<ContactPoint>& contacts, int tri, int k, const Vec3& q, double depth,
-                         const NodeMat& x, double size, double allowed) {
+                         const NodeMat& x, double size, double allowed, int& replace) {
   int count = 0;
-  for (const ContactPoint& c : contacts) {
+  replace = -1;
+  for (size_t i = 0; i < contacts.size(); ++i) {
+    const ContactPoint& c = contacts[i];
     if (c.triangle != tri || c.tool != k) continue;
+    ++count;
     const double d = (point_of(c, x) - q).norm();
-    if (++count >= 8 || d < 0.02 * size || (d < 0.25 * size && c.gap <= depth + 0.5 * allowed)) return false;
+    if (d < 0.02 * size || (d < 0.25 * size && c.gap <= depth + 0.5 * allowed)) return false;
+    if (c.gap > 0.0 && c.force.squaredNorm() == 0.0 && (replace < 0 || c.gap > contacts[size_t(replace)].gap))
+      replace = static_cast<int>(i);
   }
-  return true;
+  if (count < 8) replace = -1;
+  return count < 8 || replace >= 0;
 }
 
 // Contact points in a fixed order (tool, triangle, node), whatever order the broad phase
@@ -158,7 +172,7 @@ bool in_order(const ContactPoint& a, const ContactPoint& b) {
 
 }  // namespace
 
-void ContactSolver::find_contact_points(const TissueModel& m, const StepInput& base, const std::vector<ToolShape>& tools,
+int ContactSolver::find_contact_points(const TissueModel& m, const StepInput& base, const std::vector<ToolShape>& tools,
                                         const NodeMat& x, const NodeMat& start_u, double limit, bool warm,
                                         ContactReport& rep) {
   // Nodes that cannot move on any axis take no force.
@@ -192,6 +206,7 @@ void ContactSolver::find_contact_points(const TissueModel& m, const StepInput& b
     contacts_.push_back(c);
   };
   refit(x);
+  int put = 0;
   for (size_t kk = 0; kk < tools.size(); ++kk) {
     const int k = static_cast<int>(kk);
     const ToolShape& t = tools[kk];
@@ -224,6 +239,7 @@ void ContactSolver::find_contact_points(const TissueModel& m, const StepInput& b
         if (dist < limit * size) {
           const double one = 1.0;
           add(k, -1, &nd[v], &one, 1, dist, sp, sn);
+          ++put;
           corner_contact = true;
         }
       }
@@ -245,7 +261,9 @@ void ContactSolver::find_contact_points(const TissueModel& m, const StepInput& b
       const double best = deepest_in_triangle(t, p[0], p[1], p[2], bu, bv, best_p, best_n, !corner_contact);
       const Vec3 q = p[0] + bu * (p[1] - p[0]) + bv * (p[2] - p[0]);
       const double allowed = settings_.tolerance * size;
-      if (best >= need || (more && !takes_another_point(contacts_, tri, k, q, best, x, size, allowed))) continue;
+      int replace = -1;
+      if (best >= need || (more && !takes_another_point(contacts_, tri, k, q, best, x, size, allowed, replace)))
+        continue;
       // A triangle the tool was already deep through at the step's start (an instrument placed
       // inside the organ, or withdrawn through the hole it left) is left pierced: pushing its
       // inside out of the tool would tear the surface off its corners (its corners are kept
@@ -264,9 +282,12 @@ void ContactSolver::find_contact_points(const TissueModel& m, const StepInput& b
         }
       }
       const double w[3] = {1.0 - bu - bv, bu, bv};
+      if (replace >= 0) contacts_.erase(contacts_.begin() + replace);
       add(k, tri, nd, w, 3, best, best_p, best_n);
+      ++put;
     }
   }
+  return put;
 }
 
 double ContactSolver::deepest_surface_point(const std::vector<ToolShape>& tools, const NodeMat& x,
@@ -331,7 +352,18 @@ void ContactSolver::step_constraint(const TissueModel& m, const StepInput& base,
   const int max_it = std::max(1, settings_.max_constraint_iterations);
   rep.converged = false;
   bool predicted = false;  // the contacts hold a prediction of the next solve's motion
+  // Loose solves (ContactSettings::loose_solves): the solves that only move the forces toward
+  // the laws stop at kLooseTolerance; once the forces meet the laws (or no contact is left),
+  // the same forces are solved to the model's tolerance and checked again, so the step ends
+  // on a solve as accurate as any other step's. The last solve the cap allows is a tight one,
+  // and so is the first of a step that starts with no contact (it may end with none, and then
+  // that solve is the step's).
+  const bool can_loosen = settings_.loose_solves && m.solver.tolerance < kLooseTolerance;
+  bool loose = can_loosen && !contacts_.empty();
+  double last_merit = std::numeric_limits<double>::infinity();
   for (int it = 0; it < max_it; ++it) {
+    if (loose && it + 1 == max_it) loose = false;
+    input_.tolerance = loose ? kLooseTolerance : 0.0;
     // The organ under the contact forces.
     if (it > 0) solver_->rewind(s);
     for (const ContactPoint& c : contacts_)
@@ -365,13 +397,18 @@ void ContactSolver::step_constraint(const TissueModel& m, const StepInput& base,
       c.gap = contact_gap(t, c.point, c.start, c.surface, c.normal);
     }
     const size_t before = contacts_.size();
-    find_contact_points(m, base, tools, s.x, solver_->start_u(s), -settings_.constraint_tolerance, false, rep);
-    const bool added = contacts_.size() > before;
+    const bool added =
+        find_contact_points(m, base, tools, s.x, solver_->start_u(s), -settings_.constraint_tolerance, false, rep) > 0;
+    if (it == 0 && before == 0 && added && can_loosen) loose = true;  // contact met during the first solve
     if (added) std::sort(contacts_.begin(), contacts_.end(), in_order);
     const int C = static_cast<int>(contacts_.size());
     if (C == 0) {
-      rep.converged = true;
       rep.collision_ms += ms_since(t0);
+      if (loose) {  // no contact on a loose solve: solved again to the model's tolerance
+        loose = false;
+        continue;
+      }
+      rep.converged = true;
       break;
     }
 
@@ -478,7 +515,16 @@ void ContactSolver::step_constraint(const TissueModel& m, const StepInput& base,
       change = std::max(change, sticks ? dq.norm() : std::abs(dq[0]));
     }
     rep.collision_ms += ms_since(t0);
+    // Loose solves only while they bring the forces closer to the laws: once an iteration
+    // does not, the rest of the step is solved to the model's tolerance.
+    const double merit = std::max(violation, change);
+    if (loose && it > 0 && !(merit < last_merit)) loose = false;
+    last_merit = merit;
     if (!added && violation <= tolerance && change <= tolerance) {
+      if (loose) {  // met on a loose solve: the same forces to the model's tolerance
+        loose = false;
+        continue;
+      }
       rep.converged = true;
       break;
     }
@@ -491,6 +537,7 @@ void ContactSolver::step_constraint(const TissueModel& m, const StepInput& base,
     }
     predicted = true;
   }
+  input_.tolerance = 0.0;
   solver_->finish_step(s);
   t0 = Clock::now();
   rep.max_penetration = deepest_surface_point(tools, s.x, rep);

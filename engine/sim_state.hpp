@@ -21,6 +21,10 @@ struct StepInput {
   // 0 rows = none. spring_u: the springs' rest displacements from the rest shape (m).
   NodeMat spring_k;
   NodeMat spring_u;
+  // The linear solves' relative residual for this step; 0: the model's solver.tolerance. A
+  // caller that will solve the step again (constraint contact's iterations) may loosen it
+  // for the solves it does not keep. Only a tighter tolerance than the model's has no use.
+  double tolerance = 0;
   void clear();          // zero everything, keep sizes
 };
 

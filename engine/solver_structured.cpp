@@ -105,10 +105,18 @@ class StructuredSolver final : public LinearSolver {
     return z.data();
   }
 
+  // A tolerance looser than the settings' (StepInput::tolerance) serves solves that will be
+  // redone; s solved to it is not good enough for a tighter solve, which solves s again.
+  void set_tolerance(double tolerance) override {
+    if (tolerance < s_tolerance_) s_valid_ = false;
+    tolerance_ = tolerance;
+  }
+
   const NodeMat& pressure_response(const NodeMat& a) override {
     if (!s_valid_) {
       solve_block<3>(nullptr, &a, nullptr);
       s_valid_ = true;
+      s_tolerance_ = tolerance_;
     }
     return s_;
   }
@@ -223,10 +231,13 @@ class StructuredSolver final : public LinearSolver {
         new_s ? solve_block<6>(&rhs, &a, &u, project, c, &dP) : solve_block<3>(&rhs, nullptr, &u, project);
     rep.iterations = br.iterations;
     rep.converged = br.converged;
-    if (new_s) {  // the first solve on new matrices: the one that tells how well the factors fit
+    // The first solve on new matrices tells how well the factors fit; only solves to the
+    // settings' tolerance are compared (a looser one takes fewer iterations).
+    if (new_s && tolerance_ == settings_.tolerance) {
       if (baseline_ < 0) baseline_ = br.iterations;
       else if (br.iterations > kStaleGrowth * baseline_ + 2) factor_due_ = true;
     }
+    if (new_s) s_tolerance_ = tolerance_;
     if (volume_constraint) s_valid_ = true;
     if (!new_s) {
       dP = volume_constraint ? pressure_for_volume(a, u, s_, c) : 0.0;
@@ -288,9 +299,9 @@ class StructuredSolver final : public LinearSolver {
         for (size_t i = 0; i < size_t(n_); ++i)
           for (size_t d = 0; d < 3; ++d) x[i * 3 + d] = settings_.warm_start ? x_[6 * i + 2 * d + lane[g]] : 0.0;
       // sqrt(3): the three axes together then meet the tolerance on the whole system.
-      double t = settings_.tolerance * src[g]->norm() / std::sqrt(3.0);
+      double t = tolerance_ * src[g]->norm() / std::sqrt(3.0);
       if (W == 6 && g == 1 && last_pressure_ != 0.0) {  // s: as exact as its share of u needs (kLooseS)
-        const double needed = 0.5 * settings_.tolerance * src[0]->norm() / (std::sqrt(3.0) * std::abs(last_pressure_));
+        const double needed = 0.5 * tolerance_ * src[0]->norm() / (std::sqrt(3.0) * std::abs(last_pressure_));
         t = std::max(t, std::min(needed, kLooseS * t));
       }
       for (int d = 0; d < 3; ++d) threshold[d * G + g] = t;
@@ -430,6 +441,8 @@ class StructuredSolver final : public LinearSolver {
   }
 
   SolverSettings settings_;
+  double tolerance_ = settings_.tolerance;    // the solves' (set_tolerance)
+  double s_tolerance_ = settings_.tolerance;  // the tolerance s_ was solved to
   int n_ = 0;
   std::vector<int> perm_;        // solver index -> node (reverse Cuthill-McKee)
   std::vector<int> iperm_;       // node -> solver index

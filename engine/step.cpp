@@ -105,6 +105,8 @@ const char* check_input(const TissueModel& m, const StepInput& in) {
   if (has_prescribed && in.prescribed.rows() != m.n) return "StepInput.prescribed has the wrong number of rows";
   if (has_prescribed && in.prescribed_u.rows() != m.n)
     return "StepInput.prescribed_u has the wrong number of rows";
+  if (!(in.tolerance >= 0.0) || !std::isfinite(in.tolerance) || in.tolerance >= 1.0)
+    return "StepInput.tolerance must be 0 (the model's) or a relative residual in (0, 1)";
   if (in.force.rows() != 0 && in.force.rows() != m.n) return "StepInput.force has the wrong number of rows";
   if (in.pressure.size() != 0 && in.pressure.size() != m.n) return "StepInput.pressure has the wrong size";
   if (in.force.rows() == m.n && !all_finite(in.force)) return "StepInput.force is not finite";
@@ -700,6 +702,9 @@ Attempt step_once(const TissueModel& m, const StepInput& in, SimState& s, StepRe
     fail_step(m, s, bad);
     return Attempt::bad_input;
   }
+  // A looser tolerance for this step's solves (its caller will solve it again), or the model's.
+  w.solver->set_tolerance(in.tolerance > 0.0 ? in.tolerance : m.solver.tolerance);
+
   bool inverted = false;
   double current_volume = 0.0;
   double last_c = 0.0;

@@ -250,5 +250,67 @@ TEST(ShapeContact, EveryShapePressesABall) {
   }
 }
 
+TEST(ShapeContact, LooseSolvesKeepTheAnswerAndSaveIterations) {
+  // The capsule of EveryShapePressesABall pressed 10 mm into the ball, with the contact
+  // iteration's intermediate solves loose (the default) and with every solve to the model's
+  // tolerance. Frictionless, the press has one answer: the same iteration with a contact
+  // tolerance 25 times tighter is the reference, and the loose solves must not take the force
+  // further from it. (Frictionless, a node on the round tip slides along it at little cost:
+  // forces within the contact tolerance place single nodes some tenths of a millimetre from
+  // the reference's, with every solve tight as with loose ones, so positions are compared
+  // with friction.) With friction 0.2 the two agree within the contact tolerance.
+  const double R = 0.05, step_m = 1e-3;
+  TissueDef def = default_tissue(make_icosphere(R, 4));
+  const int n = def.mesh.node_count();
+  def.fixed = FlagMat::Zero(n, 3);
+  for (int i = 0; i < n; ++i)
+    if (def.mesh.positions(i, 2) < -0.04) def.fixed.row(i).setOnes();
+  const TissueModel m = scenario::build(def);
+  const StepInput base = make_step_input(m);
+  const PressCase pc = press_cases().front();
+  ASSERT_EQ(pc.shape.kind, ToolShape::Kind::capsule);
+  const double tolerance = ContactSettings().constraint_tolerance * pc.shape.size();
+  for (const double mu : {0.0, 0.2}) {
+    const bool frictionless = mu == 0.0;
+    ContactSettings loose, tight, reference;
+    loose.friction = tight.friction = reference.friction = mu;
+    tight.loose_solves = reference.loose_solves = false;
+    reference.constraint_tolerance = tight.constraint_tolerance / 25;
+    ContactSolver c_loose(m, loose), c_tight(m, tight), c_ref(m, reference);
+    SimState s_loose = make_sim_state(m), s_tight = make_sim_state(m), s_ref = make_sim_state(m);
+    ContactReport r_loose, r_tight, r_ref;
+    long it_loose = 0, it_tight = 0;
+    double apart = 0.0, off_loose = 0.0, off_tight = 0.0;
+    for (int k = 0; k <= 10; ++k) {
+      const ToolShape t = pointing_down(pc.shape, pc.tip, R - k * step_m, k ? step_m : 0.0);
+      c_loose.step(m, base, {t}, s_loose, r_loose);
+      c_tight.step(m, base, {t}, s_tight, r_tight);
+      if (frictionless) c_ref.step(m, base, {t}, s_ref, r_ref);
+      ASSERT_FALSE(s_loose.failed || s_tight.failed || s_ref.failed) << "mu " << mu << ", step " << k;
+      EXPECT_TRUE(r_loose.converged && r_tight.converged) << "mu " << mu << ", step " << k;
+      it_loose += r_loose.iterations;
+      it_tight += r_tight.iterations;
+      apart = std::max(apart, (s_loose.x - s_tight.x).cwiseAbs().maxCoeff());
+      if (frictionless) {
+        off_loose = std::max(off_loose, (s_loose.x - s_ref.x).cwiseAbs().maxCoeff());
+        off_tight = std::max(off_tight, (s_tight.x - s_ref.x).cwiseAbs().maxCoeff());
+      }
+      EXPECT_LT(std::abs(s_loose.volume_rel_error), 1e-9) << "mu " << mu << ", step " << k;
+    }
+    const double f_loose = r_loose.force.norm(), f_tight = r_tight.force.norm();
+    std::printf("friction %.1f: force at 10 mm %.4f N loose, %.4f N tight; %ld against %ld iterations; "
+                "at most %.1f um apart\n", mu, f_loose, f_tight, it_loose, it_tight, 1e6 * apart);
+    EXPECT_LT(it_loose, 0.8 * it_tight) << "mu " << mu;
+    if (frictionless) {
+      const double f_ref = r_ref.force.norm();
+      std::printf("  reference (contact tolerance / 25): %.4f N; at most %.1f um (loose) and %.1f um (tight) "
+                  "from it\n", f_ref, 1e6 * off_loose, 1e6 * off_tight);
+      EXPECT_LE(std::abs(f_loose - f_ref), std::abs(f_tight - f_ref) + 1e-3 * f_ref);
+    } else {
+      EXPECT_LE(apart, tolerance);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace vdm
