@@ -201,15 +201,19 @@ std::vector<PressCase> press_cases() {
   return cases;
 }
 
+// A ball of radius R (level-4 icosphere) with its nodes below z = -0.8 R fixed.
+TissueModel ball_on_its_bottom(double R) {
+  TissueDef def = default_tissue(make_icosphere(R, 4));
+  def.fixed = FlagMat::Zero(def.mesh.node_count(), 3);
+  for (int i = 0; i < def.mesh.node_count(); ++i)
+    if (def.mesh.positions(i, 2) < -0.8 * R) def.fixed.row(i).setOnes();
+  return scenario::build(def);
+}
+
 TEST(ShapeContact, EveryShapePressesABall) {
   // A ball of radius 5 cm fixed at its bottom; each shape presses 10 mm into its top.
   const double R = 0.05, step_m = 1e-3;
-  TissueDef def = default_tissue(make_icosphere(R, 4));
-  const int n = def.mesh.node_count();
-  def.fixed = FlagMat::Zero(n, 3);
-  for (int i = 0; i < n; ++i)
-    if (def.mesh.positions(i, 2) < -0.04) def.fixed.row(i).setOnes();
-  const TissueModel m = scenario::build(def);
+  const TissueModel m = ball_on_its_bottom(R);
   const StepInput base = make_step_input(m);
   for (const PressCase& pc : press_cases()) {
     SimState s = make_sim_state(m), s_fcl = make_sim_state(m);
@@ -235,7 +239,7 @@ TEST(ShapeContact, EveryShapePressesABall) {
       EXPECT_LE(rep.max_penetration, 0.02 * size) << at;
       // No node inside the instrument by more than 2 % of its size.
       double deepest = 0;
-      for (int i = 0; i < n; ++i) {
+      for (int i = 0; i < m.n; ++i) {
         Vec3 p, nrm;
         deepest = std::max(deepest, -tool_distance(t, s.x.row(i).transpose(), p, nrm));
       }
@@ -259,12 +263,7 @@ TEST(ShapeContact, LooseSolvesKeepTheAnswerAndSaveIterations) {
   // and along the tool), and the loose solves take neither the surface nor the force further
   // from it. With friction 0.2 the two agree within the contact tolerance.
   const double R = 0.05, step_m = 1e-3;
-  TissueDef def = default_tissue(make_icosphere(R, 4));
-  const int n = def.mesh.node_count();
-  def.fixed = FlagMat::Zero(n, 3);
-  for (int i = 0; i < n; ++i)
-    if (def.mesh.positions(i, 2) < -0.04) def.fixed.row(i).setOnes();
-  const TissueModel m = scenario::build(def);
+  const TissueModel m = ball_on_its_bottom(R);
   const StepInput base = make_step_input(m);
   const PressCase pc = press_cases().front();
   ASSERT_EQ(pc.shape.kind, ToolShape::Kind::capsule);
