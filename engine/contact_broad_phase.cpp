@@ -78,7 +78,8 @@ std::shared_ptr<fcl::CollisionGeometryd> make_fcl_shape(const ToolShape& t, doub
   return nullptr;
 }
 
-// The share of the tool's size FCL's shapes are grown by (the query stays a superset).
+// The share of the tool's size FCL's shapes are grown by, at least ten times GJK's tolerance
+// (the query stays a superset).
 constexpr double kFclGrazeMargin = 1e-3;
 
 // Sizes the slot's shape to the tool inflated by `pad` (a convex hull is grown when it is
@@ -445,9 +446,9 @@ void ContactBroadPhase::query(const ToolShape& t, size_t k, double pad, bool tri
   }
   if (fcl_->slots.size() <= k) fcl_->slots.resize(k + 1);
   Fcl::Slot& slot = fcl_->slots[k];
-  // FCL's GJK decides a graze to its own tolerance (about 1e-6): the shape is grown by a
-  // little more than that so that no triangle the exact test after it would take is missed.
-  const double grown = pad + kFclGrazeMargin * t.size();
+  // FCL's GJK decides a graze to its own tolerance (gjk_tolerance, m): the shape is grown by
+  // more than that so that no triangle the exact test after it would take is missed.
+  const double grown = pad + std::max(kFclGrazeMargin * t.size(), 10.0 * fcl_->request.gjk_tolerance);
   const double convex_growth = t.kind == ToolShape::Kind::convex ? grown + t.rounding : 0.0;
   if (!slot.shape || slot.kind != t.kind || slot.hull != t.hull.get() || convex_growth > slot.convex_growth) {
     slot.kind = t.kind;

@@ -356,11 +356,11 @@ void ContactSolver::step_constraint(const TissueModel& m, const StepInput& base,
   rep.converged = false;
   bool predicted = false;  // the contacts hold a prediction of the next solve's motion
   // Loose solves (ContactSettings::loose_solves): the solves that only move the forces toward
-  // the laws stop at a looser relative residual (kLooseShare); once the forces meet the laws
-  // (or no contact is left), the same forces are solved to the model's tolerance and checked
-  // again, so the step ends on a solve as accurate as any other step's. The last solve the
-  // cap allows is a tight one, and so is the first of a step that starts with no contact (it
-  // may end with none, and then that solve is the step's).
+  // the laws stop at a looser relative residual (kLooseShare); once the forces meet the laws,
+  // the same forces are solved to the model's tolerance and checked again, so the step ends
+  // on a solve as accurate as any other step's. The last solve the cap allows is a tight one,
+  // and so is the first of a step that starts with no contact (it may end with none, and then
+  // that solve is the step's).
   // (Only the VDM engine's structured solver stops at a given residual: the direct solver is
   // exact, and the others would solve the same forces twice.)
   const double loose_tolerance = kLooseShare * settings_.constraint_tolerance;
@@ -370,6 +370,7 @@ void ContactSolver::step_constraint(const TissueModel& m, const StepInput& base,
   double last_merit = std::numeric_limits<double>::infinity();
   for (int it = 0; it < max_it; ++it) {
     if (loose && it + 1 == max_it) loose = false;
+    const bool solved_loose = loose;  // this iteration's solve (`loose` may change below)
     input_.tolerance = loose ? loose_tolerance : 0.0;
     // The organ under the contact forces.
     if (it > 0) solver_->rewind(s);
@@ -382,7 +383,10 @@ void ContactSolver::step_constraint(const TissueModel& m, const StepInput& base,
     solver_->trial_step(input_, s, StepResults::none);
     ++rep.solves;
     rep.iterations += s.stats.iterations;
-    if (s.failed) return;  // the caller stops; the state is the step's start
+    if (s.failed) {  // the caller stops; the state is the step's start
+      input_.tolerance = 0.0;
+      return;
+    }
 
     t0 = Clock::now();
     // What the solve moved against what the compliance predicted: the compliance's scale.
@@ -409,13 +413,9 @@ void ContactSolver::step_constraint(const TissueModel& m, const StepInput& base,
     if (it == 0 && before == 0 && added && can_loosen) loose = true;  // contact met during the first solve
     if (added) std::sort(contacts_.begin(), contacts_.end(), in_order);
     const int C = static_cast<int>(contacts_.size());
-    if (C == 0) {
-      rep.collision_ms += ms_since(t0);
-      if (loose) {  // no contact on a loose solve: solved again to the model's tolerance
-        loose = false;
-        continue;
-      }
+    if (C == 0) {  // (a loose solve always has contacts: they are never removed within a step)
       rep.converged = true;
+      rep.collision_ms += ms_since(t0);
       break;
     }
 
@@ -525,19 +525,19 @@ void ContactSolver::step_constraint(const TissueModel& m, const StepInput& base,
       change = std::max(change, dq.norm());
     }
     rep.collision_ms += ms_since(t0);
-    // Loose solves only while they bring the forces closer to the laws: once an iteration
-    // does not, the rest of the step is solved to the model's tolerance.
-    const double merit = std::max(violation, change);
-    if (loose && it > 0 && !(merit < last_merit)) loose = false;
-    last_merit = merit;
     if (!added && violation <= tolerance && change <= tolerance) {
-      if (loose) {  // met on a loose solve: the same forces to the model's tolerance
+      if (solved_loose) {  // met on a loose solve: the same forces to the model's tolerance
         loose = false;
         continue;
       }
       rep.converged = true;
       break;
     }
+    // Loose solves only while they bring the forces closer to the laws: once an iteration
+    // does not, the rest of the step is solved to the model's tolerance.
+    const double merit = std::max(violation, change);
+    if (loose && it > 0 && !(merit < last_merit)) loose = false;
+    last_merit = merit;
     if (it + 1 == max_it) break;  // the state stays that of the forces it was solved with
     for (int a = 0; a < C; ++a) {
       ContactPoint& c = contacts_[static_cast<size_t>(a)];

@@ -458,6 +458,7 @@ void StepInput::clear() {
   prescribed_u.setZero();
   spring_k.setZero();
   spring_u.setZero();
+  tolerance = 0.0;
 }
 
 StepInput make_step_input(const TissueModel& m) {
