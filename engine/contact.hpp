@@ -66,10 +66,10 @@ struct ContactSettings {
   double constraint_tolerance = 0.005;
   // constraint: the solves that only move the forces toward the laws stop at a relative
   // residual of 5 % of constraint_tolerance (2.5e-4 at the default; when the model's tolerance
-  // is tighter); once the forces meet the laws they are solved again to the model's tolerance
-  // and checked again. A step is solved loosely only while each iteration brings it closer to
-  // the laws, and always ends on a solve to the model's tolerance. false: every solve to the
-  // model's tolerance.
+  // is tighter, and with a solver that takes it: VDM's structured solver); once the forces
+  // meet the laws they are solved again to the model's tolerance and checked again. A step is
+  // solved loosely only while each iteration brings it closer to the laws, and always ends on
+  // a solve to the model's tolerance. false: every solve to the model's tolerance.
   bool loose_solves = true;
   // constraint: the rings of neighbours around the contact nodes on which their compliance
   // is computed (engine/contact_compliance.hpp).

@@ -361,11 +361,10 @@ void ContactSolver::step_constraint(const TissueModel& m, const StepInput& base,
   // on a solve as accurate as any other step's. The last solve the cap allows is a tight one,
   // and so is the first of a step that starts with no contact (it may end with none, and then
   // that solve is the step's).
-  // (Only the VDM engine's structured solver stops at a given residual: the direct solver is
-  // exact, and the others would solve the same forces twice.)
+  // (Only with a solver that takes the tolerance: the others would solve the same forces twice.)
   const double loose_tolerance = kLooseShare * settings_.constraint_tolerance;
-  const bool can_loosen = settings_.loose_solves && solver_->kind() == ModelKind::vdm &&
-                          m.solver.method == SolverMethod::structured && m.solver.tolerance < loose_tolerance;
+  const bool can_loosen =
+      settings_.loose_solves && solver_->takes_tolerance() && m.solver.tolerance < loose_tolerance;
   bool loose = can_loosen && !contacts_.empty();
   double last_merit = std::numeric_limits<double>::infinity();
   for (int it = 0; it < max_it; ++it) {

@@ -49,8 +49,8 @@ class LinearSolver {
   virtual SolveReport solve(const NodeMat& rhs, const NodeMat& a, double c, bool volume_constraint, NodeMat& u,
                             double& dP) = 0;
   // The relative residual the next solves stop at (the settings' tolerance until told
-  // otherwise): a step's input may loosen it (StepInput::tolerance). The direct solver is
-  // exact and ignores it.
+  // otherwise): a step's input may loosen it (StepInput::tolerance). Only the structured
+  // solver takes it; the others ignore it (the direct solver is exact).
   virtual void set_tolerance(double /*tolerance*/) {}
   // Whether solve() reads `u` as its warm start (the others keep their own, or need none).
   virtual bool warm_starts_from_u() const { return false; }

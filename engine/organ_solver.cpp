@@ -23,6 +23,9 @@ class VdmSolver final : public OrganSolver {
   // The engine keeps the start's u (the whole step's when it was done in parts).
   const NodeMat& start_u(const SimState& s) const override { return s.work->start.u; }
   bool takes_springs() const override { return true; }
+  // Only the structured solver stops at a given residual (the direct solver is exact, the
+  // paper's BiCGSTAB keeps the settings' tolerance).
+  bool takes_tolerance() const override { return m_.solver.method == SolverMethod::structured; }
   const AxisStiffness& contact_stiffness(const TissueModel&, const SimState& s) override { return s.work->K; }
   long contact_stiffness_version(const SimState& s) const override { return s.stats.total_refreshes; }
 
@@ -45,6 +48,7 @@ class ReferenceSolver : public OrganSolver {
   }
   const NodeMat& start_u(const SimState& s) const override { return start_.u.rows() == s.u.rows() ? start_.u : s.u; }
   bool takes_springs() const override { return false; }  // their steps could not take springs implicitly
+  bool takes_tolerance() const override { return false; }
   const AxisStiffness& contact_stiffness(const TissueModel& surface, const SimState&) override {
     if (rest_K_.diagonal.rows() != surface.n) {  // once: the rest geometry
       NodeMat area(surface.n, 3);

@@ -47,6 +47,9 @@ class OrganSolver {
   virtual const NodeMat& start_u(const SimState& state) const = 0;
   // Whether a step takes StepInput::spring_k and spring_u (penalty contact needs them).
   virtual bool takes_springs() const = 0;
+  // Whether a step's solves stop at StepInput::tolerance when it is given (constraint
+  // contact's loose solves); otherwise they solve to their own tolerance every time.
+  virtual bool takes_tolerance() const = 0;
   // A per-axis stiffness of the surface (K^d on `surface`'s edges) from which constraint
   // contact computes its compliance model, and a number that changes when it does. vdm: the
   // engine's own K at its last refresh. The reference models: VDM's K of `surface` at rest
