@@ -2,6 +2,7 @@
 
 #include <chrono>
 
+#include "engine/core/elastic_core.hpp"
 #include "engine/fem/fem_state.hpp"
 #include "engine/geometry.hpp"
 #include "engine/step_workspace.hpp"
@@ -146,6 +147,34 @@ class MassSpringSolver final : public ReferenceSolver {
   double dt_;
 };
 
+class CoreSolver final : public ReferenceSolver {
+ public:
+  CoreSolver(core::CoreModel m, double dt) : m_(std::move(m)), s_(core::make_core_state(m_)), dt_(dt) {}
+  ModelKind kind() const override { return ModelKind::vdm_core; }
+  void step(const StepInput& in, SimState& s) override {
+    const auto t0 = Clock::now();
+    remember_start(s);
+    const size_t warned = s_.warnings.size();
+    core::step(m_, in, s_);
+    publish(m_.surface.positions, s_.u, s_.reaction, dt_, s);
+    s.volume = s_.volume;
+    s.volume_rel_error = s_.volume_rel_error;
+    s.pressure = s_.pressure;
+    s.stats = StepStats{};
+    s.stats.nonlinear_iterations = s.stats.iterations = s_.stats.iterations;
+    s.stats.nonlinear_change = s_.stats.change;
+    s.stats.factorizations = s_.stats.factorizations;
+    s.stats.converged = s_.stats.converged;
+    s.stats.step_ms = s.stats.solve_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    for (size_t k = warned; k < s_.warnings.size() && s.warnings.size() < kMaxWarnings; ++k) s.warnings.push_back(s_.warnings[k]);
+  }
+
+ private:
+  core::CoreModel m_;
+  core::CoreState s_;
+  double dt_;
+};
+
 }  // namespace
 
 const char* to_string(ModelKind k) {
@@ -153,6 +182,7 @@ const char* to_string(ModelKind k) {
     case ModelKind::vdm: return "vdm";
     case ModelKind::fem: return "fem";
     case ModelKind::mass_spring: return "mass_spring";
+    case ModelKind::vdm_core: return "vdm_core";
   }
   return "unknown";
 }
@@ -161,6 +191,7 @@ bool parse_model_kind(const std::string& t, ModelKind& out) {
   if (t == "vdm") out = ModelKind::vdm;
   else if (t == "fem") out = ModelKind::fem;
   else if (t == "mass_spring") out = ModelKind::mass_spring;
+  else if (t == "vdm_core") out = ModelKind::vdm_core;
   else return false;
   return true;
 }
@@ -168,6 +199,9 @@ bool parse_model_kind(const std::string& t, ModelKind& out) {
 std::unique_ptr<OrganSolver> make_vdm_solver(const TissueModel& model) { return std::make_unique<VdmSolver>(model); }
 std::unique_ptr<OrganSolver> make_fem_solver(fem::FemModel model, double dt) {
   return std::make_unique<FemSolver>(std::move(model), dt);
+}
+std::unique_ptr<OrganSolver> make_core_solver(core::CoreModel model, double dt) {
+  return std::make_unique<CoreSolver>(std::move(model), dt);
 }
 std::unique_ptr<OrganSolver> make_mass_spring_solver(MassSpringModel model, double dt) {
   return std::make_unique<MassSpringSolver>(std::move(model), dt);

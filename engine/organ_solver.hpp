@@ -1,6 +1,6 @@
 #pragma once
-// One interface for the three organ models a scene or an experiment can pick
-// (`organ.model: vdm | fem | mass_spring`). Each reads the same StepInput on the organ's
+// One interface for the organ models a scene or an experiment can pick
+// (`organ.model: vdm | vdm_core | fem | mass_spring`). Each reads the same StepInput on the organ's
 // surface nodes and writes the same SimState fields: u, x, velocity, volume,
 // volume_rel_error, pressure, reaction (on constrained surface entries), stats (iterations,
 // residual, converged, step_ms, solve_ms) and warnings. The SimState comes from
@@ -21,7 +21,11 @@
 
 namespace vdm {
 
-enum class ModelKind { vdm, fem, mass_spring };
+namespace core {
+struct CoreModel;
+}
+
+enum class ModelKind { vdm, fem, mass_spring, vdm_core };
 const char* to_string(ModelKind k);
 bool parse_model_kind(const std::string& text, ModelKind& out);
 
@@ -62,6 +66,8 @@ class OrganSolver {
 std::unique_ptr<OrganSolver> make_vdm_solver(const TissueModel& model);
 // The FEM reference; `dt` only advances state.time.
 std::unique_ptr<OrganSolver> make_fem_solver(fem::FemModel model, double dt);
+// VDM's surface and pressure on an elastic core (engine/core).
+std::unique_ptr<OrganSolver> make_core_solver(core::CoreModel model, double dt);
 // Surface springs (+ optional volume spring).
 std::unique_ptr<OrganSolver> make_mass_spring_solver(MassSpringModel model, double dt);
 

@@ -96,7 +96,9 @@ void check_material(const SceneDef& s, std::vector<SceneProblem>& out) {
     values = "bulk_modulus " + num(d.bulk_modulus.x(), 6) + " Pa, connectivity_modulus " + num(d.connectivity_modulus, 6) + " Pa";
   else
     values = "young_modulus " + num(d.young_modulus, 6) + " Pa" +
-             (s.model == vdm::ModelKind::fem ? ", poisson_ratio " + num(d.poisson_ratio) : ", thickness " + num(d.thickness) + " m");
+             (s.model == vdm::ModelKind::fem        ? ", poisson_ratio " + num(d.poisson_ratio)
+              : s.model == vdm::ModelKind::vdm_core ? std::string()
+                                                    : ", thickness " + num(d.thickness) + " m");
   out.push_back({s.file, "organ.material",
                  "not given: the default material is used (" + values + ", density " + num(d.density, 6) +
                      " kg/m^3); give your tissue's",

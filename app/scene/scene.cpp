@@ -313,20 +313,24 @@ void check_vdm_conditioning(Reader& r, const YAML::Node& mat, const SceneDef& s)
 // Warns about the organ keys that organ.model does not use (they would change nothing).
 void warn_unused_by_model(Reader& r, const YAML::Node& organ, vdm::ModelKind model) {
   struct Use {
-    const char* key;  // under organ.material, or organ.tet_size
-    bool vdm, fem, mass_spring;
+    const char* key;  // under organ.material, or organ.tet_size / organ.cell_size
+    bool vdm, fem, mass_spring, vdm_core;
   };
-  static const Use uses[] = {{"connectivity_modulus", true, false, false}, {"capsule", true, false, false},
-                             {"bending_modulus", true, false, false},
-                             {"poisson_ratio", true, true, false},        {"thickness", false, false, true},
-                             {"volume_modulus", false, false, true},      {"tet_size", false, true, false}};
+  static const Use uses[] = {{"connectivity_modulus", true, false, false, false}, {"capsule", true, false, false, false},
+                             {"bending_modulus", true, false, false, false},      {"bulk_modulus", true, false, false, false},
+                             {"poisson_ratio", true, true, false, false},         {"thickness", false, false, true, false},
+                             {"volume_modulus", false, false, true, false},       {"tet_size", false, true, false, false},
+                             {"cell_size", false, false, false, true}};
   const YAML::Node mat = organ["material"];
   for (const Use& u : uses) {
-    const bool top = std::string(u.key) == "tet_size";
+    const bool top = std::string(u.key) == "tet_size" || std::string(u.key) == "cell_size";
     if (!top && !(mat && mat.IsMap())) continue;
     const YAML::Node n = top ? organ[u.key] : mat[u.key];
     if (!n) continue;
-    const bool used = model == vdm::ModelKind::vdm ? u.vdm : model == vdm::ModelKind::fem ? u.fem : u.mass_spring;
+    const bool used = model == vdm::ModelKind::vdm           ? u.vdm
+                      : model == vdm::ModelKind::fem         ? u.fem
+                      : model == vdm::ModelKind::vdm_core    ? u.vdm_core
+                                                             : u.mass_spring;
     if (used) continue;
     r.warn(n, std::string(top ? "organ." : "organ.material.") + u.key,
            std::string("ignored by organ.model ") + vdm::to_string(model) + " (docs/scene-reference.md says which models use it)");
@@ -353,12 +357,13 @@ void read_organ(Reader& r, const YAML::Node& organ, SceneDef& s, const std::file
   if (const YAML::Node n = organ["model"]) {
     std::string model;
     if (r.text(n, "organ.model", model) && !vdm::parse_model_kind(model, s.model)) {
-      const std::string near = closest(model, {"vdm", "fem", "mass_spring"});
+      const std::string near = closest(model, {"vdm", "vdm_core", "fem", "mass_spring"});
       r.error(n, "organ.model", "unknown model '" + model + "'" + (near.empty() ? "" : " (did you mean '" + near + "'?)") +
-                                    "; expected vdm, fem or mass_spring");
+                                    "; expected vdm, vdm_core, fem or mass_spring");
     }
   }
   if (const YAML::Node n = organ["tet_size"]) r.number(n, "organ.tet_size", s.tet_size, KEY("organ.tet_size"));
+  if (const YAML::Node n = organ["cell_size"]) r.number(n, "organ.cell_size", s.cell_size, KEY("organ.cell_size"));
   if (const YAML::Node mat = organ["material"]) {
     if (r.require_map(mat, "organ.material")) {
       r.check_keys(mat, "organ.material", "organ.material");

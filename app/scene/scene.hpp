@@ -123,13 +123,14 @@ struct SceneDef {
   double bending_modulus = 0.0;  // vdm, membrane capsules: the skin's bending modulus D (N m); 0 = none
   double density = 1060.0;
   double damping = 0.0;        // 1/s, with the inertia effect
-  vdm::ModelKind model = vdm::ModelKind::vdm;  // organ.model: vdm | fem | mass_spring
+  vdm::ModelKind model = vdm::ModelKind::vdm;  // organ.model: vdm | vdm_core | fem | mass_spring
   double young_modulus = 3000;  // fem, mass_spring; vdm: mapped to bulk and connectivity (Pa)
   bool moduli_from_elastic = false;  // vdm: bulk_modulus and connectivity_modulus from E and nu
   double poisson_ratio = 0.45;  // fem, in [0, 0.5)
   double thickness = 0.005;     // mass_spring: skin thickness giving the springs' stiffness (m)
   double volume_modulus = 0;    // mass_spring: volume spring K_v (Pa), 0 = none
   double tet_size = 0;          // fem: largest tet edge (m) for gmsh, 0 = graded from the surface
+  double cell_size = 0;         // vdm_core: the core's cell (m), 0 = the organ's V/A
   bool material_given = false;  // the scene has organ.material (false: every modulus is a default)
   std::vector<FixedDef> fixed;
   std::vector<LoadDef> loads;

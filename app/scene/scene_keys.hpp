@@ -116,14 +116,21 @@ inline constexpr SceneKey kSceneKeys[] = {
       .eg("material: {bulk_modulus: 20000, connectivity_modulus: 2000, density: 1060}"),
   key("organ.fixed", KT::region_list, "Regions of nodes held in place, on all axes or on those listed in `axes`.")
       .eg("fixed: [{box: {min: [-0.3, -0.2, -0.2], max: [0.3, 0.2, -0.03]}}]"),
-  key("organ.model", KT::choice, "The tissue model: `vdm` (the Volume Distribution Method), or the reference models "
-      "`fem` (corotational linear tetrahedra, meshed by gmsh) and `mass_spring` (springs on the surface edges).")
-      .one_of([] { return Words{"vdm", "fem", "mass_spring"}; })
+  key("organ.model", KT::choice, "The tissue model: `vdm` (the Volume Distribution Method), `vdm_core` (VDM's surface "
+      "and pressure on an elastic core in place of the bulk term: the model closest to the FEM; [the model page](model.md)), "
+      "or the reference models `fem` (corotational linear tetrahedra, meshed by gmsh) and `mass_spring` (springs on the "
+      "surface edges).")
+      .one_of([] { return Words{"vdm", "vdm_core", "fem", "mass_spring"}; })
       .by_default([] { return std::string(vdm::to_string(SceneDef().model)); }).eg("model: fem"),
   key("organ.loads", KT::region_list, "Forces: a total force spread equally over a region's nodes, ramped over a time interval.")
       .eg("loads: [{sphere: {center: [0, 0, 0.06], radius: 0.02}, force: [0, 0, -2], t: [0, 1]}]"),
   key("organ.prescribed", KT::region_list, "Prescribed motion: a region's nodes moved rigidly from rest, ramped over a time interval.")
       .eg("prescribed: [{nodes: [5, 6], translate: [0, 0, -0.015], t: [0, 1]}]"),
+  key("organ.cell_size", KT::number, "`model: vdm_core` only: the core's cell (a cube's edge); 0 takes the organ's "
+      "volume over its area, V/A. Smaller cells follow smaller loads (a dent narrower than a few cells is spread over "
+      "them) and cost more. Refused when the organ's box would hold more than 2e7 cells.")
+      .in("m").range(0, std::numeric_limits<double>::infinity())
+      .by_default([] { return yaml_number(SceneDef().cell_size); }).eg("cell_size: 0.005"),
   key("organ.tet_size", KT::number, "`model: fem` only: the largest tetrahedron edge; 0 grades the tetrahedra from the surface. Refused when the organ would need more than 5 million tetrahedra of that edge (its volume over a regular tetrahedron's).")
       .in("m").range(0, std::numeric_limits<double>::infinity())
       .by_default([] { return yaml_number(SceneDef().tet_size); }).eg("tet_size: 0.01"),

@@ -18,6 +18,13 @@ bool build_reference_model(const SceneDef& s, const vdm::TissueModel& m, Referen
     def.use_gravity = s.has(Effect::gravity);
     def.fixed = m.held;
     if (!vdm::fem::build_fem_model(def, out.fem, error)) return false;
+  } else if (s.model == vdm::ModelKind::vdm_core) {
+    vdm::core::CoreDef def;
+    def.surface = m.rest;
+    def.young_modulus = s.young_modulus;
+    def.cell_size = s.cell_size;
+    def.fixed = m.held;
+    if (!vdm::core::build_core_model(def, out.core, error)) return false;
   } else if (s.model == vdm::ModelKind::mass_spring) {
     vdm::MassSpringDef def;
     def.positions = m.rest.positions;
@@ -35,6 +42,7 @@ std::unique_ptr<vdm::OrganSolver> make_organ_solver(const ReferenceModel& r) {
   switch (r.kind) {
     case vdm::ModelKind::fem: return vdm::make_fem_solver(r.fem, r.dt);
     case vdm::ModelKind::mass_spring: return vdm::make_mass_spring_solver(r.mass_spring, r.dt);
+    case vdm::ModelKind::vdm_core: return vdm::make_core_solver(r.core, r.dt);
     case vdm::ModelKind::vdm: break;
   }
   return nullptr;

@@ -1,5 +1,5 @@
 #pragma once
-// The reference organ models a scene can pick instead of VDM (organ.model fem or
+// The organ models a scene can pick instead of VDM's engine (organ.model vdm_core, fem or
 // mass_spring), built once per prepared scene (the FEM's tet mesh by gmsh): every simulation
 // of the scene (a colour-range pass, the run, a benchmark repeat) steps a solver of its own on
 // a copy, so that none starts where another ended.
@@ -7,6 +7,7 @@
 #include <string>
 
 #include "app/scene/scene.hpp"
+#include "engine/core/elastic_core.hpp"
 #include "engine/fem/fem_model.hpp"
 #include "engine/mass_spring.hpp"
 #include "engine/organ_solver.hpp"
@@ -18,6 +19,7 @@ struct ReferenceModel {
   vdm::ModelKind kind = vdm::ModelKind::vdm;  // vdm: none
   vdm::fem::FemModel fem;                     // kind fem
   vdm::MassSpringModel mass_spring;           // kind mass_spring
+  vdm::core::CoreModel core;                  // kind vdm_core
   double dt = 0;                              // the scene's time step
 };
 

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "engine/core/elastic_core.hpp"
 #include "engine/fem/fem_state.hpp"
 #include "engine/organ_solver.hpp"
 #include "engine/sim_state.hpp"
@@ -64,6 +65,22 @@ vdm::TissueModel surface_model(const vdm::SurfaceMesh& surface, const VdmParams&
 CaseResult run_vdm_case(const vdm::SurfaceMesh& surface, const VdmParams& p, const LoadCase& c) {
   const vdm::TissueModel m = surface_model(surface, p, c);
   auto solver = vdm::make_vdm_solver(m);
+  return drive(m, *solver, c);
+}
+
+CaseResult run_core_case(const vdm::SurfaceMesh& surface, double young, double cell_size, const LoadCase& c,
+                         double tie) {
+  vdm::core::CoreDef def;
+  def.surface = surface;
+  def.young_modulus = young;
+  def.cell_size = cell_size;
+  def.tie = tie;
+  def.fixed = c.fixed;
+  vdm::core::CoreModel cm;
+  std::string error;
+  if (!vdm::core::build_core_model(def, cm, error)) throw std::runtime_error("core model: " + error);
+  const vdm::TissueModel m = surface_model(surface, VdmParams{}, c);
+  auto solver = vdm::make_core_solver(std::move(cm), 1.0);
   return drive(m, *solver, c);
 }
 

@@ -43,6 +43,9 @@ struct VdmParams {
 };
 
 CaseResult run_vdm_case(const vdm::SurfaceMesh& surface, const VdmParams& params, const LoadCase& c);
+// VDM's surface on the elastic core (engine/core): Young's modulus, cell size (0: V/A), tie.
+CaseResult run_core_case(const vdm::SurfaceMesh& surface, double young, double cell_size, const LoadCase& c,
+                         double tie = 4);
 CaseResult run_fem_case(const vdm::fem::TetMesh& mesh, double young, double poisson, const LoadCase& c,
                         const vdm::fem::FemSettings& settings = {});
 CaseResult run_mass_spring_case(const vdm::SurfaceMesh& surface, const vdm::MassSpringDef& params, const LoadCase& c);

@@ -195,6 +195,7 @@ TEST(SceneReference, EveryKeysExampleLoadsWithoutProblems) {
     const std::string description = k.description;
     const std::string model = description.rfind("`mass_spring` only", 0) == 0 ? "mass_spring"
                               : description.rfind("`model: fem` only", 0) == 0 ? "fem"
+                              : description.rfind("`model: vdm_core` only", 0) == 0 ? "vdm_core"
                                                                                 : "";
     const std::vector<SceneProblem> p = problems_with(k.path, k.example, "example_" + std::to_string(i++) + ".yaml", model);
     EXPECT_TRUE(p.empty()) << k.path << ": " << k.example << "\n" << text_of(p);

@@ -1,0 +1,110 @@
+#pragma once
+// VDM's surface on an elastic core (docs/model.md, "The elastic core"). The organ keeps its
+// surface and the one pressure that keeps its enclosed volume; in place of VDM's bulk term,
+// which ties every node to its rest position, the surface is tied to a coarse lattice laid
+// over the organ's inside:
+//
+//   E = sum_c mu f_c sum_{t in c} V_t |F_t - R_t|^2            the core (as rigid as possible)
+//     + sum_i 1/2 kappa |A_i| |u_i - (W v)_i|^2                 the surface tied to it
+//     - f . u,   subject to  V(x) = V_0                          the fluid's volume
+//
+// Cubes c of size h, kept where part of them is inside the surface, f_c that part, each split
+// into six tets (Kuhn); F_t the tet's deformation gradient, R_t the rotation nearest it
+// (fitted at each nonlinear iteration, as the corotational capsule's are); v the
+// lattice's displacements, (W v)_i their linear interpolation at node i's rest position in
+// the tet holding it. A rigid motion of the whole costs nothing. With mu = E/2 the core is an
+// elastic solid of Young's modulus E and Poisson's ratio 0 in each cube's rotated frame; the
+// volume row stands in for the incompressibility. kappa = tie E / h.
+//
+// Const model + mutable state, as the FEM reference (engine/fem).
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "engine/sim_state.hpp"
+#include "engine/sparse.hpp"
+#include "engine/types.hpp"
+
+namespace vdm::core {
+
+struct CoreSettings {
+  double tolerance = 1e-9;  // the nonlinear iteration stops when no node moves by more than this x the organ's size
+  int max_iterations = 400; // per step
+  int anderson = 6;         // history of the Anderson mixing of the lattice's displacements (0: plain fixed point)
+};
+
+struct CoreDef {
+  SurfaceMesh surface;            // closed, outward (m)
+  double young_modulus = 3000;    // E (Pa), > 0
+  double cell_size = 0;           // h (m); 0: V_0 / A_0 of the surface
+  double tie = 4;                 // kappa = tie E / h (1/m x Pa)
+  FlagMat fixed;                  // surface nodes x 3: 1 = held at 0. Empty: none.
+  CoreSettings settings;
+};
+
+struct CoreModel {
+  SurfaceMesh surface;
+  int ns = 0;                     // surface nodes
+  int ng = 0;                     // lattice nodes
+  double h = 0;                   // cell size (m)
+  double mu = 0;                  // E / 2 (Pa)
+  double young_modulus = 0;
+  double rest_volume = 0, size = 0;  // m^3; bounding-box diagonal (m)
+  Vec3 origin = Vec3::Zero();     // the lattice's corner (m)
+  NodeMat lattice;                // ng x 3 rest positions (m)
+  Eigen::Matrix<int, Eigen::Dynamic, 8, Eigen::RowMajor> cubes;  // corner node ids, corner k = (k>>2, k>>1, k)&1
+  Vec fill;                       // per cube: the inside part f_c, in (0, 1]
+  // Node i is tied to lattice nodes tie_node(i, 0..3) with weights tie_weight(i, 0..3).
+  Eigen::Matrix<int, Eigen::Dynamic, 4, Eigen::RowMajor> tie_node;
+  Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor> tie_weight;
+  Vec tie_k;                      // kappa |A_i| at rest (N/m)
+  SpMat K_core;                   // the core's matrix, one axis (lower and upper), N/m
+  FlagMat fixed;                  // ns x 3
+  CoreSettings settings;
+};
+
+bool build_core_model(const CoreDef& def, CoreModel& model, std::string& error);
+
+// The unit cube's six Kuhn tets (0, e_a, e_a + e_b, (1,1,1) for each order of the axes): their
+// corners (k = 4x + 2y + z), shape-function gradients (rows) and the sum of V_t G_t G_t^T.
+struct UnitCube {
+  int corner[6][4];
+  Eigen::Matrix<double, 4, 3> grad[6];
+  Eigen::Matrix<double, 8, 8> K;
+};
+const UnitCube& unit_cube();
+
+struct CoreStats {
+  int iterations = 0;       // nonlinear iterations this step
+  int factorizations = 0;
+  double change = 0;        // last iteration's largest move / size
+  bool converged = true;
+};
+
+struct CoreWorkspace;
+
+struct CoreState {
+  NodeMat u;                // ns x 3 surface displacements (m)
+  NodeMat v;                // ng x 3 lattice displacements (m)
+  NodeMat reaction;         // ns x 3 force the constraints apply to the organ (N)
+  double pressure = 0;      // the fluid's pressure change (Pa)
+  double volume = 0, volume_rel_error = 0;
+  CoreStats stats;
+  std::vector<std::string> warnings;
+  std::unique_ptr<CoreWorkspace> work;
+  CoreState();
+  ~CoreState();
+  CoreState(CoreState&&) noexcept;
+  CoreState& operator=(CoreState&&) noexcept;
+};
+
+CoreState make_core_state(const CoreModel& model);
+
+// One quasi-static step to the input's prescribed displacements, forces and pressures
+// (StepInput's springs and tolerance are not taken).
+void step(const CoreModel& model, const StepInput& input, CoreState& state);
+
+// The rotation of each tet (6 per cube, cube-major) at lattice displacements v.
+void tet_rotations(const CoreModel& model, const NodeMat& v, std::vector<Eigen::Matrix3d>& rotations);
+
+}  // namespace vdm::core

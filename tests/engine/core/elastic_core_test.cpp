@@ -1,0 +1,126 @@
+// The elastic core (engine/core): its lattice fills the organ, a rigid motion costs nothing,
+// the volume is kept, and a pulled bar takes the elastic answer.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "engine/core/elastic_core.hpp"
+#include "engine/geometry.hpp"
+#include "engine/shapes.hpp"
+
+namespace vdm::core {
+namespace {
+
+constexpr double kYoung = 3000;
+
+CoreModel build(const SurfaceMesh& s, double h, const FlagMat& fixed = FlagMat()) {
+  CoreDef def;
+  def.surface = s;
+  def.young_modulus = kYoung;
+  def.cell_size = h;
+  def.fixed = fixed;
+  CoreModel m;
+  std::string error;
+  EXPECT_TRUE(build_core_model(def, m, error)) << error;
+  return m;
+}
+
+StepInput input_for(int n) {
+  StepInput in;
+  in.force = NodeMat::Zero(n, 3);
+  in.prescribed = FlagMat::Zero(n, 3);
+  in.prescribed_u = NodeMat::Zero(n, 3);
+  return in;
+}
+
+TEST(ElasticCore, LatticeFillsTheOrgan) {
+  // The cubes' inside parts add up to the organ's volume (64 samples per cube), on a sphere
+  // and on a box the lattice does not fit.
+  for (const double h : {0.01, 0.005}) {
+    const SurfaceMesh sphere = make_icosphere(0.05, 4);
+    const CoreModel m = build(sphere, h);
+    const double filled = m.fill.sum() * h * h * h;
+    EXPECT_NEAR(filled / m.rest_volume, 1.0, 0.03) << "sphere, h " << h;
+    const SurfaceMesh box = make_box(Vec3(0.1, 0.04, 0.03), 10, 4, 3);
+    const CoreModel b = build(box, h);
+    EXPECT_NEAR(b.fill.sum() * h * h * h / b.rest_volume, 1.0, 0.03) << "box, h " << h;
+    // Every surface node is tied with weights that reproduce its rest position.
+    for (int i = 0; i < b.ns; ++i) {
+      Vec3 p = Vec3::Zero();
+      double sum = 0;
+      for (int k = 0; k < 4; ++k) {
+        p += b.tie_weight(i, k) * b.lattice.row(b.tie_node(i, k)).transpose();
+        sum += b.tie_weight(i, k);
+        EXPECT_GE(b.tie_weight(i, k), -1e-12);
+      }
+      EXPECT_NEAR(sum, 1.0, 1e-12);
+      EXPECT_LT((p - box.positions.row(i).transpose()).norm(), 1e-12);
+    }
+  }
+}
+
+TEST(ElasticCore, RigidMotionCostsNothing) {
+  // Every surface node prescribed to a large rigid rotation and translation: the lattice
+  // follows, and no node needs a force.
+  const SurfaceMesh s = make_box(Vec3(0.06, 0.03, 0.02), 6, 3, 2);
+  const CoreModel m = build(s, 0.007);
+  CoreState st = make_core_state(m);
+  StepInput in = input_for(m.ns);
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.8, Vec3(1, 2, 3).normalized()).toRotationMatrix();
+  const Vec3 t(0.01, -0.02, 0.005);
+  for (int i = 0; i < m.ns; ++i) {
+    const Vec3 X = s.positions.row(i);
+    in.prescribed.row(i).setOnes();
+    in.prescribed_u.row(i) = (R * X + t - X).transpose();
+  }
+  step(m, in, st);
+  EXPECT_TRUE(st.stats.converged);
+  const double scale = kYoung * 0.06 * 0.06;  // a force of the organ's size for a strain of 1
+  EXPECT_LT(st.reaction.cwiseAbs().maxCoeff(), 1e-7 * scale);
+  for (int k = 0; k < m.ng; ++k) {
+    const Vec3 Y = m.lattice.row(k);
+    EXPECT_LT((st.v.row(k).transpose() - (R * Y + t - Y)).norm(), 1e-8);
+  }
+}
+
+TEST(ElasticCore, PressKeepsTheVolumeAndBulgesTheRest) {
+  // A ball, its bottom held, a top cap pressed 5 mm: the volume is kept to 1e-9 and the free
+  // surface bulges out; the press costs a force that grows with the depth.
+  const SurfaceMesh s = make_icosphere(0.04, 4);
+  FlagMat fixed = FlagMat::Zero(s.node_count(), 3);
+  for (int i = 0; i < s.node_count(); ++i)
+    if (s.positions(i, 2) < -0.035) fixed.row(i).setOnes();
+  const CoreModel m = build(s, 0.008, fixed);
+  CoreState st = make_core_state(m);
+  StepInput in = input_for(m.ns);
+  double last_force = 0;
+  for (int k = 1; k <= 2; ++k) {
+    for (int i = 0; i < m.ns; ++i)
+      if (s.positions(i, 2) > 0.036) {
+        in.prescribed.row(i).setOnes();
+        in.prescribed_u(i, 2) = -0.0025 * k;
+      }
+    step(m, in, st);
+    ASSERT_TRUE(st.stats.converged);
+    EXPECT_LT(std::abs(st.volume_rel_error), 1e-9);
+    // The constraints push the cap down (reaction < 0); the organ pushes the press up.
+    double force = 0;
+    for (int i = 0; i < m.ns; ++i)
+      if (s.positions(i, 2) > 0.036) force -= st.reaction(i, 2);
+    EXPECT_GT(force, 1.5 * last_force);
+    last_force = force;
+  }
+  // The equator moves outwards.
+  double radial = 0;
+  int count = 0;
+  for (int i = 0; i < m.ns; ++i)
+    if (std::abs(s.positions(i, 2)) < 0.004) {
+      const Vec3 X = s.positions.row(i);
+      radial += st.u.row(i).dot(Vec3(X.x(), X.y(), 0).normalized());
+      ++count;
+    }
+  EXPECT_GT(radial / count, 1e-4);
+}
+
+}  // namespace
+}  // namespace vdm::core
