@@ -23,6 +23,9 @@ bool build_reference_model(const SceneDef& s, const vdm::TissueModel& m, Referen
     def.surface = m.rest;
     def.young_modulus = s.young_modulus;
     def.cell_size = s.cell_size;
+    def.density = s.density;
+    def.gravity = s.gravity;
+    def.use_gravity = s.has(Effect::gravity);
     def.fixed = m.held;
     if (!vdm::core::build_core_model(def, out.core, error)) return false;
   } else if (s.model == vdm::ModelKind::mass_spring) {

@@ -228,6 +228,13 @@ bool build_core_model(const CoreDef& def, CoreModel& m, std::string& error) {
   m.K_core.resize(ng, ng);
   m.K_core.setFromTriplets(trip.begin(), trip.end());
   m.fixed = def.fixed.rows() == ns ? def.fixed : FlagMat::Zero(ns, 3);
+  if (def.use_gravity) {
+    if (!(def.density > 0)) return error = "elastic core: density must be > 0 with gravity", false;
+    m.gravity_load = NodeMat::Zero(ng, 3);
+    for (Eigen::Index q = 0; q < m.cubes.rows(); ++q)
+      for (int a = 0; a < 8; ++a)
+        m.gravity_load.row(m.cubes(q, a)) += (def.density * m.fill[q] * h * h * h / 8) * def.gravity.transpose();
+  }
   return true;
 }
 

@@ -28,7 +28,7 @@
 namespace vdm::core {
 
 struct CoreSettings {
-  double tolerance = 1e-9;  // the nonlinear iteration stops when no node moves by more than this x the organ's size
+  double tolerance = 1e-7;  // the nonlinear iteration stops when no node moves by more than this x the organ's size
   int max_iterations = 400; // per step
   int anderson = 6;         // history of the Anderson mixing of the lattice's displacements (0: plain fixed point)
 };
@@ -39,6 +39,9 @@ struct CoreDef {
   double cell_size = 0;           // h (m); 0: V_0 / A_0 of the surface
   double tie = 4;                 // kappa = tie E / h (1/m x Pa)
   FlagMat fixed;                  // surface nodes x 3: 1 = held at 0. Empty: none.
+  double density = 1060;          // kg/m^3 (gravity only)
+  Vec3 gravity = Vec3(0, 0, -9.81);
+  bool use_gravity = false;       // the weight, on the lattice: rho g f_c h^3 / 8 per cube corner
   CoreSettings settings;
 };
 
@@ -59,6 +62,7 @@ struct CoreModel {
   Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor> tie_weight;
   Vec tie_k;                      // kappa |A_i| at rest (N/m)
   SpMat K_core;                   // the core's matrix, one axis (lower and upper), N/m
+  NodeMat gravity_load;           // ng x 3 lattice body force (N); empty without gravity
   FlagMat fixed;                  // ns x 3
   CoreSettings settings;
 };
@@ -104,7 +108,11 @@ CoreState make_core_state(const CoreModel& model);
 // (StepInput's springs and tolerance are not taken).
 void step(const CoreModel& model, const StepInput& input, CoreState& state);
 
-// The rotation of each tet (6 per cube, cube-major) at lattice displacements v.
-void tet_rotations(const CoreModel& model, const NodeMat& v, std::vector<Eigen::Matrix3d>& rotations);
+// The rotation of each tet (6 per cube, cube-major) at lattice displacements v: the rotation
+// nearest its deformation gradient F (the polar decomposition's, for F with det F > 0), found
+// by the rotation that maximises tr(R^T F), iterated from `quaternions` (the last ones: a warm
+// start; identities at first), which it updates.
+void tet_rotations(const CoreModel& model, const NodeMat& v, std::vector<Eigen::Quaterniond>& quaternions,
+                   std::vector<Eigen::Matrix3d>& rotations);
 
 }  // namespace vdm::core

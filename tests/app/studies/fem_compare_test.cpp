@@ -336,12 +336,14 @@ TEST(AgainstTheFem, ElasticCore) {
   const PunchBlock block = punch_block({0.25e-3, 0.2, 0.007});
   ASSERT_GT(block.load.moved.size(), 20u);
   auto t0 = std::chrono::steady_clock::now();
-  const PunchRun fem = punch_run(block, run_fem_case(block.tets, kYoung, kPoisson, block.load), radii, seconds_since(t0));
+  CaseResult fem_result = run_fem_case(block.tets, kYoung, kPoisson, block.load);
+  const PunchRun fem = punch_run(block, std::move(fem_result), radii, seconds_since(t0));
   print_punch("fem fine", block, fem, radii);
   std::vector<PunchRun> core;
   for (const double h : {0.005, 0.0025}) {
     t0 = std::chrono::steady_clock::now();
-    core.push_back(punch_run(block, run_core_case(block.tets.surface, kYoung, h, block.load), radii, seconds_since(t0)));
+    CaseResult r = run_core_case(block.tets.surface, kYoung, h, block.load);
+    core.push_back(punch_run(block, std::move(r), radii, seconds_since(t0)));
     print_punch(h > 0.004 ? "core h 5 mm" : "core h 2.5 mm", block, core.back(), radii, &fem);
     const PunchRun& c = core.back();
     EXPECT_TRUE(c.result.converged);
