@@ -93,6 +93,33 @@ void publish(const NodeMat& rest, const NodeMat& u_surface, const NodeMat& react
   s.time += dt;
 }
 
+// A reference model's step summary, copied into the common state with the step's time.
+struct ReferenceStep {
+  double volume = 0, volume_rel_error = 0, pressure = 0;
+  int iterations = 0;
+  double residual = 0, change = 0;
+  int factorizations = 0;
+  bool converged = true;
+};
+
+void publish_step(const ReferenceStep& r, Clock::time_point t0, SimState& s) {
+  s.volume = r.volume;
+  s.volume_rel_error = r.volume_rel_error;
+  s.pressure = r.pressure;
+  s.stats = StepStats{};
+  s.stats.iterations = s.stats.nonlinear_iterations = r.iterations;
+  s.stats.residual = r.residual;
+  s.stats.nonlinear_change = r.change;
+  s.stats.factorizations = r.factorizations;
+  s.stats.converged = r.converged;
+  s.stats.step_ms = s.stats.solve_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+// The warnings a model added since it had `warned`, up to the state's limit.
+void copy_warnings(const std::vector<std::string>& from, size_t warned, SimState& s) {
+  for (size_t k = warned; k < from.size() && s.warnings.size() < kMaxWarnings; ++k) s.warnings.push_back(from[k]);
+}
+
 class FemSolver final : public ReferenceSolver {
  public:
   FemSolver(fem::FemModel m, double dt) : m_(std::move(m)), s_(fem::make_fem_state(m_)), dt_(dt) {}
@@ -103,16 +130,15 @@ class FemSolver final : public ReferenceSolver {
     const size_t warned = s_.warnings.size();
     fem::step(m_, in, s_);
     publish(m_.mesh.surface.positions, s_.u.topRows(m_.ns), s_.reaction.topRows(m_.ns), dt_, s);
-    s.volume = s_.volume;
-    s.volume_rel_error = s_.volume_rel_error;
-    s.pressure = s_.pressure;
-    s.stats = StepStats{};
-    s.stats.iterations = s_.stats.iterations;
-    s.stats.nonlinear_iterations = s_.stats.iterations;
-    s.stats.residual = s_.stats.residual;
-    s.stats.converged = s_.stats.converged;
-    s.stats.step_ms = s.stats.solve_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-    for (size_t k = warned; k < s_.warnings.size() && s.warnings.size() < kMaxWarnings; ++k) s.warnings.push_back(s_.warnings[k]);
+    ReferenceStep r;
+    r.volume = s_.volume;
+    r.volume_rel_error = s_.volume_rel_error;
+    r.pressure = s_.pressure;
+    r.iterations = s_.stats.iterations;
+    r.residual = s_.stats.residual;
+    r.converged = s_.stats.converged;
+    publish_step(r, t0, s);
+    copy_warnings(s_.warnings, warned, s);
   }
 
  private:
@@ -130,14 +156,14 @@ class MassSpringSolver final : public ReferenceSolver {
     remember_start(s);
     vdm::step(m_, in, s_);
     publish(m_.rest, s_.u, s_.reaction, dt_, s);
-    s.volume = s_.volume;
-    s.volume_rel_error = s_.volume_rel_error;
-    s.pressure = s_.pressure;
-    s.stats = StepStats{};
-    s.stats.iterations = s.stats.nonlinear_iterations = s_.iterations;
-    s.stats.residual = s_.residual;
-    s.stats.converged = s_.converged;
-    s.stats.step_ms = s.stats.solve_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    ReferenceStep r;
+    r.volume = s_.volume;
+    r.volume_rel_error = s_.volume_rel_error;
+    r.pressure = s_.pressure;
+    r.iterations = s_.iterations;
+    r.residual = s_.residual;
+    r.converged = s_.converged;
+    publish_step(r, t0, s);
     if (!s_.converged && s.warnings.size() < kMaxWarnings) s.warnings.emplace_back("mass_spring: a step did not converge");
   }
 
@@ -157,16 +183,16 @@ class CoreSolver final : public ReferenceSolver {
     const size_t warned = s_.warnings.size();
     core::step(m_, in, s_);
     publish(m_.surface.positions, s_.u, s_.reaction, dt_, s);
-    s.volume = s_.volume;
-    s.volume_rel_error = s_.volume_rel_error;
-    s.pressure = s_.pressure;
-    s.stats = StepStats{};
-    s.stats.nonlinear_iterations = s.stats.iterations = s_.stats.iterations;
-    s.stats.nonlinear_change = s_.stats.change;
-    s.stats.factorizations = s_.stats.factorizations;
-    s.stats.converged = s_.stats.converged;
-    s.stats.step_ms = s.stats.solve_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-    for (size_t k = warned; k < s_.warnings.size() && s.warnings.size() < kMaxWarnings; ++k) s.warnings.push_back(s_.warnings[k]);
+    ReferenceStep r;
+    r.volume = s_.volume;
+    r.volume_rel_error = s_.volume_rel_error;
+    r.pressure = s_.pressure;
+    r.iterations = s_.stats.iterations;
+    r.change = s_.stats.change;
+    r.factorizations = s_.stats.factorizations;
+    r.converged = s_.stats.converged;
+    publish_step(r, t0, s);
+    copy_warnings(s_.warnings, warned, s);
   }
 
  private:

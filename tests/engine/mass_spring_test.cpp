@@ -7,17 +7,10 @@
 
 #include "engine/mass_spring.hpp"
 #include "engine/shapes.hpp"
+#include "support/free_input.hpp"
 
 namespace vdm {
 namespace {
-
-StepInput input_for(int n) {
-  StepInput in;
-  in.force = NodeMat::Zero(n, 3);
-  in.prescribed = FlagMat::Zero(n, 3);
-  in.prescribed_u = NodeMat::Zero(n, 3);
-  return in;
-}
 
 TEST(MassSpring, ChainStretchesByForceOverStiffness) {
   // 10 springs in series along x, k alternating 50 and 200 N/m, node 0 fixed, 3 N at the end.
@@ -37,7 +30,7 @@ TEST(MassSpring, ChainStretchesByForceOverStiffness) {
   std::string err;
   ASSERT_TRUE(build_mass_spring_model(def, m, err)) << err;
   MassSpringState s = make_mass_spring_state(m);
-  StepInput in = input_for(n);
+  StepInput in = test::free_input(n);
   in.force(n - 1, 0) = 3.0;
   step(m, in, s);
   ASSERT_TRUE(s.converged) << s.iterations << " iterations, residual " << s.residual;
@@ -73,7 +66,7 @@ TEST(MassSpring, RigidRotationCostsNothingAndSurfaceLosesVolume) {
     MassSpringModel mv;
     ASSERT_TRUE(build_mass_spring_model(def, mv, err)) << err;
     MassSpringState s = make_mass_spring_state(mv);
-    StepInput in = input_for(mv.n);
+    StepInput in = test::free_input(mv.n);
     for (int k = 1; k <= 6; ++k) {
       for (int i = 0; i < mv.n; ++i)
         if (mv.rest(i, 0) > 0.05 - 1e-9) {

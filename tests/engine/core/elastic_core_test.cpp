@@ -7,6 +7,7 @@
 #include "engine/core/elastic_core.hpp"
 #include "engine/geometry.hpp"
 #include "engine/shapes.hpp"
+#include "support/free_input.hpp"
 
 namespace vdm::core {
 namespace {
@@ -23,14 +24,6 @@ CoreModel build(const SurfaceMesh& s, double h, const FlagMat& fixed = FlagMat()
   std::string error;
   EXPECT_TRUE(build_core_model(def, m, error)) << error;
   return m;
-}
-
-StepInput input_for(int n) {
-  StepInput in;
-  in.force = NodeMat::Zero(n, 3);
-  in.prescribed = FlagMat::Zero(n, 3);
-  in.prescribed_u = NodeMat::Zero(n, 3);
-  return in;
 }
 
 TEST(ElasticCore, LatticeFillsTheOrgan) {
@@ -65,7 +58,7 @@ TEST(ElasticCore, RigidMotionCostsNothing) {
   const SurfaceMesh s = make_box(Vec3(0.06, 0.03, 0.02), 6, 3, 2);
   const CoreModel m = build(s, 0.007);
   CoreState st = make_core_state(m);
-  StepInput in = input_for(m.ns);
+  StepInput in = test::free_input(m.ns);
   const Eigen::Matrix3d R = Eigen::AngleAxisd(0.8, Vec3(1, 2, 3).normalized()).toRotationMatrix();
   const Vec3 t(0.01, -0.02, 0.005);
   for (int i = 0; i < m.ns; ++i) {
@@ -92,7 +85,7 @@ TEST(ElasticCore, PressKeepsTheVolumeAndBulgesTheRest) {
     if (s.positions(i, 2) < -0.035) fixed.row(i).setOnes();
   const CoreModel m = build(s, 0.008, fixed);
   CoreState st = make_core_state(m);
-  StepInput in = input_for(m.ns);
+  StepInput in = test::free_input(m.ns);
   double last_force = 0;
   for (int k = 1; k <= 2; ++k) {
     for (int i = 0; i < m.ns; ++i)
@@ -139,7 +132,7 @@ TEST(ElasticCore, HeldBaseCarriesTheWeight) {
   std::string error;
   ASSERT_TRUE(build_core_model(def, m, error)) << error;
   CoreState st = make_core_state(m);
-  step(m, input_for(m.ns), st);
+  step(m, test::free_input(m.ns), st);
   ASSERT_TRUE(st.stats.converged);
   const double weight = def.density * m.rest_volume * 9.81;
   EXPECT_NEAR(st.reaction.col(2).sum() / weight, 1.0, 0.03);
