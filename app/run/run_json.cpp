@@ -1,7 +1,10 @@
 #include "app/run/run_json.hpp"
 
 #include "app/run/json_text.hpp"
+#include "engine/core/elastic_core.hpp"
+#include "engine/geometry.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <iomanip>
 #include <sstream>
@@ -102,6 +105,16 @@ void write_material(const SceneDef& s, const vdm::TissueModel& m, std::ostringst
   js << "},\n";
 }
 
+// The elastic core's material and lattice (organ.model vdm_core).
+void write_core_material(const vdm::core::CoreModel& c, std::ostringstream& js) {
+  vdm::NodeMat area(c.ns, 3);
+  vdm::distributed_area_vectors(c.surface.positions, c.surface.triangles, area);
+  const double tie = c.tie_k.sum() / std::max(1e-300, area.rowwise().norm().sum());  // kappa: every tie_k_i is kappa |A_i|
+  js << "  \"material\": {\"young_modulus_pa\": " << c.young_modulus << ", \"core\": {\"cell_size_m\": " << c.h
+     << ", \"lattice_nodes\": " << c.ng << ", \"cubes\": " << c.cubes.rows() << ", \"tie_pa_per_m\": " << tie
+     << "}},\n";
+}
+
 }  // namespace
 
 std::string run_json(const RunRecord& r) {
@@ -121,6 +134,7 @@ std::string run_json(const RunRecord& r) {
   for (size_t i = 0; i < s.effects.size(); ++i) js << (i ? ", " : "") << '"' << to_string(s.effects[i]) << '"';
   js << "],\n";
   if (s.model == vdm::ModelKind::vdm) write_material(s, m, js);
+  if (s.model == vdm::ModelKind::vdm_core) write_core_material(r.prepared.reference.core, js);
   if (s.has(Effect::contact)) write_contact(r, js);
   write_instruments(r, js);
   write_times(r, js);
