@@ -8,8 +8,7 @@
 // 30 %, the stretch within 10 % for every capsule form; the corotational capsule alone carries
 // the bend and the twist). The targets that are missed (the punch's dent profile, the bend and
 // the twist with the default model) are printed, not asserted: docs/model.md gives the numbers
-// and the reason. The elastic core (model vdm_core) meets every target: AgainstTheFem.ElasticCore
-// asserts them.
+// and the reason. The elastic core (model vdm_core) meets every target: asserted in both tests.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -210,6 +209,24 @@ TEST(AgainstTheFem, FlatPunch) {
   for (const PunchRun& r : vdm) EXPECT_LT(largest_volume_error(r.result), 1e-9);
   EXPECT_LT(relative(vdm[1].force, fem[1].force), 0.30);
   // The dent profile's target (35 % at 1.5 to 4 a) is missed: measured, not asserted.
+
+  // The elastic core (model vdm_core; its constants, mu = E/2 and kappa = 4 E/h, were fixed on
+  // the beams and checked here, research/elastic-core) meets every punch target, at cells of
+  // 5 and 2.5 mm, and converges with the cell size (within 10 %).
+  std::vector<PunchRun> core;
+  for (const double h : {0.005, 0.0025}) {
+    const auto t0 = std::chrono::steady_clock::now();
+    CaseResult r = run_core_case(blocks[1].tets.surface, kYoung, h, blocks[1].load);
+    core.push_back(punch_run(blocks[1], std::move(r), radii, seconds_since(t0)));
+    print_punch(h > 0.004 ? "core h 5 mm" : "core h 2.5 mm", blocks[1], core.back(), radii, &fem[1]);
+    const PunchRun& c = core.back();
+    EXPECT_TRUE(c.result.converged);
+    EXPECT_LT(largest_volume_error(c.result), 1e-9);
+    EXPECT_LT(relative(c.force, fem[1].force), 0.30) << h;
+    for (size_t k = 0; k < radii.size(); ++k) EXPECT_LT(relative(c.dent[k], fem[1].dent[k]), 0.35) << h << ' ' << radii[k];
+  }
+  EXPECT_LT(relative(core[0].force, core[1].force), 0.10);
+  for (size_t k = 0; k < radii.size(); ++k) EXPECT_LT(relative(core[0].dent[k], core[1].dent[k]), 0.10) << radii[k];
 }
 
 // --- The beams ---------------------------------------------------------------------------
@@ -279,6 +296,15 @@ TEST(AgainstTheFem, Beams) {
     // The FEM is converged: within 5 % at A, B and C between the two meshes.
     EXPECT_LT(worst_point(fc, ff), 0.05) << to_string(which);
     const LoadCase lc = beam_load_case(vdm_config, which);
+    {
+      // The elastic core (model vdm_core), cells of 5 mm (4 across): every beam target.
+      t0 = std::chrono::steady_clock::now();
+      const CaseResult c = run_core_case(tets_coarse.surface, kYoung, 0.005, lc);
+      print_beam("core h 5 mm", c, &ff, seconds_since(t0));
+      EXPECT_TRUE(c.converged) << to_string(which);
+      EXPECT_LT(largest_volume_error(c), 1e-9) << to_string(which);
+      EXPECT_LT(worst_point(c, ff), targets[static_cast<int>(which)]) << to_string(which);
+    }
     for (const vdm::CapsuleForm form : {vdm::CapsuleForm::membrane, vdm::CapsuleForm::corotational, vdm::CapsuleForm::paper}) {
       t0 = std::chrono::steady_clock::now();
       const CaseResult v = run_vdm_case(tets_coarse.surface, rule_params(form), lc);
@@ -322,53 +348,6 @@ TEST(AgainstTheFem, Beams) {
         EXPECT_LT(worst_point(v, ff), targets[static_cast<int>(which)]) << to_string(which);
       }
     }
-  }
-}
-
-// --- The elastic core ---------------------------------------------------------------------
-
-// VDM's surface and pressure on the elastic core (engine/core, docs/model.md) in place of the
-// bulk term, at the FEM's E; its constants (mu = E/2, kappa = 4 E/h) were fixed on the beams
-// and checked on the punch and the liver (research/elastic-core). Asserted: every target of
-// the issue (punch force 30 %, dents 35 %; stretch 10 %, bend 15 %, twist 30 %), the volume,
-// and the punch's convergence in the cell size (5 and 2.5 mm within 10 % of each other).
-TEST(AgainstTheFem, ElasticCore) {
-  const std::vector<double> radii = {1.5 * kPunchRadius, 2 * kPunchRadius, 3 * kPunchRadius, 4 * kPunchRadius};
-  const PunchBlock block = punch_block({0.25e-3, 0.2, 0.007});
-  ASSERT_GT(block.load.moved.size(), 20u);
-  auto t0 = std::chrono::steady_clock::now();
-  CaseResult fem_result = run_fem_case(block.tets, kYoung, kPoisson, block.load);
-  const PunchRun fem = punch_run(block, std::move(fem_result), radii, seconds_since(t0));
-  print_punch("fem fine", block, fem, radii);
-  std::vector<PunchRun> core;
-  for (const double h : {0.005, 0.0025}) {
-    t0 = std::chrono::steady_clock::now();
-    CaseResult r = run_core_case(block.tets.surface, kYoung, h, block.load);
-    core.push_back(punch_run(block, std::move(r), radii, seconds_since(t0)));
-    print_punch(h > 0.004 ? "core h 5 mm" : "core h 2.5 mm", block, core.back(), radii, &fem);
-    const PunchRun& c = core.back();
-    EXPECT_TRUE(c.result.converged);
-    EXPECT_LT(largest_volume_error(c.result), 1e-9);
-    EXPECT_LT(relative(c.force, fem.force), 0.30) << h;
-    for (size_t k = 0; k < radii.size(); ++k) EXPECT_LT(relative(c.dent[k], fem.dent[k]), 0.35) << h << ' ' << radii[k];
-  }
-  EXPECT_LT(relative(core[0].force, core[1].force), 0.10);
-  for (size_t k = 0; k < radii.size(); ++k) EXPECT_LT(relative(core[0].dent[k], core[1].dent[k]), 0.10) << radii[k];
-
-  const BeamConfig fem_fine = beam_config(6, 5), core_config = beam_config(4, 10);
-  const vdm::fem::TetMesh tets_fine = beam_tets(fem_fine), tets_coarse = beam_tets(core_config);
-  const double targets[3] = {0.10, 0.15, 0.30};
-  for (const BeamCase which : {BeamCase::stretch, BeamCase::bend, BeamCase::twist}) {
-    std::printf("%s\n", to_string(which));
-    t0 = std::chrono::steady_clock::now();
-    const CaseResult ff = run_fem_case(tets_fine, kYoung, kPoisson, beam_load_case(fem_fine, which), fem_fine.fem);
-    print_beam("fem 6 cells across", ff, nullptr, seconds_since(t0));
-    t0 = std::chrono::steady_clock::now();
-    const CaseResult c = run_core_case(tets_coarse.surface, kYoung, 0.005, beam_load_case(core_config, which));
-    print_beam("core h 5 mm", c, &ff, seconds_since(t0));
-    EXPECT_TRUE(c.converged) << to_string(which);
-    EXPECT_LT(largest_volume_error(c), 1e-9) << to_string(which);
-    EXPECT_LT(worst_point(c, ff), targets[static_cast<int>(which)]) << to_string(which);
   }
 }
 
