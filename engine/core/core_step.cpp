@@ -95,6 +95,21 @@ void factorize(const CoreModel& m, int d, CoreWorkspace& w, CoreState& s) {
   ++s.stats.factorizations;
 }
 
+// The lattice's motion at surface node i's rest position, axis d: (W v)_i^d.
+double tied(const CoreModel& m, const NodeMat& v, int i, int d) {
+  double wv = 0;
+  for (int p = 0; p < 4; ++p) wv += m.tie_weight(i, p) * v(m.tie_node(i, p), d);
+  return wv;
+}
+
+// The surface from the lattice: prescribed entries at their targets, free ones eliminated,
+// u_i = (W v)_i + (f_i - lambda A_i) / k_i.
+void surface_from_lattice(const CoreModel& m, const CoreWorkspace& w, const NodeMat& v, double lambda, NodeMat& u) {
+  for (int i = 0; i < m.ns; ++i)
+    for (int d = 0; d < 3; ++d)
+      u(i, d) = w.mask(i, d) ? w.target(i, d) : tied(m, v, i, d) + (w.force(i, d) - lambda * w.area(i, d)) / m.tie_k[i];
+}
+
 }  // namespace
 
 CoreState::CoreState() = default;
@@ -214,20 +229,10 @@ void step(const CoreModel& m, const StepInput& in, CoreState& s) {
     }
     lambda = den > 0 ? num / den : 0.0;
     for (int d = 0; d < 3; ++d) w.v_new.col(d) -= lambda * w.response.segment(d * ng, ng);
-    // The surface from the lattice.
-    double change = 0;
-    for (int i = 0; i < ns; ++i)
-      for (int d = 0; d < 3; ++d) {
-        double u = w.target(i, d);
-        if (!w.mask(i, d)) {
-          u = (w.force(i, d) - lambda * w.area(i, d)) / m.tie_k[i];
-          for (int p = 0; p < 4; ++p) u += m.tie_weight(i, p) * w.v_new(m.tie_node(i, p), d);
-        }
-        w.u_new(i, d) = u;
-        change = std::max(change, std::abs(u - s.u(i, d)));
-      }
-    // The lattice too: with every surface entry prescribed the surface does not tell.
-    change = std::max(change, (w.v_new - s.v).cwiseAbs().maxCoeff());
+    // How far the surface and the lattice moved (the lattice too: with every surface entry
+    // prescribed the surface does not tell).
+    surface_from_lattice(m, w, w.v_new, lambda, w.u_new);
+    const double change = std::max((w.u_new - s.u).cwiseAbs().maxCoeff(), (w.v_new - s.v).cwiseAbs().maxCoeff());
     s.stats.change = change / m.size;
     if (change <= tol) {
       s.v = w.v_new;
@@ -266,17 +271,8 @@ void step(const CoreModel& m, const StepInput& in, CoreState& s) {
       }
     }
     g_norm_prev = g_norm;
-    // The surface follows the mixed lattice (free entries) for the next linearisation.
-    for (int i = 0; i < ns; ++i)
-      for (int d = 0; d < 3; ++d) {
-        if (w.mask(i, d)) {
-          s.u(i, d) = w.target(i, d);
-          continue;
-        }
-        double u = (w.force(i, d) - lambda * w.area(i, d)) / m.tie_k[i];
-        for (int p = 0; p < 4; ++p) u += m.tie_weight(i, p) * s.v(m.tie_node(i, p), d);
-        s.u(i, d) = u;
-      }
+    // The surface follows the mixed lattice for the next linearisation.
+    surface_from_lattice(m, w, s.v, lambda, s.u);
   }
   if (!done) {
     s.v = w.v_new;
@@ -289,9 +285,7 @@ void step(const CoreModel& m, const StepInput& in, CoreState& s) {
   for (int i = 0; i < ns; ++i)
     for (int d = 0; d < 3; ++d) {
       if (!w.mask(i, d)) continue;
-      double wv = 0;
-      for (int p = 0; p < 4; ++p) wv += m.tie_weight(i, p) * s.v(m.tie_node(i, p), d);
-      s.reaction(i, d) = m.tie_k[i] * (s.u(i, d) - wv) - w.force(i, d) + lambda * w.area(i, d);
+      s.reaction(i, d) = m.tie_k[i] * (s.u(i, d) - tied(m, s.v, i, d)) - w.force(i, d) + lambda * w.area(i, d);
     }
   s.pressure = -lambda;
   w.x = m.surface.positions + s.u;
