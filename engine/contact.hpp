@@ -211,6 +211,11 @@ class ContactSolver {
   std::vector<int> compliance_nodes_;           // the nodes of the last compliance computed
   long compliance_refreshes_ = -1;              // the engine's refresh count then
   PatchCompliance compliance_;
+  // The organ's exact compliance at contact_nodes_ (3n x 3n), when its model gives one
+  // (OrganSolver::surface_compliance): then it takes the patch's place, its scale fitted at
+  // every correction.
+  Eigen::MatrixXd exact_compliance_;
+  bool exact_compliance_used_ = false;
   // The Gauss-Seidel's arrays, in vectors that keep their capacity (Eigen's resize would
   // allocate whenever the number of contacts changes): the compliance in the contacts' frames
   // (3C x 3C, the Delassus operator), residuals, forces, predicted residuals, forces solved with.

@@ -194,6 +194,10 @@ class CoreSolver final : public ReferenceSolver {
     publish_step(r, t0, s);
     copy_warnings(s_.warnings, warned, s);
   }
+  bool surface_compliance(const std::vector<int>& nodes, Eigen::MatrixXd& C) override {
+    core::surface_compliance(m_, s_, nodes, C);
+    return true;
+  }
 
  private:
   core::CoreModel m_;

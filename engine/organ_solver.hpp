@@ -13,6 +13,7 @@
 // with finish_step(). Every model does these, so every contact method runs on every model
 // that takes its loads (penalty contact needs takes_springs()).
 #include <memory>
+#include <vector>
 
 #include "engine/fem/fem_model.hpp"
 #include "engine/mass_spring.hpp"
@@ -60,6 +61,15 @@ class OrganSolver {
   // (with its moduli): a model of their response that contact scales to the solves it sees.
   virtual const AxisStiffness& contact_stiffness(const TissueModel& surface, const SimState& state) = 0;
   virtual long contact_stiffness_version(const SimState& state) const = 0;
+  // The organ's exact compliance at surface nodes `nodes` (3n x 3n; row 3a + d, column 3b + e:
+  // how far node a moves along d under a unit force on node b along e) at its last solve, with
+  // what that solve prescribed held. False when the model cannot give it cheaply: contact then
+  // models it from contact_stiffness(). vdm_core: through its lattice's factor.
+  virtual bool surface_compliance(const std::vector<int>& nodes, Eigen::MatrixXd& C) {
+    (void)nodes;
+    (void)C;
+    return false;
+  }
 };
 
 // The VDM engine (vdm::step on `model`, which must outlive the solver).

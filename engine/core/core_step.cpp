@@ -11,59 +11,44 @@
 //   a_d = sum over free entries A_i W_i^T,
 // and the volume row (linearised at the current surface) gives lambda. The rotations are fitted
 // again after each solve (the as-rigid-as-possible fixed point), accelerated by Anderson mixing.
-#include <Eigen/Geometry>
-#include <Eigen/SparseCholesky>
-#ifdef VDMSIM_HAVE_CHOLMOD
-#include <Eigen/CholmodSupport>
-#endif
-
 #include <algorithm>
 #include <cmath>
 #include <vector>
 
-#include "engine/core/elastic_core.hpp"
+#include "engine/core/core_workspace.hpp"
 #include "engine/geometry.hpp"
 #include "engine/warnings.hpp"
 
 namespace vdm::core {
 
-struct CoreWorkspace {
-  SpMat K[3];
-#ifdef VDMSIM_HAVE_CHOLMOD
-  Eigen::CholmodSupernodalLLT<SpMat, Eigen::Lower> chol[3];
-#else
-  Eigen::SimplicialLDLT<SpMat> chol[3];
-#endif
-  FlagMat factored_mask;      // the prescribed entries each axis's factor was made for
-  bool factored[3] = {false, false, false};
-  bool analyzed = false;
-  std::vector<Eigen::Matrix3d> rotation;
-  std::vector<Eigen::Quaterniond> quaternion;  // per tet, the last rotations (warm start)
-  NodeMat area, force, target, x;
-  FlagMat mask;
-  Vec b, a, y0, y1;
-  NodeMat v_new, u_new;
-  // Anderson mixing of the lattice's displacements: differences of iterates and of residuals.
-  Eigen::MatrixXd dX, dG;
-  Vec response;  // per axis K_d^-1 a_d (3 ng)
-  Vec x_prev, g_prev, g, mixed;
-  int history = 0, next = 0;
-};
-
 namespace {
 
-// The rotation R maximising tr(R^T F), by rotating q towards F about the axis of the torque
-// sum_k R e_k x F e_k (Mueller, Chentanez, Kim and Macklin 2016): from a warm start it takes
-// one to three iterations, where a 3x3 SVD costs several times one.
+// The rotation R maximising tr(R^T F), by turning q about the torque
+// tau = sum_k R e_k x F e_k (Mueller, Chentanez, Kim and Macklin 2016) with Newton's step:
+// with M = F R^T, tr(R^T F) near R is tr M + tau . w - w^T H w / 2 for a turn w, where
+// H = tr(M) I - sym(M), so the turn is H^-1 tau. Where H is not positive (far from the
+// answer) the step is Mueller et al.'s, tau / tr(M), which converges from anywhere, but
+// only linearly (about tenfold per iteration near the answer, where Newton's step doubles the
+// digits: from a warm start two or three iterations).
 Eigen::Matrix3d nearest_rotation(const Eigen::Matrix3d& F, Eigen::Quaterniond& q) {
   Eigen::Matrix3d R = q.toRotationMatrix();
   for (int it = 0; it < 40; ++it) {
-    const Vec3 torque = R.col(0).cross(F.col(0)) + R.col(1).cross(F.col(1)) + R.col(2).cross(F.col(2));
-    const double scale = std::abs(R.col(0).dot(F.col(0)) + R.col(1).dot(F.col(1)) + R.col(2).dot(F.col(2))) + 1e-12;
-    const Vec3 omega = torque / scale;
+    const Eigen::Matrix3d M = F * R.transpose();
+    const Vec3 torque(M(2, 1) - M(1, 2), M(0, 2) - M(2, 0), M(1, 0) - M(0, 1));
+    const double trace = M.trace();
+    Eigen::Matrix3d H = -0.5 * (M + M.transpose());
+    H.diagonal().array() += trace;
+    const double minor = H(0, 0) * H(1, 1) - H(0, 1) * H(1, 0), det = H.determinant();
+    Vec3 omega;
+    if (H(0, 0) > 0 && minor > 0 && det > 1e-12 * trace * trace * trace) omega = H.inverse() * torque;
+    else omega = torque / (std::abs(trace) + 1e-12);
     const double angle = omega.norm();
     if (angle < 1e-10) break;  // the rotation to 1e-10 rad: its load is then exact to far below the tolerance
-    q = Eigen::Quaterniond(Eigen::AngleAxisd(angle, omega / angle)) * q;
+    // (below 1e-3 rad the turn's quaternion to first order, normalised: off by angle^3 / 24,
+    // which the next iteration takes up; it spares a sine and a cosine)
+    const Eigen::Quaterniond turn = angle < 1e-3 ? Eigen::Quaterniond(1.0, 0.5 * omega.x(), 0.5 * omega.y(), 0.5 * omega.z())
+                                                 : Eigen::Quaterniond(Eigen::AngleAxisd(angle, omega / angle));
+    q = turn * q;
     q.normalize();
     R = q.toRotationMatrix();
   }
@@ -78,7 +63,7 @@ void factorize(const CoreModel& m, int d, CoreWorkspace& w, CoreState& s) {
   const double reg = 1e-10 * m.K_core.diagonal().maxCoeff();
   for (int k = 0; k < m.ng; ++k) K.coeffRef(k, k) += reg;
   for (int i = 0; i < m.ns; ++i) {
-    if (!w.mask(i, d)) continue;
+    if (!w.factored_mask(i, d)) continue;
     for (int p = 0; p < 4; ++p)
       for (int q = 0; q < 4; ++q)
         K.coeffRef(m.tie_node(i, p), m.tie_node(i, q)) += m.tie_k[i] * m.tie_weight(i, p) * m.tie_weight(i, q);
@@ -92,14 +77,39 @@ void factorize(const CoreModel& m, int d, CoreWorkspace& w, CoreState& s) {
   }
   w.chol[d].factorize(K);
   w.factored[d] = w.chol[d].info() == Eigen::Success;
+  w.columns[d].clear();
+  w.held.factored = false;
   ++s.stats.factorizations;
 }
 
 // The lattice's motion at surface node i's rest position, axis d: (W v)_i^d.
-double tied(const CoreModel& m, const NodeMat& v, int i, int d) {
-  double wv = 0;
-  for (int p = 0; p < 4; ++p) wv += m.tie_weight(i, p) * v(m.tie_node(i, p), d);
-  return wv;
+double tied(const CoreModel& m, const NodeMat& v, int i, int d) { return tied_at(m, v.col(d), i); }
+
+// Which prescribed entries the factor holds (w.factored_mask), factorising again only where
+// it must: an axis whose factor holds an entry no longer prescribed (released), or more
+// held entries than CoreSettings::max_held (the held set's dense compliance grows with its
+// square). False when a factorisation failed.
+bool update_factors(const CoreModel& m, CoreWorkspace& w, CoreState& s) {
+  int held = 0;
+  bool refactor[3] = {false, false, false};
+  for (int d = 0; d < 3; ++d) {
+    refactor[d] = !w.factored[d];
+    for (int i = 0; i < m.ns && !refactor[d]; ++i) refactor[d] = w.factored_mask(i, d) && !w.mask(i, d);
+    if (refactor[d]) w.factored_mask.col(d) = m.fixed.col(d);
+    for (int i = 0; i < m.ns; ++i) held += w.mask(i, d) && !w.factored_mask(i, d);
+  }
+  if (held > m.settings.max_held)
+    for (int d = 0; d < 3; ++d)
+      if (w.factored_mask.col(d) != w.mask.col(d)) {
+        refactor[d] = true;
+        w.factored_mask.col(d) = w.mask.col(d);
+      }
+  for (int d = 0; d < 3; ++d) {
+    if (!refactor[d]) continue;
+    factorize(m, d, w, s);
+    if (!w.factored[d]) return false;
+  }
+  return true;
 }
 
 // The surface from the lattice: prescribed entries at their targets, free ones eliminated,
@@ -128,7 +138,8 @@ CoreState make_core_state(const CoreModel& m) {
   w.rotation.assign(static_cast<size_t>(6 * m.cubes.rows()), Eigen::Matrix3d::Identity());
   w.quaternion.assign(w.rotation.size(), Eigen::Quaterniond::Identity());
   w.area = w.force = w.target = w.x = w.u_new = NodeMat::Zero(m.ns, 3);
-  w.mask = w.factored_mask = FlagMat::Zero(m.ns, 3);
+  w.mask = FlagMat::Zero(m.ns, 3);
+  w.factored_mask = m.fixed;
   w.b = w.a = w.y0 = w.y1 = Vec::Zero(m.ng);
   w.v_new = NodeMat::Zero(m.ng, 3);
   const int n = 3 * m.ng, h = std::max(1, m.settings.anderson);
@@ -171,16 +182,12 @@ void step(const CoreModel& m, const StepInput& in, CoreState& s) {
     distributed_area_vectors(w.x, m.surface.triangles, w.area);
     for (int i = 0; i < ns; ++i) w.force.row(i) -= in.pressure[i] * w.area.row(i);
   }
-  for (int d = 0; d < 3; ++d)
-    if (!w.factored[d] || w.factored_mask.col(d) != w.mask.col(d)) {
-      factorize(m, d, w, s);
-      w.factored_mask.col(d) = w.mask.col(d);
-      if (!w.factored[d]) {
-        s.stats.converged = false;
-        if (s.warnings.size() < kMaxWarnings) s.warnings.emplace_back("elastic core: the lattice's matrix did not factorise");
-        return;
-      }
-    }
+  if (!update_factors(m, w, s) || !prepare_held_entries(m, w)) {
+    s.stats.converged = false;
+    if (s.warnings.size() < kMaxWarnings) s.warnings.emplace_back("elastic core: the lattice's matrix did not factorise");
+    return;
+  }
+  HeldEntries& H = w.held;
   const int depth = m.settings.anderson;
   w.history = w.next = 0;
   double lambda = 0;
@@ -195,7 +202,7 @@ void step(const CoreModel& m, const StepInput& in, CoreState& s) {
     const double V = enclosed_volume(w.x, m.surface.triangles, Vec3::Zero());
     double c = m.rest_volume - V;
     for (int i = 0; i < ns; ++i)
-      for (int d = 0; d < 3; ++d) c += w.area(i, d) * (s.u(i, d) - (w.mask(i, d) ? w.target(i, d) : 0.0));
+      for (int d = 0; d < 3; ++d) c += w.area(i, d) * (s.u(i, d) - (w.factored_mask(i, d) ? w.target(i, d) : 0.0));
     tet_rotations(m, s.v, w.quaternion, w.rotation);
     double num = -c, den = 0;
     for (int d = 0; d < 3; ++d) {
@@ -212,9 +219,9 @@ void step(const CoreModel& m, const StepInput& in, CoreState& s) {
         }
       }
       for (int i = 0; i < ns; ++i) {
-        const double load = w.mask(i, d) ? m.tie_k[i] * w.target(i, d) : w.force(i, d);
+        const double load = w.factored_mask(i, d) ? m.tie_k[i] * w.target(i, d) : w.force(i, d);
         for (int p = 0; p < 4; ++p) w.b[m.tie_node(i, p)] += m.tie_weight(i, p) * load;
-        if (w.mask(i, d)) continue;
+        if (w.factored_mask(i, d)) continue;
         const double A = w.area(i, d);
         for (int p = 0; p < 4; ++p) w.a[m.tie_node(i, p)] += m.tie_weight(i, p) * A;
         num += A * w.force(i, d) / m.tie_k[i];
@@ -228,6 +235,27 @@ void step(const CoreModel& m, const StepInput& in, CoreState& s) {
       w.response.segment(d * ng, ng) = w.y1;
     }
     lambda = den > 0 ? num / den : 0.0;
+    w.den = den;
+    if (H.size() > 0) {
+      // The held entries' multipliers: (C0 - h h^T / den) r = target - free motion.
+      for (int p = 0; p < H.size(); ++p) {
+        const int i = H.node[static_cast<size_t>(p)], d = H.axis[static_cast<size_t>(p)];
+        const double Wy1 = tied_at(m, w.response.segment(d * ng, ng), i);
+        H.h[p] = den > 0 ? Wy1 + w.area(i, d) / m.tie_k[i] : 0.0;
+        const double free_motion =
+            tied_at(m, w.v_new.col(d), i) - lambda * Wy1 + (w.force(i, d) - lambda * w.area(i, d)) / m.tie_k[i];
+        H.rhs[p] = w.target(i, d) - free_motion;
+      }
+      H.z = H.C0_factor.solve(H.rhs);
+      H.r = H.z;
+      if (den > 0) {
+        H.y = H.C0_factor.solve(H.h);
+        const double denom = den - H.h.dot(H.y);
+        if (denom > 0) H.r += H.y * (H.h.dot(H.z) / denom);
+        lambda += H.h.dot(H.r) / den;
+      }
+      for (int d = 0; d < 3; ++d) add_held_response(m, w, d, w.v_new.col(d));
+    }
     for (int d = 0; d < 3; ++d) w.v_new.col(d) -= lambda * w.response.segment(d * ng, ng);
     // How far the surface and the lattice moved (the lattice too: with every surface entry
     // prescribed the surface does not tell).

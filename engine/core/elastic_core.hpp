@@ -31,6 +31,10 @@ struct CoreSettings {
   double tolerance = 1e-7;  // the nonlinear iteration stops when no node moves by more than this x the organ's size
   int max_iterations = 400; // per step
   int anderson = 6;         // history of the Anderson mixing of the lattice's displacements (0: plain fixed point)
+  // Prescribed entries that are not the organ's own fixed ones (a contact's, a grasp's) are
+  // held by multipliers through the factor already made, up to this many; beyond it (a large
+  // prescribed region) the lattice is factorised with them. 0: always factorise.
+  int max_held = 300;
 };
 
 struct CoreDef {
@@ -107,6 +111,12 @@ CoreState make_core_state(const CoreModel& model);
 // One quasi-static step to the input's prescribed displacements, forces and pressures
 // (StepInput's springs and tolerance are not taken).
 void step(const CoreModel& model, const StepInput& input, CoreState& state);
+
+// The organ's compliance at surface nodes `nodes` (3n x 3n; row 3a + d, column 3b + e: how far
+// node a moves along d under a unit force on node b along e) at the last step's linearisation
+// (its rotations and surface), with the volume row, and what that step prescribed held (those
+// entries' rows and columns are 0). Solved through the lattice's factor: no factorisation.
+void surface_compliance(const CoreModel& model, CoreState& state, const std::vector<int>& nodes, Eigen::MatrixXd& C);
 
 // The rotation of each tet (6 per cube, cube-major) at lattice displacements v: the rotation
 // nearest its deformation gradient F (the polar decomposition's, for F with det F > 0), found

@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include <Eigen/Eigenvalues>
+
 #include "engine/core/elastic_core.hpp"
 #include "engine/geometry.hpp"
 #include "engine/shapes.hpp"
@@ -142,6 +144,80 @@ TEST(ElasticCore, HeldBaseCarriesTheWeight) {
   for (int i = 1; i < m.ns; ++i)
     if (s.positions(i, 2) > s.positions(top, 2)) top = i;
   EXPECT_LT(st.u(top, 2), 0);
+}
+
+TEST(ElasticCore, HeldEntriesGiveTheFactorisedAnswerWithoutRefactorising) {
+  // A ball on its held base, a cap pressed deeper and wider at every step (as a contact's held
+  // set grows). Held by multipliers through the first factor (the default), each step gives
+  // what a lattice factorised with every prescribed entry gives, and nothing is factorised
+  // again. (The factorised reference solves each step from rest: carried from the last step's
+  // answer, with a jump of 2 mm on the new nodes, its fixed point can end in another
+  // equilibrium, 5 % off in pressure at the second step here.)
+  const SurfaceMesh s = make_icosphere(0.04, 4);
+  FlagMat fixed = FlagMat::Zero(s.node_count(), 3);
+  for (int i = 0; i < s.node_count(); ++i)
+    if (s.positions(i, 2) < -0.035) fixed.row(i).setOnes();
+  CoreModel held = build(s, 0.008, fixed), factorised = held;
+  factorised.settings.max_held = 0;
+  CoreState a = make_core_state(held);
+  StepInput in = test::free_input(held.ns);
+  int refactorisations = 0;
+  for (int k = 1; k <= 3; ++k) {
+    int pressed = 0;
+    for (int i = 0; i < held.ns; ++i)
+      if (s.positions(i, 2) > 0.039 - 0.0005 * k) {
+        in.prescribed.row(i).setOnes();
+        in.prescribed_u.row(i) = Vec3(0.0002 * k, 0, -0.002 * k).transpose();  // down, and a little sideways
+        ++pressed;
+      }
+    ASSERT_LE(3 * pressed, held.settings.max_held);
+    CoreState b = make_core_state(factorised);
+    step(held, in, a);
+    step(factorised, in, b);
+    ASSERT_TRUE(a.stats.converged && b.stats.converged);
+    if (k > 1) refactorisations += a.stats.factorizations;
+    EXPECT_EQ(b.stats.factorizations, 3);
+    const double scale = b.u.cwiseAbs().maxCoeff();
+    EXPECT_LT((a.u - b.u).cwiseAbs().maxCoeff(), 1e-4 * scale) << "step " << k;
+    EXPECT_LT((a.v - b.v).cwiseAbs().maxCoeff(), 1e-4 * scale) << "step " << k;
+    const double force = b.reaction.cwiseAbs().maxCoeff();
+    EXPECT_LT((a.reaction - b.reaction).cwiseAbs().maxCoeff(), 1e-3 * force) << "step " << k;
+    EXPECT_NEAR(a.pressure, b.pressure, 1e-3 * std::abs(b.pressure)) << "step " << k;
+    EXPECT_LT(std::abs(a.volume_rel_error), 1e-9);
+  }
+  EXPECT_EQ(refactorisations, 0);
+}
+
+TEST(ElasticCore, SurfaceComplianceIsSymmetricAndHoldsWhatIsHeld) {
+  // The compliance at a few top nodes after a press: symmetric, positive on the diagonal,
+  // zero on the held entries, and softer at a free node than what holds a neighbour allows.
+  const SurfaceMesh s = make_icosphere(0.04, 4);
+  FlagMat fixed = FlagMat::Zero(s.node_count(), 3);
+  for (int i = 0; i < s.node_count(); ++i)
+    if (s.positions(i, 2) < -0.035) fixed.row(i).setOnes();
+  const CoreModel m = build(s, 0.008, fixed);
+  CoreState st = make_core_state(m);
+  StepInput in = test::free_input(m.ns);
+  std::vector<int> top;
+  for (int i = 0; i < m.ns; ++i)
+    if (s.positions(i, 2) > 0.037) top.push_back(i);
+  ASSERT_GE(top.size(), 3u);
+  step(m, in, st);
+  Eigen::MatrixXd free_C, held_C;
+  surface_compliance(m, st, top, free_C);
+  in.prescribed.row(top[0]).setOnes();  // hold the first node where it is
+  step(m, in, st);
+  surface_compliance(m, st, top, held_C);
+  const int n = static_cast<int>(top.size());
+  EXPECT_LT((free_C - free_C.transpose()).cwiseAbs().maxCoeff(), 1e-9 * free_C.cwiseAbs().maxCoeff());
+  EXPECT_LT((held_C - held_C.transpose()).cwiseAbs().maxCoeff(), 1e-9 * held_C.cwiseAbs().maxCoeff());
+  EXPECT_GT(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(free_C).eigenvalues().minCoeff(), 0.0);
+  EXPECT_EQ(held_C.topRows(3).cwiseAbs().maxCoeff(), 0.0);
+  for (int a = 1; a < n; ++a)
+    for (int d = 0; d < 3; ++d) {
+      EXPECT_GT(free_C(3 * a + d, 3 * a + d), 0.0);
+      EXPECT_LE(held_C(3 * a + d, 3 * a + d), free_C(3 * a + d, 3 * a + d) * (1 + 1e-9));
+    }
 }
 
 }  // namespace

@@ -1,0 +1,95 @@
+#pragma once
+// The elastic core's step workspace (engine/core/core_step.cpp, held_entries.cpp): the
+// factorised lattice matrices, the columns of their inverses that constraints need, the
+// entries held by multipliers, and the last linearisation. Internal to engine/core.
+#include <Eigen/Cholesky>
+#include <Eigen/Geometry>
+#include <Eigen/SparseCholesky>
+#ifdef VDMSIM_HAVE_CHOLMOD
+#include <Eigen/CholmodSupport>
+#endif
+
+#include <vector>
+
+#include "engine/core/elastic_core.hpp"
+
+namespace vdm::core {
+
+// Columns of K_d^-1 at lattice nodes (the lattice's response to a unit force there), solved
+// on demand and kept until axis d is factorised again.
+struct LatticeColumns {
+  std::vector<int> slot;  // per lattice node: its column, or -1
+  std::vector<int> node;  // per column: its lattice node
+  Eigen::MatrixXd cols;   // ng x capacity
+  int count = 0;
+  void clear();
+};
+
+// Prescribed surface entries that the factorisation does not hold (a contact's or a grasp's
+// nodes): held by multipliers r, the forces that put them on their targets, found on the
+// small compliance matrix of the held entries through the factor the core already has.
+struct HeldEntries {
+  std::vector<int> node, axis;  // per entry, ordered by node then axis
+  Eigen::MatrixXd C0;           // the entries' compliance without the volume row
+  Eigen::LDLT<Eigen::MatrixXd> C0_factor;
+  bool factored = false;        // C0_factor is of these entries and the current factors
+  Vec rhs, h, z, y, r;          // per entry: target - free motion, volume response, solves, multipliers
+  int size() const { return static_cast<int>(node.size()); }
+};
+
+struct CoreWorkspace {
+  SpMat K[3];
+#ifdef VDMSIM_HAVE_CHOLMOD
+  Eigen::CholmodSupernodalLLT<SpMat, Eigen::Lower> chol[3];
+#else
+  Eigen::SimplicialLDLT<SpMat> chol[3];
+#endif
+  FlagMat factored_mask;      // the prescribed entries each axis's factor was made for
+  bool factored[3] = {false, false, false};
+  bool analyzed = false;
+  LatticeColumns columns[3];
+  HeldEntries held;
+  std::vector<Eigen::Matrix3d> rotation;
+  std::vector<Eigen::Quaterniond> quaternion;  // per tet, the last rotations (warm start)
+  NodeMat area, force, target, x;
+  FlagMat mask;               // every prescribed entry (the factor's and the held ones)
+  Vec b, a, y0, y1;
+  NodeMat v_new, u_new;
+  // Anderson mixing of the lattice's displacements: differences of iterates and of residuals.
+  Eigen::MatrixXd dX, dG;
+  Vec response;  // per axis K_d^-1 a_d (3 ng), at the last iteration
+  double den = 0;  // the volume row's a^T K^-1 a + sum A^2 / k, at the last iteration
+  Vec x_prev, g_prev, g, mixed;
+  int history = 0, next = 0;
+};
+
+// The lattice's motion at surface node i's rest position for a lattice field `v` (one axis).
+template <class V>
+double tied_at(const CoreModel& m, const V& v, int i) {
+  double wv = 0;
+  for (int p = 0; p < 4; ++p) wv += m.tie_weight(i, p) * v[m.tie_node(i, p)];
+  return wv;
+}
+
+// Makes sure columns of K_d^-1 are solved for every lattice node that surface nodes `nodes`
+// are tied to (one multi-column solve for those missing).
+void ensure_columns(const CoreModel& m, int d, const std::vector<int>& nodes, CoreWorkspace& w);
+
+// (K_d^-1) between the lattice motions at surface nodes i and j (W_i K_d^-1 W_j^T), from the
+// columns ensure_columns() made.
+double tied_compliance(const CoreModel& m, const LatticeColumns& c, int i, int j);
+
+// The held entries of this step: the prescribed entries (w.mask) that the factor does not
+// hold (w.factored_mask); their C0 factorised again when they or the factors changed.
+// False when C0 could not be factorised.
+bool prepare_held_entries(const CoreModel& m, CoreWorkspace& w);
+
+// Adds r_p (W_p^T, through K_d^-1) to the lattice's motion `v` for every held entry on axis d.
+void add_held_response(const CoreModel& m, const CoreWorkspace& w, int d, Eigen::Ref<Vec> v);
+
+// The compliance at surface nodes (3n x 3n, row 3a + d, column 3b + e) at the last
+// iteration's linearisation: the organ with its volume row, the factor's entries fixed and the
+// held entries held (their rows and columns 0).
+void surface_compliance(const CoreModel& m, CoreWorkspace& w, const std::vector<int>& nodes, Eigen::MatrixXd& C);
+
+}  // namespace vdm::core
