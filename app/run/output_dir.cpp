@@ -30,6 +30,26 @@ bool prepare_output_dir(const std::string& dir, std::string& error) {
   return true;
 }
 
+bool is_or_lies_inside(const std::filesystem::path& path, const std::filesystem::path& other) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  // Links resolved in the parts that exist; a trailing '/' dropped.
+  auto resolved = [&ec](const fs::path& p) {
+    fs::path r = fs::weakly_canonical(fs::absolute(p, ec), ec).lexically_normal();
+    if (r.has_relative_path() && r.filename().empty()) r = r.parent_path();
+    return r;
+  };
+  const fs::path p = resolved(path), o = resolved(other);
+  const bool other_exists = fs::exists(o, ec);
+  // `path` or one of its folders is `other`: the same names, or (existing) the same file.
+  for (fs::path q = p;; q = q.parent_path()) {
+    if (q == o) return true;
+    std::error_code same;
+    if (other_exists && fs::exists(q, same) && fs::equivalent(q, o, same)) return true;
+    if (q == q.parent_path() || q.empty()) return false;
+  }
+}
+
 bool write_file_atomically(const std::filesystem::path& path, const std::string& body, std::string& error) {
   const std::filesystem::path tmp = path.string() + ".tmp";
   std::error_code ec;

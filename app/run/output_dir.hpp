@@ -8,6 +8,12 @@ namespace vdmsim {
 // Creates `dir` (and parents) and checks it can be written; false with a message otherwise.
 bool prepare_output_dir(const std::string& dir, std::string& error);
 
+// Whether `path` names `other` or something inside it (when `other` is a folder): through
+// another spelling, a symbolic link or a hard link too. Neither needs to exist; what does not
+// is compared by its absolute, normalised path. For refusing an output that would overwrite an
+// input (compare's --diff, prepare-mesh's --out).
+bool is_or_lies_inside(const std::filesystem::path& path, const std::filesystem::path& other);
+
 // Writes `body` to `path` atomically (a temporary file next to it, then a rename), so that a
 // reader never sees half a file, nor an interrupted run a torn one. False with `error`.
 bool write_file_atomically(const std::filesystem::path& path, const std::string& body, std::string& error);
