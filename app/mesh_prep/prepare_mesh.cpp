@@ -54,6 +54,10 @@ int prepare_mesh(const PrepareMeshOptions& opt, std::ostream& out, std::ostream&
     err << "vdmsim: error: --nodes " << opt.nodes << " is out of range (100 to 1000000)\n";
     return 2;
   }
+  if (opt.out.empty()) {
+    err << "vdmsim: error: --out: empty: name the OBJ file to write\n";
+    return 2;
+  }
   if (opt.edge_length < 0 || !std::isfinite(opt.edge_length)) {
     err << "vdmsim: error: --edge-length must be a positive length in metres\n";
     return 2;
