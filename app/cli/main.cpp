@@ -60,8 +60,10 @@ int main(int argc, char** argv) {
   prepare_mesh->add_option("IN", prep_opt.in, "The surface as segmented (OBJ, STL, PLY, ...; any units)")->required();
   prepare_mesh->add_option("--out", prep_opt.out, "Output OBJ (metres)")->required()->check(cli::named_path());
   prepare_mesh->add_option("--scale", prep_opt.scale, "Input units to metres (0.001 for millimetres)");
-  auto* prep_nodes = prepare_mesh->add_option("--nodes", prep_opt.nodes, "Target node count (default 10000)");
+  auto* prep_nodes = prepare_mesh->add_option("--nodes", prep_opt.nodes, "Target node count (default 10000)")
+                         ->check(cli::whole_number(100, vdmsim::kMaxPreparedNodes, "100 to 1000000"));
   prepare_mesh->add_option("--edge-length", prep_opt.edge_length, "Target edge length in metres (instead of --nodes)")
+      ->check(cli::positive_number())
       ->excludes(prep_nodes);
   prepare_mesh->add_flag("--center", prep_opt.center, "Move the bounding box's centre to the origin");
   prepare_mesh->add_option("--iterations", prep_opt.iterations, "Isotropic remeshing passes (default 5)")

@@ -21,4 +21,35 @@ inline CLI::Validator named_path() {
       "PATH");
 }
 
+// A whole number from `lo` to `hi`; `range` says the range in the message ("1 to 10 million").
+inline CLI::Validator whole_number(long long lo, long long hi, const std::string& range) {
+  return CLI::Validator(
+      [lo, hi, range](std::string& text) -> std::string {
+        long long n = 0;
+        try {
+          size_t used = 0;
+          n = std::stoll(text, &used);
+          if (used != text.size()) return "expected a whole number from " + range + ", got '" + text + "'";
+        } catch (const std::exception&) {
+          return "expected a whole number from " + range + ", got '" + text + "'";
+        }
+        if (n < lo || n > hi) return text + " is out of range: from " + range;
+        return "";
+      },
+      range);
+}
+
+// A finite number above 0 (a length, a scale).
+inline CLI::Validator positive_number() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double x = std::strtod(text.c_str(), &end);
+        if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(x))
+          return "expected a number above 0, got '" + text + "'";
+        return x > 0 ? "" : "expected a number above 0, got " + text;
+      },
+      "> 0");
+}
+
 }  // namespace vdmsim::cli
