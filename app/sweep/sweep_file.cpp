@@ -261,7 +261,22 @@ class SweepReader {
 }  // namespace
 
 std::string one_line_yaml(const YAML::Node& node) {
-  if (node.IsScalar()) return node.Scalar();
+  // A scalar as written, unless a line break or another control character would break the
+  // line: then double-quoted with YAML's escapes ("trial\nrender: ...").
+  if (node.IsScalar()) {
+    const std::string& text = node.Scalar();
+    const bool controls = std::any_of(text.begin(), text.end(), [](char c) {
+      const unsigned char u = static_cast<unsigned char>(c);
+      return u < 0x20 || u == 0x7f;
+    });
+    const bool other_breaks = text.find("\u2028") != std::string::npos || text.find("\u2029") != std::string::npos ||
+                              text.find("\xC2\x85") != std::string::npos;
+    if (!controls && !other_breaks) return text;
+    YAML::Emitter e;
+    e.SetOutputCharset(YAML::EscapeNonAscii);
+    e << YAML::DoubleQuoted << text;
+    return e.c_str();
+  }
   YAML::Emitter e;
   e.SetMapFormat(YAML::Flow);
   e.SetSeqFormat(YAML::Flow);
