@@ -113,9 +113,19 @@ class SweepReader {
       error(cases, "cases", "give either cases: or vary:/zip:, not both (cases: lists every run itself)");
       return;
     }
+    const size_t problems_before = problems_.size();
     if (vary) read_vary(vary);
     if (zip) read_zip(zip);
     if (cases) read_cases(cases);
+    // `vary: {}` (or an empty zip:) names nothing to vary: the same answer as no vary: at all.
+    if (s_.axes.empty() && s_.cases.empty() && problems_.size() == problems_before) {
+      const YAML::Node& at = vary ? vary : zip ? zip : cases;
+      const std::string section = vary ? "vary" : zip ? "zip" : "cases";
+      error(at, section,
+            "nothing varies: " + section + ": is empty; give vary: (a grid), zip: (lists taken together) or cases: (a "
+            "list of runs), each with at least one scene key");
+      return;
+    }
     size_t runs = s_.axes.empty() ? 0 : 1;
     for (const SweepAxis& a : s_.axes) runs = std::min(kMaxRuns + 1, runs * a.size());
     if (runs > kMaxRuns) error(root, "sweep", "more than " + std::to_string(kMaxRuns) + " runs: split the sweep");

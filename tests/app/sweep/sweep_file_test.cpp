@@ -247,6 +247,8 @@ TEST(SweepFile, EachKindOfBadKeyOrValueHasItsOwnMessage) {
       {"varry:\n  organ.material.density: [1]\n", "bad.yaml:2:1: varry: unknown key 'varry' (did you mean 'vary'?)"},
       {"cases: [3]\n", "bad.yaml:2:9: cases[0]: expected a mapping of scene keys to values"},
       {"", "nothing varies"},
+      {"vary: {}\n", "bad.yaml:2:7: vary: nothing varies: vary: is empty; give vary: (a grid)"},
+      {"zip: {}\n", "bad.yaml:2:6: zip: nothing varies: zip: is empty; give vary: (a grid)"},
   };
   for (const Case& c : cases) {
     vdmsim::SweepFile sweep;
