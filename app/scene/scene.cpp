@@ -363,7 +363,10 @@ void read_organ(Reader& r, const YAML::Node& organ, SceneDef& s, const std::file
     }
   }
   if (const YAML::Node n = organ["tet_size"]) r.number(n, "organ.tet_size", s.tet_size, KEY("organ.tet_size"));
-  if (const YAML::Node n = organ["cell_size"]) r.number(n, "organ.cell_size", s.cell_size, KEY("organ.cell_size"));
+  if (const YAML::Node n = organ["cell_size"]) {
+    r.number(n, "organ.cell_size", s.cell_size, KEY("organ.cell_size"));
+    s.cell_size_where = r.where(n);
+  }
   if (const YAML::Node mat = organ["material"]) {
     if (r.require_map(mat, "organ.material")) {
       r.check_keys(mat, "organ.material", "organ.material");
