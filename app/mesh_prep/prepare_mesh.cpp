@@ -174,19 +174,20 @@ int prepare_mesh(const PrepareMeshOptions& opt, std::ostream& out, std::ostream&
   const SurfaceDistance from_input = sampled_distance(input_placed, prepared);
   const MeshQuality after = measure_mesh(prepared);
 
+  // The output's folder, made when missing; a full disk is a failure at run time (exit 1).
   std::string error;
-  const std::filesystem::path parent = std::filesystem::path(opt.out).parent_path();
-  if (!parent.empty() && !prepare_output_dir(parent.string(), error)) {
+  bool at_run_time = false;
+  if (!prepare_output_file_folder(opt.out, error, &at_run_time)) {
     err << "vdmsim: error: " << error << "\n";
-    return 2;
+    return at_run_time ? 1 : 2;
   }
   std::ostringstream header;
   header << "prepared by `vdmsim prepare-mesh` from " << std::filesystem::path(opt.in).filename().string()
          << " (scale " << opt.scale << ")\nunits: metres; nodes " << after.nodes << ", triangles " << after.triangles;
   if (opt.center) header << "\nmoved by " << shift.x() << " " << shift.y() << " " << shift.z() << " m (centred)";
-  if (!save_obj(prepared, opt.out, header.str(), error)) {
+  if (!save_obj(prepared, opt.out, header.str(), error, &at_run_time)) {
     err << "vdmsim: error: " << error << "\n";
-    return 2;
+    return at_run_time ? 1 : 2;
   }
 
   const double volume_change = (after.volume - fixed.volume) / fixed.volume;

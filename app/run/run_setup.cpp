@@ -189,9 +189,10 @@ int set_up_run(const PreparedScene& ps, const RunOptions& opt, RunSetup& setup, 
     return 1;
   }
   std::string error;
-  if (!prepare_output_dir(setup.dir.string(), error)) {
+  bool at_run_time = false;
+  if (!prepare_output_dir(setup.dir.string(), error, &at_run_time)) {
     err << "vdmsim: error: " << error << "\n";
-    return 2;
+    return at_run_time ? 1 : 2;
   }
   setup.lock = std::make_shared<OutputLock>();
   if (!setup.lock->acquire(setup.dir, error)) {

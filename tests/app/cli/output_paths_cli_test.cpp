@@ -1,5 +1,6 @@
 // Where the commands write (issue 46), through the real binary: an empty --out (an unset
-// $OUTDIR) is refused by every command (exit 2) and nothing is written into the current folder.
+// $OUTDIR) is refused by every command (exit 2) and nothing is written into the current folder;
+// a full disk is a failure at run time (exit 1, "no space left") and leaves no probe file.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -49,6 +50,35 @@ TEST(OutputPathsCli, AnEmptyOutIsRefusedByEveryCommandAndNothingIsWritten) {
     EXPECT_TRUE(contains(r.output, ": empty: name the file or folder")) << command << "\n" << r.output;
     EXPECT_EQ(listing(cwd), before) << command;
   }
+}
+
+// /dev/full fails every write with ENOSPC, as a full disk does: a failure at run time.
+TEST(OutputPathsCli, AFileWrittenToAFullDiskIsAFailureAtRunTime) {
+  for (const std::string command : {"make-organ liver --level 2 --out /dev/full",
+                                    "make-organ liver --level 2 --scan-like --out /dev/full"}) {
+    const CliResult r = vdmsim::test::run_cli(VDMSIM_BINARY, command);
+    EXPECT_EQ(r.code, 1) << command << "\n" << r.output;
+    EXPECT_TRUE(contains(r.output, "vdmsim: error: /dev/full: write failed: no space left on the device")) << r.output;
+  }
+}
+
+// A folder on a full file system (a 64 kB tmpfs, filled, in a mount namespace of the test's own):
+// `run` stops before simulating, says so, exits 1 and leaves nothing in the folder.
+TEST(OutputPathsCli, AFullDiskIsAFailureAtRunTimeAndLeavesNoProbe) {
+  if (vdmsim::test::run_cli("unshare", "-rm true").code != 0)
+    GTEST_SKIP() << "cannot make a mount namespace here (unshare -rm): no full disk to test on";
+  const fs::path disk = dir() / "disk";
+  fs::create_directories(disk);
+  const std::string script = "mount -t tmpfs -o size=64k tmpfs " + disk.string() + " && (head -c 100000 /dev/zero > " +
+                             disk.string() + "/fill) 2>/dev/null; " + VDMSIM_BINARY + " run " +
+                             asset("scenes/liver_press.yaml") + " --no-render --frames 2 --out " + disk.string() +
+                             "/run; echo \"exit $?\"; echo left:; ls -A " + disk.string() + "/run";
+  const CliResult r = vdmsim::test::run_cli("unshare", "-rm sh -c '" + script + "'");
+  EXPECT_TRUE(contains(r.output, "vdmsim: error: " + disk.string() + "/run: cannot write in the output folder: no space "
+                                  "left on the device"))
+      << r.output;
+  EXPECT_TRUE(contains(r.output, "exit 1\n")) << r.output;
+  EXPECT_FALSE(contains(r.output, ".vdmsim-write-test")) << r.output;
 }
 
 }  // namespace

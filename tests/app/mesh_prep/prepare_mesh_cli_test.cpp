@@ -1,6 +1,6 @@
 // vdmsim prepare-mesh through the real binary (issue 46): it never overwrites its input, refuses
 // at once an edge that would remesh for hours, refuses --nodes 0 and --edge-length 0 as it
-// refuses --nodes 1.
+// refuses --nodes 1, and a full disk is a failure at run time (exit 1, "no space left").
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -87,6 +87,29 @@ TEST(PrepareMeshCli, ZeroNodesAndZeroEdgeAreRefusedLikeOneNodeAndANegativeEdge) 
     EXPECT_TRUE(contains(r.output, "--edge-length: expected a number above 0")) << r.output;
   }
   EXPECT_FALSE(fs::exists(dir() / "never.obj"));
+}
+
+// /dev/full fails every write with ENOSPC, as a full disk does.
+TEST(PrepareMeshCli, AFullDiskIsAFailureAtRunTimeSayingNoSpaceLeft) {
+  const std::string scan = ball("full.obj");
+  const CliResult r = prepare(scan + " --out /dev/full --nodes 300");
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_TRUE(contains(r.output, "vdmsim: error: /dev/full: write failed: no space left on the device")) << r.output;
+}
+
+// A failed write leaves the file that was there as it was.
+TEST(PrepareMeshCli, AFailedWriteKeepsTheEarlierOutput) {
+  const std::string scan = ball("keep.obj");
+  const fs::path out = dir() / "kept.obj";
+  std::ofstream(out) << "# the earlier result\n";
+  // A file-size limit of 0 fails every write the way a full disk does (EFBIG).
+  const CliResult r = vdmsim::test::run_cli(
+      "sh", "-c 'ulimit -f 0; trap \"\" XFSZ; exec " + std::string(VDMSIM_BINARY) + " prepare-mesh " + scan + " --out " +
+                out.string() + " --nodes 300'");
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_TRUE(contains(r.output, out.string() + ": write failed: ")) << r.output;
+  EXPECT_EQ(bytes(out), "# the earlier result\n");
+  EXPECT_FALSE(fs::exists(out.string() + ".tmp"));
 }
 
 }  // namespace
