@@ -22,6 +22,9 @@
 
 namespace {
 namespace cli = vdmsim::cli;
+constexpr long long kMaxJobs = 100000;    // --jobs: processes at a time on one machine
+constexpr long long kMaxArray = 1000000;  // --task, --max-parallel: a Slurm array's indices
+
 // --frames: a whole number from 1 to kMaxFrames, or a message naming the bound.
 CLI::Validator frame_count() {
   return CLI::Validator(
@@ -125,7 +128,7 @@ int main(int argc, char** argv) {
                 "displacement and the stress view's quantities) and DIR/mesh.pvd (the time series, for ParaView)");
   run->add_flag("--resume", run_opt.resume, "Continue an interrupted run in --out DIR from its last checkpoint");
   run->add_option("--checkpoint-every", run_opt.checkpoint_every, "Frames between checkpoints (default 30)")
-      ->check(CLI::PositiveNumber);
+      ->check(cli::whole_number(1, vdmsim::kMaxFrames, "1 to 10000000"));
   std::string bench_out = "out/bench";
   bool bench_quick = false;
   std::string bench_only;
@@ -146,17 +149,17 @@ int main(int argc, char** argv) {
                        "Only these knobs, comma-separated (solver, tolerance, refresh, nonlinear, mesh, capsule, model); "
                        "the reference and the baseline always run");
   accuracy->add_option("--jobs", accuracy_opt.jobs, "Configurations at a time on this machine (default: the number of cores)")
-      ->check(CLI::PositiveNumber);
+      ->check(cli::whole_number(1, kMaxJobs, "1 to 100000"));
   auto* accuracy_slurm = accuracy->add_flag(
       "--slurm", accuracy_opt.slurm, "Run the configurations as one Slurm job array (sbatch), wait for it, then measure");
   accuracy->add_option("--partition", accuracy_opt.partition, "--slurm: the partition to submit to (default: the cluster's)")
       ->needs(accuracy_slurm);
   accuracy->add_option("--max-parallel", accuracy_opt.max_parallel, "--slurm: array tasks running at a time (default: all)")
-      ->check(CLI::PositiveNumber)
+      ->check(cli::whole_number(1, kMaxArray, "1 to 1000000"))
       ->needs(accuracy_slurm);
   accuracy->add_option("--task", accuracy_opt.task,
                        "Run only configuration I (0-based; what each Slurm array task does), no report")
-      ->check(CLI::NonNegativeNumber)
+      ->check(cli::whole_number(0, kMaxArray, "0 to 1000000"))
       ->excludes(accuracy_slurm);
   vdmsim::SweepOptions sweep_opt;
   bool sweep_no_render = false;
@@ -168,20 +171,20 @@ int main(int argc, char** argv) {
       ->required()
       ->check(cli::named_path());
   sweep->add_option("--jobs", sweep_opt.jobs, "Runs at a time on this machine (default: the number of cores)")
-      ->check(CLI::PositiveNumber);
+      ->check(cli::whole_number(1, kMaxJobs, "1 to 100000"));
   auto* sweep_slurm = sweep->add_flag("--slurm", sweep_opt.slurm,
                                       "Submit the runs as one Slurm job array (sbatch), wait for it, then summarise");
   sweep->add_option("--partition", sweep_opt.partition, "--slurm: the partition to submit to (default: the cluster's)")
       ->needs(sweep_slurm);
   sweep->add_option("--max-parallel", sweep_opt.max_parallel, "--slurm: array tasks running at a time (default: all)")
-      ->check(CLI::PositiveNumber)
+      ->check(cli::whole_number(1, kMaxArray, "1 to 1000000"))
       ->needs(sweep_slurm);
   sweep->add_option("--frames", sweep_opt.frames, "Simulate only this many frames of each run")->check(frame_count());
   sweep->add_flag("--no-render", sweep_no_render, "Do not render images (metrics.csv and run.json only; no summary.png)");
   sweep->add_flag("--video", sweep_opt.video, "Also write each run's video.mp4 (needs ffmpeg)");
   auto* sweep_task = sweep->add_option("--task", sweep_opt.task,
                                        "Run only run I (0-based; what each Slurm array task does), no summary")
-                         ->check(CLI::NonNegativeNumber);
+                         ->check(cli::whole_number(0, kMaxArray, "0 to 1000000"));
   sweep_task->excludes(sweep_slurm);
   auto* check = app.add_subcommand("check", "Validate a scene and its mesh without simulating");
   check->add_option("SCENE", scene_path, "Scene file (YAML)")->required();
@@ -205,6 +208,10 @@ int main(int argc, char** argv) {
   auto* scene_reference = app.add_subcommand(
       "scene-reference", "Print every scene key with its unit, default and range (docs/scene-reference.md, Markdown)");
 
+  if (const std::string bad = cli::non_finite_number_argument(argc, argv); !bad.empty()) {
+    std::cerr << "vdmsim: error: " << bad << "\n";
+    return 2;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -52,4 +52,21 @@ inline CLI::Validator positive_number() {
       "> 0");
 }
 
+// CLI11 takes "-inf" or "-nan" for an option's name (then says "at least 3 required but received
+// 2"): such a word, a number but not a finite one, is named with the option it follows. The
+// message, or "" when every argument is fine.
+inline std::string non_finite_number_argument(int argc, char** argv) {
+  std::string option;
+  for (int i = 1; i < argc; ++i) {
+    const std::string word = argv[i];
+    if (word.rfind("--", 0) == 0) option = word;
+    if (word.size() < 2 || word[0] != '-') continue;
+    char* end = nullptr;
+    const double x = std::strtod(word.c_str(), &end);
+    if (end == word.c_str() + word.size() && !std::isfinite(x))
+      return (option.empty() ? std::string() : option + ": ") + word + " is not a finite number";
+  }
+  return "";
+}
+
 }  // namespace vdmsim::cli

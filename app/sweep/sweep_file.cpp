@@ -145,7 +145,11 @@ class SweepReader {
     s_.base = (folder_ / b.Scalar()).lexically_normal();
     std::error_code ec;
     if (!fs::is_regular_file(s_.base, ec)) {
-      error(b, "base", "no such scene file: " + s_.base.string() + " (the base is relative to the sweep file)");
+      const std::string what = !fs::exists(s_.base, ec) ? "no such scene file: " + s_.base.string()
+                               : fs::is_directory(s_.base, ec)
+                                   ? s_.base.string() + ": a folder, not a scene file"
+                                   : s_.base.string() + ": not a regular file (a device or a pipe), not a scene file";
+      error(b, "base", what + " (the base is relative to the sweep file)");
       return false;
     }
     // The base must be a valid scene itself: its problems are named in its own file.
@@ -247,7 +251,11 @@ class SweepReader {
     for (size_t i = 0; i < cases.size() && i <= kMaxRuns; ++i) {
       const YAML::Node c = cases[i];
       const std::string field = "cases[" + std::to_string(i) + "]";
-      if (!c.IsMap() || c.size() == 0) {
+      if (c.IsMap() && c.size() == 0) {
+        error(c, field, "an empty mapping: give at least one scene key and its value, e.g. {organ.material.bulk_modulus: 10000}");
+        continue;
+      }
+      if (!c.IsMap()) {
         error(c, field, "expected a mapping of scene keys to values, e.g. {organ.material.bulk_modulus: 10000}, got " + kind(c));
         continue;
       }

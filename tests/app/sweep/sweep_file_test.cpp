@@ -246,6 +246,7 @@ TEST(SweepFile, EachKindOfBadKeyOrValueHasItsOwnMessage) {
       {"vary:\n  organ.material.density: [1]\n  organ.material.density: [2]\n", "bad.yaml:4:3: vary.organ.material.density: 'organ.material.density' is varied twice (first at "},
       {"varry:\n  organ.material.density: [1]\n", "bad.yaml:2:1: varry: unknown key 'varry' (did you mean 'vary'?)"},
       {"cases: [3]\n", "bad.yaml:2:9: cases[0]: expected a mapping of scene keys to values"},
+      {"cases: [{}]\n", "bad.yaml:2:9: cases[0]: an empty mapping: give at least one scene key and its value"},
       {"", "nothing varies"},
       {"vary: {}\n", "bad.yaml:2:7: vary: nothing varies: vary: is empty; give vary: (a grid)"},
       {"zip: {}\n", "bad.yaml:2:6: zip: nothing varies: zip: is empty; give vary: (a grid)"},
@@ -266,6 +267,17 @@ TEST(SweepFile, MissingBaseAndBrokenYamlAreNamed) {
   std::ofstream(dir / "nobase.yaml") << "base: nowhere.yaml\nvary: {organ.material.density: [1]}\n";
   EXPECT_FALSE(vdmsim::read_sweep_file((dir / "nobase.yaml").string(), sweep, problems));
   EXPECT_NE(all_text(problems).find("nobase.yaml:1:7: base: no such scene file"), std::string::npos) << all_text(problems);
+  // A folder, or a device that never ends, is no scene file either, and said so.
+  for (const std::string& base : {dir.string(), std::string("/dev/zero")}) {
+    problems.clear();
+    std::ofstream(dir / "oddbase.yaml") << "base: " << base << "\nvary: {organ.material.density: [1]}\n";
+    EXPECT_FALSE(vdmsim::read_sweep_file((dir / "oddbase.yaml").string(), sweep, problems));
+    const std::string said = all_text(problems);
+    EXPECT_NE(said.find("oddbase.yaml:1:7: base: " + base + (base == "/dev/zero" ? ": not a regular file" : ": a folder")),
+              std::string::npos)
+        << said;
+    EXPECT_EQ(said.find("no such scene file"), std::string::npos) << said;
+  }
   problems.clear();
   std::ofstream(dir / "broken.yaml") << "base: [\n";
   EXPECT_FALSE(vdmsim::read_sweep_file((dir / "broken.yaml").string(), sweep, problems));
