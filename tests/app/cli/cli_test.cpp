@@ -61,6 +61,24 @@ TEST(Cli, UsageErrorsExitWith2) {
   EXPECT_EQ(run_cli("--help").code, 0);
 }
 
+// docs/cli.md's exit codes, for every command `vdmsim --help` lists: a usage error is 2, with a
+// message (a full disk's 1 is in output_paths_cli_test and prepare_mesh_cli_test).
+TEST(Cli, EveryCommandGives2ForAUsageError) {
+  const std::string help = run_cli("--help").output;
+  std::istringstream lines(help.substr(help.find("Subcommands:")));
+  std::string line, name;
+  int commands = 0;
+  while (std::getline(lines, line)) {
+    std::istringstream words(line);
+    if (line.rfind("  ", 0) != 0 || !(words >> name)) continue;
+    const vdmsim::test::CliResult r = run_cli(name + " --no-such-option");
+    EXPECT_EQ(r.code, 2) << name << "\n" << r.output;
+    EXPECT_EQ(r.output.rfind("vdmsim: ", 0), 0u) << name << "\n" << r.output;
+    ++commands;
+  }
+  EXPECT_GE(commands, 12) << help;
+}
+
 // Issue 46: option values out of range are said in the option's own terms (not CLI11's "not in
 // range 0.000000 to" a 309-digit number; not "At least 3 required but received 2" for -inf).
 TEST(Cli, OptionValuesOutOfRangeAreSaidInTheOptionsTerms) {
