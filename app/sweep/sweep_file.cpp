@@ -1,7 +1,11 @@
 #include "app/sweep/sweep_file.hpp"
 
 #include <algorithm>
+#include <fstream>
+#include <iterator>
 #include <sstream>
+
+#include "app/scene/yaml_documents.hpp"
 
 namespace vdmsim {
 namespace {
@@ -352,12 +356,16 @@ bool read_sweep_file(const std::string& path, SweepFile& sweep, std::vector<Scen
   }
   YAML::Node root;
   try {
-    const std::vector<YAML::Node> documents = YAML::LoadAllFromFile(path);
-    if (documents.size() > 1) {
-      problems.push_back({where(path, documents[1]), "sweep", "the file holds several YAML documents (separated by '---'); a sweep is one", false});
+    // One document, counted from its markers: yaml-cpp's LoadAll loops forever on some inputs.
+    std::ifstream in(path, std::ios::binary);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    int second_line = 0;
+    if (count_yaml_documents(text, second_line) > 1) {
+      problems.push_back({path + ":" + std::to_string(second_line) + ":1", "sweep",
+                          "the file holds several YAML documents (separated by '---'); a sweep is one", false});
       return false;
     }
-    if (!documents.empty()) root = documents[0];
+    root = YAML::Load(text);
   } catch (const YAML::Exception& e) {
     std::ostringstream at;
     at << path << ':' << e.mark.line + 1 << ':' << e.mark.column + 1;

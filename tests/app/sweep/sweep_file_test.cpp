@@ -284,6 +284,22 @@ TEST(SweepFile, MissingBaseAndBrokenYamlAreNamed) {
   EXPECT_NE(all_text(problems).find("broken.yaml:2:1: sweep: not valid YAML"), std::string::npos) << all_text(problems);
 }
 
+// yaml-cpp's LoadAll loops forever on some inputs (fuzz_sweep found this one): the sweep reader
+// counts documents itself and parses one, as the scene reader does.
+TEST(SweepFile, AnInputThatHungTheYamlLoaderIsReadAtOnceAndTwoDocumentsAreNamed) {
+  const fs::path dir = vdmsim::test::scratch_dir("sweep_file");
+  vdmsim::SweepFile sweep;
+  std::vector<vdmsim::SceneProblem> problems;
+  std::ofstream(dir / "hang.yaml", std::ios::binary) << ",as\x96: .\nvary: {organ.material.density: [1]}\n";
+  EXPECT_FALSE(vdmsim::read_sweep_file((dir / "hang.yaml").string(), sweep, problems));
+  EXPECT_NE(all_text(problems).find("hang.yaml:"), std::string::npos) << all_text(problems);
+  problems.clear();
+  std::ofstream(dir / "two.yaml") << "base: " << kBase << "\nvary: {organ.material.density: [1]}\n---\nbase: x\n";
+  EXPECT_FALSE(vdmsim::read_sweep_file((dir / "two.yaml").string(), sweep, problems));
+  EXPECT_NE(all_text(problems).find("two.yaml:3:1: sweep: the file holds several YAML documents"), std::string::npos)
+      << all_text(problems);
+}
+
 TEST(SweepCli, BadSweepFileExitsTwoNamingFileLineColumnAndField) {
   const fs::path file = vdmsim::test::scratch_dir("sweep_file") / "cli_bad.yaml";
   std::ofstream(file) << "base: " << kBase << "\nvary:\n  instruments[0].radus: [0.003, 0.005]\n";
