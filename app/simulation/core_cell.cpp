@@ -43,9 +43,11 @@ void check_core_cell(const SceneDef& s, const vdm::SurfaceMesh& organ, std::vect
     const double w = 2 * tools::instrument_size(s.instruments[k]);
     if (w > 0 && (width == 0 || w < width)) width = w, which = k;
   }
-  if (width > 0 && h > width) {
+  // More than twice its width: the dent under it spans less than half a cell (the project's
+  // probe_poke_core, 1 cm cells under an 8 mm probe, is within).
+  if (width > 0 && h > 2 * width) {
     m << (given ? "a cell of " : "the default cell (the organ's volume over its area) of ") << h
-      << " m is coarser than instruments[" << which << "] (" << width
+      << " m is more than twice as wide as instruments[" << which << "] (" << width
       << " m across): a dent narrower than a few cells is resisted by the ties alone and its force comes out too "
          "small; a cell_size near the instrument's half width ("
       << width / 2 << " m) follows it";

@@ -2,8 +2,9 @@
 // organ.cell_size of `model: vdm_core`, checked against the placed organ and the instruments
 // before the elastic core is built: a cell that does not fit in the organ's box (the core would
 // be a cell or two, its force off by orders of magnitude) or that gives more cells than the core
-// takes is refused, naming organ.cell_size's line and column; a cell coarser than the smallest
-// instrument is warned (a dent narrower than a few cells is resisted by the ties alone).
+// takes is refused, naming organ.cell_size's line and column; a cell more than twice as wide as
+// the smallest instrument is warned (a dent narrower than a few cells is resisted by the ties
+// alone).
 #include <vector>
 
 #include "app/scene/scene.hpp"

@@ -53,7 +53,7 @@ TEST(LimitsCli, TinyTetSizeIsRefusedBeforeMeshing) {
 // Issue 46: the elastic core's cell against the 0.29 x 0.15 x 0.10 m liver. Larger than the
 // organ's box is refused (the run "completed" with forces 460x too small), as are more cells
 // than the core takes (cell_size 1e-6, once refused without a line, naming organ.model); both
-// at organ.cell_size's line and column. A cell coarser than the probe is warned.
+// at organ.cell_size's line and column. A cell more than twice as wide as the probe is warned.
 TEST(LimitsCli, ACoreCellLargerThanTheOrganOrTooSmallIsRefusedAtItsLine) {
   auto scene = [&](const std::string& name, const std::string& cell) {
     return write(name, "name: core\norgan:\n  mesh: " + liver() + "\n  model: vdm_core\n  cell_size: " + cell +
@@ -83,8 +83,8 @@ TEST(LimitsCli, ACoreCellLargerThanTheOrganOrTooSmallIsRefusedAtItsLine) {
   const std::string coarse = scene("coarse_cell.yaml", "0.02");
   r = timed("check " + coarse, s);
   EXPECT_EQ(r.code, 0) << r.output;
-  EXPECT_NE(r.output.find(coarse + ":5:14: warning: organ.cell_size: a cell of 0.02 m is coarser than instruments[0] "
-                                   "(0.008 m across)"),
+  EXPECT_NE(r.output.find(coarse + ":5:14: warning: organ.cell_size: a cell of 0.02 m is more than twice as wide as "
+                                   "instruments[0] (0.008 m across)"),
             std::string::npos)
       << r.output;
 }
