@@ -207,25 +207,6 @@ class CoreSolver final : public ReferenceSolver {
 
 }  // namespace
 
-const char* to_string(ModelKind k) {
-  switch (k) {
-    case ModelKind::vdm: return "vdm";
-    case ModelKind::fem: return "fem";
-    case ModelKind::mass_spring: return "mass_spring";
-    case ModelKind::vdm_core: return "vdm_core";
-  }
-  return "unknown";
-}
-
-bool parse_model_kind(const std::string& t, ModelKind& out) {
-  if (t == "vdm") out = ModelKind::vdm;
-  else if (t == "fem") out = ModelKind::fem;
-  else if (t == "mass_spring") out = ModelKind::mass_spring;
-  else if (t == "vdm_core") out = ModelKind::vdm_core;
-  else return false;
-  return true;
-}
-
 std::unique_ptr<OrganSolver> make_vdm_solver(const TissueModel& model) { return std::make_unique<VdmSolver>(model); }
 std::unique_ptr<OrganSolver> make_fem_solver(fem::FemModel model, double dt) {
   return std::make_unique<FemSolver>(std::move(model), dt);

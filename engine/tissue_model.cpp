@@ -11,40 +11,6 @@
 
 namespace vdm {
 
-const char* to_string(SolverMethod m) {
-  switch (m) {
-    case SolverMethod::reference: return "reference";
-    case SolverMethod::structured: return "structured";
-    case SolverMethod::direct: return "direct";
-  }
-  return "unknown";
-}
-
-bool parse_solver_method(const std::string& text, SolverMethod& out) {
-  if (text == "reference" || text == "bicgstab") out = SolverMethod::reference;
-  else if (text == "structured" || text == "cg") out = SolverMethod::structured;
-  else if (text == "direct" || text == "cholesky") out = SolverMethod::direct;
-  else return false;
-  return true;
-}
-
-const char* to_string(CapsuleForm c) {
-  switch (c) {
-    case CapsuleForm::membrane: return "membrane";
-    case CapsuleForm::corotational: return "corotational";
-    case CapsuleForm::paper: return "paper";
-  }
-  return "unknown";
-}
-
-bool parse_capsule_form(const std::string& text, CapsuleForm& out) {
-  if (text == "membrane") out = CapsuleForm::membrane;
-  else if (text == "corotational") out = CapsuleForm::corotational;
-  else if (text == "paper") out = CapsuleForm::paper;
-  else return false;
-  return true;
-}
-
 TissueDef default_tissue(SurfaceMesh mesh) {
   TissueDef def;
   def.mesh = std::move(mesh);

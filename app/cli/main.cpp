@@ -11,6 +11,7 @@
 #include "app/studies/accuracy_command.hpp"
 #include "app/studies/bench.hpp"
 #include "app/cli/commands.hpp"
+#include "app/cli/option_checks.hpp"
 #include "app/compare/compare_command.hpp"
 #include "app/mesh_prep/prepare_mesh.hpp"
 #include "app/mesh_prep/ray_locate.hpp"
@@ -20,6 +21,10 @@
 #include "app/sweep/sweep_command.hpp"
 
 namespace {
+namespace cli = vdmsim::cli;
+constexpr long long kMaxJobs = 100000;    // --jobs: processes at a time on one machine
+constexpr long long kMaxArray = 1000000;  // --task, --max-parallel: a Slurm array's indices
+
 // --frames: a whole number from 1 to kMaxFrames, or a message naming the bound.
 CLI::Validator frame_count() {
   return CLI::Validator(
@@ -56,10 +61,12 @@ int main(int argc, char** argv) {
       "prepare-mesh",
       "Make a scanned surface an organ: repair, remesh, smooth; writes a closed outward OBJ in metres");
   prepare_mesh->add_option("IN", prep_opt.in, "The surface as segmented (OBJ, STL, PLY, ...; any units)")->required();
-  prepare_mesh->add_option("--out", prep_opt.out, "Output OBJ (metres)")->required();
+  prepare_mesh->add_option("--out", prep_opt.out, "Output OBJ (metres)")->required()->check(cli::named_path());
   prepare_mesh->add_option("--scale", prep_opt.scale, "Input units to metres (0.001 for millimetres)");
-  auto* prep_nodes = prepare_mesh->add_option("--nodes", prep_opt.nodes, "Target node count (default 10000)");
+  auto* prep_nodes = prepare_mesh->add_option("--nodes", prep_opt.nodes, "Target node count (default 10000)")
+                         ->check(cli::whole_number(100, vdmsim::kMaxPreparedNodes, "100 to 1000000"));
   prepare_mesh->add_option("--edge-length", prep_opt.edge_length, "Target edge length in metres (instead of --nodes)")
+      ->check(cli::positive_number())
       ->excludes(prep_nodes);
   prepare_mesh->add_flag("--center", prep_opt.center, "Move the bounding box's centre to the origin");
   prepare_mesh->add_option("--iterations", prep_opt.iterations, "Isotropic remeshing passes (default 5)")
@@ -81,14 +88,14 @@ int main(int argc, char** argv) {
   std::string experiment, out_dir;
   auto* paper = app.add_subcommand("paper", "Reproduce an experiment of the VDM paper");
   paper->add_option("EXPERIMENT", experiment, "cube-stress | anisotropy | beam-stretch | beam-bend | beam-twist | all")->required();
-  paper->add_option("--out", out_dir, "Output folder")->required();
+  paper->add_option("--out", out_dir, "Output folder")->required()->check(cli::named_path());
 
   std::string organ = "liver", organ_out;
   int organ_level = 4;
   auto* make_organ = app.add_subcommand("make-organ", "Generate the project's organ mesh (OBJ, metres)");
   make_organ->add_option("ORGAN", organ, "Organ to generate: liver")->required();
   make_organ->add_option("--level", organ_level, "Subdivision level: 4, 5, 6 give 2562, 10242, 40962 nodes");
-  make_organ->add_option("--out", organ_out, "Output OBJ file")->required();
+  make_organ->add_option("--out", organ_out, "Output OBJ file")->required()->check(cli::named_path());
   bool organ_scan_like = false;
   make_organ->add_flag("--scan-like", organ_scan_like,
                        "Damage it as a CT segmentation would (millimetres, scanner coordinates, bumpy, cropped open, "
@@ -105,14 +112,14 @@ int main(int argc, char** argv) {
   calibrate->add_option("--steps", calib_steps, "Steps of each load case");
   calibrate->add_option("--tet-size", calib_tet,
                         "Largest tet edge inside the organ (m; the surface's triangles are kept); 0: a tenth of the organ's smallest extent");
-  calibrate->add_option("--out", calib_out, "Output YAML with the fitted material")->required();
+  calibrate->add_option("--out", calib_out, "Output YAML with the fitted material")->required()->check(cli::named_path());
 
   std::string scene_path;
   vdmsim::RunOptions run_opt;
   bool no_render = false;
   auto* run = app.add_subcommand("run", "Simulate and render a scene: PNG frames, metrics.csv, run.json");
   run->add_option("SCENE", scene_path, "Scene file (YAML)")->required();
-  run->add_option("--out", run_opt.out_dir, "Output folder (default: out/<scene name>)");
+  run->add_option("--out", run_opt.out_dir, "Output folder (default: out/<scene name>)")->check(cli::named_path());
   run->add_option("--frames", run_opt.frames, "Simulate only this many frames")->check(frame_count());
   run->add_flag("--no-render", no_render, "Do not render images (metrics.csv and run.json only)");
   run->add_flag("--video", run_opt.video, "Also write video.mp4 (H.264, needs the ffmpeg program)");
@@ -121,12 +128,12 @@ int main(int argc, char** argv) {
                 "displacement and the stress view's quantities) and DIR/mesh.pvd (the time series, for ParaView)");
   run->add_flag("--resume", run_opt.resume, "Continue an interrupted run in --out DIR from its last checkpoint");
   run->add_option("--checkpoint-every", run_opt.checkpoint_every, "Frames between checkpoints (default 30)")
-      ->check(CLI::PositiveNumber);
+      ->check(cli::whole_number(1, vdmsim::kMaxFrames, "1 to 10000000"));
   std::string bench_out = "out/bench";
   bool bench_quick = false;
   std::string bench_only;
   auto* bench = app.add_subcommand("bench", "Performance cases: writes bench.csv and scaling.png");
-  bench->add_option("--out", bench_out, "Output folder (default: out/bench)");
+  bench->add_option("--out", bench_out, "Output folder (default: out/bench)")->check(cli::named_path());
   bench->add_flag("--quick", bench_quick, "Fewer cases and repeats (under 2 minutes)");
   bench->add_option("--only", bench_only, "Only the cases whose label contains this text (e.g. 'liver_probe 10k')");
   int bench_case_fd = -1;  // internal: the process of one case writes its row there
@@ -135,24 +142,24 @@ int main(int argc, char** argv) {
   auto* accuracy = app.add_subcommand("accuracy",
                                       "Accuracy against time: knobs swept on the liver probe and grasp scenes; "
                                       "writes accuracy.csv, accuracy.png, recommendations.md");
-  accuracy->add_option("--out", accuracy_opt.out_dir, "Output folder (default: out/accuracy)");
+  accuracy->add_option("--out", accuracy_opt.out_dir, "Output folder (default: out/accuracy)")->check(cli::named_path());
   accuracy->add_flag("--quick", accuracy_opt.quick, "Coarser meshes, fewer knob values (under 2 minutes)");
   accuracy->add_option("--scenario", accuracy_opt.scenario, "Only this scenario: probe_poke or grasp_lift (default: both)");
   accuracy->add_option("--only", accuracy_opt.only,
                        "Only these knobs, comma-separated (solver, tolerance, refresh, nonlinear, mesh, capsule, model); "
                        "the reference and the baseline always run");
   accuracy->add_option("--jobs", accuracy_opt.jobs, "Configurations at a time on this machine (default: the number of cores)")
-      ->check(CLI::PositiveNumber);
+      ->check(cli::whole_number(1, kMaxJobs, "1 to 100000"));
   auto* accuracy_slurm = accuracy->add_flag(
       "--slurm", accuracy_opt.slurm, "Run the configurations as one Slurm job array (sbatch), wait for it, then measure");
   accuracy->add_option("--partition", accuracy_opt.partition, "--slurm: the partition to submit to (default: the cluster's)")
       ->needs(accuracy_slurm);
   accuracy->add_option("--max-parallel", accuracy_opt.max_parallel, "--slurm: array tasks running at a time (default: all)")
-      ->check(CLI::PositiveNumber)
+      ->check(cli::whole_number(1, kMaxArray, "1 to 1000000"))
       ->needs(accuracy_slurm);
   accuracy->add_option("--task", accuracy_opt.task,
                        "Run only configuration I (0-based; what each Slurm array task does), no report")
-      ->check(CLI::NonNegativeNumber)
+      ->check(cli::whole_number(0, kMaxArray, "0 to 1000000"))
       ->excludes(accuracy_slurm);
   vdmsim::SweepOptions sweep_opt;
   bool sweep_no_render = false;
@@ -160,22 +167,24 @@ int main(int argc, char** argv) {
                                    "Run a scene with values varied (a grid, lists together, or listed cases), on this "
                                    "machine or as a Slurm job array; writes DIR/runs/, summary.csv and summary.png");
   sweep->add_option("SWEEP", sweep_opt.sweep_file, "Sweep file (YAML): base: a scene; vary:, zip: or cases:")->required();
-  sweep->add_option("--out", sweep_opt.out_dir, "Output folder: DIR/runs/<index>_<name>/ per run, DIR/summary.csv")->required();
+  sweep->add_option("--out", sweep_opt.out_dir, "Output folder: DIR/runs/<index>_<name>/ per run, DIR/summary.csv")
+      ->required()
+      ->check(cli::named_path());
   sweep->add_option("--jobs", sweep_opt.jobs, "Runs at a time on this machine (default: the number of cores)")
-      ->check(CLI::PositiveNumber);
+      ->check(cli::whole_number(1, kMaxJobs, "1 to 100000"));
   auto* sweep_slurm = sweep->add_flag("--slurm", sweep_opt.slurm,
                                       "Submit the runs as one Slurm job array (sbatch), wait for it, then summarise");
   sweep->add_option("--partition", sweep_opt.partition, "--slurm: the partition to submit to (default: the cluster's)")
       ->needs(sweep_slurm);
   sweep->add_option("--max-parallel", sweep_opt.max_parallel, "--slurm: array tasks running at a time (default: all)")
-      ->check(CLI::PositiveNumber)
+      ->check(cli::whole_number(1, kMaxArray, "1 to 1000000"))
       ->needs(sweep_slurm);
   sweep->add_option("--frames", sweep_opt.frames, "Simulate only this many frames of each run")->check(frame_count());
   sweep->add_flag("--no-render", sweep_no_render, "Do not render images (metrics.csv and run.json only; no summary.png)");
   sweep->add_flag("--video", sweep_opt.video, "Also write each run's video.mp4 (needs ffmpeg)");
   auto* sweep_task = sweep->add_option("--task", sweep_opt.task,
                                        "Run only run I (0-based; what each Slurm array task does), no summary")
-                         ->check(CLI::NonNegativeNumber);
+                         ->check(cli::whole_number(0, kMaxArray, "0 to 1000000"));
   sweep_task->excludes(sweep_slurm);
   auto* check = app.add_subcommand("check", "Validate a scene and its mesh without simulating");
   check->add_option("SCENE", scene_path, "Scene file (YAML)")->required();
@@ -194,10 +203,15 @@ int main(int argc, char** argv) {
                       "Share of pixels (0-1) allowed to differ by more than --max-diff (default 0)")
       ->check(CLI::Range(0.0, 1.0));
   compare->add_option("--diff", compare_opt.diff,
-                      "Write the difference image to this PNG (two files), or one per pair into this folder (two folders)");
+                      "Write the difference image to this PNG (two files), or one per pair into this folder (two folders)")
+      ->check(cli::named_path());
   auto* scene_reference = app.add_subcommand(
       "scene-reference", "Print every scene key with its unit, default and range (docs/scene-reference.md, Markdown)");
 
+  if (const std::string bad = cli::non_finite_number_argument(argc, argv); !bad.empty()) {
+    std::cerr << "vdmsim: error: " << bad << "\n";
+    return 2;
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

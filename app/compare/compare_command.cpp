@@ -1,10 +1,12 @@
 #include "app/compare/compare_command.hpp"
 
 #include <filesystem>
+#include <set>
 #include <sstream>
 #include <system_error>
 
 #include "app/compare/image_pairs.hpp"
+#include "app/run/output_dir.hpp"
 #include "render/image.hpp"
 #include "render/image_compare.hpp"
 #include "render/png_io.hpp"
@@ -42,6 +44,34 @@ bool write_diff(const fs::path& path, const render::Image& diff, std::ostream& e
   return false;
 }
 
+// The images compared are the user's references: a --diff that is, or lies inside, EXPECTED
+// or ACTUAL would replace or mix with them. Why it does, or "".
+std::string diff_overwrites_input(const std::string& expected, const std::string& actual, const std::string& diff) {
+  if (diff.empty()) return "";
+  for (const std::string& input : {expected, actual})
+    if (is_or_lies_inside(diff, input))
+      return std::string(fs::is_directory(input) ? "is, or lies inside, " : "is ") + (input == expected ? "EXPECTED " : "ACTUAL ") +
+             input + ": the diff images would overwrite or mix with the images compared; choose a path outside both";
+  return "";
+}
+
+// With two folders, a diff folder that holds an input (--diff naming a parent of EXPECTED) could
+// still put a diff image where an input image is: why, naming the first, or "".
+std::string diff_image_overwrites_input(const std::string& expected, const std::string& actual,
+                                        const ImagePairing& pairing, const std::string& diff) {
+  if (diff.empty() || !pairing.folders || !(is_or_lies_inside(expected, diff) || is_or_lies_inside(actual, diff)))
+    return "";
+  std::error_code ec;
+  std::set<fs::path> inputs;
+  for (const ImagePair& pair : pairing.pairs)
+    for (const std::string& input : {pair.expected, pair.actual}) inputs.insert(fs::weakly_canonical(input, ec));
+  for (const ImagePair& pair : pairing.pairs)
+    if (const fs::path target = fs::weakly_canonical(fs::path(diff) / pair.name, ec); inputs.count(target))
+      return "the diff image of " + pair.name + " would overwrite the compared image " + target.string() +
+             "; choose a folder outside both";
+  return "";
+}
+
 }  // namespace
 
 int cmd_compare(const std::string& expected, const std::string& actual, const CompareOptions& options,
@@ -54,9 +84,17 @@ int cmd_compare(const std::string& expected, const std::string& actual, const Co
     err << "vdmsim: error: --max-share " << options.max_share << ": expected a share from 0 to 1\n";
     return 2;
   }
-  const ImagePairing pairing = pair_images(expected, actual, options.diff);
+  if (const std::string why = diff_overwrites_input(expected, actual, options.diff); !why.empty()) {
+    err << "vdmsim: error: --diff " << options.diff << ": " << why << "\n";
+    return 2;
+  }
+  const ImagePairing pairing = pair_images(expected, actual);
   if (!pairing.ok()) {
     err << "vdmsim: error: " << pairing.error << "\n";
+    return 2;
+  }
+  if (const std::string why = diff_image_overwrites_input(expected, actual, pairing, options.diff); !why.empty()) {
+    err << "vdmsim: error: --diff " << options.diff << ": " << why << "\n";
     return 2;
   }
 

@@ -19,17 +19,13 @@ bool is_png(const fs::path& p) {
 }
 
 // The PNG files under `dir`, as paths relative to it ("" in `error` unless the folder cannot be read).
-std::set<std::string> pngs_under(const fs::path& dir, const fs::path& skip, std::string& error) {
+std::set<std::string> pngs_under(const fs::path& dir, std::string& error) {
   std::set<std::string> out;
   std::error_code ec;
   fs::recursive_directory_iterator it(dir, ec), end;
   for (; !ec && it != end; it.increment(ec)) {
     const fs::path& p = it->path();
     std::error_code probe;  // a file that vanishes or cannot be inspected is not a PNG of the folder
-    if (!skip.empty() && it->is_directory(probe) && fs::equivalent(p, skip, probe)) {
-      it.disable_recursion_pending();
-      continue;
-    }
     if (it->is_regular_file(probe) && is_png(p)) out.insert(p.lexically_relative(dir).generic_string());
   }
   if (ec) error = dir.string() + ": cannot read the folder (" + ec.message() + ")";
@@ -38,7 +34,7 @@ std::set<std::string> pngs_under(const fs::path& dir, const fs::path& skip, std:
 
 }  // namespace
 
-ImagePairing pair_images(const std::string& expected, const std::string& actual, const std::string& skip) {
+ImagePairing pair_images(const std::string& expected, const std::string& actual) {
   ImagePairing r;
   std::error_code ec;
   for (const std::string& p : {expected, actual})
@@ -57,9 +53,9 @@ ImagePairing pair_images(const std::string& expected, const std::string& actual,
     return r;
   }
   r.folders = true;
-  const std::set<std::string> e = pngs_under(expected, skip, r.error);
+  const std::set<std::string> e = pngs_under(expected, r.error);
   if (!r.ok()) return r;
-  const std::set<std::string> a = pngs_under(actual, skip, r.error);
+  const std::set<std::string> a = pngs_under(actual, r.error);
   if (!r.ok()) return r;
   if (e.empty()) {
     r.error = expected + ": no PNG images in the folder or its subfolders";

@@ -21,8 +21,7 @@ struct ImagePairing {
   bool ok() const { return error.empty(); }
 };
 
-// Pairs EXPECTED with ACTUAL. `skip`: a folder left out of the listing (the diff images'
-// folder, when it lies inside one of the two), or "".
-ImagePairing pair_images(const std::string& expected, const std::string& actual, const std::string& skip = "");
+// Pairs EXPECTED with ACTUAL.
+ImagePairing pair_images(const std::string& expected, const std::string& actual);
 
 }  // namespace vdmsim

@@ -21,6 +21,8 @@ double edge_length_for_nodes(double area, int nodes) {
   return std::sqrt(2.0 * area / (std::sqrt(3.0) * nodes));
 }
 
+double nodes_for_edge_length(double area, double edge) { return 2.0 * area / (std::sqrt(3.0) * edge * edge); }
+
 namespace {
 
 constexpr double kMinAngleTarget = 20.0;    // degrees
@@ -50,8 +52,18 @@ int prepare_mesh(const PrepareMeshOptions& opt, std::ostream& out, std::ostream&
     err << "vdmsim: error: give --nodes or --edge-length, not both\n";
     return 2;
   }
-  if (opt.nodes < 0 || (opt.nodes > 0 && opt.nodes < 100) || opt.nodes > 1000000) {
-    err << "vdmsim: error: --nodes " << opt.nodes << " is out of range (100 to 1000000)\n";
+  if (opt.nodes < 0 || (opt.nodes > 0 && opt.nodes < 100) || opt.nodes > kMaxPreparedNodes) {
+    err << "vdmsim: error: --nodes " << opt.nodes << " is out of range (100 to " << kMaxPreparedNodes << ")\n";
+    return 2;
+  }
+  if (opt.out.empty()) {
+    err << "vdmsim: error: --out: empty: name the OBJ file to write\n";
+    return 2;
+  }
+  // The scan is the user's only copy: the result never replaces it.
+  if (is_or_lies_inside(opt.out, opt.in)) {
+    err << "vdmsim: error: --out " << opt.out << " is the input " << opt.in
+        << ": prepare-mesh would overwrite it; choose another file\n";
     return 2;
   }
   if (opt.edge_length < 0 || !std::isfinite(opt.edge_length)) {
@@ -99,6 +111,15 @@ int prepare_mesh(const PrepareMeshOptions& opt, std::ostream& out, std::ostream&
     return 2;
   }
 
+  // An edge far below the surface's size would remesh for hours: refused by the node count it
+  // gives over the area, as --nodes is.
+  if (opt.edge_length > 0 && nodes_for_edge_length(fixed.area, opt.edge_length) > kMaxPreparedNodes) {
+    err << std::setprecision(3) << "vdmsim: error: --edge-length " << opt.edge_length << " m over the surface's "
+        << fixed.area << " m^2 would give about " << nodes_for_edge_length(fixed.area, opt.edge_length)
+        << " nodes, more than " << kMaxPreparedNodes << ": give at least "
+        << edge_length_for_nodes(fixed.area, kMaxPreparedNodes) << " m\n";
+    return 2;
+  }
   const int target_nodes = opt.edge_length > 0 ? 0 : (opt.nodes > 0 ? opt.nodes : 10000);
   double L = opt.edge_length > 0 ? opt.edge_length : edge_length_for_nodes(fixed.area, target_nodes);
   const double extent = (fixed.hi - fixed.lo).maxCoeff();
@@ -153,19 +174,20 @@ int prepare_mesh(const PrepareMeshOptions& opt, std::ostream& out, std::ostream&
   const SurfaceDistance from_input = sampled_distance(input_placed, prepared);
   const MeshQuality after = measure_mesh(prepared);
 
+  // The output's folder, made when missing; a full disk is a failure at run time (exit 1).
   std::string error;
-  const std::filesystem::path parent = std::filesystem::path(opt.out).parent_path();
-  if (!parent.empty() && !prepare_output_dir(parent.string(), error)) {
+  bool at_run_time = false;
+  if (!prepare_output_file_folder(opt.out, error, &at_run_time)) {
     err << "vdmsim: error: " << error << "\n";
-    return 2;
+    return at_run_time ? 1 : 2;
   }
   std::ostringstream header;
   header << "prepared by `vdmsim prepare-mesh` from " << std::filesystem::path(opt.in).filename().string()
          << " (scale " << opt.scale << ")\nunits: metres; nodes " << after.nodes << ", triangles " << after.triangles;
   if (opt.center) header << "\nmoved by " << shift.x() << " " << shift.y() << " " << shift.z() << " m (centred)";
-  if (!save_obj(prepared, opt.out, header.str(), error)) {
+  if (!save_obj(prepared, opt.out, header.str(), error, &at_run_time)) {
     err << "vdmsim: error: " << error << "\n";
-    return 2;
+    return at_run_time ? 1 : 2;
   }
 
   const double volume_change = (after.volume - fixed.volume) / fixed.volume;

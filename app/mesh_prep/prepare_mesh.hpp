@@ -6,6 +6,9 @@
 
 namespace vdmsim {
 
+// The most nodes prepare-mesh makes (--nodes, or what --edge-length gives over the area).
+constexpr int kMaxPreparedNodes = 1000000;
+
 struct PrepareMeshOptions {
   std::string in, out;
   double scale = 1.0;        // input units to metres
@@ -21,5 +24,7 @@ int cmd_prepare_mesh(const PrepareMeshOptions& options, std::ostream& out, std::
 // The edge length whose near-equilateral triangles cover `area` with about `nodes` nodes:
 // a closed triangle surface has 2 triangles per node, each of area sqrt(3)/4 L^2.
 double edge_length_for_nodes(double area, int nodes);
+// Its inverse: about how many nodes an edge of `edge` gives over `area`.
+double nodes_for_edge_length(double area, double edge);
 
 }  // namespace vdmsim

@@ -37,6 +37,14 @@ void remove_mesh_export(const fs::path& dir) {
   }
 }
 
+std::vector<int> missing_export_frames(const fs::path& dir, int frames) {
+  std::vector<int> missing;
+  std::error_code ec;
+  for (int f = 0; f < frames; ++f)
+    if (!fs::exists(dir / relative_frame_file(f), ec)) missing.push_back(f);
+  return missing;
+}
+
 bool MeshExport::open(const PreparedScene& ps, const fs::path& dir, int start, std::string& error) {
   dir_ = dir;
   std::error_code ec;

@@ -25,6 +25,10 @@ std::vector<render::Quantity> exported_scalars(bool stress_computed);
 // mesh/frame_*.vtu, with their .tmp), and nothing else.
 void remove_mesh_export(const std::filesystem::path& dir);
 
+// The frames before `frames` whose DIR/mesh/frame_NNNNN.vtu is missing (a resume's export
+// extends them), ascending.
+std::vector<int> missing_export_frames(const std::filesystem::path& dir, int frames);
+
 class MeshExport {
  public:
   // Starts exporting `prepared`'s organ into `dir` (creates DIR/mesh). A resume at frame

@@ -5,29 +5,76 @@
 #include <unistd.h>
 
 #include <cctype>
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 
 namespace vdmsim {
 
-bool prepare_output_dir(const std::string& dir, std::string& error) {
+std::string write_error_text(int errnum) {
+  if (errnum == ENOSPC) return "no space left on the device";
+  if (errnum == EDQUOT) return "disk quota exceeded";
+  return std::strerror(errnum);
+}
+
+bool is_disk_failure(int errnum) { return errnum == ENOSPC || errnum == EDQUOT || errnum == EIO || errnum == EFBIG; }
+
+bool prepare_output_dir(const std::string& dir, std::string& error, bool* at_run_time) {
   namespace fs = std::filesystem;
+  if (at_run_time) *at_run_time = false;
   std::error_code ec;
   fs::create_directories(dir, ec);
   if (ec || !fs::is_directory(dir)) {
-    error = dir + ": cannot create the output folder (" + (ec ? ec.message() : "not a folder") + ")";
+    if (at_run_time && ec) *at_run_time = is_disk_failure(ec.value());
+    error = dir + ": cannot create the output folder (" +
+            (ec ? (ec.value() == ENOSPC ? write_error_text(ENOSPC) : ec.message()) : "not a folder") + ")";
     return false;
   }
-  const fs::path probe = fs::path(dir) / ".vdmsim-write-test";
-  {
-    std::ofstream f(probe);
-    if (!f || !(f << "ok") || !(f.flush())) {
-      error = dir + ": the output folder is not writable";
-      return false;
-    }
+  // The probe: written, closed and removed; its errno says why it failed.
+  const std::string probe = (fs::path(dir) / ".vdmsim-write-test").string();
+  int errnum = 0;
+  const int fd = open(probe.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) {
+    errnum = errno;
+  } else {
+    if (write(fd, "ok", 2) != 2) errnum = errno ? errno : EIO;
+    if (close(fd) != 0 && errnum == 0) errnum = errno;
+    unlink(probe.c_str());
   }
-  fs::remove(probe, ec);
-  return true;
+  if (errnum == 0) return true;
+  if (at_run_time) *at_run_time = is_disk_failure(errnum);
+  error = dir + (is_disk_failure(errnum) ? ": cannot write in the output folder: " + write_error_text(errnum)
+                                          : ": the output folder is not writable (" + write_error_text(errnum) + ")");
+  return false;
+}
+
+bool prepare_output_file_folder(const std::string& path, std::string& error, bool* at_run_time) {
+  if (at_run_time) *at_run_time = false;
+  const std::filesystem::path parent = std::filesystem::path(path).parent_path();
+  std::error_code ec;
+  if (parent.empty() || std::filesystem::is_directory(parent, ec)) return true;
+  return prepare_output_dir(parent.string(), error, at_run_time);
+}
+
+bool is_or_lies_inside(const std::filesystem::path& path, const std::filesystem::path& other) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  // Links resolved in the parts that exist; a trailing '/' dropped.
+  auto resolved = [&ec](const fs::path& p) {
+    fs::path r = fs::weakly_canonical(fs::absolute(p, ec), ec).lexically_normal();
+    if (r.has_relative_path() && r.filename().empty()) r = r.parent_path();
+    return r;
+  };
+  const fs::path p = resolved(path), o = resolved(other);
+  const bool other_exists = fs::exists(o, ec);
+  // `path` or one of its folders is `other`: the same names, or (existing) the same file.
+  for (fs::path q = p;; q = q.parent_path()) {
+    if (q == o) return true;
+    std::error_code same;
+    if (other_exists && fs::exists(q, same) && fs::equivalent(q, o, same)) return true;
+    if (q == q.parent_path() || q.empty()) return false;
+  }
 }
 
 bool write_file_atomically(const std::filesystem::path& path, const std::string& body, std::string& error) {

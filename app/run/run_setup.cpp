@@ -1,6 +1,9 @@
 #include "app/run/run_setup.hpp"
 
+#include <yaml-cpp/yaml.h>
+
 #include <sstream>
+#include <utility>
 
 #include "app/run/mesh_export.hpp"
 #include "app/run/output_dir.hpp"
@@ -64,9 +67,67 @@ RunInputs run_inputs(const SceneDef& s, const RunOptions& opt) {
 
 namespace {
 
+// run.json's status and frame count ("" and -1 when it is not there or cannot be read).
+std::pair<std::string, int> run_json_status(const fs::path& dir) {
+  try {
+    const YAML::Node js = YAML::LoadFile((dir / "run.json").string());
+    const YAML::Node status = js["status"], frames = js["frames"];
+    return {status && status.IsScalar() ? status.Scalar() : "", frames && frames.IsScalar() ? frames.as<int>(-1) : -1};
+  } catch (const YAML::Exception&) {
+    return {"", -1};
+  }
+}
+
+// Without a checkpoint: a run that stopped before its first one, or no run at all.
+int no_checkpoint(const RunSetup& setup, std::ostream& err) {
+  std::error_code ec;
+  const bool ran = fs::exists(setup.dir / "metrics.csv", ec) || fs::exists(setup.dir / "run.json", ec);
+  err << "vdmsim: error: " << setup.checkpoint_path().string() << ": "
+      << (ran ? "the run in " + setup.dir.string() +
+                    " stopped before its first checkpoint (written every --checkpoint-every frames, 30 by "
+                    "default): there is nothing to resume from; run it again without --resume"
+              : "no run to resume in " + setup.dir.string() + " (no checkpoint.json): run it without --resume first")
+      << "\n";
+  return 2;
+}
+
+// The checkpoint's frame must be one of this run's, and a checkpoint at the last frame is of a
+// completed run only when run.json says so: an edited or damaged checkpoint.json is refused.
+int check_resume_frame(const RunSetup& setup, std::ostream& err) {
+  const Checkpoint& cp = setup.resume_from;
+  const std::string at = "vdmsim: error: " + setup.checkpoint_path().string() + ": ";
+  if (cp.frames != setup.frames || cp.frame < 0 || cp.frame >= setup.frames) {
+    err << at << "frame " << cp.frame << " of " << cp.frames << " frames does not fit this run's " << setup.frames
+        << " frames (0 to " << setup.frames - 1 << "): damaged or edited; run it afresh without --resume\n";
+    return 2;
+  }
+  if (cp.frame + 1 < setup.frames) return -1;
+  const auto [status, frames] = run_json_status(setup.dir);
+  if (status == "completed" && frames == setup.frames) return -1;
+  err << at << "says every frame (to " << cp.frame << ") is done, but "
+      << (status.empty() ? "there is no readable run.json"
+                         : "run.json says status " + status + " with " + std::to_string(frames) + " frames")
+      << ": they disagree (damaged or edited?); run it afresh without --resume\n";
+  return 2;
+}
+
+// Resuming with --export-mesh: the frames before the resumed ones must be on disk, or the export
+// would end with only the resumed frames.
+int check_resumed_export(const RunSetup& setup, std::ostream& err) {
+  const std::vector<int> missing = missing_export_frames(setup.dir, setup.start);
+  if (missing.empty()) return -1;
+  err << "vdmsim: error: " << (setup.dir / "mesh").string() << ": " << missing.size() << " of the " << setup.start
+      << " frames this resume's --export-mesh extends are missing (frame " << missing.front()
+      << (missing.size() > 1 ? " to " + std::to_string(missing.back()) : std::string())
+      << "): run it afresh without --resume to export every frame\n";
+  return 2;
+}
+
 // Resuming: the checkpoint must be of this run's inputs; when it is not, what changed is named.
-int read_resume_point(RunSetup& setup, std::ostream& err) {
+int read_resume_point(RunSetup& setup, const RunOptions& opt, std::ostream& err) {
   std::string error;
+  std::error_code ec;
+  if (!fs::exists(setup.checkpoint_path(), ec)) return no_checkpoint(setup, err);
   if (!read_checkpoint(setup.checkpoint_path().string(), setup.resume_from, error)) {
     err << "vdmsim: error: " << error << "\n";
     return 2;
@@ -79,7 +140,10 @@ int read_resume_point(RunSetup& setup, std::ostream& err) {
     err << " (run it afresh without --resume)\n";
     return 2;
   }
+  if (const int code = check_resume_frame(setup, err); code >= 0) return code;
   setup.start = setup.resume_from.frame + 1;
+  if (opt.export_mesh)
+    if (const int code = check_resumed_export(setup, err); code >= 0) return code;
   if (setup.start >= setup.frames) {
     err << "vdmsim: note: " << setup.dir.string() << ": the run was already complete (" << setup.frames
         << " frames): nothing to do\n";
@@ -125,9 +189,10 @@ int set_up_run(const PreparedScene& ps, const RunOptions& opt, RunSetup& setup, 
     return 1;
   }
   std::string error;
-  if (!prepare_output_dir(setup.dir.string(), error)) {
+  bool at_run_time = false;
+  if (!prepare_output_dir(setup.dir.string(), error, &at_run_time)) {
     err << "vdmsim: error: " << error << "\n";
-    return 2;
+    return at_run_time ? 1 : 2;
   }
   setup.lock = std::make_shared<OutputLock>();
   if (!setup.lock->acquire(setup.dir, error)) {
@@ -137,7 +202,7 @@ int set_up_run(const PreparedScene& ps, const RunOptions& opt, RunSetup& setup, 
   note_inert_instruments(s, err);
   setup.inputs = run_inputs(s, opt);
   setup.run_hash = setup.inputs.hash();
-  if (opt.resume) return read_resume_point(setup, err);
+  if (opt.resume) return read_resume_point(setup, opt, err);
   remove_earlier_outputs(setup.dir);
   remove_mesh_export(setup.dir);
   return -1;

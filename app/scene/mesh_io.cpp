@@ -9,6 +9,8 @@
 
 #include <array>
 #include <cctype>
+#include <cerrno>
+#include <cstring>
 #include <cstdio>
 #include <cmath>
 #include <filesystem>
@@ -142,10 +144,19 @@ std::string flipped_surface_note(const std::string& path) {
 }
 
 bool save_obj(const vdm::SurfaceMesh& mesh, const std::string& path, const std::string& header,
-              std::string& error) {
-  std::ofstream f(path);
+              std::string& error, bool* at_run_time) {
+  namespace fs = std::filesystem;
+  if (at_run_time) *at_run_time = false;
+  // A file (or a new one) is written beside itself and renamed into place, so that a failed write
+  // leaves what was there; a device or a pipe (/dev/stdout) is written directly.
+  std::error_code ec;
+  const fs::path target = fs::exists(path, ec) ? fs::canonical(path, ec) : fs::path(path);
+  const bool replace = !fs::exists(target, ec) || fs::is_regular_file(target, ec);
+  const std::string written = replace ? target.string() + ".tmp" : path;
+  errno = 0;
+  std::ofstream f(written);
   if (!f) {
-    error = path + ": cannot open for writing";
+    error = path + ": cannot open for writing" + (errno ? " (" + std::string(std::strerror(errno)) + ")" : "");
     return false;
   }
   std::istringstream lines(header);
@@ -159,10 +170,22 @@ bool save_obj(const vdm::SurfaceMesh& mesh, const std::string& path, const std::
   for (int k = 0; k < mesh.triangle_count(); ++k)
     f << "f " << mesh.triangles(k, 0) + 1 << ' ' << mesh.triangles(k, 1) + 1 << ' '
       << mesh.triangles(k, 2) + 1 << '\n';
-  f.flush();
+  f.close();  // what close flushes can fail too
   if (!f) {
-    error = path + ": write failed (disk full?)";
+    // errno is the failing write's; ENOSPC in words ("no space left on the device").
+    const int e = errno ? errno : EIO;
+    if (at_run_time) *at_run_time = true;
+    error = path + ": write failed: " + (e == ENOSPC ? std::string("no space left on the device") : std::strerror(e));
+    if (replace) fs::remove(written, ec);
     return false;
+  }
+  if (replace) {
+    fs::rename(written, target, ec);
+    if (ec) {
+      error = path + ": cannot move the written file into place (" + ec.message() + ")";
+      fs::remove(written, ec);
+      return false;
+    }
   }
   return true;
 }

@@ -32,8 +32,9 @@ MeshLoadResult load_surface_mesh(const std::string& path, const MeshLoadOptions&
 std::string flipped_surface_note(const std::string& path);
 
 // Writes a Wavefront OBJ (positions and triangles, full precision). False with a message
-// naming the file on failure.
+// naming the file on failure; `at_run_time`, when given, is set when the file opened but the
+// disk failed (no space left, an I/O error): a failure at run time (exit 1), not a bad path.
 bool save_obj(const vdm::SurfaceMesh& mesh, const std::string& path, const std::string& header,
-              std::string& error);
+              std::string& error, bool* at_run_time = nullptr);
 
 }  // namespace vdmsim

@@ -1,6 +1,7 @@
 #include "app/scene/scene.hpp"
 
 #include "app/scene/utf8.hpp"
+#include "app/scene/yaml_documents.hpp"
 
 #include <yaml-cpp/yaml.h>
 
@@ -363,7 +364,10 @@ void read_organ(Reader& r, const YAML::Node& organ, SceneDef& s, const std::file
     }
   }
   if (const YAML::Node n = organ["tet_size"]) r.number(n, "organ.tet_size", s.tet_size, KEY("organ.tet_size"));
-  if (const YAML::Node n = organ["cell_size"]) r.number(n, "organ.cell_size", s.cell_size, KEY("organ.cell_size"));
+  if (const YAML::Node n = organ["cell_size"]) {
+    r.number(n, "organ.cell_size", s.cell_size, KEY("organ.cell_size"));
+    s.cell_size_where = r.where(n);
+  }
   if (const YAML::Node mat = organ["material"]) {
     if (r.require_map(mat, "organ.material")) {
       r.check_keys(mat, "organ.material", "organ.material");
@@ -992,37 +996,8 @@ SceneLoadResult load_scene(const std::string& path) {
     // ",p, 2"), so the first document is parsed alone and the others found from their markers.
     std::ifstream in(path, std::ios::binary);
     const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    int documents = 1, second_line = 0;
-    {
-      std::istringstream lines(text);
-      std::string line;
-      bool content = false, ended = false;
-      for (int number = 1; std::getline(lines, line); ++number) {
-        if (!line.empty() && line.back() == '\r') line.pop_back();
-        auto marker = [&](const char* m) {
-          return line.compare(0, 3, m) == 0 && (line.size() == 3 || line[3] == ' ' || line[3] == '\t' || line[3] == '#');
-        };
-        const size_t first = line.find_first_not_of(" \t");
-        const bool blank = first == std::string::npos || line[first] == '#';
-        if (marker("---")) {
-          if (content || ended) {
-            ++documents;
-            if (!second_line) second_line = number;
-            ended = false;
-          }
-          content = line.find_first_not_of(" \t", 3) != std::string::npos && line[line.find_first_not_of(" \t", 3)] != '#';
-        } else if (marker("...")) {
-          ended = content;
-        } else if (!blank && line[0] != '%') {
-          if (ended) {
-            ++documents;
-            if (!second_line) second_line = number;
-            ended = false;
-          }
-          content = true;
-        }
-      }
-    }
+    int second_line = 0;
+    const int documents = count_yaml_documents(text, second_line);
     if (documents > 1) {
       std::ostringstream where;
       where << path << ':' << second_line << ":1";

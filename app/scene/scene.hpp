@@ -131,6 +131,7 @@ struct SceneDef {
   double volume_modulus = 0;    // mass_spring: volume spring K_v (Pa), 0 = none
   double tet_size = 0;          // fem: largest tet edge (m) for gmsh, 0 = graded from the surface
   double cell_size = 0;         // vdm_core: the core's cell (m), 0 = the organ's V/A
+  std::string cell_size_where;  // file:line:col of organ.cell_size ("" when not given)
   bool material_given = false;  // the scene has organ.material (false: every modulus is a default)
   std::vector<FixedDef> fixed;
   std::vector<LoadDef> loads;

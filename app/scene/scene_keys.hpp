@@ -128,7 +128,9 @@ inline constexpr SceneKey kSceneKeys[] = {
       .eg("prescribed: [{nodes: [5, 6], translate: [0, 0, -0.015], t: [0, 1]}]"),
   key("organ.cell_size", KT::number, "`model: vdm_core` only: the core's cell (a cube's edge); 0 takes the organ's "
       "volume over its area, V/A. Smaller cells follow smaller loads (a dent narrower than a few cells is spread over "
-      "them) and cost more. Refused when the organ's box would hold more than 2e7 cells.")
+      "them) and cost more. Refused when a cell does not fit in the organ's box (larger than its smallest side) and when "
+      "the box would hold more than 2e7 cells; warned when more than twice as wide as the smallest instrument "
+      "(its narrowest part).")
       .in("m").range(0, std::numeric_limits<double>::infinity())
       .by_default([] { return yaml_number(SceneDef().cell_size); }).eg("cell_size: 0.005"),
   key("organ.tet_size", KT::number, "`model: fem` only: the largest tetrahedron edge; 0 grades the tetrahedra from the surface. Refused when the organ would need more than 5 million tetrahedra of that edge (its volume over a regular tetrahedron's).")

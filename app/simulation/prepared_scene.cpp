@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "app/scene/mesh_io.hpp"
+#include "app/simulation/core_cell.hpp"
 #include "app/simulation/organ_models.hpp"
 #include "app/simulation/tet_budget.hpp"
 
@@ -202,6 +203,8 @@ bool prepare_scene_def(const SceneDef& scene, PreparedScene& out, std::vector<Sc
     problems.push_back({s.file, "organ.tet_size", error, false});
     return false;
   }
+  check_core_cell(s, out.model.rest, problems);
+  if (std::any_of(problems.begin(), problems.end(), [](const SceneProblem& p) { return !p.warning; })) return false;
   if (!build_reference_model(s, out.model, out.reference, error)) {
     problems.push_back({s.file, "organ.model", error, false});
     return false;

@@ -92,9 +92,41 @@ void SceneSimulation::note_hold(int node, int holder, const vdm::Vec3& before, c
               " m apart: they pull the same tissue against each other (the model cannot tear tissue)";
 }
 
-// A probe's tip deeper inside the organ than 1 cm and twice the probe's size: contact could
-// not push the organ away (a rigid material, bulk_modulus inf, or nodes held in place), and the
-// force it reports is not the tissue's.
+// Why contact could not push the organ away from instruments[k], in the terms of the scene: a
+// probe far thinner than the organ's triangles slips between its nodes; a material far softer
+// than any tissue gives no force; else the organ is rigid or held where the probe presses.
+std::string SceneSimulation::deep_probe_cause(size_t probe) const {
+  const SceneDef& s = ps_.scene;
+  const vdm::SurfaceMesh& rest = ps_.model.rest;
+  double edges = 0;
+  for (Eigen::Index f = 0; f < rest.triangles.rows(); ++f)
+    edges += (rest.positions.row(rest.triangles(f, 0)) - rest.positions.row(rest.triangles(f, 1))).norm();
+  const double mean_edge = rest.triangles.rows() ? edges / double(rest.triangles.rows()) : 0;
+  const double width = 2 * tools::instrument_size(*probes_[probe]);
+  char text[400];
+  if (width < 0.1 * mean_edge) {
+    std::snprintf(text, sizeof text,
+                  "it is %.3g m across, far thinner than the organ's triangles (edges of %.3g m on average): it slips "
+                  "between the nodes; give it a radius of at least %.3g m, or a finer organ mesh",
+                  width, mean_edge, 0.05 * mean_edge);
+    return text;
+  }
+  // The stiffness contact pushes against (Pa): E for the reference models, else VDM's moduli.
+  const double stiffness = s.model == vdm::ModelKind::vdm ? std::min(s.bulk_modulus.minCoeff(), s.connectivity_modulus)
+                                                          : s.young_modulus;
+  if (stiffness < 1.0) {
+    std::snprintf(text, sizeof text,
+                  "the organ's material (%s %.3g Pa) is far softer than any tissue (100 Pa to 100 kPa): nothing "
+                  "pushes back",
+                  s.model == vdm::ModelKind::vdm ? "modulus" : "young_modulus", stiffness);
+    return text;
+  }
+  return "contact could not push the organ away (is it rigid, bulk_modulus inf, or held in place where the probe "
+         "presses?)";
+}
+
+// A probe's tip deeper inside the organ than 1 cm and twice the probe's size: the force it
+// reports is not the tissue's (deep_probe_cause says why it got there).
 std::string SceneSimulation::deep_probe() const {
   if (!contact_simulated()) return "";
   for (size_t k = 0; k < probes_.size(); ++k) {
@@ -102,12 +134,10 @@ std::string SceneSimulation::deep_probe() const {
     const double limit = std::max(0.01, 2 * tools::instrument_size(*probes_[k]));
     if (deeper_inside(state_.x, ps_.model.rest.triangles, tip, limit)) {
       const double depth = depth_inside(state_.x, ps_.model.rest.triangles, tip);
-      char text[300];
-      std::snprintf(text, sizeof text,
-                    "instruments[%zu]'s tip is %.3g m inside the organ (more than %.3g m): contact could not push the "
-                    "organ away (is it rigid, bulk_modulus inf, or held in place?) and its force would be wrong",
+      char text[120];
+      std::snprintf(text, sizeof text, "instruments[%zu]'s tip is %.3g m inside the organ (more than %.3g m): ",
                     probe_index_[k], depth, limit);
-      return text;
+      return text + deep_probe_cause(k) + ", and its force would be wrong";
     }
   }
   return "";

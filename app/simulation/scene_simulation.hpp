@@ -101,6 +101,7 @@ class SceneSimulation {
   std::string conflict_;
   void note_hold(int node, int holder, const vdm::Vec3& before, const vdm::Vec3& after);
   std::string deep_probe() const;
+  std::string deep_probe_cause(size_t probe) const;
   // The forces of the frame just simulated (instrument_force_, peak_force_).
   void measure_forces();
 };

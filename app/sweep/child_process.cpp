@@ -1,6 +1,8 @@
 #include "app/sweep/child_process.hpp"
 
 #include <fcntl.h>
+#include <signal.h>
+#include <sys/prctl.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -32,23 +34,50 @@ pid_t start_process(const std::vector<std::string>& argv, const std::filesystem:
                     std::string& error) {
   std::vector<std::string> args = argv;
   std::vector<char*> cargs = c_args(args);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
-  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
-  posix_spawnattr_t attr;
-  posix_spawnattr_init(&attr);
-  if (own_group) {
-    posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETPGROUP);
-    posix_spawnattr_setpgroup(&attr, 0);
+  const std::string log_path = log.string();
+  // The child reports a failed exec through this pipe (closed unread when the exec succeeds).
+  int report[2];
+  if (pipe2(report, O_CLOEXEC) != 0) {
+    error = std::string("cannot make a pipe: ") + std::strerror(errno);
+    return -1;
   }
-  pid_t pid = -1;
-  const int rc = posix_spawnp(&pid, cargs[0], &actions, &attr, cargs.data(), environ);
-  posix_spawnattr_destroy(&attr);
-  posix_spawn_file_actions_destroy(&actions);
-  if (rc != 0) {
-    error = argv[0] + ": cannot start: " + std::strerror(rc);
+  const pid_t parent = getpid();
+  const pid_t pid = fork();
+  if (pid < 0) {
+    error = argv[0] + ": cannot start: " + std::strerror(errno);
+    close(report[0]);
+    close(report[1]);
+    return -1;
+  }
+  if (pid == 0) {
+    // The child: only async-signal-safe calls until exec. It dies with its parent (a sweep
+    // killed with SIGKILL leaves no run behind, holding its folder); the parent may have died
+    // before the prctl, in which case the child is already an orphan and stops here.
+    close(report[0]);
+    prctl(PR_SET_PDEATHSIG, SIGKILL);
+    if (getppid() != parent) _exit(127);
+    if (own_group) setpgid(0, 0);
+    const int in = open("/dev/null", O_RDONLY);
+    const int out = open(log_path.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
+    if (in >= 0 && out >= 0 && dup2(in, STDIN_FILENO) >= 0 && dup2(out, STDOUT_FILENO) >= 0 &&
+        dup2(out, STDERR_FILENO) >= 0)
+      execvp(cargs[0], cargs.data());
+    const int e = errno;
+    if (write(report[1], &e, sizeof e) < 0) {
+    }
+    _exit(127);
+  }
+  close(report[1]);
+  int child_errno = 0;
+  ssize_t n;
+  while ((n = read(report[0], &child_errno, sizeof child_errno)) < 0 && errno == EINTR) {
+  }
+  close(report[0]);
+  if (n == static_cast<ssize_t>(sizeof child_errno)) {
+    int status = 0;
+    while (waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+    }
+    error = argv[0] + ": cannot start: " + std::strerror(child_errno);
     return -1;
   }
   return pid;

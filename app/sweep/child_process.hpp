@@ -14,7 +14,9 @@ std::string own_program();
 
 // Starts argv[0] (a path, or a name looked up on PATH) with `argv`, its stdout and stderr
 // appended to `log`; in a process group of its own when `own_group` (then a Ctrl-C at the
-// terminal reaches only the sweep, which passes it on once). The pid, or -1 with `error`.
+// terminal reaches only the sweep, which passes it on once). The child is killed (SIGKILL) when
+// the thread that started it ends, as when the sweep is killed: call it from the main thread.
+// The pid, or -1 with `error`.
 pid_t start_process(const std::vector<std::string>& argv, const std::filesystem::path& log, bool own_group,
                     std::string& error);
 

@@ -50,6 +50,10 @@ void clear_run_results(const fs::path& dir) {
 
 bool open_sweep_dir(const std::string& out, bool task, std::filesystem::path& dir, OutputLock& lock,
                     std::string& error) {
+  if (out.empty()) {  // (absolute("") is the current folder)
+    error = "--out: empty: name the folder (an unset shell variable?)";
+    return false;
+  }
   std::error_code ec;
   dir = std::filesystem::absolute(out, ec).lexically_normal();
   if (!prepare_output_dir((dir / "runs").string(), error)) return false;

@@ -107,6 +107,18 @@ RunResult read_run_result(const fs::path& dir, const fs::path& slurm_log) {
   return r;
 }
 
+void note_exit_code(RunResult& r, int code, const fs::path& run_dir) {
+  if (code <= 0) return;
+  if (code == 130) {
+    if (r.status == "completed") r.status = "interrupted";
+    return;
+  }
+  if (r.status == "failed") return;
+  r.status = "failed";
+  const std::string said = last_error(run_dir / "run.log");
+  r.reason = "exit " + std::to_string(code) + (said.empty() ? std::string() : ": " + said);
+}
+
 std::string summary_csv(const SweepPlan& plan, const std::vector<RunResult>& results) {
   std::ostringstream csv;
   csv << "run,status";

@@ -23,6 +23,12 @@ struct RunResult {
 // `slurm_log`: the Slurm task's output file, named when a run left nothing else.
 RunResult read_run_result(const std::filesystem::path& run_dir, const std::filesystem::path& slurm_log = {});
 
+// A run this sweep ran is failed when its process failed (exit 1, 2, a signal) and interrupted
+// when it was stopped (130), whatever its folder's run.json says: a folder another process
+// wrote (a run left behind by a killed sweep) is no result of this sweep. -1 (not started) and
+// 0 leave `r` as read.
+void note_exit_code(RunResult& r, int code, const std::filesystem::path& run_dir);
+
 // The CSV (a field with a comma, a quote or a line break quoted).
 std::string summary_csv(const SweepPlan& plan, const std::vector<RunResult>& results);
 

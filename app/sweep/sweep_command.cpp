@@ -105,7 +105,8 @@ int cmd_sweep(const SweepOptions& o, std::ostream& out, std::ostream& err, bool 
     s.forward_signals = false;
     s.quiet = true;
     const bool all = run_locally(jobs, sweep_run_command(o), s, codes, err);
-    const RunResult r = read_run_result(jobs[0].dir);
+    RunResult r = read_run_result(jobs[0].dir);
+    note_exit_code(r, codes[0], jobs[0].dir);
     out << plan.runs[size_t(o.task)].folder << ": " << r.status << (r.reason.empty() ? "" : ": " + r.reason) << "\n";
     return !all ? 130 : codes[0] == 0 ? 0 : codes[0] == 130 ? 130 : 1;
   }
@@ -114,6 +115,7 @@ int cmd_sweep(const SweepOptions& o, std::ostream& out, std::ostream& err, bool 
   err << "sweep: " << n << " runs in " << (shown / "runs").string() << ": " << finished << " finished already, " << resumable
       << " to continue, " << jobs.size() - size_t(resumable) << " to run\n";
   int code = 0;
+  std::vector<int> codes;  // per job, its process's exit code (-1: not started)
   if (!jobs.empty() && o.slurm) {
     code = run_on_slurm(jobs, sweep_array(o, dir), dir, err);
     if (code == 1) return 1;
@@ -121,7 +123,6 @@ int cmd_sweep(const SweepOptions& o, std::ostream& out, std::ostream& err, bool 
     LocalRunSettings s;
     s.parallel = o.jobs > 0 ? o.jobs : default_parallel();
     s.terminal = terminal;
-    std::vector<int> codes;
     if (!run_locally(jobs, sweep_run_command(o), s, codes, err)) code = 130;
   }
 
@@ -129,6 +130,9 @@ int cmd_sweep(const SweepOptions& o, std::ostream& out, std::ostream& err, bool 
   for (const PlannedRun& run : plan.runs)
     results.push_back(read_run_result(runs / run.folder,
                                       o.slurm ? dir / "slurm" / ("task_" + std::to_string(run.index) + ".out") : fs::path()));
+  // What a run's process said outranks what its folder holds (another process may have written it).
+  for (size_t j = 0; j < codes.size() && j < jobs.size(); ++j)
+    note_exit_code(results[size_t(jobs[j].index)], codes[j], jobs[j].dir);
   if (!write_file_atomically(dir / "summary.csv", summary_csv(plan, results), error)) {
     err << "vdmsim: error: " << error << "\n";
     return 1;

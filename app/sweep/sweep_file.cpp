@@ -1,7 +1,11 @@
 #include "app/sweep/sweep_file.hpp"
 
 #include <algorithm>
+#include <fstream>
+#include <iterator>
 #include <sstream>
+
+#include "app/scene/yaml_documents.hpp"
 
 namespace vdmsim {
 namespace {
@@ -113,9 +117,19 @@ class SweepReader {
       error(cases, "cases", "give either cases: or vary:/zip:, not both (cases: lists every run itself)");
       return;
     }
+    const size_t problems_before = problems_.size();
     if (vary) read_vary(vary);
     if (zip) read_zip(zip);
     if (cases) read_cases(cases);
+    // `vary: {}` (or an empty zip:) names nothing to vary: the same answer as no vary: at all.
+    if (s_.axes.empty() && s_.cases.empty() && problems_.size() == problems_before) {
+      const YAML::Node& at = vary ? vary : zip ? zip : cases;
+      const std::string section = vary ? "vary" : zip ? "zip" : "cases";
+      error(at, section,
+            "nothing varies: " + section + ": is empty; give vary: (a grid), zip: (lists taken together) or cases: (a "
+            "list of runs), each with at least one scene key");
+      return;
+    }
     size_t runs = s_.axes.empty() ? 0 : 1;
     for (const SweepAxis& a : s_.axes) runs = std::min(kMaxRuns + 1, runs * a.size());
     if (runs > kMaxRuns) error(root, "sweep", "more than " + std::to_string(kMaxRuns) + " runs: split the sweep");
@@ -135,7 +149,11 @@ class SweepReader {
     s_.base = (folder_ / b.Scalar()).lexically_normal();
     std::error_code ec;
     if (!fs::is_regular_file(s_.base, ec)) {
-      error(b, "base", "no such scene file: " + s_.base.string() + " (the base is relative to the sweep file)");
+      const std::string what = !fs::exists(s_.base, ec) ? "no such scene file: " + s_.base.string()
+                               : fs::is_directory(s_.base, ec)
+                                   ? s_.base.string() + ": a folder, not a scene file"
+                                   : s_.base.string() + ": not a regular file (a device or a pipe), not a scene file";
+      error(b, "base", what + " (the base is relative to the sweep file)");
       return false;
     }
     // The base must be a valid scene itself: its problems are named in its own file.
@@ -237,7 +255,11 @@ class SweepReader {
     for (size_t i = 0; i < cases.size() && i <= kMaxRuns; ++i) {
       const YAML::Node c = cases[i];
       const std::string field = "cases[" + std::to_string(i) + "]";
-      if (!c.IsMap() || c.size() == 0) {
+      if (c.IsMap() && c.size() == 0) {
+        error(c, field, "an empty mapping: give at least one scene key and its value, e.g. {organ.material.bulk_modulus: 10000}");
+        continue;
+      }
+      if (!c.IsMap()) {
         error(c, field, "expected a mapping of scene keys to values, e.g. {organ.material.bulk_modulus: 10000}, got " + kind(c));
         continue;
       }
@@ -261,7 +283,22 @@ class SweepReader {
 }  // namespace
 
 std::string one_line_yaml(const YAML::Node& node) {
-  if (node.IsScalar()) return node.Scalar();
+  // A scalar as written, unless a line break or another control character would break the
+  // line: then double-quoted with YAML's escapes ("trial\nrender: ...").
+  if (node.IsScalar()) {
+    const std::string& text = node.Scalar();
+    const bool controls = std::any_of(text.begin(), text.end(), [](char c) {
+      const unsigned char u = static_cast<unsigned char>(c);
+      return u < 0x20 || u == 0x7f;
+    });
+    const bool other_breaks = text.find("\u2028") != std::string::npos || text.find("\u2029") != std::string::npos ||
+                              text.find("\xC2\x85") != std::string::npos;
+    if (!controls && !other_breaks) return text;
+    YAML::Emitter e;
+    e.SetOutputCharset(YAML::EscapeNonAscii);
+    e << YAML::DoubleQuoted << text;
+    return e.c_str();
+  }
   YAML::Emitter e;
   e.SetMapFormat(YAML::Flow);
   e.SetSeqFormat(YAML::Flow);
@@ -319,12 +356,16 @@ bool read_sweep_file(const std::string& path, SweepFile& sweep, std::vector<Scen
   }
   YAML::Node root;
   try {
-    const std::vector<YAML::Node> documents = YAML::LoadAllFromFile(path);
-    if (documents.size() > 1) {
-      problems.push_back({where(path, documents[1]), "sweep", "the file holds several YAML documents (separated by '---'); a sweep is one", false});
+    // One document, counted from its markers: yaml-cpp's LoadAll loops forever on some inputs.
+    std::ifstream in(path, std::ios::binary);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    int second_line = 0;
+    if (count_yaml_documents(text, second_line) > 1) {
+      problems.push_back({path + ":" + std::to_string(second_line) + ":1", "sweep",
+                          "the file holds several YAML documents (separated by '---'); a sweep is one", false});
       return false;
     }
-    if (!documents.empty()) root = documents[0];
+    root = YAML::Load(text);
   } catch (const YAML::Exception& e) {
     std::ostringstream at;
     at << path << ':' << e.mark.line + 1 << ':' << e.mark.column + 1;

@@ -1,5 +1,7 @@
 #include "app/sweep/sweep_plan.hpp"
 
+#include <cstring>
+
 #include "app/run/output_dir.hpp"
 
 namespace vdmsim {
@@ -20,6 +22,23 @@ std::string short_name(const SweepFile& sweep, const std::vector<std::pair<size_
   return safe;
 }
 
+// `text` for a one-line comment: a line break (or another control character) written as an
+// escape, so that nothing after it becomes YAML of the scene.
+std::string comment_text(const std::string& text) {
+  std::string out;
+  for (const char c : text) {
+    const unsigned char u = static_cast<unsigned char>(c);
+    if (c == '\n') out += "\\n";
+    else if (c == '\r') out += "\\r";
+    else if (u < 0x20 || u == 0x7f) out += '?';
+    else out += c;
+  }
+  // Unicode's line and paragraph separators and NEL, which some YAML readers take for breaks.
+  for (const char* brk : {"\u2028", "\u2029", "\xC2\x85"})
+    for (size_t at = out.find(brk); at != std::string::npos; at = out.find(brk, at)) out.replace(at, std::strlen(brk), "?");
+  return out;
+}
+
 PlannedRun make_run(const SweepFile& sweep, int index, int digits,
                     const std::vector<std::pair<size_t, const SweepValue*>>& settings) {
   PlannedRun run;
@@ -37,8 +56,9 @@ PlannedRun make_run(const SweepFile& sweep, int index, int digits,
     run.wheres[key] = value->where;
     said += (said.empty() ? "" : ", ") + sweep.keys[key].path.text + " = " + value->text;
   }
-  run.scene_text = "# vdmsim sweep " + sweep.file.string() + ", run " + std::to_string(index) + ": " + sweep.base.string() +
-                   (said.empty() ? std::string() : " with " + said) + "\n" + yaml_text_keeping_quotes(scene) + "\n";
+  run.scene_text = "# " + comment_text("vdmsim sweep " + sweep.file.string() + ", run " + std::to_string(index) + ": " +
+                                        sweep.base.string() + (said.empty() ? std::string() : " with " + said)) +
+                   "\n" + yaml_text_keeping_quotes(scene) + "\n";
   return run;
 }
 

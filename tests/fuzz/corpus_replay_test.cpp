@@ -34,4 +34,8 @@ TEST(FuzzCorpus, SceneInputsLoadWithoutCrashing) { EXPECT_GT(replay("scene", vdm
 
 TEST(FuzzCorpus, MeshInputsLoadWithoutCrashing) { EXPECT_GT(replay("mesh", vdmsim::fuzz::mesh_input), 3); }
 
+// Includes the issue-46 sweep whose value with a line break became the run scene's render: key
+// (sweep_input aborts on that).
+TEST(FuzzCorpus, SweepInputsReadWithoutCrashing) { EXPECT_GT(replay("sweep", vdmsim::fuzz::sweep_input), 5); }
+
 }  // namespace

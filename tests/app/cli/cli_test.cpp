@@ -7,6 +7,7 @@
 #include <fstream>
 #include <iterator>
 #include <memory>
+#include <sstream>
 #include <string>
 #include <vector>
 #include <sys/wait.h>
@@ -58,6 +59,50 @@ TEST(Cli, UsageErrorsExitWith2) {
   EXPECT_EQ(run_cli("frobnicate").code, 2);
   EXPECT_EQ(run_cli("paper anisotropy").code, 2);  // --out is required
   EXPECT_EQ(run_cli("--help").code, 0);
+}
+
+// docs/cli.md's exit codes, for every command `vdmsim --help` lists: a usage error is 2, with a
+// message (a full disk's 1 is in output_paths_cli_test and prepare_mesh_cli_test).
+TEST(Cli, EveryCommandGives2ForAUsageError) {
+  const std::string help = run_cli("--help").output;
+  std::istringstream lines(help.substr(help.find("Subcommands:")));
+  std::string line, name;
+  int commands = 0;
+  while (std::getline(lines, line)) {
+    std::istringstream words(line);
+    if (line.rfind("  ", 0) != 0 || !(words >> name)) continue;
+    const vdmsim::test::CliResult r = run_cli(name + " --no-such-option");
+    EXPECT_EQ(r.code, 2) << name << "\n" << r.output;
+    EXPECT_EQ(r.output.rfind("vdmsim: ", 0), 0u) << name << "\n" << r.output;
+    ++commands;
+  }
+  EXPECT_GE(commands, 12) << help;
+}
+
+// Issue 46: option values out of range are said in the option's own terms (not CLI11's "not in
+// range 0.000000 to" a 309-digit number; not "At least 3 required but received 2" for -inf).
+TEST(Cli, OptionValuesOutOfRangeAreSaidInTheOptionsTerms) {
+  const std::string sweep = std::string(VDMSIM_SOURCE_DIR) + "/assets/sweeps/probe_stiffness.yaml";
+  const std::string mesh = std::string(VDMSIM_SOURCE_DIR) + "/assets/meshes/liver_L4.obj";
+  const struct {
+    std::string args, said;
+  } cases[] = {
+      {"sweep " + sweep + " --out x --jobs 0", "vdmsim: --jobs: 0 is out of range: from 1 to 100000"},
+      {"sweep " + sweep + " --out x --task -1", "vdmsim: --task: -1 is out of range: from 0 to 1000000"},
+      {"sweep " + sweep + " --out x --jobs 2.5", "vdmsim: --jobs: expected a whole number from 1 to 100000, got '2.5'"},
+      {"accuracy --jobs 0", "vdmsim: --jobs: 0 is out of range: from 1 to 100000"},
+      {"accuracy --task -1", "vdmsim: --task: -1 is out of range: from 0 to 1000000"},
+      {"run x.yaml --checkpoint-every 0", "vdmsim: --checkpoint-every: 0 is out of range: from 1 to 10000000"},
+      {"locate " + mesh + " --from 0 0 1 --toward 0 0 -inf", "vdmsim: error: --toward: -inf is not a finite number"},
+      {"locate " + mesh + " --from -nan 0 1 --toward 0 0 -1", "vdmsim: error: --from: -nan is not a finite number"},
+  };
+  for (const auto& c : cases) {
+    const vdmsim::test::CliResult r = run_cli(c.args);
+    EXPECT_EQ(r.code, 2) << c.args << "\n" << r.output;
+    EXPECT_NE(r.output.find(c.said), std::string::npos) << c.args << "\n" << r.output;
+    EXPECT_EQ(r.output.find("0.000000"), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("required but received"), std::string::npos) << r.output;
+  }
 }
 
 }  // namespace

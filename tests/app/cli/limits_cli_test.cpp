@@ -50,6 +50,45 @@ TEST(LimitsCli, TinyTetSizeIsRefusedBeforeMeshing) {
   EXPECT_LT(s, 20.0);
 }
 
+// Issue 46: the elastic core's cell against the 0.29 x 0.15 x 0.10 m liver. Larger than the
+// organ's box is refused (the run "completed" with forces 460x too small), as are more cells
+// than the core takes (cell_size 1e-6, once refused without a line, naming organ.model); both
+// at organ.cell_size's line and column. A cell more than twice as wide as the probe is warned.
+TEST(LimitsCli, ACoreCellLargerThanTheOrganOrTooSmallIsRefusedAtItsLine) {
+  auto scene = [&](const std::string& name, const std::string& cell) {
+    return write(name, "name: core\norgan:\n  mesh: " + liver() + "\n  model: vdm_core\n  cell_size: " + cell +
+                           "\n  material: {young_modulus: 3000}\n  fixed: [{box: {min: [-0.3, -0.2, -0.2], max: [0.3, 0.2, "
+                           "-0.03]}}]\nsimulation: {frames: 2, effects: [contact]}\ninstruments:\n  - {type: probe, "
+                           "radius: 0.004, script: [{t: 0, tip: [0.035, 0, 0.075], axis: [0, 0, -1]}]}\n");
+  };
+  for (const std::string cell : {"10", "1e6", "0.2"}) {
+    const std::string p = scene("big_cell.yaml", cell);
+    double s = 0;
+    const auto r = timed("check " + p, s);
+    EXPECT_EQ(r.code, 2) << cell << "\n" << r.output;
+    const std::string said = cell == "1e6" ? "1e+06" : cell;
+    EXPECT_NE(r.output.find(p + ":5:14: organ.cell_size: a cell of " + said + " m does not fit in the organ's box"),
+              std::string::npos)
+        << r.output;
+  }
+  const std::string tiny = scene("tiny_cell.yaml", "1e-6");
+  double s = 0;
+  auto r = timed("check " + tiny, s);
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find(tiny + ":5:14: organ.cell_size: a cell of 1e-06 m gives about "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("more than the core's 2e+07: give at least "), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("organ.model"), std::string::npos) << r.output;
+  EXPECT_LT(s, 20.0);
+  // 2 cm cells against a probe 8 mm across: runs, with a warning at the key.
+  const std::string coarse = scene("coarse_cell.yaml", "0.02");
+  r = timed("check " + coarse, s);
+  EXPECT_EQ(r.code, 0) << r.output;
+  EXPECT_NE(r.output.find(coarse + ":5:14: warning: organ.cell_size: a cell of 0.02 m is more than twice as wide as "
+                                   "instruments[0] (0.008 m across)"),
+            std::string::npos)
+      << r.output;
+}
+
 TEST(LimitsCli, ConvexProbeFromA100kPointMeshIsRefusedAtOnce) {
   // 100,002 random points on a 1 cm sphere, as a triangle soup (the hull needs only the points).
   std::mt19937 rng(31);

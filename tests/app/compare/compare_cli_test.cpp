@@ -256,16 +256,58 @@ TEST(CompareCli, DiffFolderHasOneImagePerPairAtItsPath) {
   EXPECT_EQ(hit.pixel(5, 5)[1], 0);
 }
 
-TEST(CompareCli, ADiffFolderInsideTheActualFolderIsNotCompared) {
-  const fs::path d = dir("diff_inside");
-  write_run(d / "expected", 1);
+std::string bytes(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+// --diff naming an input file (as given, through another spelling, or a link to it) is refused
+// before anything is written: the golden image stays as it was.
+TEST(CompareCli, ADiffImageThatIsAnInputIsRefusedAndTheInputKept) {
+  const fs::path d = dir("diff_is_input");
+  const std::string a = write(d / "a.png", gradient()), b = write(d / "b.png", changed(10, 20, 40));
+  fs::create_symlink(d / "a.png", d / "link.png");
+  const std::string golden = bytes(a);
+  for (const std::string& target : {a, (d / "." / "a.png").string(), (d / "link.png").string(), b}) {
+    const CliResult r = compare(a + " " + b + " --diff " + target);
+    EXPECT_EQ(r.code, 2) << target << "\n" << r.output;
+    EXPECT_TRUE(contains(r.output, "vdmsim: error: --diff " + target + ": is ")) << r.output;
+    EXPECT_TRUE(contains(r.output, "choose a path outside both")) << r.output;
+    EXPECT_EQ(bytes(a), golden) << target;
+  }
+}
+
+// --diff naming the expected or the actual folder, or a folder inside either, is refused:
+// the reference images stay as they were and nothing is added to either folder.
+TEST(CompareCli, ADiffFolderThatIsOrLiesInsideAnInputIsRefused) {
+  const fs::path d = dir("diff_in_folder");
+  write_run(d / "expected", 2);
   write_run(d / "actual", 1);
-  const std::string args = (d / "expected").string() + " " + (d / "actual").string() + " --diff " +
-                           (d / "actual" / "diff").string();
-  EXPECT_EQ(compare(args).code, 0);
-  const CliResult again = compare(args);  // actual/diff/ now holds three PNGs
-  EXPECT_EQ(again.code, 0) << again.output;
-  EXPECT_TRUE(contains(again.output, ": 3 image pairs, 3 within tolerance")) << again.output;
+  write(d / "actual" / "frames" / "frame_00001.png", changed(1, 1, 90));
+  const std::string golden = bytes(d / "expected" / "frames" / "frame_00001.png");
+  const std::string args = (d / "expected").string() + " " + (d / "actual").string() + " --diff ";
+  for (const fs::path& target : {d / "expected", d / "expected/", d / "expected" / "frames", d / "actual" / "diff"}) {
+    const CliResult r = compare(args + target.string());
+    EXPECT_EQ(r.code, 2) << target << "\n" << r.output;
+    EXPECT_TRUE(contains(r.output, "the diff images would overwrite or mix with the images compared")) << r.output;
+  }
+  EXPECT_EQ(bytes(d / "expected" / "frames" / "frame_00001.png"), golden);
+  EXPECT_FALSE(fs::exists(d / "actual" / "diff"));
+}
+
+// A diff folder that holds an input (here EXPECTED's parent) would write the diff image of
+// frames/f.png over EXPECTED's f.png: refused too.
+TEST(CompareCli, ADiffImageLandingOnAnInputImageIsRefused) {
+  const fs::path d = dir("diff_holds_input");
+  for (const char* side : {"e/frames", "a"}) {
+    write(d / side / "f.png", gradient());
+    write(d / side / "frames" / "f.png", changed(2, 2, 50));
+  }
+  const std::string golden = bytes(d / "e" / "frames" / "f.png");
+  const CliResult r = compare((d / "e" / "frames").string() + " " + (d / "a").string() + " --diff " + (d / "e").string());
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_TRUE(contains(r.output, "the diff image of frames/f.png would overwrite the compared image")) << r.output;
+  EXPECT_EQ(bytes(d / "e" / "frames" / "f.png"), golden);
 }
 
 }  // namespace

@@ -62,19 +62,6 @@ TEST(ImagePairs, WhatOneFolderLacksIsListed) {
   EXPECT_EQ(r.missing_in_expected, std::vector<std::string>{"stress/stress_00000.png"});
 }
 
-TEST(ImagePairs, TheSkippedFolderIsLeftOut) {
-  const fs::path d = dir("skipped");
-  touch(d / "e" / "frame.png");
-  touch(d / "a" / "frame.png");
-  touch(d / "a" / "diff" / "frame.png");
-  const vdmsim::ImagePairing r = vdmsim::pair_images((d / "e").string(), (d / "a").string(), (d / "a" / "diff").string());
-  ASSERT_TRUE(r.ok()) << r.error;
-  EXPECT_EQ(names(r), std::vector<std::string>{"frame.png"});
-  EXPECT_TRUE(r.missing_in_expected.empty());
-  const vdmsim::ImagePairing unskipped = vdmsim::pair_images((d / "e").string(), (d / "a").string());
-  EXPECT_EQ(unskipped.missing_in_expected, std::vector<std::string>{"diff/frame.png"});
-}
-
 TEST(ImagePairs, TwoFilesAreOnePairNamedForTheActualFile) {
   const fs::path d = dir("files");
   touch(d / "x.png");

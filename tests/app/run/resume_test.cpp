@@ -10,6 +10,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <thread>
 #include <vector>
@@ -256,4 +257,71 @@ TEST(Resume, AfterAHardKillResumesFromTheLastPeriodicCheckpoint) {
         EXPECT_EQ(read_file(whole / name), read_file(r / name)) << r << ' ' << name;
       }
   }
+}
+
+// Issue 46: --resume checks what it continues. A run with --export-mesh is interrupted; copies of
+// its folder, each spoilt one way, are resumed through the binary: every one is refused (exit 2)
+// with its own message, and run.json stays as the interrupted run wrote it.
+TEST(Resume, RefusesACheckpointOrExportThatDoesNotFitTheRun) {
+  const fs::path dir = kOut / "does_not_fit";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string scene = (dir / "press.yaml").string();
+  std::ofstream(scene) << "name: press\norgan:\n  mesh: " << VDMSIM_SOURCE_DIR
+                       << "/assets/meshes/liver_L4.obj\n"
+                          "  fixed: [{box: {min: [-0.3, -0.2, -0.2], max: [0.3, 0.2, -0.03]}}]\n"
+                          "  prescribed: [{sphere: {center: [0.035, 0, 0.06], radius: 0.015}, translate: [0, 0, -0.012], "
+                          "t: [0, 2]}]\n"
+                          "simulation: {frames: 400, dt: 0.05, effects: []}\n";
+  const fs::path stopped = dir / "stopped";
+  const std::string args = " --export-mesh --no-render --checkpoint-every 5";
+  const pid_t pid = vdmsim::test::spawn_quiet({VDMSIM_BINARY, "run", scene, "--out", stopped.string(), "--export-mesh",
+                                               "--no-render", "--checkpoint-every", "5"});
+  ASSERT_NE(pid, 0);
+  const int code = vdmsim::test::interrupt_once_exists(pid, stopped / "mesh" / "frame_00012.vtu", 120);
+  if (code == 0) GTEST_SKIP() << "the run finished before it could be interrupted";
+  ASSERT_EQ(code, 130);
+  const std::string run_json = read_file(stopped / "run.json");
+  ASSERT_NE(run_json.find("\"status\": \"interrupted\""), std::string::npos) << run_json;
+
+  // A copy of the interrupted folder, changed by `spoil`, resumed: its exit code and messages.
+  auto resume_copy = [&](const std::string& name, const std::function<void(const fs::path&)>& spoil) {
+    const fs::path copy = dir / name;
+    fs::copy(stopped, copy, fs::copy_options::recursive);
+    spoil(copy);
+    const vdmsim::test::CliResult r =
+        vdmsim::test::run_cli(VDMSIM_BINARY, "run " + scene + " --out " + copy.string() + " --resume" + args);
+    EXPECT_EQ(read_file(copy / "run.json"), run_json) << name;
+    return r;
+  };
+  auto set_frame = [](const fs::path& copy, const std::string& frame) {
+    const std::string text = read_file(copy / "checkpoint.json");
+    const size_t at = text.find("\"frame\": ") + 9;
+    std::ofstream(copy / "checkpoint.json") << text.substr(0, at) << frame << text.substr(text.find(',', at));
+  };
+
+  // The issue's case: a frame far beyond the run's 400.
+  vdmsim::test::CliResult r = resume_copy("beyond", [&](const fs::path& c) { set_frame(c, "999999"); });
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("checkpoint.json: frame 999999 of 400 frames does not fit this run's 400 frames (0 to 399)"),
+            std::string::npos)
+      << r.output;
+  // The last frame, "complete", while run.json says interrupted.
+  r = resume_copy("last", [&](const fs::path& c) { set_frame(c, "399"); });
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("says every frame (to 399) is done, but run.json says status interrupted with "),
+            std::string::npos)
+      << r.output;
+  EXPECT_EQ(r.output.find("already complete"), std::string::npos) << r.output;
+  // The export this resume extends deleted.
+  r = resume_copy("no_mesh", [](const fs::path& c) { fs::remove_all(c / "mesh"); });
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("/mesh: "), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("frames this resume's --export-mesh extends are missing (frame 0 to "), std::string::npos)
+      << r.output;
+  // A run stopped before its first checkpoint: said so, not "run without --resume first".
+  r = resume_copy("no_checkpoint", [](const fs::path& c) { fs::remove(c / "checkpoint.json"); });
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_NE(r.output.find("stopped before its first checkpoint"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("run without --resume first"), std::string::npos) << r.output;
 }

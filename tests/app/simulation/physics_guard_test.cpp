@@ -81,6 +81,32 @@ TEST(PhysicsGuard, ProbeDeepInsideARigidOrganFails) {
   EXPECT_NE(r.json.find("\"status\": \"failed\""), std::string::npos) << r.json;
 }
 
+// Issue 46: the reason names what is wrong with this scene. A probe 2e-300 m across slips
+// between the nodes; an organ of E = 1e-300 Pa gives no force; neither is "rigid, bulk_modulus
+// inf" (the rigid organ still is).
+TEST(PhysicsGuard, AProbeDeepInsideSaysWhyForThisScene) {
+  std::string thin = deep_probe("20000");
+  thin.replace(thin.find("radius: 0.004"), 13, "radius: 1e-300");
+  const std::string soft = "name: deep_probe\n" + organ("  material: {young_modulus: 1e-300, poisson_ratio: 0.45}\n") +
+                           deep_probe("1").substr(deep_probe("1").find("simulation:"));
+  const struct {
+    std::string name, scene, said;
+  } cases[] = {
+      {"thin", thin, "it is 2e-300 m across, far thinner than the organ's triangles (edges of 0.00601 m on average): it "
+                     "slips between the nodes; give it a radius of at least 0.0003 m"},
+      {"softest", soft, "the organ's material (modulus 8.92e-302 Pa) is far softer than any tissue"},
+      {"rigid_again", deep_probe("inf"), "contact could not push the organ away (is it rigid, bulk_modulus inf"},
+  };
+  for (const auto& c : cases) {
+    const RunResult r = run(c.name, c.scene);
+    EXPECT_EQ(r.code, 1) << c.name << "\n" << r.said;
+    EXPECT_NE(r.said.find(c.said), std::string::npos) << c.name << "\n" << r.said;
+    if (c.name != "rigid_again") {
+      EXPECT_EQ(r.said.find("rigid"), std::string::npos) << c.name << "\n" << r.said;
+    }
+  }
+}
+
 TEST(PhysicsGuard, TheSameProbeIntoASoftOrganCompletes) {
   const RunResult r = run("soft", deep_probe("20000"));
   EXPECT_EQ(r.code, 0) << r.said;

@@ -5,6 +5,7 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <cstdio>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -165,6 +166,59 @@ TEST(SweepFile, QuotedValuesStayQuotedInTheRunsScene) {
   EXPECT_EQ(loaded.scene.name, "yes");
 }
 
+// Issue 46: a value with a line break (or any other YAML syntax) stays a value. The run's
+// scene.yaml carries it in its header comment and as the key's value; neither may add a key
+// (here: render:, which the base lacks, so that the run would render).
+TEST(SweepFile, NoValueBecomesYamlStructureInTheRunsScene) {
+  const fs::path dir = vdmsim::test::scratch_dir("sweep_file");
+  const std::string base = (dir / "no_render_base.yaml").string();
+  std::ofstream(base) << "name: plain\norgan:\n  mesh: " << VDMSIM_SOURCE_DIR
+                      << "/assets/meshes/liver_L4.obj\nsimulation: {frames: 2, dt: 0.1}\n";
+  const std::vector<std::string> values = {
+      "trial\nrender: {width: 64, height: 48, views: [shaded]}",
+      "trial\r\nrender: {width: 64}", "trial\rrender: {width: 64}", "a: b", "x # y", "- item", "[1", "{a", "&anchor",
+      "*alias", "!tag", "'q", "\"d", "...", "---", "% directive", "@at", "`tick", "|", ">", "? q", " lead", "trail ",
+      "tab\there", "null", "~", "true", "line\u2028separator", "next\xC2\x85line", "bell\a"};
+  // Each value written double-quoted, with YAML's escapes for the line breaks and controls.
+  auto quoted = [](const std::string& v) {
+    std::string q = "\"";
+    for (size_t k = 0; k < v.size(); ++k) {
+      const unsigned char c = static_cast<unsigned char>(v[k]);
+      char hex[8];
+      if (v.compare(k, 3, "\u2028") == 0) q += "\\u2028", k += 2;
+      else if (v.compare(k, 2, "\xC2\x85") == 0) q += "\\x85", k += 1;
+      else if (c == '"' || c == '\\') q += std::string("\\") + char(c);
+      else if (c < 0x20) std::snprintf(hex, sizeof hex, "\\x%02x", c), q += hex;
+      else q += char(c);
+    }
+    return q + "\"";
+  };
+  std::string body = "cases:\n";
+  for (const std::string& v : values) body += "  - {name: " + quoted(v) + "}\n";
+  const fs::path file = dir / "structure.yaml";
+  std::ofstream(file) << "base: " << base << "\n" << body;
+  vdmsim::SweepFile sweep;
+  std::vector<vdmsim::SceneProblem> problems;
+  ASSERT_TRUE(vdmsim::read_sweep_file(file.string(), sweep, problems)) << all_text(problems) << body;
+  const vdmsim::SweepPlan plan = vdmsim::plan_sweep(sweep);
+  ASSERT_EQ(plan.runs.size(), values.size());
+  for (size_t i = 0; i < values.size(); ++i) {
+    const std::string& text = plan.runs[i].scene_text;
+    // The header is one comment line; the scene below it has the base's keys only.
+    const std::string header = text.substr(0, text.find('\n'));
+    EXPECT_EQ(header.rfind("# vdmsim sweep ", 0), 0u) << text;
+    EXPECT_EQ(header.find('\r'), std::string::npos) << text;
+    const fs::path run = dir / ("structure_run_" + std::to_string(i) + ".yaml");
+    std::ofstream(run, std::ios::binary) << text;
+    const vdmsim::SceneLoadResult loaded = vdmsim::load_scene(run.string());
+    ASSERT_TRUE(loaded.ok()) << all_text(loaded.problems) << text;
+    EXPECT_EQ(loaded.scene.name, values[i]) << text;
+    EXPECT_FALSE(loaded.scene.has_render) << text;
+    const YAML::Node scene = YAML::Load(text);
+    EXPECT_EQ(scene.size(), 3u) << text;  // name, organ, simulation
+  }
+}
+
 TEST(SweepFile, UnknownKeyNamesLineColumnAndTheClosestKey) {
   vdmsim::SweepFile sweep;
   std::vector<vdmsim::SceneProblem> problems;
@@ -192,7 +246,10 @@ TEST(SweepFile, EachKindOfBadKeyOrValueHasItsOwnMessage) {
       {"vary:\n  organ.material.density: [1]\n  organ.material.density: [2]\n", "bad.yaml:4:3: vary.organ.material.density: 'organ.material.density' is varied twice (first at "},
       {"varry:\n  organ.material.density: [1]\n", "bad.yaml:2:1: varry: unknown key 'varry' (did you mean 'vary'?)"},
       {"cases: [3]\n", "bad.yaml:2:9: cases[0]: expected a mapping of scene keys to values"},
+      {"cases: [{}]\n", "bad.yaml:2:9: cases[0]: an empty mapping: give at least one scene key and its value"},
       {"", "nothing varies"},
+      {"vary: {}\n", "bad.yaml:2:7: vary: nothing varies: vary: is empty; give vary: (a grid)"},
+      {"zip: {}\n", "bad.yaml:2:6: zip: nothing varies: zip: is empty; give vary: (a grid)"},
   };
   for (const Case& c : cases) {
     vdmsim::SweepFile sweep;
@@ -210,10 +267,37 @@ TEST(SweepFile, MissingBaseAndBrokenYamlAreNamed) {
   std::ofstream(dir / "nobase.yaml") << "base: nowhere.yaml\nvary: {organ.material.density: [1]}\n";
   EXPECT_FALSE(vdmsim::read_sweep_file((dir / "nobase.yaml").string(), sweep, problems));
   EXPECT_NE(all_text(problems).find("nobase.yaml:1:7: base: no such scene file"), std::string::npos) << all_text(problems);
+  // A folder, or a device that never ends, is no scene file either, and said so.
+  for (const std::string& base : {dir.string(), std::string("/dev/zero")}) {
+    problems.clear();
+    std::ofstream(dir / "oddbase.yaml") << "base: " << base << "\nvary: {organ.material.density: [1]}\n";
+    EXPECT_FALSE(vdmsim::read_sweep_file((dir / "oddbase.yaml").string(), sweep, problems));
+    const std::string said = all_text(problems);
+    EXPECT_NE(said.find("oddbase.yaml:1:7: base: " + base + (base == "/dev/zero" ? ": not a regular file" : ": a folder")),
+              std::string::npos)
+        << said;
+    EXPECT_EQ(said.find("no such scene file"), std::string::npos) << said;
+  }
   problems.clear();
   std::ofstream(dir / "broken.yaml") << "base: [\n";
   EXPECT_FALSE(vdmsim::read_sweep_file((dir / "broken.yaml").string(), sweep, problems));
   EXPECT_NE(all_text(problems).find("broken.yaml:2:1: sweep: not valid YAML"), std::string::npos) << all_text(problems);
+}
+
+// yaml-cpp's LoadAll loops forever on some inputs (fuzz_sweep found this one): the sweep reader
+// counts documents itself and parses one, as the scene reader does.
+TEST(SweepFile, AnInputThatHungTheYamlLoaderIsReadAtOnceAndTwoDocumentsAreNamed) {
+  const fs::path dir = vdmsim::test::scratch_dir("sweep_file");
+  vdmsim::SweepFile sweep;
+  std::vector<vdmsim::SceneProblem> problems;
+  std::ofstream(dir / "hang.yaml", std::ios::binary) << ",as\x96: .\nvary: {organ.material.density: [1]}\n";
+  EXPECT_FALSE(vdmsim::read_sweep_file((dir / "hang.yaml").string(), sweep, problems));
+  EXPECT_NE(all_text(problems).find("hang.yaml:"), std::string::npos) << all_text(problems);
+  problems.clear();
+  std::ofstream(dir / "two.yaml") << "base: " << kBase << "\nvary: {organ.material.density: [1]}\n---\nbase: x\n";
+  EXPECT_FALSE(vdmsim::read_sweep_file((dir / "two.yaml").string(), sweep, problems));
+  EXPECT_NE(all_text(problems).find("two.yaml:3:1: sweep: the file holds several YAML documents"), std::string::npos)
+      << all_text(problems);
 }
 
 TEST(SweepCli, BadSweepFileExitsTwoNamingFileLineColumnAndField) {

@@ -8,11 +8,14 @@
 #include <sys/wait.h>
 
 #include <algorithm>
+#include <chrono>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "render/png_io.hpp"
@@ -247,4 +250,36 @@ TEST(Sweep, TaskRunsOneRunOnly) {
   const auto beyond = run_cli(VDMSIM_BINARY, "sweep " + sweep + " --out " + out.string() + " --task 2");
   EXPECT_EQ(beyond.code, 2);
   EXPECT_NE(beyond.output.find("--task 2: the sweep has 2 runs"), std::string::npos) << beyond.output;
+}
+
+// Issue 46: a sweep killed with SIGKILL takes its runs with it: none keeps running (and holding
+// its folder) for a rerun to collide with.
+TEST(Sweep, ASweepKilledTakesItsRunsWithIt) {
+  const std::string sweep = write_sweep("killed.yaml", "vary:\n  organ.material.bulk_modulus: [10000]\n");
+  const fs::path out = dir() / "killed";
+  const pid_t pid = vdmsim::test::spawn_quiet(
+      {VDMSIM_BINARY, "sweep", sweep, "--out", out.string(), "--jobs", "1", "--no-render", "--frames", "100000"});
+  ASSERT_NE(pid, 0);
+  // The run writes its process id into its folder's lock file once it owns the folder.
+  const fs::path lock = out / "runs" / "000_bulk_modulus-10000" / ".vdmsim.lock";
+  pid_t run = 0;
+  vdmsim::test::wait_for_file(lock, 60);
+  for (int k = 0; k < 6000 && run <= 0; ++k) {
+    run = std::atoi(text_of(lock).c_str());
+    if (run <= 0) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  ASSERT_GT(run, 0) << "the run never started";
+  kill(pid, SIGKILL);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  // Gone (or a zombie waiting for init) within 5 s.
+  auto alive = [](pid_t p) {
+    const std::string stat = text_of("/proc/" + std::to_string(p) + "/stat");
+    const size_t paren = stat.rfind(')');
+    return paren != std::string::npos && paren + 2 < stat.size() && stat[paren + 2] != 'Z';
+  };
+  for (int k = 0; k < 500 && alive(run); ++k) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  const bool survived = alive(run);
+  if (survived) kill(run, SIGKILL);  // (not to leave it running past the test)
+  EXPECT_FALSE(survived) << "vdmsim run " << run << " kept running after its sweep was killed";
 }

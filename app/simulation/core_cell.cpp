@@ -1,0 +1,58 @@
+#include "app/simulation/core_cell.hpp"
+
+#include <cmath>
+#include <sstream>
+
+#include "engine/geometry.hpp"
+#include "tools_scripted/instrument.hpp"
+
+namespace vdmsim {
+
+void check_core_cell(const SceneDef& s, const vdm::SurfaceMesh& organ, std::vector<SceneProblem>& problems) {
+  if (s.model != vdm::ModelKind::vdm_core || organ.node_count() == 0) return;
+  const vdm::NodeMat& x = organ.positions;
+  const vdm::Vec3 extent = (x.colwise().maxCoeff() - x.colwise().minCoeff()).transpose();
+  const double area = vdm::surface_area(x, organ.triangles);
+  const double volume = std::abs(vdm::enclosed_volume(x, organ.triangles, x.colwise().mean().transpose()));
+  const bool given = s.cell_size > 0;
+  const double h = given ? s.cell_size : volume / area;  // the core's own default: V/A
+  const std::string where = s.cell_size_where.empty() ? s.file : s.cell_size_where;
+  std::ostringstream m;
+  m.precision(3);
+  // A cube fits in the organ's box when its edge is at most the box's smallest side.
+  if (given && h > extent.minCoeff()) {
+    m << "a cell of " << h << " m does not fit in the organ's box (" << extent.x() << " x " << extent.y() << " x "
+      << extent.z() << " m): the core would be a cell or two and its forces wrong by orders of magnitude; give at most "
+      << extent.minCoeff() << " m, or 0 for the organ's volume over its area (" << volume / area << " m)";
+    problems.push_back({where, "organ.cell_size", m.str(), false});
+    return;
+  }
+  double cells = 1;
+  for (int k = 0; k < 3; ++k) cells *= std::ceil(extent[k] / h) + 1;
+  if (cells > kMaxCoreCells) {
+    m << "a cell of " << h << " m gives about " << cells << " cells over the organ's box (" << extent.x() << " x "
+      << extent.y() << " x " << extent.z() << " m), more than the core's " << kMaxCoreCells << ": give at least "
+      << 1.1 * std::cbrt(extent.prod() / kMaxCoreCells) << " m";
+    problems.push_back({where, "organ.cell_size", m.str(), false});
+    return;
+  }
+  // The smallest instrument: the width of its narrowest part (a probe's diameter, a jaw's width).
+  double width = 0;
+  size_t which = 0;
+  for (size_t k = 0; k < s.instruments.size(); ++k) {
+    const double w = 2 * tools::instrument_size(s.instruments[k]);
+    if (w > 0 && (width == 0 || w < width)) width = w, which = k;
+  }
+  // More than twice its width: the dent under it spans less than half a cell (the project's
+  // probe_poke_core, 1 cm cells under an 8 mm probe, is within).
+  if (width > 0 && h > 2 * width) {
+    m << (given ? "a cell of " : "the default cell (the organ's volume over its area) of ") << h
+      << " m is more than twice as wide as instruments[" << which << "] (" << width
+      << " m across): a dent narrower than a few cells is resisted by the ties alone and its force comes out too "
+         "small; a cell_size near the instrument's half width ("
+      << width / 2 << " m) follows it";
+    problems.push_back({where, "organ.cell_size", m.str(), true});
+  }
+}
+
+}  // namespace vdmsim

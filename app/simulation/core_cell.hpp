@@ -1,0 +1,22 @@
+#pragma once
+// organ.cell_size of `model: vdm_core`, checked against the placed organ and the instruments
+// before the elastic core is built: a cell that does not fit in the organ's box (the core would
+// be a cell or two, its force off by orders of magnitude) or that gives more cells than the core
+// takes is refused, naming organ.cell_size's line and column; a cell more than twice as wide as
+// the smallest instrument is warned (a dent narrower than a few cells is resisted by the ties
+// alone).
+#include <vector>
+
+#include "app/scene/scene.hpp"
+#include "engine/types.hpp"
+
+namespace vdmsim {
+
+// The most cells the elastic core lays over the organ's box (engine/core: 2e7).
+constexpr double kMaxCoreCells = 2e7;
+
+// Appends the problems of `scene`'s cell for `organ` (the surface as placed, m) to `problems`;
+// nothing unless the scene's model is vdm_core.
+void check_core_cell(const SceneDef& scene, const vdm::SurfaceMesh& organ, std::vector<SceneProblem>& problems);
+
+}  // namespace vdmsim
