@@ -21,22 +21,33 @@ done
 
 # phase NAME COMMAND...: runs the command, prints its wall time; the summary at the end lists them.
 phases=()
+running=""
 phase() {
   local name="$1" start=$SECONDS
   shift
   echo "== test.sh: $name"
+  running="$name"
   "$@"
+  running=""
   phases+=("$(printf '%6d s  %s' $((SECONDS - start)) "$name")")
   echo "== test.sh: $name: $((SECONDS - start)) s"
 }
+# The summary, also when a phase fails (then named as the one that failed).
+summary() {
+  echo "== test.sh: wall time per phase"
+  [ "${#phases[@]}" = 0 ] || printf '%s\n' "${phases[@]}"
+  [ -z "$running" ] || echo "        $running: failed"
+  printf '%6d s  total\n' $((SECONDS - total_start))
+}
 total_start=$SECONDS
+trap summary EXIT
 
 if [ "$install" = 1 ]; then
   phase "packages" ./setup.sh --no-build --test-packages
 fi
 
 # The normal build: the same configuration as ./setup.sh's (whose objects are reused), now with
-# the tests.
+# the tests. The long and e2e tests start first (their COST, tests/CMakeLists.txt).
 phase "configure" cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo > /dev/null
 phase "build" cmake --build build -j "$jobs"
 phase "tests" ctest --test-dir build --output-on-failure -j "$jobs" --no-tests=error
@@ -60,7 +71,3 @@ if [ "$sanitizers" = 1 ]; then
     UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
     ctest --test-dir build-asan --output-on-failure -j "$jobs" --no-tests=error -LE "long|e2e" -E NOT_BUILT
 fi
-
-echo "== test.sh: wall time per phase"
-printf '%s\n' "${phases[@]}"
-printf '%6d s  total\n' $((SECONDS - total_start))
