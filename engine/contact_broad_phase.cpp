@@ -6,7 +6,7 @@
 #include <cmath>
 #include <limits>
 
-#include "engine/contact.hpp"
+#include "engine/contact_settings.hpp"
 #include "engine/simd2.hpp"
 
 namespace vdm {

@@ -6,7 +6,7 @@
 #include "engine/capsule_bending.hpp"
 #include "engine/cotangent_laplacian.hpp"
 #include "engine/geometry.hpp"
-#include "engine/membrane_strain.hpp"
+#include "engine/membrane_frames.hpp"
 #include "engine/mesh_topology.hpp"
 
 namespace vdm {

@@ -94,8 +94,8 @@ struct TissueModel {
   Vec bending_cot_weight;
   NodeMat bending_rest_laplacian;
   Vec capsule_diagonal;
-  std::vector<double> membrane_frames;   // per rest triangle: its basis and D^-1 (membrane_strain.hpp)
-  Vec membrane_inverse_areas;            // per node: 1 / its rest triangles' area (membrane_strain.hpp)
+  std::vector<double> membrane_frames;   // per rest triangle: its basis and D^-1 (membrane_frames.hpp)
+  Vec membrane_inverse_areas;            // per node: 1 / its rest triangles' area (membrane_frames.hpp)
   double axis_stiffness_floor = 0;
   double density = 0;
   Vec3 gravity = Vec3::Zero();

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "engine/rotation.hpp"
+
 namespace vdm {
 namespace {
 
@@ -107,7 +109,7 @@ ToolShape capsule_shape(const Vec3& p0, const Vec3& p1, double radius, const Vec
   t.kind = ToolShape::Kind::capsule;
   const Vec3 d = p0 - p1;  // toward the tip
   const double len = d.norm();
-  t.pose.linear() = Eigen::Quaterniond::FromTwoVectors(Vec3::UnitZ(), len > 0 ? Vec3(d / len) : Vec3::UnitZ()).toRotationMatrix();
+  t.pose.linear() = rotation_between(Vec3::UnitZ(), len > 0 ? Vec3(d / len) : Vec3::UnitZ()).toRotationMatrix();
   t.pose.translation() = 0.5 * (p0 + p1);
   t.half_size = Vec3(radius, radius, 0.5 * len);
   t.rounding = radius;

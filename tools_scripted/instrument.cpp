@@ -4,6 +4,8 @@
 #include <cmath>
 #include <Eigen/Geometry>
 
+#include "engine/rotation.hpp"
+
 namespace tools {
 namespace {
 
@@ -62,7 +64,7 @@ InstrumentPose pose_at(const InstrumentDef& def, double t) {
   } else {
     pose.tip = (1 - w) * a.tip + w * b.tip;
   }
-  pose.axis = Eigen::Quaterniond::Identity().slerp(w, Eigen::Quaterniond::FromTwoVectors(a.axis, b.axis)) * a.axis;
+  pose.axis = Eigen::Quaterniond::Identity().slerp(w, vdm::rotation_between(a.axis, b.axis)) * a.axis;
   pose.jaw_closed = w < 1.0 ? a.jaw_closed : b.jaw_closed;
   pose.jaw_opening = (1 - w) * (a.jaw_closed ? 0.0 : 1.0) + w * (b.jaw_closed ? 0.0 : 1.0);
   return pose;
@@ -78,7 +80,7 @@ vdm::Capsule probe_capsule(const InstrumentDef& def, const InstrumentPose& pose)
 
 Eigen::Isometry3d instrument_frame(const InstrumentPose& pose) {
   Eigen::Isometry3d f = Eigen::Isometry3d::Identity();
-  f.linear() = Eigen::Quaterniond::FromTwoVectors(vdm::Vec3::UnitZ(), pose.axis.normalized()).toRotationMatrix();
+  f.linear() = vdm::rotation_between(vdm::Vec3::UnitZ(), pose.axis.normalized()).toRotationMatrix();
   f.translation() = pose.tip;
   return f;
 }

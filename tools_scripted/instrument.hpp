@@ -11,7 +11,9 @@
 
 #include <Eigen/Geometry>
 
-#include "engine/contact.hpp"
+#include "engine/capsule_probe.hpp"
+#include "engine/convex_hull.hpp"
+#include "engine/tool_shape.hpp"
 #include "engine/types.hpp"
 
 namespace tools {

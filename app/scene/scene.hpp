@@ -1,5 +1,5 @@
 #pragma once
-// Scene files (YAML, architecture.md): parsed into plain, immutable data, validated before
+// Scene files (YAML, docs/scene-reference.md): parsed into plain, immutable data, validated before
 // anything runs. Every problem is reported as "file:line:col: field: what was expected".
 #include <array>
 #include <cstdint>
@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "engine/contact.hpp"
+#include "engine/contact_settings.hpp"
 #include "engine/organ_solver.hpp"
 #include "engine/settings.hpp"
 #include "engine/types.hpp"
@@ -143,7 +143,7 @@ struct SceneDef {
   vdm::Vec3 gravity = vdm::Vec3(0, 0, -9.81);
   bool volume_constraint = true;
   vdm::SolverSettings solver;
-  vdm::ContactSettings contact;  // simulation.contact: method (kinematic | penalty), stiffness, max_iterations
+  vdm::ContactSettings contact;  // simulation.contact: method (constraint | kinematic | penalty), friction, stiffness, max_iterations
   // instruments and rendering
   std::vector<InstrumentDef> instruments;
   std::vector<std::string> instrument_where;  // file:line:col of each instrument

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "engine/geometry.hpp"
+#include "engine/rotation.hpp"
 #include "engine/stopwatch.hpp"
 #include "tools_scripted/instrument.hpp"
 
@@ -58,7 +59,7 @@ btTransform capsule_transform(const vdm::Capsule& c) {
   const vdm::Vec3 d = c.p1 - c.p0;
   const double len = d.norm();
   const Eigen::Quaterniond q =
-      Eigen::Quaterniond::FromTwoVectors(vdm::Vec3::UnitZ(), len > 0 ? vdm::Vec3(d / len) : vdm::Vec3::UnitZ());
+      vdm::rotation_between(vdm::Vec3::UnitZ(), len > 0 ? vdm::Vec3(d / len) : vdm::Vec3::UnitZ());
   const vdm::Vec3 centre = 0.5 * (c.p0 + c.p1);
   return btTransform(btQuaternion(btScalar(q.x()), btScalar(q.y()), btScalar(q.z()), btScalar(q.w())),
                      btVector3(btScalar(centre.x()), btScalar(centre.y()), btScalar(centre.z())));
