@@ -5,12 +5,15 @@
 // is eliminated exactly: u_i = (W v)_i + (f_i - lambda A_i) / k_i, where lambda is the volume
 // row's multiplier (the fluid's pressure is -lambda). What is left per axis is the lattice's
 // system, K_d v_d = b_d - lambda a_d, with
-//   K_d = K_core + sum over prescribed entries k_i W_i^T W_i,
-//   b_d = the rotations' load + the weight + sum over free entries W_i^T f_i
-//         + sum over prescribed k_i u_i W_i^T,
-//   a_d = sum over free entries A_i W_i^T,
-// and the volume row (linearised at the current surface) gives lambda. The rotations are fitted
-// again after each solve (the as-rigid-as-possible fixed point), accelerated by Anderson mixing.
+//   K_d = K_core + sum over the factor's prescribed entries k_i W_i^T W_i,
+//   b_d = the rotations' load + the weight + sum over the other entries W_i^T f_i
+//         + sum over the factor's prescribed k_i u_i W_i^T,
+//   a_d = sum over the other entries A_i W_i^T,
+// and the volume row (linearised at the current surface) gives lambda. The factor's prescribed
+// entries are the organ's fixed ones (and a large prescribed set); any other prescribed entry is
+// held on its target by a multiplier through the same factor (held_entries.cpp). The rotations
+// are fitted again after each solve (the as-rigid-as-possible fixed point), accelerated by
+// Anderson mixing.
 #include <algorithm>
 #include <cmath>
 #include <vector>
@@ -40,7 +43,7 @@ Eigen::Matrix3d nearest_rotation(const Eigen::Matrix3d& F, Eigen::Quaterniond& q
     H.diagonal().array() += trace;
     const double minor = H(0, 0) * H(1, 1) - H(0, 1) * H(1, 0), det = H.determinant();
     Vec3 omega;
-    if (H(0, 0) > 0 && minor > 0 && det > 1e-12 * trace * trace * trace) omega = H.inverse() * torque;
+    if (H(0, 0) > 0 && minor > 0 && det > 1e-12 * std::abs(trace * trace * trace)) omega = H.inverse() * torque;
     else omega = torque / (std::abs(trace) + 1e-12);
     const double angle = omega.norm();
     if (angle < 1e-10) break;  // the rotation to 1e-10 rad: its load is then exact to far below the tolerance
