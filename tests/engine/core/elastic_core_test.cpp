@@ -28,6 +28,14 @@ CoreModel build(const SurfaceMesh& s, double h, const FlagMat& fixed = FlagMat()
   return m;
 }
 
+// Every axis of the nodes below height z held (a ball resting on its base).
+FlagMat held_below(const SurfaceMesh& s, double z) {
+  FlagMat fixed = FlagMat::Zero(s.node_count(), 3);
+  for (int i = 0; i < s.node_count(); ++i)
+    if (s.positions(i, 2) < z) fixed.row(i).setOnes();
+  return fixed;
+}
+
 TEST(ElasticCore, LatticeFillsTheOrgan) {
   // The cubes' inside parts add up to the organ's volume (64 samples per cube), on a sphere
   // and on a box the lattice does not fit.
@@ -82,9 +90,7 @@ TEST(ElasticCore, PressKeepsTheVolumeAndBulgesTheRest) {
   // A ball, its bottom held, a top cap pressed 5 mm: the volume is kept to 1e-9 and the free
   // surface bulges out; the press costs a force that grows with the depth.
   const SurfaceMesh s = make_icosphere(0.04, 4);
-  FlagMat fixed = FlagMat::Zero(s.node_count(), 3);
-  for (int i = 0; i < s.node_count(); ++i)
-    if (s.positions(i, 2) < -0.035) fixed.row(i).setOnes();
+  const FlagMat fixed = held_below(s, -0.035);
   const CoreModel m = build(s, 0.008, fixed);
   CoreState st = make_core_state(m);
   StepInput in = test::free_input(m.ns);
@@ -127,9 +133,7 @@ TEST(ElasticCore, HeldBaseCarriesTheWeight) {
   def.young_modulus = kYoung;
   def.cell_size = 0.008;
   def.use_gravity = true;
-  def.fixed = FlagMat::Zero(s.node_count(), 3);
-  for (int i = 0; i < s.node_count(); ++i)
-    if (s.positions(i, 2) < -0.03) def.fixed.row(i).setOnes();
+  def.fixed = held_below(s, -0.03);
   CoreModel m;
   std::string error;
   ASSERT_TRUE(build_core_model(def, m, error)) << error;
@@ -154,9 +158,7 @@ TEST(ElasticCore, HeldEntriesGiveTheFactorisedAnswerWithoutRefactorising) {
   // answer, with a jump of 2 mm on the new nodes, its fixed point can end in another
   // equilibrium, 5 % off in pressure at the second step here.)
   const SurfaceMesh s = make_icosphere(0.04, 4);
-  FlagMat fixed = FlagMat::Zero(s.node_count(), 3);
-  for (int i = 0; i < s.node_count(); ++i)
-    if (s.positions(i, 2) < -0.035) fixed.row(i).setOnes();
+  const FlagMat fixed = held_below(s, -0.035);
   CoreModel held = build(s, 0.008, fixed), factorised = held;
   factorised.settings.max_held = 0;
   CoreState a = make_core_state(held);
@@ -192,9 +194,7 @@ TEST(ElasticCore, SurfaceComplianceIsSymmetricAndHoldsWhatIsHeld) {
   // The compliance at a few top nodes after a press: symmetric, positive on the diagonal,
   // zero on the held entries, and softer at a free node than what holds a neighbour allows.
   const SurfaceMesh s = make_icosphere(0.04, 4);
-  FlagMat fixed = FlagMat::Zero(s.node_count(), 3);
-  for (int i = 0; i < s.node_count(); ++i)
-    if (s.positions(i, 2) < -0.035) fixed.row(i).setOnes();
+  const FlagMat fixed = held_below(s, -0.035);
   const CoreModel m = build(s, 0.008, fixed);
   CoreState st = make_core_state(m);
   StepInput in = test::free_input(m.ns);
