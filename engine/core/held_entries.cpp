@@ -36,7 +36,7 @@ void ensure_columns(const CoreModel& m, int d, const std::vector<int>& nodes, Co
   if (added == 0) return;
   if (c.cols.cols() < c.count) {  // grow with headroom, keeping the columns solved
     Eigen::MatrixXd grown(m.ng, std::max<Eigen::Index>(2 * c.cols.cols(), c.count + 32));
-    grown.leftCols(before) = c.cols.leftCols(before);
+    if (before > 0) grown.leftCols(before) = c.cols.leftCols(before);
     c.cols.swap(grown);
   }
   Eigen::MatrixXd unit = Eigen::MatrixXd::Zero(m.ng, added);
