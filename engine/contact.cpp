@@ -70,8 +70,9 @@ void ContactSolver::step_any(const TissueModel& m, const StepInput& base, const 
   rep = ContactReport();
   const long boxes = broad_.box_updates();
   if (settings_.method == ContactSettings::Method::penalty) step_penalty(m, base, tools, s, rep);
-  else if (settings_.method == ContactSettings::Method::constraint) step_constraint(m, base, tools, s, rep);
-  else step_kinematic(m, base, tools, s, rep, borrowed);
+  else if (settings_.method == ContactSettings::Method::kinematic) step_kinematic(m, base, tools, s, rep, borrowed);
+  else if (solver_->solves_force_laws()) step_constraint_within(m, base, tools, s, rep);
+  else step_constraint(m, base, tools, s, rep);
   rep.refit_boxes = broad_.box_updates() - boxes;
 }
 

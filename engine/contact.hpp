@@ -24,6 +24,7 @@
 #include "engine/contact_settings.hpp"
 #include "engine/push_out.hpp"
 #include "engine/sim_state.hpp"
+#include "engine/surface_force_law.hpp"
 #include "engine/tool_shape.hpp"
 
 namespace vdm {
@@ -60,7 +61,7 @@ struct ContactPoint {
   Vec3 predicted = Vec3::Zero();  // how far the next solve should move it, by the compliance
 };
 
-class ContactSolver {
+class ContactSolver final : private SurfaceForceLaw {
  public:
   ContactSolver(const TissueModel& model, ContactSettings settings = {});
   ~ContactSolver();
@@ -107,6 +108,24 @@ class ContactSolver {
                     SimState& state, ContactReport& report);
   void step_constraint(const TissueModel& model, const StepInput& base, const std::vector<ToolShape>& tools,
                        SimState& state, ContactReport& report);
+  // Constraint contact on a model that solves it inside its own iteration
+  // (OrganSolver::trial_step_with; engine/contact_constraint_within.cpp): this solver is the
+  // model's SurfaceForceLaw.
+  void step_constraint_within(const TissueModel& model, const StepInput& base, const std::vector<ToolShape>& tools,
+                              SimState& state, ContactReport& report);
+  bool update(const NodeMat& x, ComplianceSource& compliance, NodeMat& force) override;
+  // The parts of a constraint step: the contact points at the step's start (and the
+  // tolerance), measured at positions x, in their fixed order, the nodes they use, the forces on the linear model (project_forces: see
+  // there), those forces kept, and the step's results.
+  void begin_constraint_step(const TissueModel& model, const StepInput& base, const std::vector<ToolShape>& tools,
+                             SimState& state, ContactReport& report);
+  void measure_contacts(const std::vector<ToolShape>& tools, const NodeMat& x);
+  void sort_contacts();
+  void collect_contact_nodes();
+  void project_forces(const std::vector<ToolShape>& tools, bool exact, double scale, double& violation, double& change);
+  void store_forces();
+  void end_constraint_step(const TissueModel& model, const StepInput& base, const std::vector<ToolShape>& tools,
+                           SimState& state, ContactReport& report);
   // Adds the contact points of `tools` at positions x not yet in contacts_: nodes and
   // triangle points closer to a tool than `limit` times its size (negative: inside). With
   // `warm`, each takes the force its match had at the end of the last step. Returns how many
@@ -170,6 +189,16 @@ class ContactSolver {
   std::vector<double> delassus_, residual_c_, lambda_c_, change_c_, lambda_solved_;
   std::vector<Eigen::Matrix3d> frames_;
   double compliance_scale_ = 1.0;               // fitted: the organ's compliance over the patch's
+  double contact_tolerance_ = 0.0;              // this step's, m (ContactSettings::constraint_tolerance x the smallest tool)
+  // What update() needs of the step it runs in (step_constraint_within).
+  struct WithinStep {
+    const TissueModel* model = nullptr;
+    const StepInput* base = nullptr;
+    const std::vector<ToolShape>* tools = nullptr;
+    const SimState* state = nullptr;
+    ContactReport* report = nullptr;
+  } within_;
+  std::vector<Eigen::RowVector3d> old_force_;  // update(): the contact nodes' forces before it
   NodeMat contact_force_;                        // N x 3
 };
 

@@ -177,11 +177,23 @@ class CoreSolver final : public ReferenceSolver {
  public:
   CoreSolver(core::CoreModel m, double dt) : m_(std::move(m)), s_(core::make_core_state(m_)), dt_(dt) {}
   ModelKind kind() const override { return ModelKind::vdm_core; }
-  void step(const StepInput& in, SimState& s) override {
+  void step(const StepInput& in, SimState& s) override { step_with(in, s, nullptr); }
+  bool solves_force_laws() const override { return true; }
+  bool trial_step_with(const StepInput& in, SimState& s, SurfaceForceLaw& law) override {
+    step_with(in, s, &law);
+    return true;
+  }
+  bool surface_compliance(const std::vector<int>& nodes, Eigen::MatrixXd& C) override {
+    core::surface_compliance(m_, s_, nodes, C);
+    return true;
+  }
+
+ private:
+  void step_with(const StepInput& in, SimState& s, SurfaceForceLaw* law) {
     const auto t0 = Clock::now();
     remember_start(s);
     const size_t warned = s_.warnings.size();
-    core::step(m_, in, s_);
+    core::step(m_, in, s_, law);
     publish(m_.surface.positions, s_.u, s_.reaction, dt_, s);
     ReferenceStep r;
     r.volume = s_.volume;
@@ -194,12 +206,7 @@ class CoreSolver final : public ReferenceSolver {
     publish_step(r, t0, s);
     copy_warnings(s_.warnings, warned, s);
   }
-  bool surface_compliance(const std::vector<int>& nodes, Eigen::MatrixXd& C) override {
-    core::surface_compliance(m_, s_, nodes, C);
-    return true;
-  }
 
- private:
   core::CoreModel m_;
   core::CoreState s_;
   double dt_;

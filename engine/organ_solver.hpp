@@ -25,6 +25,7 @@ namespace vdm {
 namespace core {
 struct CoreModel;
 }
+class SurfaceForceLaw;
 
 enum class ModelKind { vdm, fem, mass_spring, vdm_core };
 const char* to_string(ModelKind k);
@@ -68,6 +69,17 @@ class OrganSolver {
   virtual bool surface_compliance(const std::vector<int>& nodes, Eigen::MatrixXd& C) {
     (void)nodes;
     (void)C;
+    return false;
+  }
+  // Whether the model has trial_step_with(): a trial_step() whose surface forces `law` sets
+  // inside the model's own nonlinear iteration, after each of its linear solves
+  // (engine/surface_force_law.hpp). Without it (false, doing nothing), constraint contact
+  // iterates whole solves. vdm_core: yes.
+  virtual bool solves_force_laws() const { return false; }
+  virtual bool trial_step_with(const StepInput& input, SimState& state, SurfaceForceLaw& law) {
+    (void)input;
+    (void)state;
+    (void)law;
     return false;
   }
 };

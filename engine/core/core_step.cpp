@@ -20,6 +20,7 @@
 
 #include "engine/core/core_workspace.hpp"
 #include "engine/geometry.hpp"
+#include "engine/surface_force_law.hpp"
 #include "engine/warnings.hpp"
 
 namespace vdm::core {
@@ -58,29 +59,31 @@ Eigen::Matrix3d nearest_rotation(const Eigen::Matrix3d& F, Eigen::Quaterniond& q
   return R;
 }
 
-void factorize(const CoreModel& m, int d, CoreWorkspace& w, CoreState& s) {
-  SpMat& K = w.K[d];
+// Factor slot k for the entries axis k's factored_mask holds.
+void factorize(const CoreModel& m, int k, CoreWorkspace& w, CoreState& s) {
+  SpMat& K = w.K[k];
   K = m.K_core;
   // A tiny share of the diagonal keeps an axis with no prescribed entry (free translation)
   // solvable: it moves the answer by about 1e-10 of itself.
   const double reg = 1e-10 * m.K_core.diagonal().maxCoeff();
-  for (int k = 0; k < m.ng; ++k) K.coeffRef(k, k) += reg;
+  for (int j = 0; j < m.ng; ++j) K.coeffRef(j, j) += reg;
   for (int i = 0; i < m.ns; ++i) {
-    if (!w.factored_mask(i, d)) continue;
+    if (!w.factored_mask(i, k)) continue;
     for (int p = 0; p < 4; ++p)
       for (int q = 0; q < 4; ++q)
         K.coeffRef(m.tie_node(i, p), m.tie_node(i, q)) += m.tie_k[i] * m.tie_weight(i, p) * m.tie_weight(i, q);
   }
 #ifdef VDMSIM_HAVE_CHOLMOD
-  w.chol[d].cholmod().print = 0;
+  w.chol[k].cholmod().print = 0;
 #endif
   if (!w.analyzed) {
     for (int e = 0; e < 3; ++e) w.chol[e].analyzePattern(K);  // the ties' entries are Kuhn-tet edges: same pattern
     w.analyzed = true;
   }
-  w.chol[d].factorize(K);
-  w.factored[d] = w.chol[d].info() == Eigen::Success;
-  w.columns[d].clear();
+  w.chol[k].factorize(K);
+  w.chol_ok[k] = w.chol[k].info() == Eigen::Success;
+  w.chol_mask.col(k) = w.factored_mask.col(k);
+  w.columns[k].clear();
   w.held.factored = false;
   ++s.stats.factorizations;
 }
@@ -91,26 +94,31 @@ double tied(const CoreModel& m, const NodeMat& v, int i, int d) { return tied_at
 // Which prescribed entries the factor holds (w.factored_mask), factorising again only where
 // it must: an axis whose factor holds an entry no longer prescribed (released), or more
 // held entries than CoreSettings::max_held (the held set's dense compliance grows with its
-// square). False when a factorisation failed.
+// square). Axes that hold the same entries share a factor. False when a factorisation failed.
 bool update_factors(const CoreModel& m, CoreWorkspace& w, CoreState& s) {
   int held = 0;
-  bool refactor[3] = {false, false, false};
   for (int d = 0; d < 3; ++d) {
-    refactor[d] = !w.factored[d];
-    for (int i = 0; i < m.ns && !refactor[d]; ++i) refactor[d] = w.factored_mask(i, d) && !w.mask(i, d);
-    if (refactor[d]) w.factored_mask.col(d) = m.fixed.col(d);
+    bool reset = !w.factored[d];
+    for (int i = 0; i < m.ns && !reset; ++i) reset = w.factored_mask(i, d) && !w.mask(i, d);
+    if (reset) w.factored_mask.col(d) = m.fixed.col(d);
     for (int i = 0; i < m.ns; ++i) held += w.mask(i, d) && !w.factored_mask(i, d);
   }
-  if (held > m.settings.max_held)
-    for (int d = 0; d < 3; ++d)
-      if (w.factored_mask.col(d) != w.mask.col(d)) {
-        refactor[d] = true;
-        w.factored_mask.col(d) = w.mask.col(d);
+  if (held > m.settings.max_held) w.factored_mask = w.mask;
+  int slot[3] = {0, 1, 2};
+  for (int d = 1; d < 3; ++d)
+    for (int e = 0; e < d; ++e)
+      if (w.factored_mask.col(e) == w.factored_mask.col(d)) {
+        slot[d] = slot[e];
+        break;
       }
   for (int d = 0; d < 3; ++d) {
-    if (!refactor[d]) continue;
+    if (slot[d] != d || (w.chol_ok[d] && w.chol_mask.col(d) == w.factored_mask.col(d))) continue;
     factorize(m, d, w, s);
-    if (!w.factored[d]) return false;
+    if (!w.chol_ok[d]) return false;
+  }
+  for (int d = 0; d < 3; ++d) {
+    w.slot[d] = slot[d];
+    w.factored[d] = true;
   }
   return true;
 }
@@ -123,12 +131,91 @@ void surface_from_lattice(const CoreModel& m, const CoreWorkspace& w, const Node
       u(i, d) = w.mask(i, d) ? w.target(i, d) : tied(m, v, i, d) + (w.force(i, d) - lambda * w.area(i, d)) / m.tie_k[i];
 }
 
+// The lagged rotations' load on the lattice, 2 mu f V_t (R_t - I) grad N_a per tet corner
+// (V_t = h^3 / 6), every axis in one pass over the cubes.
+void rotation_load(const CoreModel& m, CoreWorkspace& w) {
+  w.rotation_load.setZero();
+  const UnitCube& cube = unit_cube();
+  for (Eigen::Index q = 0; q < m.cubes.rows(); ++q) {
+    const double scale = 2 * m.mu * m.fill[q] * m.h * m.h / 6;
+    for (int t = 0; t < 6; ++t) {
+      Eigen::Matrix3d R = w.rotation[static_cast<size_t>(6 * q + t)];
+      R.diagonal().array() -= 1.0;
+      for (int a = 0; a < 4; ++a)
+        w.rotation_load.row(m.cubes(q, cube.corner[t][a])) += scale * (R * cube.grad[t].row(a).transpose()).transpose();
+    }
+  }
+}
+
+// The linear system at the current linearisation (rotations, surface, the volume row's a,
+// response and den) under the current forces and targets: the lattice's motion w.v_new, the
+// surface's w.u_new and the volume row's multiplier (returned). `c`: the volume row's residual.
+double solve_linear(const CoreModel& m, CoreWorkspace& w, double c) {
+  const int ns = m.ns, ng = m.ng;
+  double num = -c;
+  if (m.gravity_load.rows() == ng) w.b = m.gravity_load + w.rotation_load;
+  else w.b = w.rotation_load;
+  for (int d = 0; d < 3; ++d)
+    for (int i = 0; i < ns; ++i) {
+      const double load = w.factored_mask(i, d) ? m.tie_k[i] * w.target(i, d) : w.force(i, d);
+      for (int p = 0; p < 4; ++p) w.b(m.tie_node(i, p), d) += m.tie_weight(i, p) * load;
+      if (!w.factored_mask(i, d)) num += w.area(i, d) * w.force(i, d) / m.tie_k[i];
+    }
+  solve_axes(w, w.b, w.v_new);
+  for (int d = 0; d < 3; ++d) num += w.a.col(d).dot(w.v_new.col(d));
+  const double den = w.den;
+  double lambda = den > 0 ? num / den : 0.0;
+  HeldEntries& H = w.held;
+  if (H.size() > 0) {
+    // The held entries' multipliers: (C0 - h h^T / den) r = target - free motion.
+    for (int p = 0; p < H.size(); ++p) {
+      const int i = H.node[static_cast<size_t>(p)], d = H.axis[static_cast<size_t>(p)];
+      const double Wy1 = tied_at(m, w.response.col(d), i);
+      H.h[p] = den > 0 ? Wy1 + w.area(i, d) / m.tie_k[i] : 0.0;
+      const double free_motion =
+          tied_at(m, w.v_new.col(d), i) - lambda * Wy1 + (w.force(i, d) - lambda * w.area(i, d)) / m.tie_k[i];
+      H.rhs[p] = w.target(i, d) - free_motion;
+    }
+    H.z = H.C0_factor.solve(H.rhs);
+    H.r = H.z;
+    if (den > 0) {
+      H.y = H.C0_factor.solve(H.h);
+      const double denom = den - H.h.dot(H.y);
+      if (denom > 0) H.r += H.y * (H.h.dot(H.z) / denom);
+      lambda += H.h.dot(H.r) / den;
+    }
+    for (int d = 0; d < 3; ++d) add_held_response(m, w, d, w.v_new.col(d));
+  }
+  w.v_new -= lambda * w.response;
+  surface_from_lattice(m, w, w.v_new, lambda, w.u_new);
+  return lambda;
+}
+
+// The core's compliance at the current linearisation, for a SurfaceForceLaw.
+class CoreCompliance final : public ComplianceSource {
+ public:
+  CoreCompliance(const CoreModel& m, CoreWorkspace& w) : m_(m), w_(w) {}
+  void compliance(const std::vector<int>& nodes, Eigen::MatrixXd& C) override { surface_compliance(m_, w_, nodes, C); }
+
+ private:
+  const CoreModel& m_;
+  CoreWorkspace& w_;
+};
+
 }  // namespace
 
 CoreState::CoreState() = default;
 CoreState::~CoreState() = default;
 CoreState::CoreState(CoreState&&) noexcept = default;
 CoreState& CoreState::operator=(CoreState&&) noexcept = default;
+
+void solve_axes(CoreWorkspace& w, const NodeMat& rhs, NodeMat& out) {
+  if (w.slot[1] == w.slot[0] && w.slot[2] == w.slot[0]) {
+    out = w.chol[w.slot[0]].solve(rhs);
+    return;
+  }
+  for (int d = 0; d < 3; ++d) out.col(d) = w.chol[w.slot[d]].solve(rhs.col(d));
+}
 
 CoreState make_core_state(const CoreModel& m) {
   CoreState s;
@@ -143,11 +230,11 @@ CoreState make_core_state(const CoreModel& m) {
   w.area = w.force = w.target = w.x = w.u_new = NodeMat::Zero(m.ns, 3);
   w.mask = FlagMat::Zero(m.ns, 3);
   w.factored_mask = m.fixed;
-  w.b = w.a = w.y0 = w.y1 = Vec::Zero(m.ng);
-  w.v_new = NodeMat::Zero(m.ng, 3);
+  w.chol_mask = FlagMat::Zero(m.ns, 3);
+  w.b = w.a = w.rotation_load = w.v_new = w.response = NodeMat::Zero(m.ng, 3);
   const int n = 3 * m.ng, h = std::max(1, m.settings.anderson);
   w.dX = w.dG = Eigen::MatrixXd::Zero(n, h);
-  w.x_prev = w.g_prev = w.g = w.mixed = w.response = Vec::Zero(n);
+  w.x_prev = w.g_prev = w.g = w.mixed = Vec::Zero(n);
   return s;
 }
 
@@ -164,7 +251,7 @@ void tet_rotations(const CoreModel& m, const NodeMat& v, std::vector<Eigen::Quat
     }
 }
 
-void step(const CoreModel& m, const StepInput& in, CoreState& s) {
+void step(const CoreModel& m, const StepInput& in, CoreState& s, SurfaceForceLaw* law) {
   CoreWorkspace& w = *s.work;
   s.stats = CoreStats{};
   const int ns = m.ns, ng = m.ng;
@@ -190,7 +277,6 @@ void step(const CoreModel& m, const StepInput& in, CoreState& s) {
     if (s.warnings.size() < kMaxWarnings) s.warnings.emplace_back("elastic core: the lattice's matrix did not factorise");
     return;
   }
-  HeldEntries& H = w.held;
   const int depth = m.settings.anderson;
   w.history = w.next = 0;
   double lambda = 0;
@@ -207,62 +293,33 @@ void step(const CoreModel& m, const StepInput& in, CoreState& s) {
     for (int i = 0; i < ns; ++i)
       for (int d = 0; d < 3; ++d) c += w.area(i, d) * (s.u(i, d) - (w.factored_mask(i, d) ? w.target(i, d) : 0.0));
     tet_rotations(m, s.v, w.quaternion, w.rotation);
-    double num = -c, den = 0;
-    for (int d = 0; d < 3; ++d) {
-      if (m.gravity_load.rows() == ng) w.b = m.gravity_load.col(d);
-      else w.b.setZero();
-      w.a.setZero();
-      const UnitCube& cube = unit_cube();
-      for (Eigen::Index q = 0; q < m.cubes.rows(); ++q) {
-        // The lagged rotation's load, 2 mu f V_t (R_t - I) grad N_a per corner (V_t = h^3 / 6).
-        const double scale = 2 * m.mu * m.fill[q] * m.h * m.h / 6;
-        for (int t = 0; t < 6; ++t) {
-          const Eigen::RowVector3d r = w.rotation[static_cast<size_t>(6 * q + t)].row(d) - Eigen::RowVector3d::Unit(d);
-          for (int a = 0; a < 4; ++a) w.b[m.cubes(q, cube.corner[t][a])] += scale * r.dot(cube.grad[t].row(a));
-        }
-      }
+    rotation_load(m, w);
+    // What does not depend on the forces: the volume row's compliance (its lattice response y1
+    // per axis and den).
+    double den = 0;
+    w.a.setZero();
+    for (int d = 0; d < 3; ++d)
       for (int i = 0; i < ns; ++i) {
-        const double load = w.factored_mask(i, d) ? m.tie_k[i] * w.target(i, d) : w.force(i, d);
-        for (int p = 0; p < 4; ++p) w.b[m.tie_node(i, p)] += m.tie_weight(i, p) * load;
         if (w.factored_mask(i, d)) continue;
         const double A = w.area(i, d);
-        for (int p = 0; p < 4; ++p) w.a[m.tie_node(i, p)] += m.tie_weight(i, p) * A;
-        num += A * w.force(i, d) / m.tie_k[i];
+        for (int p = 0; p < 4; ++p) w.a(m.tie_node(i, p), d) += m.tie_weight(i, p) * A;
         den += A * A / m.tie_k[i];
       }
-      w.y0 = w.chol[d].solve(w.b);
-      w.y1 = w.chol[d].solve(w.a);
-      num += w.a.dot(w.y0);
-      den += w.a.dot(w.y1);
-      w.v_new.col(d) = w.y0;
-      w.response.segment(d * ng, ng) = w.y1;
-    }
-    lambda = den > 0 ? num / den : 0.0;
+    solve_axes(w, w.a, w.response);
+    for (int d = 0; d < 3; ++d) den += w.a.col(d).dot(w.response.col(d));
     w.den = den;
-    if (H.size() > 0) {
-      // The held entries' multipliers: (C0 - h h^T / den) r = target - free motion.
-      for (int p = 0; p < H.size(); ++p) {
-        const int i = H.node[static_cast<size_t>(p)], d = H.axis[static_cast<size_t>(p)];
-        const double Wy1 = tied_at(m, w.response.segment(d * ng, ng), i);
-        H.h[p] = den > 0 ? Wy1 + w.area(i, d) / m.tie_k[i] : 0.0;
-        const double free_motion =
-            tied_at(m, w.v_new.col(d), i) - lambda * Wy1 + (w.force(i, d) - lambda * w.area(i, d)) / m.tie_k[i];
-        H.rhs[p] = w.target(i, d) - free_motion;
+    lambda = solve_linear(m, w, c);
+    if (law) {
+      // The law's forces on the linear model at this linearisation, and the solve with them.
+      w.x = m.surface.positions + w.u_new;
+      CoreCompliance compliance(m, w);
+      if (law->update(w.x, compliance, w.force)) {
+        lambda = solve_linear(m, w, c);
+        ++s.stats.law_solves;
       }
-      H.z = H.C0_factor.solve(H.rhs);
-      H.r = H.z;
-      if (den > 0) {
-        H.y = H.C0_factor.solve(H.h);
-        const double denom = den - H.h.dot(H.y);
-        if (denom > 0) H.r += H.y * (H.h.dot(H.z) / denom);
-        lambda += H.h.dot(H.r) / den;
-      }
-      for (int d = 0; d < 3; ++d) add_held_response(m, w, d, w.v_new.col(d));
     }
-    for (int d = 0; d < 3; ++d) w.v_new.col(d) -= lambda * w.response.segment(d * ng, ng);
     // How far the surface and the lattice moved (the lattice too: with every surface entry
     // prescribed the surface does not tell).
-    surface_from_lattice(m, w, w.v_new, lambda, w.u_new);
     const double change = std::max((w.u_new - s.u).cwiseAbs().maxCoeff(), (w.v_new - s.v).cwiseAbs().maxCoeff());
     s.stats.change = change / m.size;
     if (change <= tol) {

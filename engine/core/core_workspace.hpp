@@ -44,8 +44,13 @@ struct CoreWorkspace {
 #else
   Eigen::SimplicialLDLT<SpMat> chol[3];
 #endif
-  FlagMat factored_mask;      // the prescribed entries each axis's factor was made for
-  bool factored[3] = {false, false, false};
+  FlagMat factored_mask;      // per axis, the prescribed entries its factor holds
+  bool factored[3] = {false, false, false};  // factored_mask.col(d) has a factor
+  // Axes whose factored entries are the same share one factor (the common case: the organ's
+  // fixed entries on every axis): axis d's is chol[slot[d]], with its columns columns[slot[d]].
+  int slot[3] = {0, 1, 2};
+  FlagMat chol_mask;          // per factor, the entries it was made for
+  bool chol_ok[3] = {false, false, false};
   bool analyzed = false;
   LatticeColumns columns[3];
   HeldEntries held;
@@ -53,15 +58,21 @@ struct CoreWorkspace {
   std::vector<Eigen::Quaterniond> quaternion;  // per tet, the last rotations (warm start)
   NodeMat area, force, target, x;
   FlagMat mask;               // every prescribed entry (the factor's and the held ones)
-  Vec b, a, y0, y1;
+  NodeMat b;              // per axis, the lattice's load
+  NodeMat a;              // per axis, the volume row's lattice entries: sum over free entries A_i W_i^T
+  NodeMat rotation_load;  // per axis, the lagged rotations' load on the lattice
   NodeMat v_new, u_new;
   // Anderson mixing of the lattice's displacements: differences of iterates and of residuals.
   Eigen::MatrixXd dX, dG;
-  Vec response;  // per axis K_d^-1 a_d (3 ng), at the last iteration
+  NodeMat response;  // per axis K_d^-1 a_d, at the last iteration
   double den = 0;  // the volume row's a^T K^-1 a + sum A^2 / k, at the last iteration
   Vec x_prev, g_prev, g, mixed;
   int history = 0, next = 0;
 };
+
+// Solves K_d out.col(d) = rhs.col(d) on every axis: one solve of three columns when the axes
+// share a factor.
+void solve_axes(CoreWorkspace& w, const NodeMat& rhs, NodeMat& out);
 
 // The lattice's motion at surface node i's rest position for a lattice field `v` (one axis).
 template <class V>

@@ -218,13 +218,19 @@ bool build_core_model(const CoreDef& def, CoreModel& m, std::string& error) {
   // The core's matrix: 2 mu f_c h (unit cube's sum of V G G^T) per cube.
   const Eigen::Matrix<double, 8, 8>& cube_K = unit_cube().K;
   std::vector<Eigen::Triplet<double>> trip;
-  trip.reserve(kept.size() * 64);
+  trip.reserve(kept.size() * 64 + static_cast<size_t>(ns) * 16);
   for (Eigen::Index q = 0; q < m.cubes.rows(); ++q) {
     const double scale = 2 * m.mu * m.fill[q] * h;
     for (int a = 0; a < 8; ++a)
       for (int b = 0; b < 8; ++b)
         if (cube_K(a, b) != 0) trip.emplace_back(m.cubes(q, a), m.cubes(q, b), scale * cube_K(a, b));
   }
+  // Structural zeros where a tie couples two lattice nodes that the cubes' matrix does not (a
+  // Kuhn tet's edges at right angles carry no stiffness): a factor made with some ties then
+  // has the pattern its symbolic analysis, done once for every tie set, saw.
+  for (int i = 0; i < ns; ++i)
+    for (int a = 0; a < 4; ++a)
+      for (int b = 0; b < 4; ++b) trip.emplace_back(m.tie_node(i, a), m.tie_node(i, b), 0.0);
   m.K_core.resize(ng, ng);
   m.K_core.setFromTriplets(trip.begin(), trip.end());
   m.fixed = def.fixed.rows() == ns ? def.fixed : FlagMat::Zero(ns, 3);

@@ -25,6 +25,10 @@
 #include "engine/sparse.hpp"
 #include "engine/types.hpp"
 
+namespace vdm {
+class SurfaceForceLaw;
+}
+
 namespace vdm::core {
 
 struct CoreSettings {
@@ -85,6 +89,7 @@ const UnitCube& unit_cube();
 struct CoreStats {
   int iterations = 0;       // nonlinear iterations this step
   int factorizations = 0;
+  int law_solves = 0;       // linear solves repeated with a SurfaceForceLaw's new forces
   double change = 0;        // last iteration's largest move / size
   bool converged = true;
 };
@@ -109,8 +114,10 @@ struct CoreState {
 CoreState make_core_state(const CoreModel& model);
 
 // One quasi-static step to the input's prescribed displacements, forces and pressures
-// (StepInput's springs and tolerance are not taken).
-void step(const CoreModel& model, const StepInput& input, CoreState& state);
+// (StepInput's springs and tolerance are not taken). With `law`, the law's forces are set after
+// every linear solve of the iteration (engine/surface_force_law.hpp) and the solve repeated
+// with them.
+void step(const CoreModel& model, const StepInput& input, CoreState& state, SurfaceForceLaw* law = nullptr);
 
 // The organ's compliance at surface nodes `nodes` (3n x 3n; row 3a + d, column 3b + e: how far
 // node a moves along d under a unit force on node b along e) at the last step's linearisation

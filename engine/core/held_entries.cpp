@@ -22,7 +22,7 @@ void LatticeColumns::clear() {
 }
 
 void ensure_columns(const CoreModel& m, int d, const std::vector<int>& nodes, CoreWorkspace& w) {
-  LatticeColumns& c = w.columns[d];
+  LatticeColumns& c = w.columns[w.slot[d]];
   if (c.slot.size() != static_cast<size_t>(m.ng)) c.slot.assign(static_cast<size_t>(m.ng), -1);
   const int before = c.count;
   for (int i : nodes)
@@ -41,7 +41,7 @@ void ensure_columns(const CoreModel& m, int d, const std::vector<int>& nodes, Co
   }
   Eigen::MatrixXd unit = Eigen::MatrixXd::Zero(m.ng, added);
   for (int k = 0; k < added; ++k) unit(c.node[static_cast<size_t>(before + k)], k) = 1.0;
-  c.cols.middleCols(before, added) = w.chol[d].solve(unit);
+  c.cols.middleCols(before, added) = w.chol[w.slot[d]].solve(unit);
 }
 
 double tied_compliance(const CoreModel& m, const LatticeColumns& c, int i, int j) {
@@ -59,7 +59,7 @@ namespace {
 // tie's own compliance on the diagonal.
 double entry_compliance(const CoreModel& m, const CoreWorkspace& w, int i, int d, int j, int e) {
   if (d != e) return 0.0;
-  return tied_compliance(m, w.columns[d], i, j) + (i == j ? 1.0 / m.tie_k[i] : 0.0);
+  return tied_compliance(m, w.columns[w.slot[d]], i, j) + (i == j ? 1.0 / m.tie_k[i] : 0.0);
 }
 
 }  // namespace
@@ -110,7 +110,7 @@ bool prepare_held_entries(const CoreModel& m, CoreWorkspace& w) {
 
 void add_held_response(const CoreModel& m, const CoreWorkspace& w, int d, Eigen::Ref<Vec> v) {
   const HeldEntries& H = w.held;
-  const LatticeColumns& c = w.columns[d];
+  const LatticeColumns& c = w.columns[w.slot[d]];
   for (int p = 0; p < H.size(); ++p) {
     if (H.axis[static_cast<size_t>(p)] != d || H.r[p] == 0.0) continue;
     const int i = H.node[static_cast<size_t>(p)];
@@ -135,10 +135,9 @@ void surface_compliance(const CoreModel& m, CoreWorkspace& w, const std::vector<
   const int f = static_cast<int>(row_of.size());
   if (f == 0) return;
   for (int d = 0; d < 3; ++d) ensure_columns(m, d, nodes, w);
-  const int ng = m.ng;
   // h: the entries' motion under a unit volume multiplier.
   auto volume_response = [&](int i, int d) {
-    return tied_at(m, w.response.segment(d * ng, ng), i) + w.area(i, d) / m.tie_k[i];
+    return tied_at(m, w.response.col(d), i) + w.area(i, d) / m.tie_k[i];
   };
   const bool volume = w.den > 0.0;
   Vec hN(f);

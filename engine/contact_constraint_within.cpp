@@ -1,0 +1,112 @@
+// Constraint contact solved inside the organ model's own iteration (a model with
+// OrganSolver::solves_force_laws(): vdm_core).
+//
+// The laws and the Gauss-Seidel are those of engine/contact_constraint.cpp; what differs is
+// where the forces are found. There, each whole solve of the organ is followed by a
+// correction of the forces on a model of its compliance, and the organ solved again: three
+// to six nonlinear solves a step. Here the model calls update() after every linear solve of its
+// own nonlinear iteration with the surface it found and its exact compliance at that
+// linearisation; the forces that keep the laws on that linear response are found and the
+// linear solve repeated with them. When the model's iteration has converged, the laws hold on
+// its exact equilibrium: one nonlinear solve a step, a second only when the solved surface
+// meets a tool where no contact point was (each solve also adds the points it pushes into a
+// tool as it goes).
+#include <algorithm>
+
+#include "engine/contact.hpp"
+#include "engine/headroom.hpp"
+#include "engine/organ_solver.hpp"
+#include "engine/stopwatch.hpp"
+
+namespace vdm {
+
+void ContactSolver::step_constraint_within(const TissueModel& m, const StepInput& base,
+                                           const std::vector<ToolShape>& tools, SimState& s, ContactReport& rep) {
+  begin_constraint_step(m, base, tools, s, rep);
+  within_ = WithinStep{&m, &base, &tools, &s, &rep};
+  const bool has_force = base.force.rows() == m.n;
+  const int max_it = std::max(1, settings_.max_constraint_iterations);
+  rep.converged = false;
+  input_.tolerance = 0.0;
+  for (int it = 0; it < max_it; ++it) {
+    if (it > 0) solver_->rewind(s);
+    // The solve starts from the contact points' forces (the last step's, or the last solve's).
+    for (int i : contact_nodes_) contact_force_.row(i).setZero();
+    for (const ContactPoint& c : contacts_)
+      for (int v = 0; v < c.count; ++v) contact_force_.row(c.node[v]).setZero();
+    for (const ContactPoint& c : contacts_)
+      for (int v = 0; v < c.count; ++v) contact_force_.row(c.node[v]) += c.weight[v] * c.force.transpose();
+    collect_contact_nodes();
+    if (has_force) input_.force = base.force + contact_force_;
+    else input_.force = contact_force_;
+    solver_->trial_step_with(input_, s, *this);
+    ++rep.solves;
+    rep.iterations += s.stats.iterations;
+    if (s.failed) break;  // the caller stops; the state is the step's start
+
+    // The laws at the solved state, with the compliance there: converged when they hold and
+    // the forces would move no point by more than the tolerance.
+    const auto t0 = Clock::now();
+    measure_contacts(tools, s.x);
+    const bool added = find_contact_points(m, base, tools, s.x, solver_->start_u(s), -settings_.constraint_tolerance,
+                                           false, rep) > 0;
+    if (added) sort_contacts();
+    if (contacts_.empty()) {
+      rep.converged = true;
+      rep.collision_ms += ms_since(t0);
+      break;
+    }
+    collect_contact_nodes();
+    solver_->surface_compliance(contact_nodes_, exact_compliance_);
+    double violation = 0.0, change = 0.0;
+    project_forces(tools, true, 1.0, violation, change);
+    rep.collision_ms += ms_since(t0);
+    if (!added && violation <= contact_tolerance_ && change <= contact_tolerance_) {
+      rep.converged = true;
+      break;
+    }
+    if (it + 1 == max_it) break;  // the state stays that of the forces it was solved with
+    store_forces();
+  }
+  within_ = WithinStep{};
+  if (!s.failed) end_constraint_step(m, base, tools, s, rep);
+}
+
+bool ContactSolver::update(const NodeMat& x, ComplianceSource& source, NodeMat& force) {
+  const auto t0 = Clock::now();
+  const WithinStep& w = within_;
+  measure_contacts(*w.tools, x);
+  // Points this solve has pushed into a tool join the step (with no force yet).
+  if (find_contact_points(*w.model, *w.base, *w.tools, x, solver_->start_u(*w.state), -settings_.constraint_tolerance,
+                          false, *w.report) > 0)
+    sort_contacts();
+  if (contacts_.empty()) {
+    w.report->collision_ms += ms_since(t0);
+    return false;
+  }
+  collect_contact_nodes();
+  source.compliance(contact_nodes_, exact_compliance_);
+  double violation = 0.0, change = 0.0;
+  project_forces(*w.tools, true, 1.0, violation, change);
+  store_forces();
+  // The law's share of the forces: out with the old, in with the new.
+  resize_with_headroom(old_force_, contact_nodes_.size());
+  for (size_t k = 0; k < contact_nodes_.size(); ++k) {
+    const int i = contact_nodes_[k];
+    old_force_[k] = contact_force_.row(i);
+    force.row(i) -= contact_force_.row(i);
+    contact_force_.row(i).setZero();
+  }
+  for (const ContactPoint& c : contacts_)
+    for (int v = 0; v < c.count; ++v) contact_force_.row(c.node[v]) += c.weight[v] * c.force.transpose();
+  bool changed = false;
+  for (size_t k = 0; k < contact_nodes_.size(); ++k) {
+    const int i = contact_nodes_[k];
+    force.row(i) += contact_force_.row(i);
+    changed = changed || contact_force_.row(i) != old_force_[k];
+  }
+  w.report->collision_ms += ms_since(t0);
+  return changed;
+}
+
+}  // namespace vdm
