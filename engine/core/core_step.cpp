@@ -44,7 +44,8 @@ Eigen::Matrix3d nearest_rotation(const Eigen::Matrix3d& F, Eigen::Quaterniond& q
     H.diagonal().array() += trace;
     const double minor = H(0, 0) * H(1, 1) - H(0, 1) * H(1, 0), det = H.determinant();
     Vec3 omega;
-    if (H(0, 0) > 0 && minor > 0 && det > 1e-12 * std::abs(trace * trace * trace)) omega = H.inverse() * torque;
+    const bool newton = H(0, 0) > 0 && minor > 0 && det > 1e-12 * std::abs(trace * trace * trace);
+    if (newton) omega = H.inverse() * torque;
     else omega = torque / (std::abs(trace) + 1e-12);
     const double angle = omega.norm();
     if (angle < 1e-10) break;  // the rotation to 1e-10 rad: its load is then exact to far below the tolerance
@@ -55,6 +56,9 @@ Eigen::Matrix3d nearest_rotation(const Eigen::Matrix3d& F, Eigen::Quaterniond& q
     q = turn * q;
     q.normalize();
     R = q.toRotationMatrix();
+    // Newton's step leaves an error of the order of its square: below 1e-5 rad, one more
+    // iteration would only confirm the rotation to 1e-10.
+    if (newton && angle < 1e-5) break;
   }
   return R;
 }
@@ -191,6 +195,34 @@ double solve_linear(const CoreModel& m, CoreWorkspace& w, double c) {
   return lambda;
 }
 
+// The linear solve's answer moved by the change of the forces since w.force_before (on a few
+// nodes: a contact's), without solving again: through the columns of K^-1 at the nodes' ties
+// (kept from the compliance the law asked for) and the volume row's response. With no held
+// entries (their multipliers would change too).
+void add_force_change(const CoreModel& m, CoreWorkspace& w, double& lambda) {
+  w.changed.clear();
+  for (int i = 0; i < m.ns; ++i)
+    if (w.force.row(i) != w.force_before.row(i)) w.changed.push_back(i);
+  if (w.changed.empty()) return;
+  double dnum = 0;
+  for (int d = 0; d < 3; ++d) {
+    ensure_columns(m, d, w.changed, w);
+    const LatticeColumns& c = w.columns[w.slot[d]];
+    for (int i : w.changed) {
+      if (w.factored_mask(i, d)) continue;
+      const double df = w.force(i, d) - w.force_before(i, d);
+      if (df == 0) continue;
+      dnum += df * (tied_at(m, w.response.col(d), i) + w.area(i, d) / m.tie_k[i]);
+      for (int p = 0; p < 4; ++p)
+        w.v_new.col(d) += (df * m.tie_weight(i, p)) * c.cols.col(c.slot[static_cast<size_t>(m.tie_node(i, p))]);
+    }
+  }
+  const double dlambda = w.den > 0 ? dnum / w.den : 0.0;
+  w.v_new -= dlambda * w.response;
+  lambda += dlambda;
+  surface_from_lattice(m, w, w.v_new, lambda, w.u_new);
+}
+
 // The core's compliance at the current linearisation, for a SurfaceForceLaw.
 class CoreCompliance final : public ComplianceSource {
  public:
@@ -227,7 +259,7 @@ CoreState make_core_state(const CoreModel& m) {
   CoreWorkspace& w = *s.work;
   w.rotation.assign(static_cast<size_t>(6 * m.cubes.rows()), Eigen::Matrix3d::Identity());
   w.quaternion.assign(w.rotation.size(), Eigen::Quaterniond::Identity());
-  w.area = w.force = w.target = w.x = w.u_new = NodeMat::Zero(m.ns, 3);
+  w.area = w.force = w.force_before = w.target = w.x = w.u_new = NodeMat::Zero(m.ns, 3);
   w.mask = FlagMat::Zero(m.ns, 3);
   w.factored_mask = m.fixed;
   w.chol_mask = FlagMat::Zero(m.ns, 3);
@@ -313,8 +345,10 @@ void step(const CoreModel& m, const StepInput& in, CoreState& s, SurfaceForceLaw
       // The law's forces on the linear model at this linearisation, and the solve with them.
       w.x = m.surface.positions + w.u_new;
       CoreCompliance compliance(m, w);
+      w.force_before = w.force;
       if (law->update(w.x, compliance, w.force)) {
-        lambda = solve_linear(m, w, c);
+        if (w.held.size() > 0) lambda = solve_linear(m, w, c);
+        else add_force_change(m, w, lambda);
         ++s.stats.law_solves;
       }
     }
@@ -367,6 +401,23 @@ void step(const CoreModel& m, const StepInput& in, CoreState& s, SurfaceForceLaw
     s.u = w.u_new;
     s.stats.converged = false;
     if (s.warnings.size() < kMaxWarnings) s.warnings.emplace_back("elastic core: a step did not converge");
+  }
+  // The volume row holds at each iteration's linearisation, so the last one leaves an error of
+  // the order of its motion squared (1e-10 of the volume at the default tolerance): the free
+  // entries are moved along their area vectors onto the volume (a motion of that order; twice,
+  // the second for what the first's own curvature leaves), so that it is kept to round-off.
+  for (int pass = 0; pass < 2; ++pass) {
+    w.x = m.surface.positions + s.u;
+    distributed_area_vectors(w.x, m.surface.triangles, w.area);
+    double A2 = 0;
+    for (int i = 0; i < ns; ++i)
+      for (int d = 0; d < 3; ++d)
+        if (!w.mask(i, d)) A2 += w.area(i, d) * w.area(i, d);
+    if (!(A2 > 0)) break;
+    const double shift = (m.rest_volume - enclosed_volume(w.x, m.surface.triangles, Vec3::Zero())) / A2;
+    for (int i = 0; i < ns; ++i)
+      for (int d = 0; d < 3; ++d)
+        if (!w.mask(i, d)) s.u(i, d) += shift * w.area(i, d);
   }
   // Reactions at the prescribed entries: the tie's pull, less the load, plus the pressure.
   s.reaction.setZero();

@@ -57,6 +57,8 @@ struct CoreWorkspace {
   std::vector<Eigen::Matrix3d> rotation;
   std::vector<Eigen::Quaterniond> quaternion;  // per tet, the last rotations (warm start)
   NodeMat area, force, target, x;
+  NodeMat force_before;      // the forces before a SurfaceForceLaw's update
+  std::vector<int> changed;  // the nodes whose forces it changed
   FlagMat mask;               // every prescribed entry (the factor's and the held ones)
   NodeMat b;              // per axis, the lattice's load
   NodeMat a;              // per axis, the volume row's lattice entries: sum over free entries A_i W_i^T
