@@ -4,16 +4,21 @@
 // fluid's pressure as the volumetric part (an incompressible solid of modulus 3 mu = 1.5 E);
 // a rigid rotation is stress-free; an organ under a uniform outer pressure is under that
 // pressure on every axis. Then the stress view: its top 1 % lies under a probe pressed into a
-// liver, on the project's liver and on an irregular one; and contact pressure over the nodes'
-// areas adds up to the contact force.
+// liver, on the project's liver, on an irregular one and on SOFA's scanned liver (when
+// ../shared/assets is there); and contact pressure over the nodes' areas adds up to the contact
+// force.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
+#include <sstream>
 #include <vector>
 
+#include "app/mesh_prep/prepare_mesh.hpp"
+#include "app/scene/mesh_io.hpp"
 #include "app/scene/organ_generator.hpp"
 #include "engine/contact.hpp"
 #include "engine/core/core_stress.hpp"
@@ -26,9 +31,12 @@
 #include "render/render_scene.hpp"
 #include "support/free_input.hpp"
 #include "support/irregular_liver.hpp"
+#include "support/scratch_dir.hpp"
 
 namespace vdm::core {
 namespace {
+
+namespace fs = std::filesystem;
 
 constexpr double kYoung = 3000;
 
@@ -282,9 +290,9 @@ double top_share_near(const SimState& s, const Vec3& point, double radius) {
   return double(near) / double(top);
 }
 
-void expect_stress_under_the_probe(const char* what, const SurfaceMesh& mesh) {
-  const Vec3 touch(0.035, 0.0, 0.0603);
-  const Pressed p = press_organ(mesh, touch, 0.010, -0.03, ContactSettings::Method::kinematic);
+void expect_stress_under_the_probe(const char* what, const SurfaceMesh& mesh, const Vec3& touch = Vec3(0.035, 0.0, 0.0603),
+                                   double z_fixed = -0.03) {
+  const Pressed p = press_organ(mesh, touch, 0.010, z_fixed, ContactSettings::Method::kinematic);
   const double share = top_share_near(p.state, touch, 0.03);
   std::printf("%s on the core: contact force %.3f N, %d nodes; largest stress magnitude %.0f Pa; top 1 %% of it within "
               "3 cm of the probe: %.0f %%\n",
@@ -304,6 +312,32 @@ TEST(CoreStress, StressViewFindsTheProbeOnAnIrregularSurface) {
   const MeshCheck check = check_and_orient_surface(mesh);
   ASSERT_TRUE(check.ok()) << check.message;
   expect_stress_under_the_probe("the irregular 10k liver", mesh);
+}
+
+TEST(CoreStress, StressViewFindsTheProbeOnTheSharedScannedLiver) {
+  // SOFA's scanned liver (../shared/assets, third-party: used in place, never copied), made an
+  // organ by prepare-mesh at an adult's size (22 cm, 10k nodes): pressed on top near its middle,
+  // its lowest 30 % held.
+  const fs::path in = fs::path(VDMSIM_SHARED_ASSETS) / "organs/liver-smooth.obj";
+  if (!fs::exists(in)) GTEST_SKIP() << "shared assets absent (" << in << "): skipping";
+  vdmsim::PrepareMeshOptions opt;
+  opt.in = in.string();
+  opt.out = (vdmsim::test::scratch_dir("core_stress") / "liver_smooth.obj").string();
+  opt.scale = 0.034;
+  opt.nodes = 10000;
+  opt.center = true;
+  std::ostringstream out, err;
+  ASSERT_EQ(vdmsim::cmd_prepare_mesh(opt, out, err), 0) << out.str() << err.str();
+  const vdmsim::MeshLoadResult r = vdmsim::load_surface_mesh(opt.out);
+  ASSERT_TRUE(r.ok) << r.error;
+  const NodeMat& P = r.mesh.positions;
+  int top = -1;
+  for (int i = 0; i < P.rows(); ++i)
+    if (P.row(i).head<2>().norm() < 0.03 && (top < 0 || P(i, 2) > P(top, 2))) top = i;
+  ASSERT_GE(top, 0);
+  const double low = P.col(2).minCoeff(), high = P.col(2).maxCoeff();
+  expect_stress_under_the_probe("SOFA's scanned liver (prepared, 10k)", r.mesh, P.row(top).transpose(),
+                                low + 0.3 * (high - low));
 }
 
 TEST(CoreStress, ContactPressureOverTheNodesAreasIsTheContactForce) {
