@@ -2,6 +2,7 @@
 
 #include <chrono>
 
+#include "engine/core/core_stress.hpp"
 #include "engine/core/elastic_core.hpp"
 #include "engine/fem/fem_state.hpp"
 #include "engine/geometry.hpp"
@@ -177,11 +178,31 @@ class CoreSolver final : public ReferenceSolver {
  public:
   CoreSolver(core::CoreModel m, double dt) : m_(std::move(m)), s_(core::make_core_state(m_)), dt_(dt) {}
   ModelKind kind() const override { return ModelKind::vdm_core; }
-  void step(const StepInput& in, SimState& s) override { step_with(in, s, nullptr); }
+  void step(const StepInput& in, SimState& s) override {
+    solve(in, s, nullptr);
+    finish_step(s);
+  }
+  // Contact solves a step several times: the results only for the one it keeps.
+  void trial_step(const StepInput& in, SimState& s, StepResults) override { solve(in, s, nullptr); }
   bool solves_force_laws() const override { return true; }
   bool trial_step_with(const StepInput& in, SimState& s, SurfaceForceLaw& law) override {
-    step_with(in, s, &law);
+    solve(in, s, &law);
     return true;
+  }
+  // The step's results at its surface, as VDM's: the area vectors A_i at the current
+  // geometry, the contact pressure |reaction_i| / |A_i| on nodes with a constrained entry
+  // (constraint contact then writes its own nodes' over the same A_i), and with
+  // compute_stress the surface's strain and stress (engine/core/core_stress.hpp).
+  void finish_step(SimState& s) override {
+    const auto t0 = Clock::now();
+    distributed_area_vectors(s.x, m_.surface.triangles, s.area_vectors);
+    for (int i = 0; i < m_.ns; ++i) {
+      const double a = s.area_vectors.row(i).norm(), f = s.reaction.row(i).norm();
+      s.reaction_pressure[i] = a > 0 && f > 0 ? f / a : 0.0;
+    }
+    if (m_.compute_stress) core::core_surface_stress(m_, s_, strain_, s.stress, s.strain);
+    s.stats.stress_ms = ms_since(t0);
+    s.stats.step_ms += s.stats.stress_ms;
   }
   bool surface_compliance(const std::vector<int>& nodes, Eigen::MatrixXd& C) override {
     core::surface_compliance(m_, s_, nodes, C);
@@ -189,7 +210,7 @@ class CoreSolver final : public ReferenceSolver {
   }
 
  private:
-  void step_with(const StepInput& in, SimState& s, SurfaceForceLaw* law) {
+  void solve(const StepInput& in, SimState& s, SurfaceForceLaw* law) {
     const auto t0 = Clock::now();
     remember_start(s);
     const size_t warned = s_.warnings.size();
@@ -209,6 +230,7 @@ class CoreSolver final : public ReferenceSolver {
 
   core::CoreModel m_;
   core::CoreState s_;
+  core::CoreStrain strain_;
   double dt_;
 };
 

@@ -4,8 +4,9 @@
 // surface nodes and writes the same SimState fields: u, x, velocity, volume,
 // volume_rel_error, pressure, reaction (on constrained surface entries), stats (iterations,
 // residual, converged, step_ms, solve_ms) and warnings. The SimState comes from
-// make_sim_state() on a TissueModel of the same surface. VDM-only fields (area vectors,
-// node volumes, strain, stress, reaction_pressure) stay as they are for fem and mass_spring.
+// make_sim_state() on a TissueModel of the same surface. vdm and vdm_core also write the area
+// vectors, reaction_pressure and (when their model computes stress) strain and stress; those
+// and the node volumes stay as they are for fem and mass_spring.
 //
 // Contact (engine/contact.hpp) solves a step several times under other contact loads or
 // constraints: it takes the step with trial_step(), goes back to the step's start with

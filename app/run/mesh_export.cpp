@@ -58,8 +58,8 @@ bool MeshExport::open(const PreparedScene& ps, const fs::path& dir, int start, s
   scalars_ = exported_scalars(stress);
   values_.assign(scalars_.size(), {});
   if (!stress)
-    omitted_reason_ = ps.scene.model != vdm::ModelKind::vdm
-                          ? "organ.model " + std::string(vdm::to_string(ps.scene.model)) + " computes no VDM stress"
+    omitted_reason_ = ps.scene.model == vdm::ModelKind::fem || ps.scene.model == vdm::ModelKind::mass_spring
+                          ? "organ.model " + std::string(vdm::to_string(ps.scene.model)) + " computes no stress at the surface"
                           : "the scene computes no stress (simulation.effects lacks stress)";
   // A resume: the earlier run's frames before `start` stay, those still on disk are listed.
   for (int f = 0; f < start; ++f)

@@ -932,10 +932,11 @@ void read_render(Reader& r, const YAML::Node& n, SceneDef& s) {
     }
   }
   const bool stress_quantity = render::quantity_needs_stress(d.stress_view.quantity);
-  if (d.stress && stress_quantity && s.model != vdm::ModelKind::vdm)
+  if (d.stress && stress_quantity && (s.model == vdm::ModelKind::fem || s.model == vdm::ModelKind::mass_spring))
     r.error(n["views"], "render.views",
-            std::string("the stress view of '") + render::to_string(d.stress_view.quantity) + "' needs organ.model vdm (" +
-                vdm::to_string(s.model) + " computes no VDM stress): colour by displacement or contact_pressure");
+            std::string("the stress view of '") + render::to_string(d.stress_view.quantity) +
+                "' needs organ.model vdm or vdm_core (" + vdm::to_string(s.model) +
+                " computes no stress at the surface): colour by displacement or contact_pressure");
   if (d.stress && !s.has(Effect::stress) && stress_quantity)
     r.error(n["views"], "render.views",
             std::string("the stress view of '") + render::to_string(d.stress_view.quantity) +

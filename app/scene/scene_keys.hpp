@@ -427,7 +427,7 @@ inline constexpr SceneKey kSceneKeys[] = {
   // render.stress
   key("render.stress.quantity", KT::choice, "The quantity coloured: `magnitude` (the norm of the per-axis stress), "
       "`stress_x`, `stress_y`, `stress_z` (signed), `contact_pressure`, `displacement` (norm) or `volumetric_strain`. "
-      "The stress components, magnitude and strain need the `stress` effect and `organ.model: vdm`.")
+      "The stress components, magnitude and strain need the `stress` effect and `organ.model: vdm` or `vdm_core`.")
       .one_of(render::quantity_names)
       .by_default([] { return std::string(render::to_string(RenderDef().stress_view.quantity)); })
       .eg("quantity: contact_pressure"),

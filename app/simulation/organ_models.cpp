@@ -26,6 +26,7 @@ bool build_reference_model(const SceneDef& s, const vdm::TissueModel& m, Referen
     def.density = s.density;
     def.gravity = s.gravity;
     def.use_gravity = s.has(Effect::gravity);
+    def.compute_stress = s.has(Effect::stress);
     def.fixed = m.held;
     if (!vdm::core::build_core_model(def, out.core, error)) return false;
   } else if (s.model == vdm::ModelKind::mass_spring) {

@@ -176,7 +176,8 @@ bool prepare_scene_def(const SceneDef& scene, PreparedScene& out, std::vector<Sc
   def.compute_stress = s.has(Effect::stress);
   def.damping = s.damping;
   def.volume_constraint = s.volume_constraint;
-  if (s.model != vdm::ModelKind::vdm) def.compute_stress = false;  // fem and mass_spring report no VDM stress
+  // fem and mass_spring report no stress at the surface (vdm_core's core does: core_stress.hpp)
+  if (s.model == vdm::ModelKind::fem || s.model == vdm::ModelKind::mass_spring) def.compute_stress = false;
   def.solver = s.solver;
   def.fixed = vdm::FlagMat::Zero(n, 3);
   for (size_t k = 0; k < s.fixed.size(); ++k)

@@ -127,6 +127,7 @@ bool build_core_model(const CoreDef& def, CoreModel& m, std::string& error) {
   m.young_modulus = def.young_modulus;
   m.mu = def.young_modulus / 2;
   m.settings = def.settings;
+  m.compute_stress = def.compute_stress;
   m.rest_volume = enclosed_volume(s.positions, s.triangles, Vec3::Zero());
   const double area = surface_area(s.positions, s.triangles);
   if (!(m.rest_volume > 0)) return error = "elastic core: the surface encloses no volume (open, or inward)", false;

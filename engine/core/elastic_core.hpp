@@ -54,6 +54,7 @@ struct CoreDef {
   double density = 1060;          // kg/m^3 (gravity only)
   Vec3 gravity = Vec3(0, 0, -9.81);
   bool use_gravity = false;       // the weight, on the lattice: rho g f_c h^3 / 8 per cube corner
+  bool compute_stress = false;    // strain and stress at the surface after each step (core_stress.hpp)
   CoreSettings settings;
 };
 
@@ -76,6 +77,7 @@ struct CoreModel {
   SpMat K_core;                   // the core's matrix, one axis (lower and upper), N/m
   NodeMat gravity_load;           // ng x 3 lattice body force (N); empty without gravity
   FlagMat fixed;                  // ns x 3
+  bool compute_stress = false;
   CoreSettings settings;
 };
 

@@ -261,6 +261,21 @@ TEST(Scene, ContactMethodDefaultsByModel) {
   }
 }
 
+// The stress view's stress quantities: vdm and vdm_core compute the stress at the surface,
+// fem and mass_spring do not (refused, with what to colour by instead).
+TEST(Scene, StressViewNeedsAModelThatComputesStress) {
+  const std::string sim = "  effects: [stress]\n", render = "render: {views: [shaded, stress]}\n";
+  for (const char* model : {"vdm", "vdm_core"}) {
+    int errors = 0;
+    const std::string organ = std::string("  model: ") + model + "\n";
+    const std::string msg = problems_of(write_scene(std::string("stress_") + model + ".yaml", scene_text(organ, sim, render)), errors);
+    EXPECT_EQ(errors, 0) << model << ":\n" << msg;
+  }
+  expect_error("stress_fem.yaml", scene_text("  model: fem\n  young_modulus: 3000\n  poisson_ratio: 0.45\n", sim, render),
+               "render.views: the stress view of 'magnitude' needs organ.model vdm or vdm_core (fem computes no stress at "
+               "the surface): colour by displacement or contact_pressure");
+}
+
 TEST(SceneErrors, RegionSelectingNothing) {
   expect_error("region.yaml", scene_text("  prescribed: [{box: {min: [5, 5, 5], max: [6, 6, 6]}, translate: [0, 0, -0.01]}]\n"),
                "organ.prescribed[0]: the region selects no node of the organ");
