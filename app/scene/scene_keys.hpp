@@ -127,7 +127,8 @@ inline constexpr SceneKey kSceneKeys[] = {
   key("organ.prescribed", KT::region_list, "Prescribed motion: a region's nodes moved rigidly from rest, ramped over a time interval.")
       .eg("prescribed: [{nodes: [5, 6], translate: [0, 0, -0.015], t: [0, 1]}]"),
   key("organ.cell_size", KT::number, "`model: vdm_core` only: the core's cell (a cube's edge); 0 takes the organ's "
-      "volume over its area, V/A. Smaller cells follow smaller loads (a dent narrower than a few cells is spread over "
+      "volume over its area V/A, no wider than the smallest instrument (its narrowest part), and no finer than gives "
+      "about 10000 cubes inside the organ (run.json reports the cell used). Smaller cells follow smaller loads (a dent narrower than a few cells is spread over "
       "them) and cost more. Refused when a cell does not fit in the organ's box (larger than its smallest side) and when "
       "the box would hold more than 2e7 cells; warned when more than twice as wide as the smallest instrument "
       "(its narrowest part).")

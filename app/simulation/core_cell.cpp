@@ -1,5 +1,6 @@
 #include "app/simulation/core_cell.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -8,6 +9,35 @@
 
 namespace vdmsim {
 
+namespace {
+
+// The width of the scene's narrowest instrument (a probe's diameter, a jaw's width; 0 with
+// none) and its index.
+double smallest_instrument(const SceneDef& s, size_t& which) {
+  double width = 0;
+  which = 0;
+  for (size_t k = 0; k < s.instruments.size(); ++k) {
+    const double w = 2 * tools::instrument_size(s.instruments[k]);
+    if (w > 0 && (width == 0 || w < width)) width = w, which = k;
+  }
+  return width;
+}
+
+}  // namespace
+
+double core_cell_size(const SceneDef& s, const vdm::SurfaceMesh& organ) {
+  if (s.cell_size > 0) return s.cell_size;
+  const vdm::NodeMat& x = organ.positions;
+  const double area = vdm::surface_area(x, organ.triangles);
+  const double volume = std::abs(vdm::enclosed_volume(x, organ.triangles, x.colwise().mean().transpose()));
+  if (!(area > 0) || !(volume > 0)) return 0.0;  // the engine's own default (and its error)
+  double h = volume / area;
+  size_t which = 0;
+  const double width = smallest_instrument(s, which);
+  if (width > 0) h = std::min(h, width);
+  return std::max(h, std::cbrt(volume / kDefaultCoreCubes));
+}
+
 void check_core_cell(const SceneDef& s, const vdm::SurfaceMesh& organ, std::vector<SceneProblem>& problems) {
   if (s.model != vdm::ModelKind::vdm_core || organ.node_count() == 0) return;
   const vdm::NodeMat& x = organ.positions;
@@ -15,7 +45,7 @@ void check_core_cell(const SceneDef& s, const vdm::SurfaceMesh& organ, std::vect
   const double area = vdm::surface_area(x, organ.triangles);
   const double volume = std::abs(vdm::enclosed_volume(x, organ.triangles, x.colwise().mean().transpose()));
   const bool given = s.cell_size > 0;
-  const double h = given ? s.cell_size : volume / area;  // the core's own default: V/A
+  const double h = core_cell_size(s, organ);
   const std::string where = s.cell_size_where.empty() ? s.file : s.cell_size_where;
   std::ostringstream m;
   m.precision(3);
@@ -23,7 +53,7 @@ void check_core_cell(const SceneDef& s, const vdm::SurfaceMesh& organ, std::vect
   if (given && h > extent.minCoeff()) {
     m << "a cell of " << h << " m does not fit in the organ's box (" << extent.x() << " x " << extent.y() << " x "
       << extent.z() << " m): the core would be a cell or two and its forces wrong by orders of magnitude; give at most "
-      << extent.minCoeff() << " m, or 0 for the organ's volume over its area (" << volume / area << " m)";
+      << extent.minCoeff() << " m, or 0 for the default (at most the organ's volume over its area, " << volume / area << " m)";
     problems.push_back({where, "organ.cell_size", m.str(), false});
     return;
   }
@@ -36,17 +66,12 @@ void check_core_cell(const SceneDef& s, const vdm::SurfaceMesh& organ, std::vect
     problems.push_back({where, "organ.cell_size", m.str(), false});
     return;
   }
-  // The smallest instrument: the width of its narrowest part (a probe's diameter, a jaw's width).
-  double width = 0;
   size_t which = 0;
-  for (size_t k = 0; k < s.instruments.size(); ++k) {
-    const double w = 2 * tools::instrument_size(s.instruments[k]);
-    if (w > 0 && (width == 0 || w < width)) width = w, which = k;
-  }
+  const double width = smallest_instrument(s, which);
   // More than twice its width: the dent under it spans less than half a cell (the project's
   // probe_poke_core, 1 cm cells under an 8 mm probe, is within).
   if (width > 0 && h > 2 * width) {
-    m << (given ? "a cell of " : "the default cell (the organ's volume over its area) of ") << h
+    m << (given ? "a cell of " : "the default cell (bounded by the core's size) of ") << h
       << " m is more than twice as wide as instruments[" << which << "] (" << width
       << " m across): a dent narrower than a few cells is resisted by the ties alone and its force comes out too "
          "small; a cell_size near the instrument's half width ("

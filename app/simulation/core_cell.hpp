@@ -14,6 +14,15 @@ namespace vdmsim {
 
 // The most cells the elastic core lays over the organ's box (engine/core: 2e7).
 constexpr double kMaxCoreCells = 2e7;
+// The default cell's bound on the core's size: about this many cubes inside the organ.
+constexpr double kDefaultCoreCubes = 10000;
+
+// The core's cell for `organ` (the surface as placed, m): organ.cell_size when the scene gives
+// it; by default the organ's volume over its area (a third of a slab's thickness), no wider
+// than the smallest instrument (a dent under it then spans a cell or more: the flat punch of
+// AgainstTheFem is within 1-5 % of the FEM's force at one punch width per cell), and no finer
+// than gives kDefaultCoreCubes cubes (the step's cost grows with them).
+double core_cell_size(const SceneDef& scene, const vdm::SurfaceMesh& organ);
 
 // Appends the problems of `scene`'s cell for `organ` (the surface as placed, m) to `problems`;
 // nothing unless the scene's model is vdm_core.

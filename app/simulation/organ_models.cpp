@@ -1,5 +1,6 @@
 #include "app/simulation/organ_models.hpp"
 
+#include "app/simulation/core_cell.hpp"
 #include "app/simulation/tet_mesher.hpp"
 
 namespace vdmsim {
@@ -22,7 +23,7 @@ bool build_reference_model(const SceneDef& s, const vdm::TissueModel& m, Referen
     vdm::core::CoreDef def;
     def.surface = m.rest;
     def.young_modulus = s.young_modulus;
-    def.cell_size = s.cell_size;
+    def.cell_size = core_cell_size(s, m.rest);
     def.density = s.density;
     def.gravity = s.gravity;
     def.use_gravity = s.has(Effect::gravity);

@@ -506,6 +506,70 @@ Row bench_pipeline(const fs::path& dir, const std::string& mesh, int frames, ren
   return r;
 }
 
+// The elastic core (organ.model vdm_core, E 5 kPa, its default cell) on probe_poke's press
+// into the 10k liver, run after run in turn: the tissue held on the probe (kinematic contact,
+// the press prescribed by the probe's surface), constraint contact with friction 0.2 (the
+// default), 0 and 0.3; the steps while pressing and holding (frames 16 to 59) timed; and one
+// 1280x720 frame drawn and encoded (render_720p's figure) in the same run, the frame the
+// step is measured against.
+struct CoreSideBySide {
+  static constexpr int kVariants = 4;
+  const char* name[kVariants] = {"kinematic", "constraint friction 0.2", "constraint friction 0", "constraint friction 0.3"};
+  long nodes = 0;
+  double cell_m = 0;
+  int pairs = 0;
+  double median_ms[kVariants] = {}, p95_ms[kVariants] = {}, iterations[kVariants] = {};
+  int unconverged[kVariants] = {};
+  double frame_ms = 0;
+};
+
+CoreSideBySide bench_core_side_by_side(const fs::path& dir, int rounds) {
+  const std::string path = (fs::path(data_dir()) / "scenes" / "probe_poke.yaml").string();
+  SceneLoadResult loaded = load_scene(path);
+  if (!loaded.ok()) throw std::runtime_error(path + ": cannot load");
+  CoreSideBySide r;
+  PreparedScene ps[CoreSideBySide::kVariants];
+  const double friction[CoreSideBySide::kVariants] = {0, 0.2, 0, 0.3};
+  for (int k = 0; k < CoreSideBySide::kVariants; ++k) {
+    SceneDef s = loaded.scene;
+    s.frames = 60;
+    s.has_render = false;
+    s.render.stress = false;
+    s.model = vdm::ModelKind::vdm_core;
+    s.young_modulus = 5000;
+    s.cell_size = 0;
+    s.contact.method = k == 0 ? vdm::ContactSettings::Method::kinematic : vdm::ContactSettings::Method::constraint;
+    s.contact.friction = friction[k];
+    std::vector<SceneProblem> problems;
+    if (!prepare_scene_def(s, ps[k], problems))
+      throw std::runtime_error(problems.empty() ? "cannot prepare the core's probe scene" : problems.back().text());
+  }
+  std::vector<double> all[CoreSideBySide::kVariants];
+  long steps[CoreSideBySide::kVariants] = {};
+  for (int round = 0; round < rounds; ++round)
+    for (int k = 0; k < CoreSideBySide::kVariants; ++k) {
+      SceneSimulation sim(ps[k]);
+      for (int f = 0; f < 60; ++f) {
+        sim.advance(f);
+        if (f < 16) continue;
+        all[k].push_back(sim.frame_step_ms());
+        r.iterations[k] += sim.frame_iterations();
+        ++steps[k];
+        if (!sim.contact_report().converged) ++r.unconverged[k];
+      }
+    }
+  for (int k = 0; k < CoreSideBySide::kVariants; ++k) {
+    r.median_ms[k] = quantile(all[k], 0.5);
+    r.p95_ms[k] = quantile(all[k], 0.95);
+    if (steps[k] > 0) r.iterations[k] /= double(steps[k]);
+  }
+  r.nodes = ps[0].model.n;
+  r.cell_m = ps[0].reference.core.h;
+  r.pairs = rounds;
+  r.frame_ms = bench_render(dir, 20, render::Antialias::edge, 1).median_ms;
+  return r;
+}
+
 }  // namespace
 
 int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::ostream& err, const std::string& only,
@@ -640,6 +704,32 @@ int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::os
         << std::setprecision(3) << r.constraint_ms << " ms, kinematic " << r.kinematic_ms << " ms per step in contact: "
         << r.ratio << "x (pair by pair: median " << r.pair_ratio_median << "x, highest " << r.pair_ratio_max << "x, "
         << r.pairs << " pairs); " << r.solves << " solves per step, " << r.unconverged << " steps unconverged\n";
+  }
+  // The elastic core's press, its contact methods in turn, against one frame drawn and encoded.
+  if (only.empty() || std::string("core_probe side by side").find(only) != std::string::npos) {
+    out << "bench: core_probe side by side ..." << std::flush;
+    const CoreSideBySide r = bench_core_side_by_side(dir, quick ? 1 : 3);
+    std::ofstream sc(dir / "bench_core.csv");
+    sc << "nodes,cell_m,rounds,contact,median_ms,p95_ms,iterations,unconverged_steps,frame_720p_ms,median_over_frame,"
+          "median_over_kinematic,p95_over_kinematic\n";
+    out << " " << r.nodes << " nodes, cell " << r.cell_m * 1e3 << " mm, " << r.pairs << " rounds; one 720p frame "
+        << std::setprecision(3) << r.frame_ms << " ms\n";
+    for (int k = 0; k < CoreSideBySide::kVariants; ++k) {
+      const double base = r.median_ms[0] > 0 ? r.median_ms[0] : 1;
+      sc << r.nodes << ',' << r.cell_m << ',' << r.pairs << ',' << r.name[k] << ',' << std::setprecision(6)
+         << r.median_ms[k] << ',' << r.p95_ms[k] << ',' << r.iterations[k] << ',' << r.unconverged[k] << ','
+         << r.frame_ms << ',' << r.median_ms[k] / r.frame_ms << ',' << r.median_ms[k] / base << ','
+         << r.p95_ms[k] / base << '\n';
+      out << "bench:   core " << r.name[k] << ": median " << std::setprecision(3) << r.median_ms[k] << " ms (p95 "
+          << r.p95_ms[k] << "), " << r.median_ms[k] / r.frame_ms << "x a frame, " << r.median_ms[k] / base
+          << "x kinematic (p95 " << r.p95_ms[k] / base << "x); " << r.iterations[k] << " iterations a step, "
+          << r.unconverged[k] << " unconverged\n";
+    }
+    sc.flush();
+    if (!sc) {
+      err << "vdmsim: error: " << (dir / "bench_core.csv").string() << ": write failed\n";
+      return 1;
+    }
   }
   // The scaling exponent from VDM's probe on every size in turn (40k only in the full bench).
   if (only.empty() || std::string("liver_probe sizes in turn").find(only) != std::string::npos) {
