@@ -107,11 +107,8 @@ void write_material(const SceneDef& s, const vdm::TissueModel& m, std::ostringst
 
 // The elastic core's material and lattice (organ.model vdm_core).
 void write_core_material(const vdm::core::CoreModel& c, std::ostringstream& js) {
-  vdm::NodeMat area(c.ns, 3);
-  vdm::distributed_area_vectors(c.surface.positions, c.surface.triangles, area);
-  const double tie = c.tie_k.sum() / std::max(1e-300, area.rowwise().norm().sum());  // kappa: every tie_k_i is kappa |A_i|
   js << "  \"material\": {\"young_modulus_pa\": " << c.young_modulus << ", \"core\": {\"cell_size_m\": " << c.h
-     << ", \"lattice_nodes\": " << c.ng << ", \"cubes\": " << c.cubes.rows() << ", \"tie_pa_per_m\": " << tie
+     << ", \"lattice_nodes\": " << c.ng << ", \"cubes\": " << c.cubes.rows() << ", \"tie_pa_per_m\": " << c.kappa
      << "}},\n";
 }
 

@@ -199,6 +199,7 @@ bool build_core_model(const CoreDef& def, CoreModel& m, std::string& error) {
   NodeMat area_vectors(ns, 3);
   distributed_area_vectors(s.positions, s.triangles, area_vectors);
   const double kappa = def.tie * def.young_modulus / h;
+  m.kappa = kappa;
   m.tie_node.resize(ns, 4);
   m.tie_weight.resize(ns, 4);
   m.tie_k.resize(ns);
@@ -216,6 +217,16 @@ bool build_core_model(const CoreDef& def, CoreModel& m, std::string& error) {
     }
     m.tie_k[i] = kappa * area_vectors.row(i).norm();
   }
+  // A node of almost no area beside larger ones (a sliver's) would be tied by almost no
+  // spring, and the fluid's pressure, which moves a free node by its current area over its
+  // tie, would carry it off as its triangles grow: its tie is at least that of a tenth of its
+  // largest neighbour's area. (A regular or smoothly graded mesh's nodes are all above it.)
+  const Vec norm = area_vectors.rowwise().norm();
+  Vec largest = Vec::Zero(ns);
+  for (Eigen::Index t = 0; t < s.triangles.rows(); ++t)
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) largest[s.triangles(t, a)] = std::max(largest[s.triangles(t, a)], norm[s.triangles(t, b)]);
+  for (int i = 0; i < ns; ++i) m.tie_k[i] = std::max(m.tie_k[i], 0.1 * kappa * largest[i]);
   // The core's matrix: 2 mu f_c h (unit cube's sum of V G G^T) per cube.
   const Eigen::Matrix<double, 8, 8>& cube_K = unit_cube().K;
   std::vector<Eigen::Triplet<double>> trip;

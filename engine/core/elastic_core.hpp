@@ -73,7 +73,8 @@ struct CoreModel {
   // Node i is tied to lattice nodes tie_node(i, 0..3) with weights tie_weight(i, 0..3).
   Eigen::Matrix<int, Eigen::Dynamic, 4, Eigen::RowMajor> tie_node;
   Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor> tie_weight;
-  Vec tie_k;                      // kappa |A_i| at rest (N/m)
+  double kappa = 0;               // the ties' stiffness per area (Pa/m)
+  Vec tie_k;                      // kappa |A_i| at rest (N/m), at least kappa |A| / 10 of its largest neighbour's
   SpMat K_core;                   // the core's matrix, one axis (lower and upper), N/m
   NodeMat gravity_load;           // ng x 3 lattice body force (N); empty without gravity
   FlagMat fixed;                  // ns x 3
