@@ -115,8 +115,8 @@ class ContactSolver final : private SurfaceForceLaw {
                               SimState& state, ContactReport& report);
   bool update(const NodeMat& x, ComplianceSource& compliance, NodeMat& force) override;
   // The parts of a constraint step: the contact points at the step's start (and the
-  // tolerance), measured at positions x, in their fixed order, the nodes they use, the forces on the linear model (project_forces: see
-  // there), those forces kept, and the step's results.
+  // tolerance); measured at positions x; in their fixed order; the nodes they use; the forces
+  // on the linear model (project_forces: see there); those forces kept; the step's results.
   void begin_constraint_step(const TissueModel& model, const StepInput& base, const std::vector<ToolShape>& tools,
                              SimState& state, ContactReport& report);
   void measure_contacts(const std::vector<ToolShape>& tools, const NodeMat& x);

@@ -7,7 +7,7 @@
 // to six nonlinear solves a step. Here the model calls update() after every linear solve of its
 // own nonlinear iteration with the surface it found and its exact compliance at that
 // linearisation; the forces that keep the laws on that linear response are found and the
-// linear solve repeated with them. When the model's iteration has converged, the laws hold on
+// model's answer moved by them. When the model's iteration has converged, the laws hold on
 // its exact equilibrium: one nonlinear solve a step, a second only when the solved surface
 // meets a tool where no contact point was (each solve also adds the points it pushes into a
 // tool as it goes).

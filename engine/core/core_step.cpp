@@ -13,7 +13,10 @@
 // entries are the organ's fixed ones (and a large prescribed set); any other prescribed entry is
 // held on its target by a multiplier through the same factor (held_entries.cpp). The rotations
 // are fitted again after each solve (the as-rigid-as-possible fixed point), accelerated by
-// Anderson mixing.
+// Anderson mixing. With a SurfaceForceLaw (constraint contact) the law sets its forces after
+// each linear solve, on the compliance at that linearisation, and the answer is moved by
+// their change through the kept columns of K_d^-1. After the iteration the free surface is
+// moved onto the volume (the linearised volume row leaves an error of second order).
 #include <algorithm>
 #include <cmath>
 #include <vector>
