@@ -55,9 +55,13 @@ phase "tests" ctest --test-dir build --output-on-failure -j "$jobs" --no-tests=e
 if [ "$sanitizers" = 1 ]; then
   # Debug (assertions on, Eigen's included) at -O1: at -O0 the Eigen-heavy tests ran about
   # 100x slower than in the normal build. -g1: line tables, all a sanitizer's stack trace
-  # shows, at less compile time than -g.
+  # shows, at less compile time than -g. A unity build (eight files a compile): the templates
+  # and inline functions they share are instrumented and compiled once per batch, not once per
+  # file (docs/developing.md, "Build and CI time"); this folder is rebuilt whole more often
+  # than edited file by file.
   phase "sanitizer configure" cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Debug \
-    -DCMAKE_CXX_FLAGS_DEBUG="-g1 -O1" -DVDMSIM_SANITIZE=ON > /dev/null
+    -DCMAKE_CXX_FLAGS_DEBUG="-g1 -O1" -DVDMSIM_SANITIZE=ON \
+    -DCMAKE_UNITY_BUILD=ON -DCMAKE_UNITY_BUILD_BATCH_SIZE=8 > /dev/null
   # Only what the sanitizer pass runs: the unit tests and the binary some of them call (the
   # long, e2e and bench executables run in the first pass only).
   phase "sanitizer build" cmake --build build-asan -j "$jobs" --target vdmsim vdmsim_tests vdmsim_render_tests

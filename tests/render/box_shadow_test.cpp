@@ -14,13 +14,13 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const fs::path kOut = fs::path(VDMSIM_BUILD_DIR) / "test-output" / "box_shadow";
+const fs::path kShadowOut = fs::path(VDMSIM_BUILD_DIR) / "test-output" / "box_shadow";
 
 // Frame 0 of a 40 x 8 x 30 mm box probe held 8 cm above the right lobe, its long side along
 // `long_axis` (x or y), seen from low at the side so that the probe is out of the picture.
 render::Image render_box(const std::string& tag, const char* size, bool shadows) {
-  fs::create_directories(kOut);
-  const fs::path scene = kOut / (tag + ".yaml");
+  fs::create_directories(kShadowOut);
+  const fs::path scene = kShadowOut / (tag + ".yaml");
   std::ofstream(scene) << "name: " << tag << "\norgan:\n  mesh: " << VDMSIM_SOURCE_DIR
                        << "/assets/meshes/liver_L4.obj\n"
                           "simulation: {frames: 1, dt: 0.1, effects: []}\n"
@@ -34,12 +34,12 @@ render::Image render_box(const std::string& tag, const char* size, bool shadows)
   std::vector<vdmsim::SceneProblem> problems;
   EXPECT_TRUE(vdmsim::prepare_scene(scene.string(), ps, problems)) << (problems.empty() ? "" : problems[0].text());
   vdmsim::RunOptions opt;
-  opt.out_dir = (kOut / tag).string();
+  opt.out_dir = (kShadowOut / tag).string();
   std::ostringstream o, e;
   EXPECT_EQ(vdmsim::run_scene(ps, opt, o, e, false), 0) << e.str();
   render::Image im;
   std::string error;
-  EXPECT_TRUE(render::read_png((kOut / tag / "frames" / "frame_00000.png").string(), im, error)) << error;
+  EXPECT_TRUE(render::read_png((kShadowOut / tag / "frames" / "frame_00000.png").string(), im, error)) << error;
   return im;
 }
 

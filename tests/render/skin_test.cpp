@@ -15,12 +15,12 @@
 namespace fs = std::filesystem;
 
 namespace {
-const fs::path kOut = fs::path(VDMSIM_BUILD_DIR) / "test-output" / "skins";
+const fs::path kSkinOut = fs::path(VDMSIM_BUILD_DIR) / "test-output" / "skins";
 
 // A probe scene whose instrument may carry `skin_yaml`; returns frame 0 of its render.
 render::Image render_probe(const std::string& tag, const std::string& skin_yaml) {
-  fs::create_directories(kOut);
-  const fs::path scene = kOut / (tag + ".yaml");
+  fs::create_directories(kSkinOut);
+  const fs::path scene = kSkinOut / (tag + ".yaml");
   std::ofstream(scene) << "name: " << tag << "\norgan:\n  mesh: " << VDMSIM_SOURCE_DIR
                        << "/assets/meshes/liver_L4.obj\n"
                           "simulation: {frames: 1, dt: 0.1, effects: []}\n"
@@ -33,12 +33,12 @@ render::Image render_probe(const std::string& tag, const std::string& skin_yaml)
   std::vector<vdmsim::SceneProblem> problems;
   EXPECT_TRUE(vdmsim::prepare_scene(scene.string(), ps, problems)) << (problems.empty() ? "" : problems[0].text());
   vdmsim::RunOptions opt;
-  opt.out_dir = (kOut / tag).string();
+  opt.out_dir = (kSkinOut / tag).string();
   std::ostringstream o, e;
   EXPECT_EQ(vdmsim::run_scene(ps, opt, o, e, false), 0) << e.str();
   render::Image im;
   std::string error;
-  EXPECT_TRUE(render::read_png((kOut / tag / "frames" / "frame_00000.png").string(), im, error)) << error;
+  EXPECT_TRUE(render::read_png((kSkinOut / tag / "frames" / "frame_00000.png").string(), im, error)) << error;
   return im;
 }
 }  // namespace
@@ -46,10 +46,10 @@ render::Image render_probe(const std::string& tag, const std::string& skin_yaml)
 // A skin (here a 6 cm cube made by the project's own shape code) replaces the capsule: the
 // picture changes where the instrument is and nowhere else.
 TEST(InstrumentSkin, AMeshSkinReplacesTheParametricProbe) {
-  fs::create_directories(kOut);
+  fs::create_directories(kSkinOut);
   const vdm::SurfaceMesh box = vdm::make_box(vdm::Vec3(60, 60, 60), 1, 1, 1);  // mm
   std::string error;
-  ASSERT_TRUE(vdmsim::save_obj(box, (kOut / "cube_skin.obj").string(), "test skin", error)) << error;
+  ASSERT_TRUE(vdmsim::save_obj(box, (kSkinOut / "cube_skin.obj").string(), "test skin", error)) << error;
   const render::Image plain = render_probe("plain", "");
   const render::Image skinned =
       render_probe("skinned", "    skin: {body: cube_skin.obj, scale: 0.001, origin: [0, 0, -0.03]}\n");
@@ -60,8 +60,8 @@ TEST(InstrumentSkin, AMeshSkinReplacesTheParametricProbe) {
 }
 
 TEST(InstrumentSkin, AMissingSkinFileIsASceneErrorWithItsPosition) {
-  fs::create_directories(kOut);
-  const fs::path scene = kOut / "missing_skin.yaml";
+  fs::create_directories(kSkinOut);
+  const fs::path scene = kSkinOut / "missing_skin.yaml";
   std::ofstream(scene) << "organ: {mesh: " << VDMSIM_SOURCE_DIR
                        << "/assets/meshes/liver_L4.obj}\n"
                           "instruments:\n  - type: probe\n    skin: {body: no_such_skin.stl}\n"

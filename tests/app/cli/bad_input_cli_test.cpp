@@ -22,12 +22,12 @@ namespace fs = std::filesystem;
 
 vdmsim::test::CliResult run(const std::string& args) { return vdmsim::test::run_cli(VDMSIM_BINARY, args); }
 
-fs::path dir() {
+fs::path bad_input_dir() {
   return vdmsim::test::scratch_dir("bad_input_cli");
 }
 
 std::string write(const std::string& name, const std::string& text) {
-  const fs::path p = dir() / name;
+  const fs::path p = bad_input_dir() / name;
   std::ofstream(p, std::ios::binary) << text;
   return p.string();
 }

@@ -18,10 +18,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path dir() { return vdmsim::test::scratch_dir("limits_cli"); }
+fs::path limits_dir() { return vdmsim::test::scratch_dir("limits_cli"); }
 
-std::string write(const std::string& name, const std::string& text) {
-  const fs::path p = dir() / name;
+std::string write_limits_file(const std::string& name, const std::string& text) {
+  const fs::path p = limits_dir() / name;
   std::ofstream(p, std::ios::binary) << text;
   return p.string();
 }
@@ -38,7 +38,7 @@ vdmsim::test::CliResult timed(const std::string& args, double& seconds) {
 
 TEST(LimitsCli, TinyTetSizeIsRefusedBeforeMeshing) {
   // The case: model fem, tet_size 1e-4 (billions of tetrahedra in the liver).
-  const std::string p = write("tiny_tets.yaml", "name: tiny\norgan:\n  mesh: " + liver() +
+  const std::string p = write_limits_file("tiny_tets.yaml", "name: tiny\norgan:\n  mesh: " + liver() +
                                                     "\n  model: fem\n  tet_size: 1e-4\nsimulation: {frames: 2}\n");
   double s = 0;
   const auto r = timed("check " + p, s);
@@ -56,7 +56,7 @@ TEST(LimitsCli, TinyTetSizeIsRefusedBeforeMeshing) {
 // at organ.cell_size's line and column. A cell more than twice as wide as the probe is warned.
 TEST(LimitsCli, ACoreCellLargerThanTheOrganOrTooSmallIsRefusedAtItsLine) {
   auto scene = [&](const std::string& name, const std::string& cell) {
-    return write(name, "name: core\norgan:\n  mesh: " + liver() + "\n  model: vdm_core\n  cell_size: " + cell +
+    return write_limits_file(name, "name: core\norgan:\n  mesh: " + liver() + "\n  model: vdm_core\n  cell_size: " + cell +
                            "\n  material: {young_modulus: 3000}\n  fixed: [{box: {min: [-0.3, -0.2, -0.2], max: [0.3, 0.2, "
                            "-0.03]}}]\nsimulation: {frames: 2, effects: [contact]}\ninstruments:\n  - {type: probe, "
                            "radius: 0.004, script: [{t: 0, tip: [0.035, 0, 0.075], axis: [0, 0, -1]}]}\n");
@@ -101,8 +101,8 @@ TEST(LimitsCli, ConvexProbeFromA100kPointMeshIsRefusedAtOnce) {
   }
   for (int k = 0; k < 100002; k += 3)
     obj += "f " + std::to_string(k + 1) + " " + std::to_string(k + 2) + " " + std::to_string(k + 3) + "\n";
-  const std::string mesh = write("many_points.obj", obj);
-  const std::string p = write("big_hull.yaml", "name: hull\norgan:\n  mesh: " + liver() +
+  const std::string mesh = write_limits_file("many_points.obj", obj);
+  const std::string p = write_limits_file("big_hull.yaml", "name: hull\norgan:\n  mesh: " + liver() +
                                                    "\nsimulation: {frames: 2}\ninstruments:\n  - type: probe\n"
                                                    "    shape: {type: convex, mesh: " + mesh +
                                                    "}\n    script: [{t: 0, tip: [0, 0, 0.2]}]\n");
@@ -119,7 +119,7 @@ TEST(LimitsCli, SceneFileOver10MbIsRefusedBeforeParsing) {
   std::string text = "name: big\norgan:\n  mesh: " + liver() + "\nsimulation: {frames: 2}\n";
   const std::string comment = "# " + std::string(98, 'x') + "\n";
   while (text.size() <= (10u << 20)) text += comment;
-  const std::string p = write("big.yaml", text);
+  const std::string p = write_limits_file("big.yaml", text);
   const auto r = vdmsim::test::run_cli(VDMSIM_BINARY, "check " + p);
   EXPECT_EQ(r.code, 2) << r.output.substr(0, 2000);
   EXPECT_NE(r.output.find(p), std::string::npos) << r.output;
@@ -127,10 +127,10 @@ TEST(LimitsCli, SceneFileOver10MbIsRefusedBeforeParsing) {
 }
 
 TEST(LimitsCli, FramesBeyond10MillionAreRefusedNotBadAlloc) {
-  const std::string p = write("short.yaml", "name: short\norgan:\n  mesh: " + liver() + "\nsimulation: {frames: 2}\n");
+  const std::string p = write_limits_file("short.yaml", "name: short\norgan:\n  mesh: " + liver() + "\nsimulation: {frames: 2}\n");
   for (const char* command : {"run ", "sweep "}) {
-    const std::string target = std::string(command) == "run " ? p : write("sweep.yaml", "base: " + p + "\nvary: {organ.scale: [1]}\n");
-    const auto r = vdmsim::test::run_cli(VDMSIM_BINARY, command + target + " --out " + (dir() / "out").string() +
+    const std::string target = std::string(command) == "run " ? p : write_limits_file("sweep.yaml", "base: " + p + "\nvary: {organ.scale: [1]}\n");
+    const auto r = vdmsim::test::run_cli(VDMSIM_BINARY, command + target + " --out " + (limits_dir() / "out").string() +
                                                             " --no-render --frames 2000000000");
     EXPECT_EQ(r.code, 2) << command << r.output;
     EXPECT_NE(r.output.find("--frames"), std::string::npos) << r.output;
@@ -142,13 +142,13 @@ TEST(LimitsCli, FramesBeyond10MillionAreRefusedNotBadAlloc) {
 TEST(LimitsCli, TenMillionFramesStartAtOnce) {
   // The bound itself runs: nothing is reserved for every frame up front (interrupted once its
   // first checkpoint, after its first frame, is on disk).
-  const std::string p = write("long.yaml", "name: long\norgan:\n  mesh: " + liver() + "\nsimulation: {frames: 2}\n");
-  const fs::path out = dir() / "ten_million";
+  const std::string p = write_limits_file("long.yaml", "name: long\norgan:\n  mesh: " + liver() + "\nsimulation: {frames: 2}\n");
+  const fs::path out = limits_dir() / "ten_million";
   const pid_t pid = vdmsim::test::spawn_quiet(
-      {VDMSIM_BINARY, "run", p, "--out", out.string(), "--no-render", "--frames", "10000000"}, (dir() / "log.txt").string());
+      {VDMSIM_BINARY, "run", p, "--out", out.string(), "--no-render", "--frames", "10000000"}, (limits_dir() / "log.txt").string());
   ASSERT_GT(pid, 0);
   const int code = vdmsim::test::interrupt_once_exists(pid, out / "checkpoint.json", 60);
-  std::ifstream log(dir() / "log.txt");
+  std::ifstream log(limits_dir() / "log.txt");
   const std::string said((std::istreambuf_iterator<char>(log)), std::istreambuf_iterator<char>());
   EXPECT_EQ(code, 130) << said;
   EXPECT_EQ(said.find("bad_alloc"), std::string::npos) << said;

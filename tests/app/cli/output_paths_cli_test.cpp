@@ -15,9 +15,9 @@ namespace {
 namespace fs = std::filesystem;
 using vdmsim::test::CliResult;
 
-fs::path dir() { return vdmsim::test::scratch_dir("output_paths_cli"); }
+fs::path output_paths_dir() { return vdmsim::test::scratch_dir("output_paths_cli"); }
 
-bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+bool contains_text(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 std::set<std::string> listing(const fs::path& d) {
   std::set<std::string> names;
@@ -28,7 +28,7 @@ std::set<std::string> listing(const fs::path& d) {
 std::string asset(const std::string& rel) { return (fs::path(VDMSIM_SOURCE_DIR) / "assets" / rel).string(); }
 
 TEST(OutputPathsCli, AnEmptyOutIsRefusedByEveryCommandAndNothingIsWritten) {
-  const fs::path cwd = dir() / "cwd";
+  const fs::path cwd = output_paths_dir() / "cwd";
   fs::create_directories(cwd);
   fs::create_directories(cwd / "out");
   const std::string scene = asset("scenes/liver_press.yaml"), mesh = asset("meshes/liver_L4.obj");
@@ -47,7 +47,7 @@ TEST(OutputPathsCli, AnEmptyOutIsRefusedByEveryCommandAndNothingIsWritten) {
   for (const std::string& command : commands) {
     const CliResult r = vdmsim::test::run_cli("cd " + cwd.string() + " && " + VDMSIM_BINARY, command);
     EXPECT_EQ(r.code, 2) << command << "\n" << r.output;
-    EXPECT_TRUE(contains(r.output, ": empty: name the file or folder")) << command << "\n" << r.output;
+    EXPECT_TRUE(contains_text(r.output, ": empty: name the file or folder")) << command << "\n" << r.output;
     EXPECT_EQ(listing(cwd), before) << command;
   }
 }
@@ -58,7 +58,7 @@ TEST(OutputPathsCli, AFileWrittenToAFullDiskIsAFailureAtRunTime) {
                                     "make-organ liver --level 2 --scan-like --out /dev/full"}) {
     const CliResult r = vdmsim::test::run_cli(VDMSIM_BINARY, command);
     EXPECT_EQ(r.code, 1) << command << "\n" << r.output;
-    EXPECT_TRUE(contains(r.output, "vdmsim: error: /dev/full: write failed: no space left on the device")) << r.output;
+    EXPECT_TRUE(contains_text(r.output, "vdmsim: error: /dev/full: write failed: no space left on the device")) << r.output;
   }
 }
 
@@ -67,18 +67,18 @@ TEST(OutputPathsCli, AFileWrittenToAFullDiskIsAFailureAtRunTime) {
 TEST(OutputPathsCli, AFullDiskIsAFailureAtRunTimeAndLeavesNoProbe) {
   if (vdmsim::test::run_cli("unshare", "-rm true").code != 0)
     GTEST_SKIP() << "cannot make a mount namespace here (unshare -rm): no full disk to test on";
-  const fs::path disk = dir() / "disk";
+  const fs::path disk = output_paths_dir() / "disk";
   fs::create_directories(disk);
   const std::string script = "mount -t tmpfs -o size=64k tmpfs " + disk.string() + " && (head -c 100000 /dev/zero > " +
                              disk.string() + "/fill) 2>/dev/null; " + VDMSIM_BINARY + " run " +
                              asset("scenes/liver_press.yaml") + " --no-render --frames 2 --out " + disk.string() +
                              "/run; echo \"exit $?\"; echo left:; ls -A " + disk.string() + "/run";
   const CliResult r = vdmsim::test::run_cli("unshare", "-rm sh -c '" + script + "'");
-  EXPECT_TRUE(contains(r.output, "vdmsim: error: " + disk.string() + "/run: cannot write in the output folder: no space "
+  EXPECT_TRUE(contains_text(r.output, "vdmsim: error: " + disk.string() + "/run: cannot write in the output folder: no space "
                                   "left on the device"))
       << r.output;
-  EXPECT_TRUE(contains(r.output, "exit 1\n")) << r.output;
-  EXPECT_FALSE(contains(r.output, ".vdmsim-write-test")) << r.output;
+  EXPECT_TRUE(contains_text(r.output, "exit 1\n")) << r.output;
+  EXPECT_FALSE(contains_text(r.output, ".vdmsim-write-test")) << r.output;
 }
 
 }  // namespace

@@ -13,18 +13,18 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path dir() { return vdmsim::test::scratch_dir("video_settings_cli"); }
+fs::path video_settings_dir() { return vdmsim::test::scratch_dir("video_settings_cli"); }
 
-std::string scene(const std::string& name, const std::string& render) {
-  const fs::path p = dir() / name;
+std::string video_scene(const std::string& name, const std::string& render) {
+  const fs::path p = video_settings_dir() / name;
   std::ofstream(p) << "name: video\norgan:\n  mesh: " << (fs::path(VDMSIM_SOURCE_DIR) / "assets/meshes/liver_L4.obj").string()
                    << "\nsimulation: {frames: 3}\nrender: {width: 64, height: 48" << render << "}\n";
   return p.string();
 }
 
 TEST(VideoSettingsCli, PercentInOutIsRefusedBeforeSimulating) {
-  const fs::path out = dir() / "run_%d";
-  const auto r = vdmsim::test::run_cli(VDMSIM_BINARY, "run " + scene("ok.yaml", "") + " --video --out '" + out.string() + "'");
+  const fs::path out = video_settings_dir() / "run_%d";
+  const auto r = vdmsim::test::run_cli(VDMSIM_BINARY, "run " + video_scene("ok.yaml", "") + " --video --out '" + out.string() + "'");
   EXPECT_EQ(r.code, 2) << r.output;
   EXPECT_NE(r.output.find("--out " + out.string()), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("may not contain '%'"), std::string::npos) << r.output;
@@ -34,13 +34,13 @@ TEST(VideoSettingsCli, PercentInOutIsRefusedBeforeSimulating) {
 
 TEST(VideoSettingsCli, AbsurdFrameRatesAreRefusedAtCheck) {
   for (const char* fps : {"1e-300", "0.5", "1001", "1e300"}) {
-    const std::string p = scene("fps.yaml", std::string(", fps: ") + fps);
+    const std::string p = video_scene("fps.yaml", std::string(", fps: ") + fps);
     const auto r = vdmsim::test::run_cli(VDMSIM_BINARY, "check " + p);
     EXPECT_EQ(r.code, 2) << fps << ": " << r.output;
     EXPECT_NE(r.output.find(p), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("render.fps"), std::string::npos) << r.output;
   }
-  const auto ok = vdmsim::test::run_cli(VDMSIM_BINARY, "check " + scene("fps_ok.yaml", ", fps: 24"));
+  const auto ok = vdmsim::test::run_cli(VDMSIM_BINARY, "check " + video_scene("fps_ok.yaml", ", fps: 24"));
   EXPECT_EQ(ok.code, 0) << ok.output;
 }
 

@@ -51,7 +51,7 @@ std::string write(const fs::path& path, const render::Image& im) {
   return path.string();
 }
 
-fs::path dir(const std::string& name) {
+fs::path compare_dir(const std::string& name) {
   const fs::path d = vdmsim::test::scratch_dir("compare_cli") / name;
   fs::remove_all(d);
   fs::create_directories(d);
@@ -69,7 +69,7 @@ void write_run(const fs::path& d, int frames) {
 }
 
 TEST(CompareCli, IdenticalImagesExit0) {
-  const fs::path d = dir("identical");
+  const fs::path d = compare_dir("identical");
   const std::string a = write(d / "a.png", gradient()), b = write(d / "b.png", gradient());
   const CliResult r = compare(a + " " + b);
   EXPECT_EQ(r.code, 0) << r.output;
@@ -77,7 +77,7 @@ TEST(CompareCli, IdenticalImagesExit0) {
 }
 
 TEST(CompareCli, OnePixelBeyondTheToleranceExits1AndSaysByHowMuch) {
-  const fs::path d = dir("one_pixel");
+  const fs::path d = compare_dir("one_pixel");
   const std::string a = write(d / "a.png", gradient()), b = write(d / "b.png", changed(10, 20, 40));
   const CliResult r = compare(a + " " + b + " --max-diff 2");
   EXPECT_EQ(r.code, 1) << r.output;
@@ -87,7 +87,7 @@ TEST(CompareCli, OnePixelBeyondTheToleranceExits1AndSaysByHowMuch) {
 }
 
 TEST(CompareCli, ADifferenceUpToMaxDiffMatches) {
-  const fs::path d = dir("max_diff");
+  const fs::path d = compare_dir("max_diff");
   const std::string a = write(d / "a.png", gradient()), b = write(d / "b.png", changed(10, 20, 2));
   EXPECT_EQ(compare(a + " " + b + " --max-diff 2").code, 0);
   const CliResult strict = compare(a + " " + b);  // the default --max-diff is 0
@@ -96,7 +96,7 @@ TEST(CompareCli, ADifferenceUpToMaxDiffMatches) {
 }
 
 TEST(CompareCli, DifferingPixelsWithinMaxShareMatch) {
-  const fs::path d = dir("max_share");
+  const fs::path d = compare_dir("max_share");
   const std::string a = write(d / "a.png", gradient()), b = write(d / "b.png", changed(3, 4, 90));
   const CliResult within = compare(a + " " + b + " --max-share 0.001");  // one pixel: a share of 3.26e-4
   EXPECT_EQ(within.code, 0) << within.output;
@@ -105,7 +105,7 @@ TEST(CompareCli, DifferingPixelsWithinMaxShareMatch) {
 }
 
 TEST(CompareCli, SizesThatDifferExit2NamingTheFiles) {
-  const fs::path d = dir("sizes");
+  const fs::path d = compare_dir("sizes");
   const std::string a = write(d / "a.png", gradient()), b = write(d / "b.png", gradient(kW, kH + 1));
   const CliResult r = compare(a + " " + b);
   EXPECT_EQ(r.code, 2) << r.output;
@@ -113,7 +113,7 @@ TEST(CompareCli, SizesThatDifferExit2NamingTheFiles) {
 }
 
 TEST(CompareCli, AMissingFileExits2NamingIt) {
-  const fs::path d = dir("missing");
+  const fs::path d = compare_dir("missing");
   const std::string a = write(d / "a.png", gradient());
   const std::string b = (d / "nowhere.png").string();
   const CliResult r = compare(a + " " + b);
@@ -123,7 +123,7 @@ TEST(CompareCli, AMissingFileExits2NamingIt) {
 }
 
 TEST(CompareCli, AFileThatIsNotAPngExits2NamingIt) {
-  const fs::path d = dir("not_png");
+  const fs::path d = compare_dir("not_png");
   const std::string a = write(d / "a.png", gradient());
   const fs::path b = d / "b.png";
   std::ofstream(b) << "not an image\n";
@@ -133,7 +133,7 @@ TEST(CompareCli, AFileThatIsNotAPngExits2NamingIt) {
 }
 
 TEST(CompareCli, ATruncatedPngExits2NamingIt) {
-  const fs::path d = dir("truncated");
+  const fs::path d = compare_dir("truncated");
   const std::string a = write(d / "a.png", gradient());
   std::ifstream in(a, std::ios::binary);
   std::string bytes((std::istreambuf_iterator<char>(in)), {});
@@ -145,7 +145,7 @@ TEST(CompareCli, ATruncatedPngExits2NamingIt) {
 }
 
 TEST(CompareCli, ADiffFolderThatCannotBeMadeExits2Once) {
-  const fs::path d = dir("diff_blocked");
+  const fs::path d = compare_dir("diff_blocked");
   write_run(d / "expected", 2);
   write_run(d / "actual", 2);
   std::ofstream(d / "taken") << "a file\n";
@@ -157,7 +157,7 @@ TEST(CompareCli, ADiffFolderThatCannotBeMadeExits2Once) {
 }
 
 TEST(CompareCli, BadToleranceOrAFileBesideAFolderExits2) {
-  const fs::path d = dir("bad_usage");
+  const fs::path d = compare_dir("bad_usage");
   const std::string a = write(d / "a.png", gradient()), b = write(d / "b.png", gradient());
   EXPECT_EQ(compare(a + " " + b + " --max-diff 256").code, 2);
   EXPECT_EQ(compare(a + " " + b + " --max-share 1.5").code, 2);
@@ -168,7 +168,7 @@ TEST(CompareCli, BadToleranceOrAFileBesideAFolderExits2) {
 }
 
 TEST(CompareCli, TwoRunFoldersWithTheSameImagesExit0) {
-  const fs::path d = dir("same_runs");
+  const fs::path d = compare_dir("same_runs");
   write_run(d / "expected", 3);
   write_run(d / "actual", 3);
   const CliResult r = compare((d / "expected").string() + " " + (d / "actual").string());
@@ -177,7 +177,7 @@ TEST(CompareCli, TwoRunFoldersWithTheSameImagesExit0) {
 }
 
 TEST(CompareCli, AFrameMissingFromAFolderExits1NamingIt) {
-  const fs::path d = dir("missing_frame");
+  const fs::path d = compare_dir("missing_frame");
   write_run(d / "expected", 3);
   write_run(d / "actual", 3);
   fs::remove(d / "actual/frames/frame_00001.png");
@@ -191,7 +191,7 @@ TEST(CompareCli, AFrameMissingFromAFolderExits1NamingIt) {
 }
 
 TEST(CompareCli, AFolderPairBeyondToleranceIsNamed) {
-  const fs::path d = dir("folder_beyond");
+  const fs::path d = compare_dir("folder_beyond");
   write_run(d / "expected", 2);
   write_run(d / "actual", 2);
   write(d / "actual/stress/stress_00001.png", changed(0, 0, 200));
@@ -204,7 +204,7 @@ TEST(CompareCli, AFolderPairBeyondToleranceIsNamed) {
 }
 
 TEST(CompareCli, AFolderWithoutImagesExits2) {
-  const fs::path d = dir("empty_folder");
+  const fs::path d = compare_dir("empty_folder");
   fs::create_directories(d / "expected");
   write_run(d / "actual", 1);
   const CliResult r = compare((d / "expected").string() + " " + (d / "actual").string());
@@ -213,7 +213,7 @@ TEST(CompareCli, AFolderWithoutImagesExits2) {
 }
 
 TEST(CompareCli, DiffImageIsWrittenAndShowsTheDifferingPixelInRed) {
-  const fs::path d = dir("diff_file");
+  const fs::path d = compare_dir("diff_file");
   const std::string a = write(d / "a.png", gradient()), b = write(d / "b.png", changed(10, 20, 40));
   const fs::path out = d / "made/by/compare/diff.png";
   const CliResult r = compare(a + " " + b + " --diff " + out.string());
@@ -234,7 +234,7 @@ TEST(CompareCli, DiffImageIsWrittenAndShowsTheDifferingPixelInRed) {
 }
 
 TEST(CompareCli, DiffFolderHasOneImagePerPairAtItsPath) {
-  const fs::path d = dir("diff_folder");
+  const fs::path d = compare_dir("diff_folder");
   write_run(d / "expected", 2);
   write_run(d / "actual", 2);
   write(d / "actual/frames/frame_00001.png", changed(5, 5, 60));
@@ -264,7 +264,7 @@ std::string bytes(const fs::path& p) {
 // --diff naming an input file (as given, through another spelling, or a link to it) is refused
 // before anything is written: the golden image stays as it was.
 TEST(CompareCli, ADiffImageThatIsAnInputIsRefusedAndTheInputKept) {
-  const fs::path d = dir("diff_is_input");
+  const fs::path d = compare_dir("diff_is_input");
   const std::string a = write(d / "a.png", gradient()), b = write(d / "b.png", changed(10, 20, 40));
   fs::create_symlink(d / "a.png", d / "link.png");
   const std::string golden = bytes(a);
@@ -280,7 +280,7 @@ TEST(CompareCli, ADiffImageThatIsAnInputIsRefusedAndTheInputKept) {
 // --diff naming the expected or the actual folder, or a folder inside either, is refused:
 // the reference images stay as they were and nothing is added to either folder.
 TEST(CompareCli, ADiffFolderThatIsOrLiesInsideAnInputIsRefused) {
-  const fs::path d = dir("diff_in_folder");
+  const fs::path d = compare_dir("diff_in_folder");
   write_run(d / "expected", 2);
   write_run(d / "actual", 1);
   write(d / "actual" / "frames" / "frame_00001.png", changed(1, 1, 90));
@@ -298,7 +298,7 @@ TEST(CompareCli, ADiffFolderThatIsOrLiesInsideAnInputIsRefused) {
 // A diff folder that holds an input (here EXPECTED's parent) would write the diff image of
 // frames/f.png over EXPECTED's f.png: refused too.
 TEST(CompareCli, ADiffImageLandingOnAnInputImageIsRefused) {
-  const fs::path d = dir("diff_holds_input");
+  const fs::path d = compare_dir("diff_holds_input");
   for (const char* side : {"e/frames", "a"}) {
     write(d / side / "f.png", gradient());
     write(d / side / "frames" / "f.png", changed(2, 2, 50));

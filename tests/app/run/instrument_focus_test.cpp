@@ -13,7 +13,7 @@
 namespace vdmsim {
 namespace {
 
-PreparedScene prepare(const std::string& name, const std::string& render) {
+PreparedScene prepare_focus_scene(const std::string& name, const std::string& render) {
   const std::filesystem::path p = test::scratch_dir("instrument_focus") / (name + ".yaml");
   std::ofstream(p) << "organ:\n  mesh: " << VDMSIM_SOURCE_DIR << "/assets/meshes/liver_L4.obj\n"
                    << "  material: {bulk_modulus: 20000, connectivity_modulus: 2000}\n"
@@ -31,7 +31,7 @@ PreparedScene prepare(const std::string& name, const std::string& render) {
 }
 
 TEST(InstrumentFocus, TheWorkingAreaIsAroundTheDentNotTheOrganOrTheApproach) {
-  const PreparedScene ps = prepare("focus", "  camera: {focus: instruments}\n");
+  const PreparedScene ps = prepare_focus_scene("focus", "  camera: {focus: instruments}\n");
   ASSERT_EQ(ps.scene.render.settings.focus, render::CameraFocus::instruments);
   vdm::Vec3 lo, hi;
   ASSERT_TRUE(instruments_working_area(ps, lo, hi));
@@ -55,7 +55,7 @@ TEST(InstrumentFocus, TheWorkingAreaIsAroundTheDentNotTheOrganOrTheApproach) {
 }
 
 TEST(InstrumentFocus, TheOrganFramingStaysTheDefault) {
-  const PreparedScene ps = prepare("default", "  width: 64\n");
+  const PreparedScene ps = prepare_focus_scene("default", "  width: 64\n");
   EXPECT_EQ(ps.scene.render.settings.focus, render::CameraFocus::organ);
   EXPECT_FALSE(framed_settings(ps).has_focus_box);
 }

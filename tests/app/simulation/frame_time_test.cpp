@@ -18,7 +18,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path dir() { return test::scratch_dir("frame_time"); }
+fs::path frame_time_dir() { return test::scratch_dir("frame_time"); }
 
 // The 2,562-node liver, its base held, and a 4 mm probe whose tip starts at `start` and goes
 // 5 cm down over 1 s. `effects` and `frames` as given (dt 0.05 s).
@@ -33,7 +33,7 @@ std::string probe_scene(const std::string& start, const std::string& effects, in
 }
 
 PreparedScene prepare(const std::string& name, const std::string& text) {
-  const fs::path p = dir() / name;
+  const fs::path p = frame_time_dir() / name;
   std::ofstream(p) << text;
   PreparedScene ps;
   std::vector<SceneProblem> problems;
@@ -98,7 +98,7 @@ TEST(FrameTime, WithInertiaFrameZeroIsTheInitialConditionAtRest) {
 
 // metrics.csv: row f has time_s f dt, and row 0 the organ at rest.
 TEST(FrameTime, MetricsTimeOfFrameFIsFTimesDt) {
-  const fs::path scene = dir() / "run.yaml", out = dir() / "run_out";
+  const fs::path scene = frame_time_dir() / "run.yaml", out = frame_time_dir() / "run_out";
   std::ofstream(scene) << probe_scene("[0.035, 0.0, 0.09]", "contact", 16);
   fs::remove_all(out);
   const auto r = test::run_cli(VDMSIM_BINARY, "run " + scene.string() + " --no-render --out " + out.string());
