@@ -38,12 +38,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
-constexpr double kYoung = 3000;
+constexpr double kStressYoung = 3000;
 
-CoreModel build(const SurfaceMesh& s, double h, const FlagMat& fixed = FlagMat(), int max_held = 300) {
+CoreModel stress_core(const SurfaceMesh& s, double h, const FlagMat& fixed = FlagMat(), int max_held = 300) {
   CoreDef def;
   def.surface = s;
-  def.young_modulus = kYoung;
+  def.young_modulus = kStressYoung;
   def.cell_size = h;
   def.fixed = fixed;
   def.settings.max_held = max_held;
@@ -76,7 +76,7 @@ TEST(CoreStress, UniaxialStrainTakesYoungsModulusAlongTheAxisAndNothingAcross) {
   // series with the core, but every node along the sides pins the lattice's x motion where it
   // is: the interior stays on the imposed strain.)
   const SurfaceMesh s = bar();
-  const CoreModel m = build(s, 0.005, FlagMat(), 0);
+  const CoreModel m = stress_core(s, 0.005, FlagMat(), 0);
   CoreState st = make_core_state(m);
   StepInput in = test::free_input(m.ns);
   const double eps = 0.01;
@@ -93,18 +93,18 @@ TEST(CoreStress, UniaxialStrainTakesYoungsModulusAlongTheAxisAndNothingAcross) {
   ASSERT_GE(inner.size(), 60u);
   double worst_axial = 0, worst_other = 0;
   for (const size_t t : inner) {
-    const Eigen::Matrix3d sigma = kYoung * c.tet[t];
-    worst_axial = std::max(worst_axial, std::abs(sigma(0, 0) / (kYoung * eps) - 1));
+    const Eigen::Matrix3d sigma = kStressYoung * c.tet[t];
+    worst_axial = std::max(worst_axial, std::abs(sigma(0, 0) / (kStressYoung * eps) - 1));
     Eigen::Matrix3d other = sigma;
     other(0, 0) = 0;
-    worst_other = std::max(worst_other, other.cwiseAbs().maxCoeff() / (kYoung * eps));
+    worst_other = std::max(worst_other, other.cwiseAbs().maxCoeff() / (kStressYoung * eps));
   }
   // The surface's per-axis stress in the bar's middle third, as the stress view shows it.
   NodeMat stress(m.ns, 3), strain(m.ns, 3);
   surface_stress(m, c, st.pressure, stress, strain);
   double worst_surface = 0;
   for (int i = 0; i < m.ns; ++i)
-    if (std::abs(s.positions(i, 0)) < 0.02) worst_surface = std::max(worst_surface, std::abs(stress(i, 0) / (kYoung * eps) - 1));
+    if (std::abs(s.positions(i, 0)) < 0.02) worst_surface = std::max(worst_surface, std::abs(stress(i, 0) / (kStressYoung * eps) - 1));
   std::printf("uniaxial strain: interior sigma_xx within %.2g %% of E eps, other components below %.2g %% of it; "
               "surface (middle third) sigma_xx within %.2g %%\n",
               100 * worst_axial, 100 * worst_other, 100 * worst_surface);
@@ -124,7 +124,7 @@ TEST(CoreStress, BarPulledByItsEndsCarriesTheForceWithTheFluidsPressure) {
   FlagMat fixed = FlagMat::Zero(s.node_count(), 3);
   for (int i = 0; i < s.node_count(); ++i)
     if (s.positions(i, 0) < -half + 1e-9) fixed.row(i).setOnes();
-  const CoreModel m = build(s, 0.005, fixed);
+  const CoreModel m = stress_core(s, 0.005, fixed);
   CoreState st = make_core_state(m);
   StepInput in = test::free_input(m.ns);
   for (int i = 0; i < m.ns; ++i)
@@ -146,25 +146,25 @@ TEST(CoreStress, BarPulledByItsEndsCarriesTheForceWithTheFluidsPressure) {
   ASSERT_GE(inner.size(), 60u);
   Eigen::Matrix3d mean_eps = Eigen::Matrix3d::Zero();
   for (const size_t t : inner) mean_eps += c.tet[t] / static_cast<double>(inner.size());
-  Eigen::Matrix3d sigma = kYoung * mean_eps;
+  Eigen::Matrix3d sigma = kStressYoung * mean_eps;
   sigma.diagonal().array() -= st.pressure;
   const double lateral = std::max(std::abs(sigma(1, 1)), std::abs(sigma(2, 2)));
   const double modulus = sigma(0, 0) / mean_eps(0, 0);
   std::printf("pulled bar: end force / section %.2f Pa, interior sigma_xx %.2f Pa (%+.2f %%); sides %.3f Pa "
               "(%.2f %% of it); pressure %.2f Pa, E eps_yy %.2f Pa; sigma_xx / eps_xx = %.4f E\n",
               traction, sigma(0, 0), 100 * (sigma(0, 0) / traction - 1), lateral, 100 * lateral / sigma(0, 0),
-              st.pressure, kYoung * mean_eps(1, 1), modulus / kYoung);
+              st.pressure, kStressYoung * mean_eps(1, 1), modulus / kStressYoung);
   EXPECT_LT(st.pressure, 0.0);  // the fluid pulls the sides in
   EXPECT_NEAR(sigma(0, 0) / traction, 1.0, 0.03);
   EXPECT_LT(lateral, 0.03 * sigma(0, 0));
-  EXPECT_NEAR(modulus / kYoung, 1.5, 0.05);
+  EXPECT_NEAR(modulus / kStressYoung, 1.5, 0.05);
 }
 
 TEST(CoreStress, RigidRotationIsStressFree) {
   // Every surface node on a large rigid rotation and translation: no tet is strained beyond
   // what the step's tolerance leaves (the lattice to tolerance x size, over a cell).
   const SurfaceMesh s = make_box(Vec3(0.06, 0.03, 0.02), 6, 3, 2);
-  const CoreModel m = build(s, 0.007);
+  const CoreModel m = stress_core(s, 0.007);
   CoreState st = make_core_state(m);
   StepInput in = test::free_input(m.ns);
   const Eigen::Matrix3d R = Eigen::AngleAxisd(0.8, Vec3(1, 2, 3).normalized()).toRotationMatrix();
@@ -186,7 +186,7 @@ TEST(CoreStress, RigidRotationIsStressFree) {
               stress.cwiseAbs().maxCoeff());
   const double floor = 2 * m.settings.tolerance * m.size / m.h;
   EXPECT_LT(worst, floor);
-  EXPECT_LT(stress.cwiseAbs().maxCoeff(), floor * kYoung);
+  EXPECT_LT(stress.cwiseAbs().maxCoeff(), floor * kStressYoung);
 }
 
 TEST(CoreStress, UniformOuterPressureIsTheStressOnEveryAxis) {
@@ -196,7 +196,7 @@ TEST(CoreStress, UniformOuterPressureIsTheStressOnEveryAxis) {
   FlagMat fixed = FlagMat::Zero(s.node_count(), 3);
   for (int i = 0; i < s.node_count(); ++i)
     if (s.positions(i, 2) < -0.035) fixed.row(i).setOnes();
-  const CoreModel m = build(s, 0.008, fixed);
+  const CoreModel m = stress_core(s, 0.008, fixed);
   CoreState st = make_core_state(m);
   StepInput in = test::free_input(m.ns);
   const double P = 200;
@@ -207,7 +207,7 @@ TEST(CoreStress, UniformOuterPressureIsTheStressOnEveryAxis) {
   NodeMat stress(m.ns, 3), strain(m.ns, 3);
   core_surface_stress(m, st, c, stress, strain);
   double mises = 0;
-  for (const Eigen::Matrix3d& e : c.tet) mises = std::max(mises, von_mises(kYoung * e));
+  for (const Eigen::Matrix3d& e : c.tet) mises = std::max(mises, von_mises(kStressYoung * e));
   std::printf("outer pressure %.0f Pa: fluid %.6f Pa; surface stress from %.6f to %.6f Pa; von Mises below %.2g Pa\n",
               P, st.pressure, stress.minCoeff(), stress.maxCoeff(), mises);
   EXPECT_NEAR(st.pressure, P, 1e-6 * P);
@@ -248,7 +248,7 @@ Pressed press_organ(const SurfaceMesh& mesh, const Vec3& touch, double depth, do
   EXPECT_TRUE(build_tissue_model(def, m, error)) << error;
   CoreDef cd;
   cd.surface = m.rest;
-  cd.young_modulus = kYoung;
+  cd.young_modulus = kStressYoung;
   cd.cell_size = 0.01;
   cd.fixed = m.held;
   cd.compute_stress = true;
