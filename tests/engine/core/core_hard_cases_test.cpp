@@ -15,12 +15,14 @@
 #include "engine/organ_solver.hpp"
 #include "engine/tool_shape.hpp"
 #include "support/hard_cases.hpp"
+#include "support/held_below.hpp"
 #include "support/scenarios.hpp"
 
 namespace vdm {
 namespace {
 
 using hard::expect_sensible;
+using test::held_below;
 
 // The organ's surface model with `fixed` held, and its core (E 5 kPa, cells of `h`).
 struct Organ {
@@ -43,13 +45,6 @@ Organ organ(const SurfaceMesh& mesh, const FlagMat& fixed, double h) {
   EXPECT_TRUE(core::build_core_model(cd, cm, error)) << error;
   o.core = make_core_solver(std::move(cm), 0.05);
   return o;
-}
-
-FlagMat held_below(const SurfaceMesh& s, double z) {
-  FlagMat fixed = FlagMat::Zero(s.node_count(), 3);
-  for (int i = 0; i < s.node_count(); ++i)
-    if (s.positions(i, 2) < z) fixed.row(i).setOnes();
-  return fixed;
 }
 
 // A probe of radius r, tip at `tip`, pointing along `axis` (handle to tip), moved by `motion`

@@ -10,9 +10,12 @@
 #include "engine/geometry.hpp"
 #include "engine/shapes.hpp"
 #include "support/free_input.hpp"
+#include "support/held_below.hpp"
 
 namespace vdm::core {
 namespace {
+
+using test::held_below;
 
 constexpr double kYoung = 3000;
 
@@ -26,14 +29,6 @@ CoreModel build(const SurfaceMesh& s, double h, const FlagMat& fixed = FlagMat()
   std::string error;
   EXPECT_TRUE(build_core_model(def, m, error)) << error;
   return m;
-}
-
-// Every axis of the nodes below height z held (a ball resting on its base).
-FlagMat held_below(const SurfaceMesh& s, double z) {
-  FlagMat fixed = FlagMat::Zero(s.node_count(), 3);
-  for (int i = 0; i < s.node_count(); ++i)
-    if (s.positions(i, 2) < z) fixed.row(i).setOnes();
-  return fixed;
 }
 
 TEST(ElasticCore, LatticeFillsTheOrgan) {
