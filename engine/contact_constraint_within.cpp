@@ -30,8 +30,8 @@ void ContactSolver::step_constraint_within(const TissueModel& m, const StepInput
   input_.tolerance = 0.0;
   for (int it = 0; it < max_it; ++it) {
     if (it > 0) solver_->rewind(s);
-    // The solve starts from the contact points' forces (the last step's, or the last solve's).
-    for (int i : contact_nodes_) contact_force_.row(i).setZero();
+    // The solve starts from the contact points' forces (the last step's, or the last solve's;
+    // the points only grow within a step, so these nodes cover every force set before).
     for (const ContactPoint& c : contacts_)
       for (int v = 0; v < c.count; ++v) contact_force_.row(c.node[v]).setZero();
     for (const ContactPoint& c : contacts_)
