@@ -27,6 +27,9 @@ bool build_reference_model(const SceneDef& s, const vdm::TissueModel& m, Referen
     def.density = s.density;
     def.gravity = s.gravity;
     def.use_gravity = s.has(Effect::gravity);
+    def.use_inertia = s.has(Effect::inertia);
+    def.damping = s.damping;
+    def.dt = s.dt;
     def.compute_stress = s.has(Effect::stress);
     def.fixed = m.held;
     if (!vdm::core::build_core_model(def, out.core, error)) return false;
