@@ -120,8 +120,7 @@ inline constexpr SceneKey kSceneKeys[] = {
       "and pressure on an elastic core in place of the bulk term: the model closest to the FEM; [the model page](model.md)), "
       "or the reference models `fem` (corotational linear tetrahedra, meshed by gmsh) and `mass_spring` (springs on the "
       "surface edges).")
-      .one_of([] { return Words{"vdm", "vdm_core", "fem", "mass_spring"}; })
-      .by_default([] { return std::string(vdm::to_string(SceneDef().model)); }).eg("model: fem"),
+      .one_of(organ_model_names).by_default([] { return std::string(vdm::to_string(SceneDef().model)); }).eg("model: fem"),
   key("organ.loads", KT::region_list, "Forces: a total force spread equally over a region's nodes, ramped over a time interval.")
       .eg("loads: [{sphere: {center: [0, 0, 0.06], radius: 0.02}, force: [0, 0, -2], t: [0, 1]}]"),
   key("organ.prescribed", KT::region_list, "Prescribed motion: a region's nodes moved rigidly from rest, ramped over a time interval.")
