@@ -2,14 +2,14 @@
 // The organ models a scene can pick (organ.model), one row each: a struct below says everything
 // the program knows about a model beyond its solver in the engine. Its data (the organ keys it
 // uses, how its material is given, whether it computes surface stress, the contact it takes) is
-// read by the scene reader, `check` and the simulation through organ_model(); its run-time
-// functions (checking the placed organ, building its reference model, making its solver, its
-// lines of run.json) are declared here and defined in app/simulation/organ_model_runs.cpp,
-// which the simulation and run.json reach through organ_model_run(). The split keeps the scene
-// reader free of the engine's solvers (the sweep fuzzer links it alone, tests/CMakeLists.txt).
+// read through organ_model(); its functions (checking the placed organ, building its reference
+// model, making its solver, its lines of run.json) are declared here, defined in
+// app/simulation/organ_models.cpp and app/run/model_material_json.cpp, and reached through
+// organ_model_run() (app/simulation/organ_models.hpp). The split keeps the scene reader free of
+// the engine's solvers (the sweep fuzzer links it alone, tests/CMakeLists.txt).
 //
-// To add a model: its ModelKind and name (engine/organ_solver.hpp, engine/setting_names.cpp),
-// a row here listed in OrganModelRows, and its functions in organ_model_runs.cpp.
+// To add a model (docs/developing.md, "Adding an organ model"): its ModelKind and name
+// (engine/organ_solver.hpp, engine/setting_names.cpp), a row here in OrganModelRows, its functions.
 #include <array>
 #include <iosfwd>
 #include <memory>
@@ -35,7 +35,7 @@ using ContactMethod = vdm::ContactSettings::Method;
 //   kind                the engine's model (its name: vdm::to_string(kind))
 //   keys                the organ keys that only some models use, those this one does (paths of
 //                       scene_keys.hpp): a scene's key that another row lists and this one does
-//                       not is warned as ignored
+//                       not is warned as ignored (in the scene reference's order)
 //   material            the keys its material is given by (`check` names their defaults when a
 //                       scene gives no material)
 //   vdm_moduli          its material is VDM's moduli (bulk and connectivity, or E and nu mapped
@@ -74,7 +74,7 @@ struct VdmCoreRow {
   static constexpr bool vdm_moduli = false;
   static constexpr bool surface_stress = true;
   static constexpr bool penalty_contact = false;
-  // Kinematic unless a scene names another: the reference models' default, kept for the core.
+  // Kinematic as the reference models: a constraint contact step costs about 3 times as much.
   static constexpr ContactMethod contact = ContactMethod::kinematic;
   static void check_placed(const SceneDef& scene, const vdm::SurfaceMesh& organ, std::vector<SceneProblem>& problems);
   static bool build(const SceneDef& scene, const vdm::TissueModel& model, ReferenceModel& out, std::string& error);
@@ -90,7 +90,7 @@ struct FemRow {
   static constexpr bool vdm_moduli = false;
   static constexpr bool surface_stress = false;
   static constexpr bool penalty_contact = false;
-  // The constraint method's friction does not converge on the FEM (docs/reference-models.md).
+  // Constraint contact converges on the FEM without friction only (docs/reference-models.md).
   static constexpr ContactMethod contact = ContactMethod::kinematic;
   static void check_placed(const SceneDef& scene, const vdm::SurfaceMesh& organ, std::vector<SceneProblem>& problems);
   static bool build(const SceneDef& scene, const vdm::TissueModel& model, ReferenceModel& out, std::string& error);
