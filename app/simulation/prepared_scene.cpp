@@ -165,6 +165,7 @@ bool prepare_scene_def(const SceneDef& scene, PreparedScene& out, std::vector<Sc
   for (int d = 0; d < 3; ++d) def.bulk_modulus.col(d).setConstant(s.bulk_modulus[d]);
   def.connectivity_modulus = s.connectivity_modulus;
   def.capsule = s.capsule;
+  // What the model ignores does not reach the surface it shares: the skin's bending, the stress.
   const OrganModel& row = organ_model(s.model);
   def.bending_modulus = row.uses("organ.material.bending_modulus") ? s.bending_modulus : 0.0;
   def.density = s.density;
