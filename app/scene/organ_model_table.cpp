@@ -35,6 +35,7 @@ OrganModel model_of() {
   m.vdm_moduli = Row::vdm_moduli;
   m.surface_stress = Row::surface_stress;
   m.penalty_contact = Row::penalty_contact;
+  m.inertia = Row::inertia;
   m.contact = Row::contact;
   return m;
 }

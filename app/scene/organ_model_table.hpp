@@ -42,6 +42,7 @@ using ContactMethod = vdm::ContactSettings::Method;
 //                       to them), checked for conditioning; else E is its stiffness
 //   surface_stress      it computes stress at the surface (stress views, --export-mesh)
 //   penalty_contact     it takes penalty contact (StepInput's springs)
+//   inertia             its steps take the inertia effect (else they are static)
 //   contact             its contact method when the scene names none
 //   check_placed        appends the problems of its own settings on the placed organ
 //   build               builds its reference model on the organ's surface (false with a message)
@@ -59,6 +60,7 @@ struct VdmRow {
   static constexpr bool vdm_moduli = true;
   static constexpr bool surface_stress = true;
   static constexpr bool penalty_contact = true;
+  static constexpr bool inertia = true;
   static constexpr ContactMethod contact = ContactMethod::constraint;
   static void check_placed(const SceneDef& scene, const vdm::SurfaceMesh& organ, std::vector<SceneProblem>& problems);
   static bool build(const SceneDef& scene, const vdm::TissueModel& model, ReferenceModel& out, std::string& error);
@@ -74,6 +76,7 @@ struct VdmCoreRow {
   static constexpr bool vdm_moduli = false;
   static constexpr bool surface_stress = true;
   static constexpr bool penalty_contact = false;
+  static constexpr bool inertia = true;
   // Kinematic as the reference models: a constraint contact step with friction costs about
   // 1.6 times as much on a press (docs/model.md, "Cost").
   static constexpr ContactMethod contact = ContactMethod::kinematic;
@@ -91,6 +94,7 @@ struct FemRow {
   static constexpr bool vdm_moduli = false;
   static constexpr bool surface_stress = false;
   static constexpr bool penalty_contact = false;
+  static constexpr bool inertia = false;
   // Constraint contact converges on the FEM without friction only (docs/reference-models.md).
   static constexpr ContactMethod contact = ContactMethod::kinematic;
   static void check_placed(const SceneDef& scene, const vdm::SurfaceMesh& organ, std::vector<SceneProblem>& problems);
@@ -107,6 +111,7 @@ struct MassSpringRow {
   static constexpr bool vdm_moduli = false;
   static constexpr bool surface_stress = false;
   static constexpr bool penalty_contact = false;
+  static constexpr bool inertia = false;
   static constexpr ContactMethod contact = ContactMethod::kinematic;
   static void check_placed(const SceneDef& scene, const vdm::SurfaceMesh& organ, std::vector<SceneProblem>& problems);
   static bool build(const SceneDef& scene, const vdm::TissueModel& model, ReferenceModel& out, std::string& error);
@@ -123,7 +128,7 @@ using OrganModelRows = RowList<VdmRow, VdmCoreRow, FemRow, MassSpringRow>;
 struct OrganModel {
   vdm::ModelKind kind = kDefaultOrganModel;
   std::vector<std::string> keys, material;
-  bool vdm_moduli = false, surface_stress = false, penalty_contact = false;
+  bool vdm_moduli = false, surface_stress = false, penalty_contact = false, inertia = false;
   ContactMethod contact = ContactMethod::kinematic;
 
   const char* name() const { return vdm::to_string(kind); }

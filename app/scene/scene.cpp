@@ -500,6 +500,10 @@ void read_simulation(Reader& r, const YAML::Node& sim, SceneDef& s) {
         }
         const Effect e = static_cast<Effect>(it - known.begin());
         if (std::find(s.effects.begin(), s.effects.end(), e) == s.effects.end()) s.effects.push_back(e);
+        if (e == Effect::inertia && !organ_model(s.model).inertia)
+          r.warn(list[i], fi,
+                 std::string("ignored by organ.model ") + vdm::to_string(s.model) + ": its steps are static (inertia needs organ.model " +
+                     or_list(organ_model_names(&OrganModel::inertia)) + ")");
       }
   }
   if (const YAML::Node sol = sim["solver"]) {

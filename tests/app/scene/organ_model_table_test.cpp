@@ -109,6 +109,26 @@ TEST(OrganModelTable, EachModelWarnsAboutExactlyTheOrganKeysItIgnores) {
     }
 }
 
+TEST(OrganModelTable, InertiaOnAStaticModelIsWarnedAbout) {
+  // The inertia effect on a model whose steps are static changes nothing: a warning at the
+  // effect, naming the models that take it; none on those that do.
+  for (const OrganModel& m : organ_models()) {
+    SCOPED_TRACE(m.name());
+    const fs::path file = test::scratch_dir("organ_model_table") / (std::string(m.name()) + "_inertia.yaml");
+    std::ofstream(file) << "organ:\n  mesh: " << (fs::path(VDMSIM_SOURCE_DIR) / "assets/meshes/liver_L4.obj").string()
+                        << "\n  model: " << m.name() << "\nsimulation:\n  effects: [gravity, inertia]\n";
+    int warned = 0;
+    for (const SceneProblem& p : load_scene(file.string()).problems)
+      if (p.field == "simulation.effects[1]") {
+        ++warned;
+        EXPECT_TRUE(p.warning);
+        EXPECT_NE(p.message.find("its steps are static (inertia needs organ.model vdm or vdm_core)"), std::string::npos)
+            << p.message;
+      }
+    EXPECT_EQ(warned, m.inertia ? 0 : 1);
+  }
+}
+
 TEST(OrganModelTable, CheckNamesEachModelsOwnDefaultMaterial) {
   const std::vector<std::pair<vdm::ModelKind, std::string>> expected = {
       {vdm::ModelKind::vdm, "bulk_modulus 20000 Pa, connectivity_modulus 2000 Pa, density 1060 kg/m^3"},
