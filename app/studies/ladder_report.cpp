@@ -131,7 +131,7 @@ bool write_ladder_plot(const std::string& path, const std::vector<LadderRow>& ro
       v.color = 6;
       v.dashed = true;
       v.x = {ref->median_ms, ref->median_ms};
-      v.y = {lo / 2, hi * 2};
+      v.y = {std::min(lo / 2, hi / 20), hi * 2};  // a decade at least: two labelled ticks
       t_hi = std::max(t_hi, ref->median_ms);
       p.series.push_back(std::move(v));
     }
