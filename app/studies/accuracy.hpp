@@ -57,7 +57,7 @@ struct AccuracyRow {
 struct AccuracyOptions {
   std::string out_dir = "out/accuracy";
   bool quick = false;
-  std::string scenario;     // only this scenario ("": both)
+  std::string scenario;     // only this scenario ("": all; with `ladder`, a case of the ladder)
   std::string only;         // only these knobs, comma-separated ("": all); the reference and
                             // the baseline always run (the errors are measured against them)
   int jobs = 0;             // configurations at a time on this machine (0: the number of cores)
