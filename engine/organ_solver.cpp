@@ -184,6 +184,11 @@ class CoreSolver final : public ReferenceSolver {
   }
   // Contact solves a step several times: the results only for the one it keeps.
   void trial_step(const StepInput& in, SimState& s, StepResults) override { solve(in, s, nullptr); }
+  // With inertia the core keeps where its step started: the step solved again starts there.
+  void rewind(SimState& s) override {
+    ReferenceSolver::rewind(s);
+    core::rewind(s_);
+  }
   bool solves_force_laws() const override { return true; }
   bool trial_step_with(const StepInput& in, SimState& s, SurfaceForceLaw& law) override {
     solve(in, s, &law);

@@ -46,8 +46,9 @@ class OrganSolver {
   virtual void finish_step(SimState& state) = 0;
   // Puts `state` back at the start of its last step (u, x, velocity, step count and time;
   // vdm: also the engine's geometry and matrices, rewind_step()), to solve that step again.
-  // The reference models are static: their next solve starts from their last solution, and
-  // reaches the same equilibrium in fewer iterations.
+  // The static reference models' next solve starts from their last solution, and reaches the
+  // same equilibrium in fewer iterations; vdm_core with inertia starts again where the step
+  // started (its lattice's position and velocity).
   virtual void rewind(SimState& state) = 0;
   // The displacements (N x 3) where the state's last step started (after it, or after
   // rewind()); before any step, the state's own.

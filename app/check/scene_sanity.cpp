@@ -5,6 +5,8 @@
 #include <iomanip>
 #include <sstream>
 
+#include "app/scene/scene_keys.hpp"
+
 namespace vdmsim {
 
 namespace {
@@ -91,14 +93,13 @@ void check_instruments(const SceneDef& s, const std::vector<InstrumentReach>& re
 void check_material(const SceneDef& s, std::vector<SceneProblem>& out) {
   if (s.material_given) return;
   const SceneDef d;
+  // The model's material keys with their defaults, as the scene reference gives them.
   std::string values;
-  if (s.model == vdm::ModelKind::vdm)
-    values = "bulk_modulus " + num(d.bulk_modulus.x(), 6) + " Pa, connectivity_modulus " + num(d.connectivity_modulus, 6) + " Pa";
-  else
-    values = "young_modulus " + num(d.young_modulus, 6) + " Pa" +
-             (s.model == vdm::ModelKind::fem        ? ", poisson_ratio " + num(d.poisson_ratio)
-              : s.model == vdm::ModelKind::vdm_core ? std::string()
-                                                    : ", thickness " + num(d.thickness) + " m");
+  for (const std::string& path : organ_model(s.model).material) {
+    const SceneKey& k = kSceneKeys[scene_key_index(path.c_str())];
+    values += (values.empty() ? "" : ", ") + path.substr(path.rfind('.') + 1) + " " + k.default_value() +
+              (*k.unit ? std::string(" ") + k.unit : std::string());
+  }
   out.push_back({s.file, "organ.material",
                  "not given: the default material is used (" + values + ", density " + num(d.density, 6) +
                      " kg/m^3); give your tissue's",

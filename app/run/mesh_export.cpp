@@ -58,7 +58,7 @@ bool MeshExport::open(const PreparedScene& ps, const fs::path& dir, int start, s
   scalars_ = exported_scalars(stress);
   values_.assign(scalars_.size(), {});
   if (!stress)
-    omitted_reason_ = ps.scene.model == vdm::ModelKind::fem || ps.scene.model == vdm::ModelKind::mass_spring
+    omitted_reason_ = !organ_model(ps.scene.model).surface_stress
                           ? "organ.model " + std::string(vdm::to_string(ps.scene.model)) + " computes no stress at the surface"
                           : "the scene computes no stress (simulation.effects lacks stress)";
   // A resume: the earlier run's frames before `start` stay, those still on disk are listed.

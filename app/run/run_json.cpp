@@ -1,7 +1,7 @@
 #include "app/run/run_json.hpp"
 
 #include "app/run/json_text.hpp"
-#include "engine/core/elastic_core.hpp"
+#include "app/simulation/organ_models.hpp"
 #include "engine/geometry.hpp"
 
 #include <algorithm>
@@ -91,27 +91,6 @@ void write_mesh_export(const RunRecord& r, std::ostream& js) {
   js << "},\n";
 }
 
-// The moduli the VDM model used (an infinite bulk modulus as the string "inf").
-void write_material(const SceneDef& s, const vdm::TissueModel& m, std::ostringstream& js) {
-  auto modulus = [](double b) { return std::isfinite(b) ? std::to_string(b) : std::string("\"inf\""); };
-  js << "  \"material\": {\"bulk_modulus_pa\": [" << modulus(s.bulk_modulus[0]) << ", " << modulus(s.bulk_modulus[1])
-     << ", " << modulus(s.bulk_modulus[2]) << "], \"connectivity_modulus_pa\": " << s.connectivity_modulus
-     << ", \"capsule\": \"" << vdm::to_string(m.capsule) << '"';
-  if (m.membrane_capsule()) js << ", \"capsule_tension_n_per_m\": " << m.capsule_tension;
-  if (m.bending_modulus > 0) js << ", \"bending_modulus_n_m\": " << m.bending_modulus;
-  if (s.moduli_from_elastic)
-    js << ", \"from\": {\"young_modulus_pa\": " << s.young_modulus << ", \"poisson_ratio\": " << s.poisson_ratio
-       << ", \"rule\": \"docs/model.md: B = beta E, B_ij = gamma(nu) E\"}";
-  js << "},\n";
-}
-
-// The elastic core's material and lattice (organ.model vdm_core).
-void write_core_material(const vdm::core::CoreModel& c, std::ostringstream& js) {
-  js << "  \"material\": {\"young_modulus_pa\": " << c.young_modulus << ", \"core\": {\"cell_size_m\": " << c.h
-     << ", \"lattice_nodes\": " << c.ng << ", \"cubes\": " << c.cubes.rows() << ", \"tie_pa_per_m\": " << c.kappa
-     << "}},\n";
-}
-
 }  // namespace
 
 std::string run_json(const RunRecord& r) {
@@ -130,8 +109,7 @@ std::string run_json(const RunRecord& r) {
      << "\",\n  \"effects\": [";
   for (size_t i = 0; i < s.effects.size(); ++i) js << (i ? ", " : "") << '"' << to_string(s.effects[i]) << '"';
   js << "],\n";
-  if (s.model == vdm::ModelKind::vdm) write_material(s, m, js);
-  if (s.model == vdm::ModelKind::vdm_core) write_core_material(r.prepared.reference.core, js);
+  organ_model_run(s.model).write_run_json(r.prepared, js);
   if (s.has(Effect::contact)) write_contact(r, js);
   write_instruments(r, js);
   write_times(r, js);

@@ -313,28 +313,18 @@ void check_vdm_conditioning(Reader& r, const YAML::Node& mat, const SceneDef& s)
 
 // Warns about the organ keys that organ.model does not use (they would change nothing).
 void warn_unused_by_model(Reader& r, const YAML::Node& organ, vdm::ModelKind model) {
-  struct Use {
-    const char* key;  // under organ.material, or organ.tet_size / organ.cell_size
-    bool vdm, fem, mass_spring, vdm_core;
-  };
-  static const Use uses[] = {{"connectivity_modulus", true, false, false, false}, {"capsule", true, false, false, false},
-                             {"bending_modulus", true, false, false, false},      {"bulk_modulus", true, false, false, false},
-                             {"poisson_ratio", true, true, false, false},         {"thickness", false, false, true, false},
-                             {"volume_modulus", false, false, true, false},       {"tet_size", false, true, false, false},
-                             {"cell_size", false, false, false, true}};
-  const YAML::Node mat = organ["material"];
-  for (const Use& u : uses) {
-    const bool top = std::string(u.key) == "tet_size" || std::string(u.key) == "cell_size";
-    if (!top && !(mat && mat.IsMap())) continue;
-    const YAML::Node n = top ? organ[u.key] : mat[u.key];
+  const OrganModel& m = organ_model(model);
+  for (const std::string& path : model_specific_keys()) {
+    if (m.uses(path)) continue;
+    // The key's node: organ.cell_size under organ, organ.material.bulk_modulus under its material.
+    const std::string key = path.substr(std::string("organ.").size());
+    const size_t dot = key.find('.');
+    const YAML::Node parent = dot == std::string::npos ? organ : organ[key.substr(0, dot)];
+    if (!parent || !parent.IsMap()) continue;
+    const YAML::Node n = parent[key.substr(dot == std::string::npos ? 0 : dot + 1)];
     if (!n) continue;
-    const bool used = model == vdm::ModelKind::vdm           ? u.vdm
-                      : model == vdm::ModelKind::fem         ? u.fem
-                      : model == vdm::ModelKind::vdm_core    ? u.vdm_core
-                                                             : u.mass_spring;
-    if (used) continue;
-    r.warn(n, std::string(top ? "organ." : "organ.material.") + u.key,
-           std::string("ignored by organ.model ") + vdm::to_string(model) + " (docs/scene-reference.md says which models use it)");
+    r.warn(n, path,
+           std::string("ignored by organ.model ") + m.name() + " (docs/scene-reference.md says which models use it)");
   }
 }
 
@@ -358,9 +348,9 @@ void read_organ(Reader& r, const YAML::Node& organ, SceneDef& s, const std::file
   if (const YAML::Node n = organ["model"]) {
     std::string model;
     if (r.text(n, "organ.model", model) && !vdm::parse_model_kind(model, s.model)) {
-      const std::string near = closest(model, {"vdm", "vdm_core", "fem", "mass_spring"});
+      const std::string near = closest(model, organ_model_names());
       r.error(n, "organ.model", "unknown model '" + model + "'" + (near.empty() ? "" : " (did you mean '" + near + "'?)") +
-                                    "; expected vdm, vdm_core, fem or mass_spring");
+                                    "; expected " + or_list(organ_model_names()));
     }
   }
   if (const YAML::Node n = organ["tet_size"]) r.number(n, "organ.tet_size", s.tet_size, KEY("organ.tet_size"));
@@ -414,7 +404,7 @@ void read_organ(Reader& r, const YAML::Node& organ, SceneDef& s, const std::file
       if (const YAML::Node n = mat["density"]) r.number(n, "organ.material.density", s.density, KEY("organ.material.density"));
       if (const YAML::Node n = mat["damping"]) r.number(n, "organ.material.damping", s.damping, KEY("organ.material.damping"));
       // VDM from E and nu: the documented rule (engine/elastic_moduli.hpp); one form or the other.
-      if (s.model == vdm::ModelKind::vdm && (mat["young_modulus"] || mat["poisson_ratio"])) {
+      if (organ_model(s.model).vdm_moduli && (mat["young_modulus"] || mat["poisson_ratio"])) {
         if (mat["bulk_modulus"] || mat["connectivity_modulus"]) {
           r.error(mat, "organ.material",
                   "give either young_modulus and poisson_ratio (mapped to VDM's moduli, docs/model.md) or bulk_modulus "
@@ -428,7 +418,7 @@ void read_organ(Reader& r, const YAML::Node& organ, SceneDef& s, const std::file
           s.moduli_from_elastic = true;
         }
       }
-      if (s.model == vdm::ModelKind::vdm) check_vdm_conditioning(r, mat, s);
+      if (organ_model(s.model).vdm_moduli) check_vdm_conditioning(r, mat, s);
       s.material_given = true;
     }
   }
@@ -533,10 +523,9 @@ void read_simulation(Reader& r, const YAML::Node& sim, SceneDef& s) {
       if (const YAML::Node n = sol["warm_start"]) r.boolean(n, "simulation.solver.warm_start", s.solver.warm_start);
     }
   }
-  // The reference models take kinematic contact unless a scene names another method: the
-  // constraint method's friction does not converge on the FEM (docs/reference-models.md).
-  if (s.model != vdm::ModelKind::vdm && !(sim["contact"] && sim["contact"].IsMap() && sim["contact"]["method"]))
-    s.contact.method = vdm::ContactSettings::Method::kinematic;
+  // The model's own contact method unless the scene names one (organ_model_table.hpp).
+  if (!(sim["contact"] && sim["contact"].IsMap() && sim["contact"]["method"]))
+    s.contact.method = organ_model(s.model).contact;
   if (const YAML::Node con = sim["contact"]) {
     const std::string fc = "simulation.contact";
     if (r.require_map(con, fc)) {
@@ -552,10 +541,10 @@ void read_simulation(Reader& r, const YAML::Node& sim, SceneDef& s) {
             cs.method = vdm::ContactSettings::Method::kinematic;
           } else if (m == "penalty") {
             cs.method = vdm::ContactSettings::Method::penalty;
-            if (s.model != vdm::ModelKind::vdm)
+            if (!organ_model(s.model).penalty_contact)
               r.error(n, fc + ".method",
-                      std::string("penalty contact needs organ.model vdm (") + vdm::to_string(s.model) +
-                          " takes kinematic or constraint contact)");
+                      "penalty contact needs organ.model " + or_list(organ_model_names(&OrganModel::penalty_contact)) +
+                          " (" + vdm::to_string(s.model) + " takes kinematic or constraint contact)");
           } else {
             const std::string near = closest(m, methods);
             r.error(n, fc + ".method", "unknown contact method '" + m + "'" +
@@ -932,10 +921,10 @@ void read_render(Reader& r, const YAML::Node& n, SceneDef& s) {
     }
   }
   const bool stress_quantity = render::quantity_needs_stress(d.stress_view.quantity);
-  if (d.stress && stress_quantity && (s.model == vdm::ModelKind::fem || s.model == vdm::ModelKind::mass_spring))
+  if (d.stress && stress_quantity && !organ_model(s.model).surface_stress)
     r.error(n["views"], "render.views",
-            std::string("the stress view of '") + render::to_string(d.stress_view.quantity) +
-                "' needs organ.model vdm or vdm_core (" + vdm::to_string(s.model) +
+            std::string("the stress view of '") + render::to_string(d.stress_view.quantity) + "' needs organ.model " +
+                or_list(organ_model_names(&OrganModel::surface_stress)) + " (" + vdm::to_string(s.model) +
                 " computes no stress at the surface): colour by displacement or contact_pressure");
   if (d.stress && !s.has(Effect::stress) && stress_quantity)
     r.error(n["views"], "render.views",

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "app/scene/organ_model_table.hpp"
 #include "engine/contact_settings.hpp"
 #include "engine/organ_solver.hpp"
 #include "engine/settings.hpp"
@@ -123,7 +124,7 @@ struct SceneDef {
   double bending_modulus = 0.0;  // vdm, membrane capsules: the skin's bending modulus D (N m); 0 = none
   double density = 1060.0;
   double damping = 0.0;        // 1/s, with the inertia effect
-  vdm::ModelKind model = vdm::ModelKind::vdm;  // organ.model: vdm | vdm_core | fem | mass_spring
+  vdm::ModelKind model = kDefaultOrganModel;  // organ.model (organ_model_table.hpp)
   double young_modulus = 3000;  // fem, mass_spring; vdm: mapped to bulk and connectivity (Pa)
   bool moduli_from_elastic = false;  // vdm: bulk_modulus and connectivity_modulus from E and nu
   double poisson_ratio = 0.45;  // fem, in [0, 0.5)

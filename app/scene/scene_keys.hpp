@@ -120,13 +120,12 @@ inline constexpr SceneKey kSceneKeys[] = {
       "and pressure on an elastic core in place of the bulk term: the model closest to the FEM; [the model page](model.md)), "
       "or the reference models `fem` (corotational linear tetrahedra, meshed by gmsh) and `mass_spring` (springs on the "
       "surface edges).")
-      .one_of([] { return Words{"vdm", "vdm_core", "fem", "mass_spring"}; })
-      .by_default([] { return std::string(vdm::to_string(SceneDef().model)); }).eg("model: fem"),
+      .one_of(organ_model_names).by_default([] { return std::string(vdm::to_string(SceneDef().model)); }).eg("model: fem"),
   key("organ.loads", KT::region_list, "Forces: a total force spread equally over a region's nodes, ramped over a time interval.")
       .eg("loads: [{sphere: {center: [0, 0, 0.06], radius: 0.02}, force: [0, 0, -2], t: [0, 1]}]"),
   key("organ.prescribed", KT::region_list, "Prescribed motion: a region's nodes moved rigidly from rest, ramped over a time interval.")
       .eg("prescribed: [{nodes: [5, 6], translate: [0, 0, -0.015], t: [0, 1]}]"),
-  key("organ.cell_size", KT::number, "`model: vdm_core` only: the core's cell (a cube's edge); 0 takes the organ's "
+  key("organ.cell_size", KT::number, "The core's cell (a cube's edge); 0 takes the organ's "
       "volume over its area V/A, no wider than the smallest instrument (its narrowest part), and no finer than gives "
       "about 10000 cubes inside the organ (run.json reports the cell used). Smaller cells follow smaller loads (a dent narrower than a few cells is spread over "
       "them) and cost more. Refused when a cell does not fit in the organ's box (larger than its smallest side) and when "
@@ -134,7 +133,7 @@ inline constexpr SceneKey kSceneKeys[] = {
       "(its narrowest part).")
       .in("m").range(0, std::numeric_limits<double>::infinity())
       .by_default([] { return yaml_number(SceneDef().cell_size); }).eg("cell_size: 0.005"),
-  key("organ.tet_size", KT::number, "`model: fem` only: the largest tetrahedron edge; 0 grades the tetrahedra from the surface. Refused when the organ would need more than 5 million tetrahedra of that edge (its volume over a regular tetrahedron's).")
+  key("organ.tet_size", KT::number, "The largest tetrahedron edge; 0 grades the tetrahedra from the surface. Refused when the organ would need more than 5 million tetrahedra of that edge (its volume over a regular tetrahedron's).")
       .in("m").range(0, std::numeric_limits<double>::infinity())
       .by_default([] { return yaml_number(SceneDef().tet_size); }).eg("tet_size: 0.01"),
 
@@ -142,31 +141,31 @@ inline constexpr SceneKey kSceneKeys[] = {
   key("organ.material.bulk_modulus", KT::number, "The fluid's bulk term B (per axis when three values are given; "
       "`inf` holds that axis as a constraint).").typed("number or [bx, by, bz]").in("Pa").above(0).or_inf()
       .by_default([] { return yaml_number(SceneDef().bulk_modulus.x()); }).eg("bulk_modulus: [20000, inf, 20000]"),
-  key("organ.material.connectivity_modulus", KT::number, "The capsule's (skin's) modulus B_ij. For `model: vdm` it "
-      "must be above 0 and at least the largest finite `bulk_modulus` / 1e9 (beyond that the system cannot be solved "
+  key("organ.material.connectivity_modulus", KT::number, "The capsule's (skin's) modulus B_ij. It must be above 0 "
+      "and at least the largest finite `bulk_modulus` / 1e9 (beyond that the system cannot be solved "
       "reliably).").in("Pa").range(0, 1e12)
       .by_default([] { return yaml_number(SceneDef().connectivity_modulus); }).eg("connectivity_modulus: 2000"),
   key("organ.material.capsule", KT::choice, "The capsule's form: `membrane` (mesh-consistent), `corotational` "
       "(the membrane in each node's rotated frame) or `paper` (the paper's edge weights).")
       .one_of([] { return Words{"membrane", "corotational", "paper"}; })
       .by_default([] { return std::string(vdm::to_string(SceneDef().capsule)); }).eg("capsule: corotational"),
-  key("organ.material.bending_modulus", KT::number, "The capsule's thin-shell bending modulus D (`model: vdm`, "
-      "`membrane` or `corotational` capsule): energy ½ D ∫ |Δu|² dA over the surface, so the skin resists bending as "
+  key("organ.material.bending_modulus", KT::number, "The capsule's thin-shell bending modulus D (`membrane` or "
+      "`corotational` capsule): energy ½ D ∫ |Δu|² dA over the surface, so the skin resists bending as "
       "well as stretch (docs/model.md, \"Bending\"). 0: no bending term.").in("N m").range(0, 1e6)
       .by_default([] { return yaml_number(SceneDef().bending_modulus); }).eg("bending_modulus: 0.0005"),
   key("organ.material.density", KT::number, "Mass density: the weight with the `gravity` effect, the mass with `inertia`.")
       .in("kg/m^3").above(0, 1e5).by_default([] { return yaml_number(SceneDef().density); }).eg("density: 1060"),
   key("organ.material.damping", KT::number, "Mass-proportional damping, with the `inertia` effect.").in("1/s").range(0, 1e6)
       .by_default([] { return yaml_number(SceneDef().damping); }).eg("damping: 5"),
-  key("organ.material.young_modulus", KT::number, "Young's modulus E: the `fem` and `mass_spring` models' stiffness; "
-      "for `vdm`, with `poisson_ratio`, instead of `bulk_modulus` and `connectivity_modulus`.").in("Pa").above(0, 1e12)
+  key("organ.material.young_modulus", KT::number, "Young's modulus E: the stiffness of `vdm_core`, `fem` and "
+      "`mass_spring`; for `vdm`, with `poisson_ratio`, instead of `bulk_modulus` and `connectivity_modulus`.").in("Pa").above(0, 1e12)
       .by_default([] { return yaml_number(SceneDef().young_modulus); }).eg("young_modulus: 3000"),
-  key("organ.material.poisson_ratio", KT::number, "Poisson's ratio ν (`fem`; `vdm` with `young_modulus`). "
+  key("organ.material.poisson_ratio", KT::number, "Poisson's ratio ν (for `vdm`, with `young_modulus`). "
       "0.5 is exactly incompressible: use up to 0.49.").range(0, 0.5).allowing(">= 0 and < 0.5")
       .by_default([] { return yaml_number(SceneDef().poisson_ratio); }).eg("young_modulus: 3000, poisson_ratio: 0.45"),
-  key("organ.material.thickness", KT::number, "`mass_spring` only: the skin thickness that sets the springs' stiffness.")
+  key("organ.material.thickness", KT::number, "The skin thickness that sets the springs' stiffness.")
       .in("m").above(0, 10).by_default([] { return yaml_number(SceneDef().thickness); }).eg("thickness: 0.005"),
-  key("organ.material.volume_modulus", KT::number, "`mass_spring` only: the volume spring's modulus; 0 for none.")
+  key("organ.material.volume_modulus", KT::number, "The volume spring's modulus; 0 for none.")
       .in("Pa").range(0, 1e12).by_default([] { return yaml_number(SceneDef().volume_modulus); }).eg("volume_modulus: 20000"),
 
   // The regions of organ.fixed, organ.loads and organ.prescribed.

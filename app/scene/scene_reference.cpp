@@ -1,5 +1,6 @@
 #include "app/scene/scene_reference.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <limits>
 #include <sstream>
@@ -93,6 +94,16 @@ std::vector<const SceneKey*> children(const std::string& parent) {
   return out;
 }
 
+// "`model: vdm` or `fem` only: " for a key only some organ models use (organ_model_table.hpp).
+std::string models_only(const std::string& path) {
+  const std::vector<std::string> keys = model_specific_keys();
+  if (std::find(keys.begin(), keys.end(), path) == keys.end()) return "";
+  std::vector<std::string> names;
+  for (const OrganModel& m : organ_models())
+    if (m.uses(path)) names.push_back(std::string(names.empty() ? "`model: " : "`") + m.name() + "`");
+  return or_list(names) + " only: ";
+}
+
 const SceneKey* find(const std::string& path) {
   for (const SceneKey& k : kSceneKeys)
     if (path == k.path) return &k;
@@ -124,6 +135,7 @@ void write_table(std::ostream& out, const std::string& parent) {
       while (words >> w) only += (only.empty() ? "`" : ", `") + w + "`";
       meaning = only + " only: " + meaning;
     }
+    meaning = models_only(k->path) + meaning;
     out << "| " << key << " | " << cell(type_of(*k)) << " | " << cell(k->unit) << " | " << cell(default_of(*k)) << " | "
         << cell(allowed_of(*k)) << " | " << cell(meaning) << " | "
         << (*k->example && !is_container(*k) ? "`" + cell(k->example) + "`" : std::string("below")) << " |\n";

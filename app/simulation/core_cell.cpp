@@ -39,7 +39,7 @@ double core_cell_size(const SceneDef& s, const vdm::SurfaceMesh& organ) {
 }
 
 void check_core_cell(const SceneDef& s, const vdm::SurfaceMesh& organ, std::vector<SceneProblem>& problems) {
-  if (s.model != vdm::ModelKind::vdm_core || organ.node_count() == 0) return;
+  if (organ.node_count() == 0) return;
   const vdm::NodeMat& x = organ.positions;
   const vdm::Vec3 extent = (x.colwise().maxCoeff() - x.colwise().minCoeff()).transpose();
   const double area = vdm::surface_area(x, organ.triangles);

@@ -24,8 +24,8 @@ constexpr double kDefaultCoreCubes = 10000;
 // than gives kDefaultCoreCubes cubes (the step's cost grows with them).
 double core_cell_size(const SceneDef& scene, const vdm::SurfaceMesh& organ);
 
-// Appends the problems of `scene`'s cell for `organ` (the surface as placed, m) to `problems`;
-// nothing unless the scene's model is vdm_core.
+// Appends the problems of `scene`'s cell for `organ` (the surface as placed, m) to `problems`
+// (vdm_core's check of the placed organ, organ_model_table.hpp).
 void check_core_cell(const SceneDef& scene, const vdm::SurfaceMesh& organ, std::vector<SceneProblem>& problems);
 
 }  // namespace vdmsim

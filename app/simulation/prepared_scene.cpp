@@ -5,9 +5,7 @@
 #include <sstream>
 
 #include "app/scene/mesh_io.hpp"
-#include "app/simulation/core_cell.hpp"
 #include "app/simulation/organ_models.hpp"
-#include "app/simulation/tet_budget.hpp"
 
 namespace vdmsim {
 
@@ -167,17 +165,17 @@ bool prepare_scene_def(const SceneDef& scene, PreparedScene& out, std::vector<Sc
   for (int d = 0; d < 3; ++d) def.bulk_modulus.col(d).setConstant(s.bulk_modulus[d]);
   def.connectivity_modulus = s.connectivity_modulus;
   def.capsule = s.capsule;
-  def.bending_modulus = s.model == vdm::ModelKind::vdm ? s.bending_modulus : 0.0;
+  // What the model ignores does not reach the surface it shares: the skin's bending, the stress.
+  const OrganModel& row = organ_model(s.model);
+  def.bending_modulus = row.uses("organ.material.bending_modulus") ? s.bending_modulus : 0.0;
   def.density = s.density;
   def.dt = s.dt;
   def.gravity = s.gravity;
   def.use_gravity = s.has(Effect::gravity);
   def.use_inertia = s.has(Effect::inertia);
-  def.compute_stress = s.has(Effect::stress);
+  def.compute_stress = s.has(Effect::stress) && row.surface_stress;
   def.damping = s.damping;
   def.volume_constraint = s.volume_constraint;
-  // fem and mass_spring report no stress at the surface (vdm_core's core does: core_stress.hpp)
-  if (s.model == vdm::ModelKind::fem || s.model == vdm::ModelKind::mass_spring) def.compute_stress = false;
   def.solver = s.solver;
   def.fixed = vdm::FlagMat::Zero(n, 3);
   for (size_t k = 0; k < s.fixed.size(); ++k)
@@ -200,11 +198,7 @@ bool prepare_scene_def(const SceneDef& scene, PreparedScene& out, std::vector<Sc
     problems.push_back({s.file, "organ", error, false});
     return false;
   }
-  if (s.model == vdm::ModelKind::fem && !check_tet_budget(out.model.rest, s.tet_size, error)) {
-    problems.push_back({s.file, "organ.tet_size", error, false});
-    return false;
-  }
-  check_core_cell(s, out.model.rest, problems);
+  organ_model_run(s.model).check_placed(s, out.model.rest, problems);
   if (std::any_of(problems.begin(), problems.end(), [](const SceneProblem& p) { return !p.warning; })) return false;
   if (!build_reference_model(s, out.model, out.reference, error)) {
     problems.push_back({s.file, "organ.model", error, false});

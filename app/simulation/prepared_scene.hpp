@@ -1,7 +1,7 @@
 #pragma once
 // A scene made ready to simulate: the scene as loaded and validated, its organ's tissue model,
 // the nodes its loads and motions act on, its instruments' skins and convex hulls, and the
-// reference model when organ.model is fem or mass_spring.
+// reference model of organ.model (organ_models.hpp; none for vdm).
 #include <memory>
 #include <string>
 #include <vector>
@@ -32,7 +32,7 @@ struct PreparedScene {
   std::vector<vdm::Vec3> prescribed_about;         // rotation centre per entry (m)
   std::vector<InstrumentSkin> skins;               // per instrument
   std::vector<SurfaceHit> surface_hits;            // per scene.surface_keyframes entry: where each landed
-  ReferenceModel reference;                        // organ.model fem or mass_spring (vdm: vdm::step)
+  ReferenceModel reference;                        // organ.model's own (vdm: none, vdm::step)
 };
 
 // Loads and validates the scene and its mesh and builds the model. On failure returns false

@@ -46,7 +46,7 @@ SceneSimulation::SceneSimulation(const PreparedScene& ps)
   // benchmark repeat) builds its own, so that none starts where another ended.
   organ_ = make_organ_solver(ps.reference);
   if (s.has(Effect::contact) && !s.instruments.empty()) contact_ = std::make_unique<vdm::ContactSolver>(ps.model, s.contact);
-  if (contact_) contact_->set_solver(organ_.get());  // organ.model fem or mass_spring (null: vdm)
+  if (contact_) contact_->set_solver(organ_.get());  // organ.model's solver (null: vdm)
   tools_.resize(probes_.size() + 3 * graspers_.size());  // probes, then each grasper's two jaws and shaft
 }
 
@@ -111,14 +111,14 @@ std::string SceneSimulation::deep_probe_cause(size_t probe) const {
                   width, mean_edge, 0.05 * mean_edge);
     return text;
   }
-  // The stiffness contact pushes against (Pa): E for the reference models, else VDM's moduli.
-  const double stiffness = s.model == vdm::ModelKind::vdm ? std::min(s.bulk_modulus.minCoeff(), s.connectivity_modulus)
-                                                          : s.young_modulus;
+  // The stiffness contact pushes against (Pa): VDM's moduli for a model given by them, else E.
+  const bool vdm_moduli = organ_model(s.model).vdm_moduli;
+  const double stiffness = vdm_moduli ? std::min(s.bulk_modulus.minCoeff(), s.connectivity_modulus) : s.young_modulus;
   if (stiffness < 1.0) {
     std::snprintf(text, sizeof text,
                   "the organ's material (%s %.3g Pa) is far softer than any tissue (100 Pa to 100 kPa): nothing "
                   "pushes back",
-                  s.model == vdm::ModelKind::vdm ? "modulus" : "young_modulus", stiffness);
+                  vdm_moduli ? "modulus" : "young_modulus", stiffness);
     return text;
   }
   return "contact could not push the organ away (is it rigid, bulk_modulus inf, or held in place where the probe "

@@ -1,4 +1,6 @@
-// The elastic core's static step (engine/core/elastic_core.hpp).
+// The elastic core's step (engine/core/elastic_core.hpp): static, or with inertia implicit
+// Euler on the lattice's lumped mass (M / dt^2 on K's diagonal, M (v_start / dt^2 + velocity
+// / dt) in its load, damping's share beside them).
 //
 // With the cubes' rotations held, the energy is quadratic and the same on every axis but for
 // which surface entries are prescribed. A free surface entry is tied only to the lattice, so it
@@ -74,6 +76,9 @@ void factorize(const CoreModel& m, int k, CoreWorkspace& w, CoreState& s) {
   // solvable: it moves the answer by about 1e-10 of itself.
   const double reg = 1e-10 * m.K_core.diagonal().maxCoeff();
   for (int j = 0; j < m.ng; ++j) K.coeffRef(j, j) += reg;
+  // Implicit Euler's mass term, M / dt^2 + damping M / dt.
+  if (m.mass.size() == m.ng)
+    for (int j = 0; j < m.ng; ++j) K.coeffRef(j, j) += m.inertia_rate * m.mass[j];
   for (int i = 0; i < m.ns; ++i) {
     if (!w.factored_mask(i, k)) continue;
     for (int p = 0; p < 4; ++p)
@@ -162,6 +167,7 @@ double solve_linear(const CoreModel& m, CoreWorkspace& w, double c) {
   double num = -c;
   if (m.gravity_load.rows() == ng) w.b = m.gravity_load + w.rotation_load;
   else w.b = w.rotation_load;
+  if (m.mass.size() == ng) w.b += w.inertia_load;
   for (int d = 0; d < 3; ++d)
     for (int i = 0; i < ns; ++i) {
       const double load = w.factored_mask(i, d) ? m.tie_k[i] * w.target(i, d) : w.force(i, d);
@@ -257,6 +263,8 @@ CoreState make_core_state(const CoreModel& m) {
   s.u = NodeMat::Zero(m.ns, 3);
   s.v = NodeMat::Zero(m.ng, 3);
   s.reaction = NodeMat::Zero(m.ns, 3);
+  s.velocity = s.v_start = s.velocity_start = NodeMat::Zero(m.ng, 3);
+  s.u_start = NodeMat::Zero(m.ns, 3);
   s.volume = m.rest_volume;
   s.work = std::make_unique<CoreWorkspace>();
   CoreWorkspace& w = *s.work;
@@ -266,11 +274,18 @@ CoreState make_core_state(const CoreModel& m) {
   w.mask = FlagMat::Zero(m.ns, 3);
   w.factored_mask = m.fixed;
   w.chol_mask = FlagMat::Zero(m.ns, 3);
-  w.b = w.a = w.rotation_load = w.v_new = w.response = NodeMat::Zero(m.ng, 3);
+  w.b = w.a = w.rotation_load = w.inertia_load = w.residual = w.elastic = w.v_new = w.response = NodeMat::Zero(m.ng, 3);
   const int n = 3 * m.ng, h = std::max(1, m.settings.anderson);
   w.dX = w.dG = Eigen::MatrixXd::Zero(n, h);
   w.x_prev = w.g_prev = w.g = w.mixed = Vec::Zero(n);
   return s;
+}
+
+void rewind(CoreState& s) { s.rewound = true; }
+
+double kinetic_energy(const CoreModel& m, const CoreState& s) {
+  if (m.mass.size() != m.ng) return 0.0;
+  return 0.5 * m.mass.dot(s.velocity.rowwise().squaredNorm());
 }
 
 void tet_rotations(const CoreModel& m, const NodeMat& v, std::vector<Eigen::Quaterniond>& Q, std::vector<Eigen::Matrix3d>& R) {
@@ -300,6 +315,23 @@ void step(const CoreModel& m, const StepInput& in, CoreState& s, SurfaceForceLaw
           w.mask(i, d) = 1;
           w.target(i, d) = in.prescribed_u(i, d);
         }
+  // With inertia: where this step starts (kept when it is solved again after rewind()), and
+  // implicit Euler's load from there.
+  const bool inertia = m.mass.size() == ng;
+  if (inertia) {
+    if (!s.rewound) {
+      s.u_start = s.u;
+      s.v_start = s.v;
+      s.velocity_start = s.velocity;
+    }
+    // The iteration starts where the lattice would coast to (an iteration stopped early then
+    // errs towards too little elastic force, not towards holding the organ back), and a step
+    // solved again starts exactly as the first time.
+    s.u = s.u_start;
+    s.v = s.v_start + m.dt * s.velocity_start;
+    w.inertia_load = (m.inertia_rate * s.v_start + s.velocity_start / m.dt).array().colwise() * m.mass.array();
+  }
+  s.rewound = false;
   w.force.setZero();
   if (in.force.rows() == ns) w.force = in.force;
   if (in.pressure.size() == ns) {
@@ -318,6 +350,8 @@ void step(const CoreModel& m, const StepInput& in, CoreState& s, SurfaceForceLaw
   const double tol = m.settings.tolerance * m.size;
   Eigen::Map<Vec> v_flat(s.v.data(), 3 * ng), v_new_flat(w.v_new.data(), 3 * ng);
   double g_norm_prev = 0;
+  constexpr int kRateSpan = 4;
+  double g_norms[kRateSpan] = {0, 0, 0, 0};
   bool done = false;
   for (int it = 0; it < m.settings.max_iterations && !done; ++it) {
     ++s.stats.iterations;
@@ -359,15 +393,40 @@ void step(const CoreModel& m, const StepInput& in, CoreState& s, SurfaceForceLaw
     // prescribed the surface does not tell).
     const double change = std::max((w.u_new - s.u).cwiseAbs().maxCoeff(), (w.v_new - s.v).cwiseAbs().maxCoeff());
     s.stats.change = change / m.size;
-    if (change <= tol) {
+    // Anderson mixing on v: x = v, G(x) = v_new, residual g = G(x) - x.
+    w.g = v_new_flat - v_flat;
+    const double g_norm = w.g.norm();
+    // Stop when the distance to the fixed point is within the tolerance: an iteration that
+    // contracts by a factor rho leaves about change rho / (1 - rho), rho from the residuals
+    // of the last four iterations (Anderson's vary from one to the next), at most 0.999, so
+    // that the first iteration stops only when nothing moves. Where the rotations converge
+    // slowly (a bending under a load, inertia) the change per iteration is small long before
+    // the answer is near: the lattice's forces must also balance.
+    double g_old = g_norm_prev;
+    int span = 1;
+    if (it >= kRateSpan) {
+      g_old = g_norms[static_cast<size_t>(it % kRateSpan)];
+      span = kRateSpan;
+    }
+    g_norms[static_cast<size_t>(it % kRateSpan)] = g_norm;
+    const double rate = it > 0 && g_old > 0 ? std::min(std::pow(g_norm / g_old, 1.0 / span), 0.999) : 0.999;
+    bool stop = change * rate / (1 - rate) <= tol;
+    if (stop && change > 1e-3 * tol) {
+      // And the forces balance: the lattice's imbalance at this iterate, K (v_new - v), small
+      // against the core's elastic forces there, K_core v less the rotations' load.
+      for (int d = 0; d < 3; ++d) {
+        w.residual.col(d).noalias() = w.K[w.slot[d]] * (w.v_new.col(d) - s.v.col(d));
+        w.elastic.col(d).noalias() = m.K_core * s.v.col(d);
+      }
+      w.elastic -= w.rotation_load;
+      stop = w.residual.cwiseAbs().maxCoeff() <= m.settings.force_tolerance * w.elastic.cwiseAbs().maxCoeff();
+    }
+    if (stop) {
       s.v = w.v_new;
       s.u = w.u_new;
       done = true;
       break;
     }
-    // Anderson mixing on v: x = v, G(x) = v_new, residual g = G(x) - x.
-    w.g = v_new_flat - v_flat;
-    const double g_norm = w.g.norm();
     if (depth <= 0) {
       s.v = w.v_new;
     } else {
@@ -430,6 +489,7 @@ void step(const CoreModel& m, const StepInput& in, CoreState& s, SurfaceForceLaw
       s.reaction(i, d) = m.tie_k[i] * (s.u(i, d) - tied(m, s.v, i, d)) - w.force(i, d) + lambda * w.area(i, d);
     }
   s.pressure = -lambda;
+  if (inertia) s.velocity = (s.v - s.v_start) / m.dt;
   w.x = m.surface.positions + s.u;
   s.volume = enclosed_volume(w.x, m.surface.triangles, Vec3::Zero());
   s.volume_rel_error = (s.volume - m.rest_volume) / m.rest_volume;

@@ -63,7 +63,9 @@ struct CoreWorkspace {
   NodeMat b;              // per axis, the lattice's load
   NodeMat a;              // per axis, the volume row's lattice entries: sum over free entries A_i W_i^T
   NodeMat rotation_load;  // per axis, the lagged rotations' load on the lattice
+  NodeMat inertia_load;   // per axis, M (rate v_start + velocity_start / dt): implicit Euler's (with inertia)
   NodeMat v_new, u_new;
+  NodeMat residual, elastic;  // per axis, the lattice's force imbalance and elastic forces (convergence)
   // Anderson mixing of the lattice's displacements: differences of iterates and of residuals.
   Eigen::MatrixXd dX, dG;
   NodeMat response;  // per axis K_d^-1 a_d, at the last iteration

@@ -253,6 +253,16 @@ bool build_core_model(const CoreDef& def, CoreModel& m, std::string& error) {
       for (int a = 0; a < 8; ++a)
         m.gravity_load.row(m.cubes(q, a)) += (def.density * m.fill[q] * h * h * h / 8) * def.gravity.transpose();
   }
+  if (def.use_inertia) {
+    if (!(def.density > 0)) return error = "elastic core: density must be > 0 with inertia", false;
+    if (!(def.dt > 0)) return error = "elastic core: the time step must be > 0 with inertia", false;
+    if (!(def.damping >= 0)) return error = "elastic core: damping must be >= 0", false;
+    m.mass = Vec::Zero(ng);
+    for (Eigen::Index q = 0; q < m.cubes.rows(); ++q)
+      for (int a = 0; a < 8; ++a) m.mass[m.cubes(q, a)] += def.density * m.fill[q] * h * h * h / 8;
+    m.dt = def.dt;
+    m.inertia_rate = 1 / (def.dt * def.dt) + def.damping / def.dt;
+  }
   return true;
 }
 

@@ -37,6 +37,10 @@ struct CoreSettings {
   // (AgainstTheFem) move by less than 0.3 points of their errors from 1e-7 to 1e-5; the
   // iterations while pressing fall from about 20 to 5.
   double tolerance = 1e-5;
+  // And the lattice's forces balance to this share of the core's elastic forces: where the
+  // rotations converge slowly (a bending under a load, inertia) the change per iteration is
+  // small long before the answer is near.
+  double force_tolerance = 1e-3;
   int max_iterations = 400; // per step
   int anderson = 6;         // history of the Anderson mixing of the lattice's displacements (0: plain fixed point)
   // Prescribed entries that are not the organ's own fixed ones (a contact's, a grasp's) are
@@ -54,6 +58,12 @@ struct CoreDef {
   double density = 1060;          // kg/m^3 (gravity only)
   Vec3 gravity = Vec3(0, 0, -9.81);
   bool use_gravity = false;       // the weight, on the lattice: rho g f_c h^3 / 8 per cube corner
+  // The inertia effect: the lattice's lumped mass (rho f_c h^3 / 8 per cube corner, as its
+  // weight) and implicit Euler with step dt; damping (1/s) proportional to the mass. The
+  // surface has no mass of its own: it follows its ties at once.
+  bool use_inertia = false;
+  double damping = 0;
+  double dt = 1.0 / 30.0;
   bool compute_stress = false;    // strain and stress at the surface after each step (core_stress.hpp)
   CoreSettings settings;
 };
@@ -77,6 +87,9 @@ struct CoreModel {
   Vec tie_k;                      // kappa |A_i| at rest (N/m), at least kappa |A| / 10 of its largest neighbour's
   SpMat K_core;                   // the core's matrix, one axis (lower and upper), N/m
   NodeMat gravity_load;           // ng x 3 lattice body force (N); empty without gravity
+  Vec mass;                       // ng lumped lattice masses (kg); empty without inertia
+  double inertia_rate = 0;        // 1/dt^2 + damping/dt (1/s^2): M times it joins K's diagonal
+  double dt = 0;                  // the inertia's step (s)
   FlagMat fixed;                  // ns x 3
   bool compute_stress = false;
   CoreSettings settings;
@@ -106,6 +119,11 @@ struct CoreWorkspace;
 struct CoreState {
   NodeMat u;                // ns x 3 surface displacements (m)
   NodeMat v;                // ng x 3 lattice displacements (m)
+  NodeMat velocity;         // ng x 3 lattice velocities (m/s), with inertia
+  // Where the step in progress started (with inertia): a step solved again after rewind()
+  // starts from here, not from the last solve's answer.
+  NodeMat u_start, v_start, velocity_start;
+  bool rewound = false;
   NodeMat reaction;         // ns x 3 force the constraints apply to the organ (N)
   double pressure = 0;      // the fluid's pressure change (Pa)
   double volume = 0, volume_rel_error = 0;
@@ -120,8 +138,15 @@ struct CoreState {
 
 CoreState make_core_state(const CoreModel& model);
 
-// One quasi-static step to the input's prescribed displacements, forces and pressures
-// (StepInput's springs and tolerance are not taken). With `law`, the law's forces are set after
+// The next step() solves the last one again from where it started (with inertia, its lattice
+// position and velocity; without, it only warm-starts from the last answer either way).
+void rewind(CoreState& state);
+
+// The lattice's kinetic energy, 1/2 sum m_j |velocity_j|^2 (J; 0 without inertia).
+double kinetic_energy(const CoreModel& model, const CoreState& state);
+
+// One step to the input's prescribed displacements, forces and pressures: static, or with
+// inertia implicit Euler from the last step (StepInput's springs and tolerance are not taken). With `law`, the law's forces are set after
 // every linear solve of the iteration (engine/surface_force_law.hpp) and the solve repeated
 // with them.
 void step(const CoreModel& model, const StepInput& input, CoreState& state, SurfaceForceLaw* law = nullptr);

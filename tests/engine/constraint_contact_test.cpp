@@ -6,8 +6,12 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <memory>
+#include <string>
 
 #include "engine/contact.hpp"
+#include "engine/core/elastic_core.hpp"
+#include "engine/organ_solver.hpp"
 #include "support/scenarios.hpp"
 
 namespace vdm {
@@ -49,12 +53,15 @@ struct Slide {
 
 // Presses the probe `depth` into the block at x = -2 cm in 10 steps, then slides it 4 cm along
 // x in `steps` steps.
+// `organ`: the model that solves the steps (null: VDM's engine on m).
 Slide press_and_slide(const TissueModel& m, double mu, double depth, double r, int steps,
-                      ContactSettings::Method method = ContactSettings::Method::constraint) {
+                      ContactSettings::Method method = ContactSettings::Method::constraint,
+                      OrganSolver* organ = nullptr) {
   SimState s = make_sim_state(m);
   ContactSettings cs = constraint(mu);
   cs.method = method;
   ContactSolver contact(m, cs);
+  if (organ) contact.set_solver(organ);
   const StepInput base = make_step_input(m);
   Slide out;
   ContactReport rep;
@@ -108,6 +115,40 @@ TEST(ConstraintContact, FrictionlessSlideHasNoTangentialForce) {
     const ContactReport& q = run.slide[j];
     EXPECT_GT(q.force.z(), 0.1);
     EXPECT_LE(std::abs(q.force.x()), 0.05 * q.force.z()) << "slide step " << j;
+  }
+}
+
+// The elastic core on the block's surface (E 5 kPa, 5 mm cells), its bottom fixed.
+std::unique_ptr<OrganSolver> core_on(const TissueModel& m) {
+  core::CoreDef def;
+  def.surface = m.rest;
+  def.young_modulus = 5000;
+  def.cell_size = 0.005;
+  def.fixed = m.held;
+  core::CoreModel model;
+  std::string error;
+  EXPECT_TRUE(core::build_core_model(def, model, error)) << error;
+  return make_core_solver(std::move(model), 1.0 / 30);
+}
+
+TEST(ConstraintContact, FrictionlessSlideOnTheCoreHasNoTangentialForce) {
+  // The same 1 cm probe, 2 mm deep, slid 4 cm over the elastic core without friction; and
+  // with friction 0.3, once slipping, drag mu times the normal force.
+  const TissueModel m = block();
+  const double r = 0.01;
+  for (const double mu : {0.0, 0.3}) {
+    std::unique_ptr<OrganSolver> organ = core_on(m);
+    const Slide run = press_and_slide(m, mu, 0.002, r, 20, ContactSettings::Method::constraint, organ.get());
+    expect_steady(run, r);
+    for (size_t j = 0; j < run.slide.size(); ++j) {
+      const ContactReport& q = run.slide[j];
+      EXPECT_GT(q.force.z(), 0.05) << "friction " << mu << ", slide step " << j;
+      if (mu == 0) {
+        EXPECT_LE(std::abs(q.force.x()), 0.05 * q.force.z()) << "slide step " << j;
+      } else if (j >= 10) {
+        EXPECT_NEAR(-q.force.x() / q.force.z(), mu, 0.2 * mu) << "slide step " << j;
+      }
+    }
   }
 }
 

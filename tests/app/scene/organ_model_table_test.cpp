@@ -1,0 +1,130 @@
+// The organ model table (app/scene/organ_model_table.hpp) is complete and is what the program
+// asks: every ModelKind has one row in both halves, its name parses back, each model warns about
+// exactly the organ keys it ignores, and `check` names each model's own default material.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include <yaml-cpp/yaml.h>
+
+#include "app/check/scene_sanity.hpp"
+#include "app/scene/organ_model_table.hpp"
+#include "app/scene/scene.hpp"
+#include "app/scene/scene_keys.hpp"
+#include "app/simulation/organ_models.hpp"
+#include "support/scratch_dir.hpp"
+
+namespace vdmsim {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Every ModelKind: the engine names each one (its switch covers them all) and no other.
+std::vector<vdm::ModelKind> every_model_kind() {
+  std::vector<vdm::ModelKind> kinds;
+  for (int i = 0; i < 64 && std::string(vdm::to_string(static_cast<vdm::ModelKind>(i))) != "unknown"; ++i)
+    kinds.push_back(static_cast<vdm::ModelKind>(i));
+  return kinds;
+}
+
+TEST(OrganModelTable, EveryModelKindHasOneRowInBothHalvesAndItsNameParsesBack) {
+  const std::vector<vdm::ModelKind> kinds = every_model_kind();
+  ASSERT_GE(kinds.size(), 4u);
+  EXPECT_EQ(organ_models().size(), kinds.size());
+  EXPECT_EQ(organ_model_names().size(), kinds.size());
+  for (vdm::ModelKind kind : kinds) {
+    const std::string name = vdm::to_string(kind);
+    SCOPED_TRACE(name);
+    int rows = 0;
+    for (const OrganModel& m : organ_models()) rows += m.kind == kind;
+    EXPECT_EQ(rows, 1);
+    EXPECT_EQ(organ_model(kind).kind, kind);
+    EXPECT_EQ(organ_model_run(kind).kind, kind);
+    vdm::ModelKind parsed = kind == vdm::ModelKind::vdm ? vdm::ModelKind::fem : vdm::ModelKind::vdm;
+    EXPECT_TRUE(vdm::parse_model_kind(name, parsed));
+    EXPECT_EQ(parsed, kind);
+    EXPECT_EQ(organ_model(kind).name(), name);
+    EXPECT_FALSE(organ_model(kind).material.empty()) << "check names no default material";
+  }
+}
+
+TEST(OrganModelTable, DefaultModelIsTheScenesAndTheReferencesDefault) {
+  EXPECT_EQ(SceneDef().model, kDefaultOrganModel);
+  for (const SceneKey& k : kSceneKeys)
+    if (std::string(k.path) == "organ.model") {
+      EXPECT_EQ(k.default_value(), vdm::to_string(kDefaultOrganModel));
+      EXPECT_EQ(k.values(), organ_model_names());
+    }
+}
+
+TEST(OrganModelTable, ModelKeysAreOrganKeysEachUsedBySomeButNotAllModels) {
+  const std::vector<std::string> keys = model_specific_keys();
+  ASSERT_FALSE(keys.empty());
+  for (const std::string& path : keys) {
+    SCOPED_TRACE(path);
+    EXPECT_EQ(path.rfind("organ.", 0), 0u);
+    int users = 0;
+    for (const OrganModel& m : organ_models()) users += m.uses(path);
+    EXPECT_GT(users, 0);
+    EXPECT_LT(users, static_cast<int>(organ_models().size()));
+  }
+  // A key no row lists is every model's.
+  for (const OrganModel& m : organ_models()) EXPECT_TRUE(m.uses("organ.material.density")) << m.name();
+}
+
+// A scene of `model` on the project's small liver with the organ key `path` set to the value of
+// its own example in the scene reference.
+std::vector<SceneProblem> model_table_scene_problems(const std::string& model, const std::string& path) {
+  const std::string name = path.substr(path.rfind('.') + 1);
+  const YAML::Node example = YAML::Load(std::string("{") + kSceneKeys[scene_key_index(path.c_str())].example + "}");
+  YAML::Node root = YAML::Load("{organ: {}}");
+  root["organ"]["mesh"] = (fs::path(VDMSIM_SOURCE_DIR) / "assets/meshes/liver_L4.obj").string();
+  root["organ"]["model"] = model;
+  if (path.rfind("organ.material.", 0) == 0) root["organ"]["material"][name] = example[name];
+  else root["organ"][name] = example[name];
+  YAML::Emitter e;
+  e << root;
+  const fs::path file = test::scratch_dir("organ_model_table") / (model + "_" + name + ".yaml");
+  std::ofstream(file) << e.c_str() << "\n";
+  return load_scene(file.string()).problems;
+}
+
+TEST(OrganModelTable, EachModelWarnsAboutExactlyTheOrganKeysItIgnores) {
+  for (const OrganModel& m : organ_models())
+    for (const std::string& path : model_specific_keys()) {
+      SCOPED_TRACE(std::string(m.name()) + " " + path);
+      int ignored = 0;
+      for (const SceneProblem& p : model_table_scene_problems(m.name(), path))
+        if (p.message.find("ignored by organ.model") != std::string::npos) {
+          ++ignored;
+          EXPECT_TRUE(p.warning);
+          EXPECT_EQ(p.field, path);
+          EXPECT_EQ(p.message, std::string("ignored by organ.model ") + m.name() +
+                                   " (docs/scene-reference.md says which models use it)");
+        }
+      EXPECT_EQ(ignored, m.uses(path) ? 0 : 1);
+    }
+}
+
+TEST(OrganModelTable, CheckNamesEachModelsOwnDefaultMaterial) {
+  const std::vector<std::pair<vdm::ModelKind, std::string>> expected = {
+      {vdm::ModelKind::vdm, "bulk_modulus 20000 Pa, connectivity_modulus 2000 Pa, density 1060 kg/m^3"},
+      {vdm::ModelKind::vdm_core, "young_modulus 3000 Pa, density 1060 kg/m^3"},
+      {vdm::ModelKind::fem, "young_modulus 3000 Pa, poisson_ratio 0.45, density 1060 kg/m^3"},
+      {vdm::ModelKind::mass_spring, "young_modulus 3000 Pa, thickness 0.005 m, density 1060 kg/m^3"}};
+  for (const auto& [kind, values] : expected) {
+    PreparedScene ps;
+    ps.scene.model = kind;
+    std::string said;
+    for (const SceneProblem& p : scene_sanity(ps).problems)
+      if (p.field == "organ.material") said = p.message;
+    EXPECT_EQ(said, "not given: the default material is used (" + values + "); give your tissue's")
+        << vdm::to_string(kind);
+  }
+}
+
+}  // namespace
+}  // namespace vdmsim
