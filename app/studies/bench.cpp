@@ -310,7 +310,6 @@ SideBySide bench_side_by_side(const std::string& mesh, int pairs) {
 // The sliding probe of palpation_slide.yaml with sticking (kinematic) and with constraint
 // contact (its own friction), run after run in turn (`pairs` pairs; `frames` frames each,
 // timed: the frames in contact), so that each ratio compares two runs made seconds apart.
-// With `core`, on the elastic core (organ.model vdm_core, E 5 kPa, its default cell).
 struct SlideSideBySide {
   long nodes = 0;
   int pairs = 0;
@@ -322,7 +321,7 @@ struct SlideSideBySide {
   int unconverged = 0;                               // constraint: steps that reached the cap
 };
 
-SlideSideBySide bench_slide_side_by_side(int pairs, int frames, bool core) {
+SlideSideBySide bench_slide_side_by_side(int pairs, int frames) {
   const std::string path = (fs::path(data_dir()) / "scenes" / "palpation_slide.yaml").string();
   SceneLoadResult loaded = load_scene(path);
   if (!loaded.ok()) throw std::runtime_error(path + ": cannot load");
@@ -335,11 +334,6 @@ SlideSideBySide bench_slide_side_by_side(int pairs, int frames, bool core) {
     s.has_render = false;
     s.render.stress = false;
     if (k == 0) s.contact.method = vdm::ContactSettings::Method::kinematic;
-    if (core) {
-      s.model = vdm::ModelKind::vdm_core;
-      s.young_modulus = 5000;
-      s.cell_size = 0;
-    }
     std::vector<SceneProblem> problems;
     if (!prepare_scene_def(s, ps[k], problems))
       throw std::runtime_error(problems.empty() ? "cannot prepare the slide scene" : problems.back().text());
@@ -691,14 +685,11 @@ int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::os
       return 1;
     }
   }
-  // Sliding with friction against sticking, run after run in turn: on VDM, then on the core.
-  for (const bool core : {false, true}) {
-    const std::string label = core ? "core_slide side by side" : "liver_slide side by side";
-    const fs::path csv = dir / (core ? "bench_core_slide.csv" : "bench_slide.csv");
-    if (!only.empty() && label.find(only) == std::string::npos) continue;
-    out << "bench: " << label << " ..." << std::flush;
-    const SlideSideBySide r = bench_slide_side_by_side(quick ? 1 : 3, quick ? 60 : 120, core);
-    std::ofstream sc(csv);
+  // Sliding with friction against sticking, run after run in turn.
+  if (only.empty() || std::string("liver_slide side by side").find(only) != std::string::npos) {
+    out << "bench: liver_slide side by side ..." << std::flush;
+    const SlideSideBySide r = bench_slide_side_by_side(quick ? 1 : 3, quick ? 60 : 120);
+    std::ofstream sc(dir / "bench_slide.csv");
     sc << "nodes,pairs,friction,kinematic_median_ms,constraint_median_ms,ratio,pair_ratio_median,pair_ratio_max,"
           "constraint_solves_per_step,constraint_unconverged_steps\n";
     sc << r.nodes << ',' << r.pairs << ',' << r.friction << ',' << std::setprecision(6) << r.kinematic_ms << ','
@@ -706,7 +697,7 @@ int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::os
        << ',' << r.unconverged << '\n';
     sc.flush();
     if (!sc) {
-      err << "vdmsim: error: " << csv.string() << ": write failed\n";
+      err << "vdmsim: error: " << (dir / "bench_slide.csv").string() << ": write failed\n";
       return 1;
     }
     out << " " << r.nodes << " nodes, runs in turn: constraint contact (friction " << r.friction << ") "
