@@ -74,7 +74,8 @@ struct VdmCoreRow {
   static constexpr bool vdm_moduli = false;
   static constexpr bool surface_stress = true;
   static constexpr bool penalty_contact = false;
-  // Kinematic as the reference models: a constraint contact step costs about 3 times as much.
+  // Kinematic as the reference models: a constraint contact step with friction costs about
+  // 1.6 times as much on a press (docs/model.md, "Cost").
   static constexpr ContactMethod contact = ContactMethod::kinematic;
   static void check_placed(const SceneDef& scene, const vdm::SurfaceMesh& organ, std::vector<SceneProblem>& problems);
   static bool build(const SceneDef& scene, const vdm::TissueModel& model, ReferenceModel& out, std::string& error);

@@ -506,12 +506,12 @@ Row bench_pipeline(const fs::path& dir, const std::string& mesh, int frames, ren
   return r;
 }
 
-// The elastic core (organ.model vdm_core, E 5 kPa, its default cell) on probe_poke's press
-// into the 10k liver, run after run in turn: the tissue held on the probe (kinematic contact,
-// the press prescribed by the probe's surface), constraint contact with friction 0.2 (the
-// default), 0 and 0.3; the steps while pressing and holding (frames 16 to 59) timed; and one
-// 1280x720 frame drawn and encoded (render_720p's figure) in the same run, the frame the
-// step is measured against.
+// The elastic core (organ.model vdm_core, E 5 kPa, its default cell) on one instrument path
+// into the 10k liver, run after run in turn: the tissue held on the instrument (kinematic
+// contact: sticking), constraint contact with friction 0.2 (the default), 0 and 0.3; the steps
+// from frame `first` on that touch the organ timed; and one 1280x720 frame drawn and encoded
+// (render_720p's figure) in the same run, the frame the step is measured against. The paths:
+// probe_poke's press and hold (frames 16 to 59), palpation_slide's slide across the lobe.
 struct CoreSideBySide {
   static constexpr int kVariants = 4;
   const char* name[kVariants] = {"kinematic", "constraint friction 0.2", "constraint friction 0", "constraint friction 0.3"};
@@ -523,8 +523,8 @@ struct CoreSideBySide {
   double frame_ms = 0;
 };
 
-CoreSideBySide bench_core_side_by_side(const fs::path& dir, int rounds) {
-  const std::string path = (fs::path(data_dir()) / "scenes" / "probe_poke.yaml").string();
+CoreSideBySide bench_core_side_by_side(const fs::path& dir, const std::string& scene, int frames, int first, int rounds) {
+  const std::string path = (fs::path(data_dir()) / "scenes" / scene).string();
   SceneLoadResult loaded = load_scene(path);
   if (!loaded.ok()) throw std::runtime_error(path + ": cannot load");
   CoreSideBySide r;
@@ -532,9 +532,10 @@ CoreSideBySide bench_core_side_by_side(const fs::path& dir, int rounds) {
   const double friction[CoreSideBySide::kVariants] = {0, 0.2, 0, 0.3};
   for (int k = 0; k < CoreSideBySide::kVariants; ++k) {
     SceneDef s = loaded.scene;
-    s.frames = 60;
+    s.frames = frames;
     s.has_render = false;
     s.render.stress = false;
+    s.effects.erase(std::remove(s.effects.begin(), s.effects.end(), Effect::stress), s.effects.end());
     s.model = vdm::ModelKind::vdm_core;
     s.young_modulus = 5000;
     s.cell_size = 0;
@@ -542,16 +543,16 @@ CoreSideBySide bench_core_side_by_side(const fs::path& dir, int rounds) {
     s.contact.friction = friction[k];
     std::vector<SceneProblem> problems;
     if (!prepare_scene_def(s, ps[k], problems))
-      throw std::runtime_error(problems.empty() ? "cannot prepare the core's probe scene" : problems.back().text());
+      throw std::runtime_error(problems.empty() ? "cannot prepare the core's scene " + scene : problems.back().text());
   }
   std::vector<double> all[CoreSideBySide::kVariants];
   long steps[CoreSideBySide::kVariants] = {};
   for (int round = 0; round < rounds; ++round)
     for (int k = 0; k < CoreSideBySide::kVariants; ++k) {
       SceneSimulation sim(ps[k]);
-      for (int f = 0; f < 60; ++f) {
+      for (int f = 0; f < frames; ++f) {
         sim.advance(f);
-        if (f < 16) continue;
+        if (f < first || sim.contact_report().nodes == 0) continue;
         all[k].push_back(sim.frame_step_ms());
         r.iterations[k] += sim.frame_iterations();
         ++steps[k];
@@ -705,11 +706,20 @@ int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::os
         << r.ratio << "x (pair by pair: median " << r.pair_ratio_median << "x, highest " << r.pair_ratio_max << "x, "
         << r.pairs << " pairs); " << r.solves << " solves per step, " << r.unconverged << " steps unconverged\n";
   }
-  // The elastic core's press, its contact methods in turn, against one frame drawn and encoded.
-  if (only.empty() || std::string("core_probe side by side").find(only) != std::string::npos) {
-    out << "bench: core_probe side by side ..." << std::flush;
-    const CoreSideBySide r = bench_core_side_by_side(dir, quick ? 1 : 3);
-    std::ofstream sc(dir / "bench_core.csv");
+  // The elastic core's press and slide, its contact methods in turn, against one frame drawn
+  // and encoded.
+  struct CorePath {
+    const char* label;
+    const char* scene;
+    int frames, first;
+  };
+  for (const CorePath& p : {CorePath{"core_probe side by side", "probe_poke.yaml", 60, 16},
+                            CorePath{"core_slide side by side", "palpation_slide.yaml", 121, 0}}) {
+    if (!only.empty() && std::string(p.label).find(only) == std::string::npos) continue;
+    out << "bench: " << p.label << " ..." << std::flush;
+    const CoreSideBySide r = bench_core_side_by_side(dir, p.scene, p.frames, p.first, quick ? 1 : 3);
+    const std::string file = std::string("bench_") + (std::string(p.label).substr(0, 10)) + ".csv";
+    std::ofstream sc(dir / file);
     sc << "nodes,cell_m,rounds,contact,median_ms,p95_ms,iterations,unconverged_steps,frame_720p_ms,median_over_frame,"
           "median_over_kinematic,p95_over_kinematic\n";
     out << " " << r.nodes << " nodes, cell " << r.cell_m * 1e3 << " mm, " << r.pairs << " rounds; one 720p frame "
@@ -727,7 +737,7 @@ int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::os
     }
     sc.flush();
     if (!sc) {
-      err << "vdmsim: error: " << (dir / "bench_core.csv").string() << ": write failed\n";
+      err << "vdmsim: error: " << (dir / file).string() << ": write failed\n";
       return 1;
     }
   }

@@ -10,6 +10,7 @@
 
 #include "engine/core/elastic_core.hpp"
 #include "engine/shapes.hpp"
+#include "support/cantilever.hpp"
 #include "support/free_input.hpp"
 
 namespace vdm::core {
@@ -100,18 +101,6 @@ TEST(CoreInertia, DeformingFreeOrganKeepsItsMomentum) {
   EXPECT_GT(largest_strain_motion, 1e-3);
 }
 
-// The tip's deflection along z of a cantilever along x, fixed at x = 0, under its weight.
-double tip_deflection(const CoreModel& m, const CoreState& s, double length) {
-  double sum = 0;
-  int count = 0;
-  for (int i = 0; i < m.ns; ++i)
-    if (m.surface.positions(i, 0) > length - 1e-9) {
-      sum += s.u(i, 2);
-      ++count;
-    }
-  return sum / count;
-}
-
 TEST(CoreInertia, CantileverPeriodFollowsFromItsStaticSag) {
   // A uniform cantilever's first bending mode and its static tip deflection under its own
   // weight are tied for any stiffness: omega^2 = 12.36 EI / (rho A L^4) and
@@ -119,17 +108,15 @@ TEST(CoreInertia, CantileverPeriodFollowsFromItsStaticSag) {
   // own static sag then predicts the period with which it swings when its weight is switched
   // on at rest; the swing is measured between the first two maxima of the tip's deflection.
   const double L = 0.1, a = 0.01, young = 5e6, h = 0.0025, dt = 0.0015;
-  const SurfaceMesh beam = make_box(Vec3(L, a, a), 40, 4, 4, Vec3(L / 2, 0, 0));
-  FlagMat fixed = FlagMat::Zero(beam.positions.rows(), 3);
-  for (Eigen::Index i = 0; i < beam.positions.rows(); ++i)
-    if (beam.positions(i, 0) < 1e-9) fixed.row(i).setOnes();
+  const SurfaceMesh beam = test::cantilever_surface(L, a, 40, 4);
+  const FlagMat fixed = test::cantilever_root(beam);
   // The static sag: the same core with a very long step (its inertia 1e-12 of its stiffness).
   const CoreModel settled = build_dynamic_core(beam, young, h, 1e3, 0, fixed, true);
   CoreState ss = make_core_state(settled);
   const StepInput in = test::free_input(settled.ns);
   step(settled, in, ss);
   ASSERT_TRUE(ss.stats.converged);
-  const double sag = -tip_deflection(settled, ss, L);
+  const double sag = -test::cantilever_tip_z(beam, ss.u, L);
   ASSERT_GT(sag, 0.005 * L);
   ASSERT_LT(sag, 0.1 * L);
   const double period_expected = 2 * M_PI / std::sqrt(1.545 * 9.81 / sag);
@@ -140,7 +127,7 @@ TEST(CoreInertia, CantileverPeriodFollowsFromItsStaticSag) {
   for (int n = 0; n < static_cast<int>(2.5 * period_expected / dt); ++n) {
     step(m, in, s);
     ASSERT_TRUE(s.stats.converged);
-    deflection.push_back(-tip_deflection(m, s, L));
+    deflection.push_back(-test::cantilever_tip_z(beam, s.u, L));
   }
   // It moves with its own dynamics: it swings past the static sag (implicit Euler damps the
   // swing, so less than the undamped 2x) and back.

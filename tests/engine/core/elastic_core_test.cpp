@@ -9,6 +9,7 @@
 #include "engine/core/elastic_core.hpp"
 #include "engine/geometry.hpp"
 #include "engine/shapes.hpp"
+#include "support/cantilever.hpp"
 #include "support/free_input.hpp"
 #include "support/held_below.hpp"
 
@@ -225,11 +226,9 @@ TEST(ElasticCore, LoadedBendingStopsNearItsFixedPoint) {
   // A cantilever bent by its weight: the rotations' fixed point converges slowly (the change
   // per iteration is small long before the answer is near). At the default tolerances the
   // tip's sag is within 1 % of the same step solved a thousand times tighter.
-  const double L = 0.1, a = 0.01;
-  const SurfaceMesh beam = make_box(Vec3(L, a, a), 40, 4, 4, Vec3(L / 2, 0, 0));
-  FlagMat fixed = FlagMat::Zero(beam.positions.rows(), 3);
-  for (Eigen::Index i = 0; i < beam.positions.rows(); ++i)
-    if (beam.positions(i, 0) < 1e-9) fixed.row(i).setOnes();
+  const double L = 0.1;
+  const SurfaceMesh beam = test::cantilever_surface(L, 0.01, 40, 4);
+  const FlagMat fixed = test::cantilever_root(beam);
   auto sag = [&](double tolerance, double force_tolerance) {
     CoreDef def;
     def.surface = beam;
@@ -246,14 +245,7 @@ TEST(ElasticCore, LoadedBendingStopsNearItsFixedPoint) {
     CoreState s = make_core_state(m);
     step(m, test::free_input(m.ns), s);
     EXPECT_TRUE(s.stats.converged);
-    double tip = 0;
-    int count = 0;
-    for (int i = 0; i < m.ns; ++i)
-      if (m.surface.positions(i, 0) > L - 1e-9) {
-        tip -= s.u(i, 2);
-        ++count;
-      }
-    return tip / count;
+    return -test::cantilever_tip_z(beam, s.u, L);
   };
   const CoreSettings defaults;
   const double loose = sag(defaults.tolerance, defaults.force_tolerance);
