@@ -144,7 +144,13 @@ int main(int argc, char** argv) {
                                       "writes accuracy.csv, accuracy.png, recommendations.md");
   accuracy->add_option("--out", accuracy_opt.out_dir, "Output folder (default: out/accuracy)")->check(cli::named_path());
   accuracy->add_flag("--quick", accuracy_opt.quick, "Coarser meshes, fewer knob values (under 2 minutes)");
-  accuracy->add_option("--scenario", accuracy_opt.scenario, "Only this scenario: probe_poke or grasp_lift (default: both)");
+  accuracy->add_flag("--ladder", accuracy_opt.ladder,
+                     "The model ladder instead of the knobs: the paper's VDM, the membrane VDM, the elastic core and "
+                     "the FEM against the converged FEM on the punch, the beams and the liver probe; writes ladder.csv, "
+                     "ladder.png");
+  accuracy->add_option("--scenario", accuracy_opt.scenario,
+                       "Only this scenario: probe_poke or grasp_lift (default: both); with --ladder punch, beams or "
+                       "liver_probe (default: all)");
   accuracy->add_option("--only", accuracy_opt.only,
                        "Only these knobs, comma-separated (solver, tolerance, refresh, nonlinear, mesh, capsule, model); "
                        "the reference and the baseline always run");

@@ -39,11 +39,6 @@ std::string config_name(const AccuracyConfig& c) {
 std::string accuracy_scene_yaml(const AccuracyConfig& c, int frames, const std::string& mesh_dir) {
   std::ostringstream y;
   y << std::setprecision(12);
-  y << "# Written by `vdmsim accuracy` (" << c.varied << " row): run it with `vdmsim run`.\n"
-    << "name: " << config_name(c) << "\n"
-    << "organ:\n"
-    << "  mesh: " << mesh_dir << "/" << level_mesh(c.level) << "\n"
-    << "  model: " << vdm::to_string(c.model) << "\n";
   if (c.model == vdm::ModelKind::vdm) {
     y << "  material: {bulk_modulus: 20000, connectivity_modulus: " << kConnectivity << ", density: 1060, capsule: "
       << vdm::to_string(c.capsule);
@@ -54,12 +49,30 @@ std::string accuracy_scene_yaml(const AccuracyConfig& c, int frames, const std::
   else
     y << "  material: {young_modulus: " << kAccuracyStartYoung << ", volume_modulus: " << kVolumeToYoung * kAccuracyStartYoung
       << ", density: 1060}\n";
+  std::ostringstream solver;
+  solver << std::setprecision(12) << "{method: " << vdm::to_string(c.method) << ", tolerance: " << c.tolerance
+         << ", refresh_every: " << c.refresh_every << ", nonlinear_iterations: " << c.nonlinear_iterations << "}";
+  return scenario_scene_yaml(config_name(c), std::string("`vdmsim accuracy` (") + c.varied + " row)", c.scenario,
+                             mesh_dir + "/" + level_mesh(c.level), vdm::to_string(c.model), y.str(), solver.str(),
+                             frames);
+}
+
+std::string scenario_scene_yaml(const std::string& name, const std::string& writer, const std::string& scenario,
+                                const std::string& mesh, const std::string& model, const std::string& organ_lines,
+                                const std::string& solver, int frames) {
+  std::ostringstream y;
+  y << "# Written by " << writer << ": run it with `vdmsim run`.\n"
+    << "name: " << name << "\n"
+    << "organ:\n"
+    << "  mesh: " << mesh << "\n"
+    << "  model: " << model << "\n"
+    << organ_lines;
   y << "  fixed:\n"
     << "    - {box: {min: [-0.3, -0.2, -0.2], max: [0.3, 0.2, -0.03]}}    # the underside rests on the table\n"
     << "simulation:\n"
     << "  frames: " << frames << "\n"
     << "  dt: 0.0333333\n";
-  if (c.scenario == "probe_poke") {
+  if (scenario == "probe_poke") {
     // The probe holds the tissue (kinematic contact): every configuration's error is then its
     // model's and solver's, not a frictional contact's path (which loose solves change).
     y << "  effects: [contact]\n"
@@ -67,10 +80,9 @@ std::string accuracy_scene_yaml(const AccuracyConfig& c, int frames, const std::
   } else {
     y << "  effects: [grasp]\n";
   }
-  y << "  solver: {method: " << vdm::to_string(c.method) << ", tolerance: " << c.tolerance
-    << ", refresh_every: " << c.refresh_every << ", nonlinear_iterations: " << c.nonlinear_iterations << "}\n"
-    << "instruments:\n";
-  if (c.scenario == "probe_poke") {
+  if (!solver.empty()) y << "  solver: " << solver << "\n";
+  y << "instruments:\n";
+  if (scenario == "probe_poke") {
     y << "  - type: probe\n"
       << "    radius: 0.004\n"
       << "    length: 0.25\n"

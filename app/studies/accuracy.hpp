@@ -57,7 +57,7 @@ struct AccuracyRow {
 struct AccuracyOptions {
   std::string out_dir = "out/accuracy";
   bool quick = false;
-  std::string scenario;     // only this scenario ("": both)
+  std::string scenario;     // only this scenario ("": all; with `ladder`, a case of the ladder)
   std::string only;         // only these knobs, comma-separated ("": all); the reference and
                             // the baseline always run (the errors are measured against them)
   int jobs = 0;             // configurations at a time on this machine (0: the number of cores)
@@ -65,6 +65,7 @@ struct AccuracyOptions {
   std::string partition;    // --slurm: the partition ("": the cluster's default)
   int max_parallel = 0;     // --slurm: array tasks at a time (0: all)
   int task = -1;            // run only this configuration (a Slurm array task)
+  bool ladder = false;      // the model ladder (ladder.hpp) in place of the knobs
 };
 
 // The study's configurations (the first of each scenario is its reference).
@@ -91,6 +92,14 @@ std::string level_mesh(int level);
 // The configuration's scene, a file `vdmsim run` runs; `mesh_dir`: the meshes' folder as
 // the scene names it (relative to the scene file).
 std::string accuracy_scene_yaml(const AccuracyConfig& c, int frames, const std::string& mesh_dir);
+
+// A scene of `scenario`'s script (probe_poke | grasp_lift) on the liver `mesh` (as the scene
+// names it) with `model`: `organ_lines` are the organ's further keys (indented two spaces,
+// each line ending in a newline), `solver` the simulation.solver value ("": the defaults);
+// `writer` names what wrote it, in the file's first comment.
+std::string scenario_scene_yaml(const std::string& name, const std::string& writer, const std::string& scenario,
+                                const std::string& mesh, const std::string& model, const std::string& organ_lines,
+                                const std::string& solver, int frames);
 
 // Marks the rows on each scenario's Pareto front (median_ms, rms_mm; the reference excluded).
 void mark_pareto(std::vector<AccuracyRow>& rows);

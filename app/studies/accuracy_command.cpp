@@ -11,6 +11,7 @@
 #include "app/studies/accuracy_errors.hpp"
 #include "app/studies/accuracy_report.hpp"
 #include "app/studies/accuracy_task.hpp"
+#include "app/studies/ladder_command.hpp"
 #include "app/studies/quantile.hpp"
 #include "app/sweep/child_process.hpp"
 #include "app/sweep/local_runner.hpp"
@@ -22,19 +23,25 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string run_folder_name(int index, const AccuracyConfig& c) {
-  std::string number = std::to_string(index);
-  number.insert(0, size_t(std::max(0, 3 - int(number.size()))), '0');
-  return number + "_" + config_name(c);
-}
+std::string run_folder_name(int index, const AccuracyConfig& c) { return numbered_folder(index, config_name(c)); }
 
-// The project's liver at every level the configurations use, in DIR/meshes (only the missing
-// ones when `missing_only`), and the yardstick's scene. Each file is written whole under
-// another name, then renamed: tasks that start together never read half a file.
 bool write_study_files(const fs::path& dir, const std::vector<AccuracyConfig>& configs, bool quick, bool missing_only,
                        std::string& error) {
   std::vector<int> levels;
   for (const AccuracyConfig& c : configs) levels.push_back(c.level);
+  return write_study_meshes(dir, levels, quick, missing_only, error);
+}
+
+}  // namespace
+
+std::string numbered_folder(int index, const std::string& name) {
+  std::string number = std::to_string(index);
+  number.insert(0, size_t(std::max(0, 3 - int(number.size()))), '0');
+  return number + "_" + name;
+}
+
+bool write_study_meshes(const fs::path& dir, std::vector<int> levels, bool quick, bool missing_only,
+                        std::string& error) {
   std::sort(levels.begin(), levels.end());
   levels.erase(std::unique(levels.begin(), levels.end()), levels.end());
   if (!prepare_output_dir((dir / "meshes").string(), error)) return false;
@@ -60,6 +67,8 @@ bool write_study_files(const fs::path& dir, const std::vector<AccuracyConfig>& c
                                    accuracy_scene_yaml(yardstick_config(quick), accuracy_frames(quick), "meshes"),
                                error);
 }
+
+namespace {
 
 // A task's command line, without `--task I`: the same program and the same configurations.
 std::vector<std::string> task_command(const AccuracyOptions& o, const fs::path& dir) {
@@ -144,6 +153,7 @@ bool measure(const std::vector<AccuracyConfig>& all, const std::vector<int>& whi
 }  // namespace
 
 int run_accuracy(const AccuracyOptions& o, std::ostream& out, std::ostream& err, bool terminal) {
+  if (o.ladder) return run_ladder(o, out, err, terminal);
   const std::vector<AccuracyConfig> all = accuracy_configs(o.quick);
   std::vector<int> which;
   std::string error;

@@ -56,25 +56,40 @@ std::string config_inputs_hash(const fs::path& scene) {
   return run_inputs(loaded.scene, options).hash();
 }
 
-bool config_finished(const fs::path& run_dir) {
+bool task_finished(const fs::path& run_dir, const std::string& inputs) {
   std::error_code ec;
   if (run_json_field(run_dir, "status") != "completed" || !fs::exists(run_dir / "trajectory.bin", ec)) return false;
-  const std::string inputs = config_inputs_hash(run_dir / "scene.yaml");
   return !inputs.empty() && run_json_field(run_dir, "inputs") == inputs;
 }
 
+bool config_finished(const fs::path& run_dir) {
+  return task_finished(run_dir, config_inputs_hash(run_dir / "scene.yaml"));
+}
+
 int run_config_task(const fs::path& run_dir, const fs::path& yardstick_scene, std::ostream& out) {
+  const fs::path scene = run_dir / "scene.yaml";
+  const vdm::NodeMat points = accuracy_sample_points();
+  return run_task(
+      run_dir, config_inputs_hash(scene), [&] { return simulate_safely(scene, points); }, yardstick_scene, out);
+}
+
+int run_task(const fs::path& run_dir, const std::string& inputs, const TaskSimulation& simulate,
+             const fs::path& yardstick_scene, std::ostream& out) {
   std::error_code ec;
   fs::remove(run_dir / "run.json", ec);
   fs::remove(run_dir / "trajectory.bin", ec);
-  const fs::path scene = run_dir / "scene.yaml";
-  const std::string inputs = config_inputs_hash(scene);
-  const vdm::NodeMat points = accuracy_sample_points();
-  Trajectory tr = simulate_safely(scene, points);
+  Trajectory tr;
+  try {
+    tr = simulate();
+  } catch (const std::exception& e) {  // e.g. a reference model that cannot be built
+    tr = Trajectory{};
+    tr.failed = true;
+    tr.failure = e.what();
+  }
   double yardstick_ms = 0;
   if (!tr.failed) {
     // The yardstick right after, in the same process on the same node.
-    const Trajectory yardstick = simulate_safely(yardstick_scene, points);
+    const Trajectory yardstick = simulate_safely(yardstick_scene, accuracy_sample_points());
     if (yardstick.failed) {
       tr.failed = true;
       tr.failure = "the timing yardstick (" + yardstick_scene.string() + ") failed: " + yardstick.failure;

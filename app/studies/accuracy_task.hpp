@@ -6,6 +6,7 @@
 // then the timing yardstick in the same process: their ratio compares across nodes, their
 // milliseconds do not.
 #include <filesystem>
+#include <functional>
 #include <ostream>
 #include <string>
 
@@ -19,6 +20,19 @@ std::string config_inputs_hash(const std::filesystem::path& scene);
 
 // True when the folder holds a completed result of its scene.yaml as it is now.
 bool config_finished(const std::filesystem::path& run_dir);
+
+// True when the folder holds a completed result whose inputs hash is `inputs` (not empty).
+bool task_finished(const std::filesystem::path& run_dir, const std::string& inputs);
+
+// A task's own simulation (a scene's, or a load case's for the model ladder); a failure is
+// returned as `failed` with the reason.
+using TaskSimulation = std::function<Trajectory()>;
+
+// Runs `simulate`, then the yardstick scene in the same process, and writes the results to
+// `run_dir` (trajectory.bin; run.json with `inputs`, the yardstick's time or why it failed).
+// 0 when completed, 1 when it failed.
+int run_task(const std::filesystem::path& run_dir, const std::string& inputs, const TaskSimulation& simulate,
+             const std::filesystem::path& yardstick_scene, std::ostream& out);
 
 // Simulates the configuration of `run_dir`/scene.yaml, then the yardstick scene, and writes
 // the results (an earlier result removed first; run.log, where the task's output may go, stays). 0 when completed, 1 when the configuration failed (run.json says why).

@@ -6,6 +6,9 @@
 
 #include "app/studies/accuracy.hpp"
 #include "app/studies/accuracy_report.hpp"
+#include "app/studies/ladder.hpp"
+#include "app/studies/ladder_cases.hpp"
+#include "app/studies/ladder_errors.hpp"
 
 namespace vdmsim {
 namespace {
@@ -124,6 +127,79 @@ TEST(Accuracy, RecommendationIsTheFastestNearlyMostAccurateWithinTheBudget) {
   EXPECT_TRUE(use_budgets()[0].worst_case);
   EXPECT_LE(use_budgets()[1].budget_ms, 1000.0 / 30);
   EXPECT_TRUE(use_budgets()[1].worst_case);
+}
+
+TEST(AccuracyLadder, EveryCaseHasItsReferenceFemFirstAndEveryModel) {
+  for (const bool quick : {true, false}) {
+    const std::vector<LadderConfig> all = ladder_configs(quick);
+    std::set<std::string> names, cases;
+    std::string last_case;
+    for (const LadderConfig& c : all) {
+      EXPECT_TRUE(names.insert(ladder_config_name(c)).second) << ladder_config_name(c);
+      if (c.test_case != last_case) {
+        // A new case starts with its reference, the FEM, and never comes back.
+        EXPECT_TRUE(c.reference && c.model == LadderModel::fem) << ladder_config_name(c);
+        EXPECT_TRUE(cases.insert(c.test_case).second) << c.test_case;
+        last_case = c.test_case;
+      } else {
+        EXPECT_FALSE(c.reference) << ladder_config_name(c);
+      }
+    }
+    EXPECT_EQ(cases, (std::set<std::string>{"punch", "stretch", "bend", "twist", "liver_probe"}));
+    for (const std::string& which : cases)
+      for (const LadderModel m : {LadderModel::vdm_paper, LadderModel::vdm_membrane, LadderModel::vdm_core}) {
+        int n = 0;
+        for (const LadderConfig& c : all) n += c.test_case == which && c.model == m;
+        EXPECT_GE(n, 1) << which << ' ' << to_string(m);
+        if (m == LadderModel::vdm_core) {
+          EXPECT_GE(n, 2) << which << ": the core at several cell sizes";
+        }
+      }
+  }
+  std::vector<int> picked;
+  std::string error;
+  ASSERT_TRUE(select_ladder_configs(true, "beams", picked, error));
+  for (const int i : picked) EXPECT_EQ(ladder_configs(true)[size_t(i)].scenario, "beams");
+  EXPECT_FALSE(select_ladder_configs(true, "probe_poke", picked, error));
+  EXPECT_NE(error.find("punch, beams, liver_probe"), std::string::npos) << error;
+}
+
+// A trajectory of `frames` frames whose every point is `u` (and the force F along z).
+Trajectory ladder_trajectory(int points, const vdm::Vec3& u, double force, int frames = 2) {
+  Trajectory tr;
+  for (int f = 0; f < frames; ++f) {
+    vdm::NodeMat at(points, 3);
+    at.rowwise() = u.transpose();
+    tr.u.push_back(at);
+    tr.force.push_back(vdm::Vec3(0, 0, force));
+    tr.step_ms.push_back(1.0 + f);
+    tr.volume_rel.push_back(f ? -2e-12 : 1e-12);
+  }
+  tr.nodes = 42;
+  return tr;
+}
+
+TEST(AccuracyLadder, MeasuresAreRelativeToTheReference) {
+  LadderRow beam;
+  beam.config.scenario = "beams";
+  beam.config.test_case = "bend";
+  measure_ladder_row(ladder_trajectory(3, vdm::Vec3(0.003, 0, 0.004), 0),
+                     ladder_trajectory(3, vdm::Vec3(0, 0.0045, 0), 0), beam);
+  EXPECT_NEAR(beam.error, 0.1, 1e-12);  // |u| 4.5 mm against 5 mm
+  EXPECT_EQ(beam.force_error, -1);
+  EXPECT_NEAR(beam.volume_rel_error, 2e-12, 1e-24);
+  EXPECT_EQ(beam.nodes, 42);
+  EXPECT_NEAR(beam.measured_median_ms, 1.5, 1e-12);
+
+  LadderRow punch;
+  punch.config.scenario = "punch";
+  punch.config.test_case = "punch";
+  const int points = kLadderPunchRadii * kLadderPunchAzimuths;
+  measure_ladder_row(ladder_trajectory(points, vdm::Vec3(0, 0, -0.0004), 0.04),
+                     ladder_trajectory(points, vdm::Vec3(0, 0, -0.0005), 0.03), punch);
+  EXPECT_NEAR(punch.error, 0.25, 1e-12);
+  EXPECT_NEAR(punch.force_error, 0.25, 1e-12);
+  EXPECT_NE(punch.detail.find("+25.0"), std::string::npos) << punch.detail;
 }
 
 }  // namespace
