@@ -283,11 +283,6 @@ CoreState make_core_state(const CoreModel& m) {
 
 void rewind(CoreState& s) { s.rewound = true; }
 
-double kinetic_energy(const CoreModel& m, const CoreState& s) {
-  if (m.mass.size() != m.ng) return 0.0;
-  return 0.5 * m.mass.dot(s.velocity.rowwise().squaredNorm());
-}
-
 void tet_rotations(const CoreModel& m, const NodeMat& v, std::vector<Eigen::Quaterniond>& Q, std::vector<Eigen::Matrix3d>& R) {
   R.resize(static_cast<size_t>(6 * m.cubes.rows()));
   Q.resize(R.size(), Eigen::Quaterniond::Identity());

@@ -32,10 +32,11 @@ class SurfaceForceLaw;
 namespace vdm::core {
 
 struct CoreSettings {
-  // The nonlinear iteration stops when no node moves by more than this x the organ's size
-  // (3 um on a 30 cm liver: a hundredth of a pixel of a 1280-wide frame of it). The FEM cases
-  // (AgainstTheFem) move by less than 0.3 points of their errors from 1e-7 to 1e-5; the
-  // iterations while pressing fall from about 20 to 5.
+  // The nonlinear iteration stops when the distance left to its fixed point (the last change
+  // over one less its contraction rate) is at most this x the organ's size (3 um on a 30 cm
+  // liver: a hundredth of a pixel of a 1280-wide frame of it). The FEM cases
+  // (AgainstTheFem) move by less than 0.3 points of their errors from 1e-7 to 1e-5; a
+  // pressing step takes 6 to 10 iterations.
   double tolerance = 1e-5;
   // And the lattice's forces balance to this share of the core's elastic forces: where the
   // rotations converge slowly (a bending under a load, inertia) the change per iteration is
@@ -55,7 +56,7 @@ struct CoreDef {
   double cell_size = 0;           // h (m); 0: V_0 / A_0 of the surface
   double tie = 4;                 // kappa = tie E / h (1/m x Pa)
   FlagMat fixed;                  // surface nodes x 3: 1 = held at 0. Empty: none.
-  double density = 1060;          // kg/m^3 (gravity only)
+  double density = 1060;          // kg/m^3 (gravity and inertia)
   Vec3 gravity = Vec3(0, 0, -9.81);
   bool use_gravity = false;       // the weight, on the lattice: rho g f_c h^3 / 8 per cube corner
   // The inertia effect: the lattice's lumped mass (rho f_c h^3 / 8 per cube corner, as its
@@ -142,13 +143,10 @@ CoreState make_core_state(const CoreModel& model);
 // position and velocity; without, it only warm-starts from the last answer either way).
 void rewind(CoreState& state);
 
-// The lattice's kinetic energy, 1/2 sum m_j |velocity_j|^2 (J; 0 without inertia).
-double kinetic_energy(const CoreModel& model, const CoreState& state);
-
 // One step to the input's prescribed displacements, forces and pressures: static, or with
-// inertia implicit Euler from the last step (StepInput's springs and tolerance are not taken). With `law`, the law's forces are set after
-// every linear solve of the iteration (engine/surface_force_law.hpp) and the solve repeated
-// with them.
+// inertia implicit Euler from the last step (StepInput's springs and tolerance are not
+// taken). With `law`, the law's forces are set after every linear solve of the iteration
+// (engine/surface_force_law.hpp) and the solve repeated with them.
 void step(const CoreModel& model, const StepInput& input, CoreState& state, SurfaceForceLaw* law = nullptr);
 
 // The organ's compliance at surface nodes `nodes` (3n x 3n; row 3a + d, column 3b + e: how far
