@@ -410,7 +410,7 @@ void step(const CoreModel& m, const StepInput& in, CoreState& s, SurfaceForceLaw
       // And the forces balance: the lattice's imbalance at this iterate, K (v_new - v), small
       // against the core's elastic forces there, K_core v less the rotations' load.
       for (int d = 0; d < 3; ++d) {
-        w.residual.col(d).noalias() = w.K[w.slot[d]] * (w.v_new.col(d) - s.v.col(d));
+        w.residual.col(d).noalias() = w.K[w.slot[d]] * w.g.segment(d * ng, ng);  // g = v_new - v, axis d
         w.elastic.col(d).noalias() = m.K_core * s.v.col(d);
       }
       w.elastic -= w.rotation_load;
