@@ -150,12 +150,17 @@ void rotation_load(const CoreModel& m, CoreWorkspace& w) {
   const UnitCube& cube = unit_cube();
   for (Eigen::Index q = 0; q < m.cubes.rows(); ++q) {
     const double scale = 2 * m.mu * m.fill[q] * m.h * m.h / 6;
+    // The cube's corner loads summed here, then added to the lattice once per corner (its
+    // rows are strided in the column-major load).
+    Eigen::Matrix<double, 8, 3> corner_load = Eigen::Matrix<double, 8, 3>::Zero();
     for (int t = 0; t < 6; ++t) {
       Eigen::Matrix3d R = w.rotation[static_cast<size_t>(6 * q + t)];
       R.diagonal().array() -= 1.0;
-      for (int a = 0; a < 4; ++a)
-        w.rotation_load.row(m.cubes(q, cube.corner[t][a])) += scale * (R * cube.grad[t].row(a).transpose()).transpose();
+      // Row a of grad (R - I)^T is ((R - I) grad_a)^T.
+      const Eigen::Matrix<double, 4, 3> load = cube.grad[t] * R.transpose();
+      for (int a = 0; a < 4; ++a) corner_load.row(cube.corner[t][a]) += load.row(a);
     }
+    for (int k = 0; k < 8; ++k) w.rotation_load.row(m.cubes(q, k)) += scale * corner_load.row(k);
   }
 }
 
@@ -264,7 +269,8 @@ CoreState make_core_state(const CoreModel& m) {
   s.v = NodeMat::Zero(m.ng, 3);
   s.reaction = NodeMat::Zero(m.ns, 3);
   s.velocity = s.v_start = s.velocity_start = NodeMat::Zero(m.ng, 3);
-  s.u_start = NodeMat::Zero(m.ns, 3);
+  s.u_start = s.u_motion = NodeMat::Zero(m.ns, 3);
+  s.v_motion = NodeMat::Zero(m.ng, 3);
   s.volume = m.rest_volume;
   s.work = std::make_unique<CoreWorkspace>();
   CoreWorkspace& w = *s.work;
@@ -287,13 +293,18 @@ void tet_rotations(const CoreModel& m, const NodeMat& v, std::vector<Eigen::Quat
   R.resize(static_cast<size_t>(6 * m.cubes.rows()));
   Q.resize(R.size(), Eigen::Quaterniond::Identity());
   const UnitCube& cube = unit_cube();
-  for (Eigen::Index q = 0; q < m.cubes.rows(); ++q)
+  const double inv_h = 1.0 / m.h;
+  Eigen::Matrix<double, 8, 3> corner;
+  for (Eigen::Index q = 0; q < m.cubes.rows(); ++q) {
+    // The cube's corner displacements over h, gathered once for its six tets.
+    for (int k = 0; k < 8; ++k) corner.row(k) = v.row(m.cubes(q, k)) * inv_h;
     for (int t = 0; t < 6; ++t) {
       // F = I + sum_a v_a (x) grad N_a, the unit cube's gradients over h.
       Eigen::Matrix3d F = Eigen::Matrix3d::Identity();
-      for (int a = 0; a < 4; ++a) F += v.row(m.cubes(q, cube.corner[t][a])).transpose() * cube.grad[t].row(a) / m.h;
+      for (int a = 0; a < 4; ++a) F.noalias() += corner.row(cube.corner[t][a]).transpose() * cube.grad[t].row(a);
       R[static_cast<size_t>(6 * q + t)] = nearest_rotation(F, Q[static_cast<size_t>(6 * q + t)]);
     }
+  }
 }
 
 void step(const CoreModel& m, const StepInput& in, CoreState& s, SurfaceForceLaw* law) {
@@ -310,21 +321,26 @@ void step(const CoreModel& m, const StepInput& in, CoreState& s, SurfaceForceLaw
           w.mask(i, d) = 1;
           w.target(i, d) = in.prescribed_u(i, d);
         }
-  // With inertia: where this step starts (kept when it is solved again after rewind()), and
-  // implicit Euler's load from there.
+  // Where this step starts (kept when it is solved again after rewind()). The iteration
+  // starts from a prediction: with inertia where the lattice would coast to (an iteration
+  // stopped early then errs towards too little elastic force, not towards holding the organ
+  // back), and implicit Euler's load from there; static, the last step's motion repeated (a
+  // steady press or slide is then met to second order, and a reversal is no worse off than
+  // starting where the last step ended). Solved again, a step with inertia starts exactly as
+  // the first time; a static one from its last answer (the same step under other constraints).
   const bool inertia = m.mass.size() == ng;
+  if (!s.rewound) {
+    s.u_start = s.u;
+    s.v_start = s.v;
+    s.velocity_start = s.velocity;
+  }
   if (inertia) {
-    if (!s.rewound) {
-      s.u_start = s.u;
-      s.v_start = s.v;
-      s.velocity_start = s.velocity;
-    }
-    // The iteration starts where the lattice would coast to (an iteration stopped early then
-    // errs towards too little elastic force, not towards holding the organ back), and a step
-    // solved again starts exactly as the first time.
     s.u = s.u_start;
     s.v = s.v_start + m.dt * s.velocity_start;
     w.inertia_load = (m.inertia_rate * s.v_start + s.velocity_start / m.dt).array().colwise() * m.mass.array();
+  } else if (!s.rewound) {
+    s.u = s.u_start + s.u_motion;
+    s.v = s.v_start + s.v_motion;
   }
   s.rewound = false;
   w.force.setZero();
@@ -484,7 +500,12 @@ void step(const CoreModel& m, const StepInput& in, CoreState& s, SurfaceForceLaw
       s.reaction(i, d) = m.tie_k[i] * (s.u(i, d) - tied(m, s.v, i, d)) - w.force(i, d) + lambda * w.area(i, d);
     }
   s.pressure = -lambda;
-  if (inertia) s.velocity = (s.v - s.v_start) / m.dt;
+  if (inertia) {
+    s.velocity = (s.v - s.v_start) / m.dt;
+  } else {
+    s.u_motion = s.u - s.u_start;
+    s.v_motion = s.v - s.v_start;
+  }
   w.x = m.surface.positions + s.u;
   s.volume = enclosed_volume(w.x, m.surface.triangles, Vec3::Zero());
   s.volume_rel_error = (s.volume - m.rest_volume) / m.rest_volume;

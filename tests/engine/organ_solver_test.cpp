@@ -123,10 +123,10 @@ TEST_P(EveryModel, RewindPutsTheStateBackWhereTheStepStarted) {
 
   // The same step solved again from there: the same equilibrium (the reference models start
   // their iteration from their last solution, so within their solvers' tolerance: vdm_core's
-  // stops when no node moves by more than 1e-5 of the organ's size, here 1e-4 of the press).
+  // stops within 1e-4 of the organ's size of its answer, here 1e-3 of the press).
   solver->step(press(m, 0.004), s);
   ASSERT_FALSE(s.failed) << s.failure;
-  const double share = GetParam() == ModelKind::vdm_core ? 5e-4 : 1e-6;
+  const double share = GetParam() == ModelKind::vdm_core ? 5e-3 : 1e-6;
   EXPECT_LT((s.u - u2).cwiseAbs().maxCoeff(), share * u2.cwiseAbs().maxCoeff());
   EXPECT_EQ(s.step, step1 + 1);
 }

@@ -202,7 +202,9 @@ TEST(OrganModels, CoreSceneWithInertiaSwingsPastItsStaticSag) {
   }
   const double settled = sag[0].back();
   ASSERT_GT(settled, 1e-4);
-  EXPECT_NEAR(sag[0][1] / settled, 1.0, 1e-3) << "static: every frame settled";
+  // (each static step stops within the core's tolerance, 1e-4 of the organ's size: 1 % of
+  // this sag)
+  EXPECT_NEAR(sag[0][1] / settled, 1.0, 1e-2) << "static: every frame settled";
   EXPECT_LT(sag[1][1], 0.5 * settled) << "with inertia the first frames start from rest";
   const auto peak = std::max_element(sag[1].begin(), sag[1].end());
   EXPECT_GT(*peak, 1.2 * settled) << "it swings past the settled sag";
