@@ -117,8 +117,12 @@ class ContactSolver final : private SurfaceForceLaw {
   // The parts of a constraint step: the contact points at the step's start (and the
   // tolerance); measured at positions x; in their fixed order; the nodes they use; the forces
   // on the linear model (project_forces: see there); those forces kept; the step's results.
+  // With `carry`, the last step's points that held a force and still touch their tool start
+  // the step as they were (the same triangle points, the same forces), and only new points
+  // are found; else the points are found afresh, each triangle's taking the sum of its last
+  // forces.
   void begin_constraint_step(const TissueModel& model, const StepInput& base, const std::vector<ToolShape>& tools,
-                             SimState& state, ContactReport& report);
+                             SimState& state, ContactReport& report, bool carry = false);
   void measure_contacts(const std::vector<ToolShape>& tools, const NodeMat& x);
   void sort_contacts();
   void collect_contact_nodes();

@@ -321,7 +321,7 @@ double ContactSolver::deepest_surface_point(const std::vector<ToolShape>& tools,
 }
 
 void ContactSolver::begin_constraint_step(const TissueModel& m, const StepInput& base, const std::vector<ToolShape>& tools,
-                                          SimState& s, ContactReport& rep) {
+                                          SimState& s, ContactReport& rep, bool carry) {
   auto t0 = Clock::now();
   if (input_.prescribed.rows() != m.n) input_ = make_step_input(m);  // the first such step: allocates once
   input_.pressure = base.pressure;
@@ -345,6 +345,33 @@ void ContactSolver::begin_constraint_step(const TissueModel& m, const StepInput&
   }
   last_contacts_.swap(contacts_);
   contacts_.clear();
+  if (carry) {
+    // The last step's points that held a force, where the tool still touches them (within
+    // the activation distance at the step's start), with their forces: a held instrument's
+    // next step then starts from the forces it ended with, node by node. A carried point's
+    // force is taken out of the last step's, so that no new point takes it again.
+    for (ContactPoint& l : last_contacts_) {
+      if (l.force.squaredNorm() == 0.0 || l.tool >= static_cast<int>(tools.size())) continue;
+      if (l.triangle < 0 && node_tool_[static_cast<size_t>(l.node[0])] >= 0) continue;
+      bool free = true;
+      for (int v = 0; v < l.count; ++v)
+        free = free && !on_every_axis(base.prescribed, l.node[v]) && !on_every_axis(m.held, l.node[v]);
+      if (!free) continue;
+      const ToolShape& t = tools[static_cast<size_t>(l.tool)];
+      ContactPoint c = l;
+      c.start.setZero();
+      for (int v = 0; v < c.count; ++v)
+        c.start += c.weight[v] * (m.rest.positions.row(c.node[v]) + s.u.row(c.node[v])).transpose();
+      c.point = c.solved = point_of(c, s.x);
+      c.predicted.setZero();
+      c.gap = contact_gap(t, c.point, c.start, c.surface, c.normal);
+      if (c.gap >= settings_.activation * t.size()) continue;
+      if (c.triangle < 0) node_tool_[static_cast<size_t>(c.node[0])] = c.tool;
+      else triangle_tool_[static_cast<size_t>(c.triangle)] = c.tool;
+      contacts_.push_back(c);
+      l.force.setZero();
+    }
+  }
   // Before the solve the positions are the step's start.
   find_contact_points(m, base, tools, s.x, s.u, settings_.activation, true, rep);
   std::sort(contacts_.begin(), contacts_.end(), in_order);

@@ -22,7 +22,7 @@ namespace vdm {
 
 void ContactSolver::step_constraint_within(const TissueModel& m, const StepInput& base,
                                            const std::vector<ToolShape>& tools, SimState& s, ContactReport& rep) {
-  begin_constraint_step(m, base, tools, s, rep);
+  begin_constraint_step(m, base, tools, s, rep, true);
   within_ = WithinStep{&m, &base, &tools, &s, &rep};
   const bool has_force = base.force.rows() == m.n;
   const int max_it = std::max(1, settings_.max_constraint_iterations);
