@@ -667,9 +667,6 @@ GlProgram& Renderer::Impl::use(Material m) {
   return p;
 }
 
-// A frame, and whether it could be drawn: its own failures (frame_error) and any OpenGL
-// error it raised. Errors left from before the frame are cleared first (at most a few: each
-// call returns one).
 bool Renderer::Impl::draw(const RenderScene& scene, const StressView* view, bool hud, Image& out) {
   return guarded([&] { draw_frame(scene, view, hud, out); });
 }
@@ -678,6 +675,9 @@ bool Renderer::Impl::draw_ground_truth(const RenderScene& scene) {
   return guarded([&] { draw_ground_truth_pass(scene); });
 }
 
+// A frame's drawing (or reading), and whether it could be done: its own failures
+// (frame_error) and any OpenGL error it raised. Errors left from before are cleared first (at
+// most a few: each call returns one).
 template <typename DrawFrame>
 bool Renderer::Impl::guarded(const DrawFrame& draw_frame) {
   gl->make_current();

@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <cmath>
-
 #include <cstdio>
 
 #include "app/run/camera_json.hpp"

@@ -372,3 +372,35 @@ TEST(Resume, GroundTruthFilesOfAResumedRunEqualAnUninterruptedRuns) {
       EXPECT_EQ(read_file(whole / name), read_file(resumed / name)) << name;
     }
 }
+
+// A poses.csv cut short (edited, or damaged) cannot be extended: the resume is refused with
+// exit 2, naming the file, and the file is left as it was.
+TEST(Resume, RefusesAPosesFileWithFewerFramesThanTheCheckpoint) {
+  const fs::path dir = kOut / "poses_damaged";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string scene = (dir / "press.yaml").string();
+  std::ofstream(scene) << "name: press\norgan:\n  mesh: " << VDMSIM_SOURCE_DIR
+                       << "/assets/meshes/liver_L4.obj\n"
+                          "  fixed: [{box: {min: [-0.3, -0.2, -0.2], max: [0.3, 0.2, -0.03]}}]\n"
+                          "simulation: {frames: 10, dt: 0.05}\n"
+                          "render: {width: 64, height: 48, views: [depth], hud: false}\n";
+  {
+    vdmsim::PreparedScene ps;
+    std::vector<vdmsim::SceneProblem> problems;
+    ASSERT_TRUE(vdmsim::prepare_scene(scene, ps, problems));
+    vdmsim::RunOptions opt;
+    opt.out_dir = dir.string();
+    opt.checkpoint_every = 7;
+    opt.fail_render_at_frame = 8;
+    std::ostringstream o, e;
+    ASSERT_EQ(vdmsim::run_scene(ps, opt, o, e, false), 1) << e.str();
+  }
+  const std::string poses = read_file(dir / "poses.csv");
+  size_t cut = 0;
+  for (int line = 0; line < 4; ++line) cut = poses.find('\n', cut) + 1;  // the header and frames 0 to 2
+  std::ofstream(dir / "poses.csv", std::ios::binary) << poses.substr(0, cut);
+  const std::string e = refused_resume(scene, dir);
+  EXPECT_NE(e.find("poses.csv: has 3 whole rows before frame 7 where the checkpoint needs 7"), std::string::npos) << e;
+  EXPECT_EQ(read_file(dir / "poses.csv"), poses.substr(0, cut));
+}
