@@ -160,7 +160,8 @@ void remove_earlier_outputs(const fs::path& dir) {
   for (const char* old : {"run.json", "checkpoint.json", "state.bin", "contact_sheet.png", "ffmpeg.log", "camera.json",
                           "poses.csv", "video.mp4"})
     fs::remove(dir / old, ec);
-  for (const render::ViewRow& row : render::view_table()) fs::remove(dir / (std::string(row.name) + ".mp4"), ec);
+  for (const render::ViewRow& row : render::view_table())  // the picture views' videos (render::video_file_name)
+    if (row.pass == render::ViewPass::picture) fs::remove(dir / (std::string(row.name) + ".mp4"), ec);
 }
 
 }  // namespace

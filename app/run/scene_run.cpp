@@ -2,6 +2,7 @@
 
 #include <malloc.h>
 
+#include <algorithm>
 #include <optional>
 
 #include "app/run/colour_range.hpp"
@@ -22,17 +23,15 @@
 namespace vdmsim {
 namespace {
 
-// After an image write failure only the frames whose images all reached the disk count:
-// metrics.csv and poses.csv are cut back to them (the writer reports a failure a frame or more
-// late).
+// After an image or poses write failure only the frames whose images all reached the disk
+// count (the writer reports a failure a frame or more late), and not the frame whose output
+// failed: metrics.csv and poses.csv are cut back to them.
 void keep_frames_with_images(const RenderDef& rd, const RunSetup& setup, FrameOutput& output, MetricsCsv& metrics,
                              RunOutcome& outcome) {
   const int views = static_cast<int>(rd.views.size());
   const int complete = setup.start + static_cast<int>(output.images_written() / std::max(1, views));
-  if (complete < outcome.done) {
-    outcome.done = complete;
-    metrics.cut_back(outcome.done - setup.start);
-  }
+  outcome.done = std::min(outcome.done, complete);
+  metrics.cut_back(outcome.done - setup.start);
   output.keep_frames(outcome.done);
 }
 
