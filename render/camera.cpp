@@ -41,15 +41,46 @@ Eigen::Matrix4f to_eigen(const glm::dmat4& m) {
   return out;
 }
 
+// look_at's up: an up parallel to the view direction has no side, and another up is taken.
+Eigen::Vector3d usable_up(const Eigen::Vector3d& forward, const Eigen::Vector3d& up) {
+  if (forward.cross(up).norm() >= 1e-9) return up;
+  return std::abs(forward.z()) < 0.9 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitY();
+}
+
 }  // namespace
+
+Eigen::Isometry3d camera_pose(const Camera& c) {
+  // glm::lookAtRH's axes: f forward, s = f x up to the right, u = s x f up; OpenCV's y is down.
+  const Eigen::Vector3d f = (c.target - c.eye).normalized();
+  const Eigen::Vector3d s = f.cross(usable_up(f, c.up)).normalized();
+  const Eigen::Vector3d u = s.cross(f);
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear().col(0) = s;
+  pose.linear().col(1) = -u;
+  pose.linear().col(2) = f;
+  pose.translation() = c.eye;
+  return pose;
+}
+
+CameraModel camera_model(const Camera& c, int width, int height, double near, double far) {
+  // OpenGL maps a pixel's centre to window coordinates (i + 1/2, j + 1/2) with rows from the
+  // bottom; the vertical field of view spans the image's height, square pixels.
+  CameraModel m;
+  m.width = width;
+  m.height = height;
+  m.fy = 0.5 * height / std::tan(0.5 * c.fov_deg * M_PI / 180.0);
+  m.fx = m.fy;
+  m.cx = 0.5 * (width - 1);
+  m.cy = 0.5 * (height - 1);
+  m.near = near;
+  m.far = far;
+  m.pose = camera_pose(c);
+  return m;
+}
 
 // The camera maths in GLM's GLSL-shaped types (right-handed, clip depth -1 to 1: OpenGL's).
 Eigen::Matrix4f look_at(const Eigen::Vector3d& eye, const Eigen::Vector3d& target, const Eigen::Vector3d& up) {
-  // An up parallel to the view direction has no side: another up is taken.
-  const Eigen::Vector3d f = (target - eye).normalized();
-  Eigen::Vector3d u = up;
-  if (f.cross(up).norm() < 1e-9) u = std::abs(f.z()) < 0.9 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitY();
-  return to_eigen(glm::lookAtRH(to_glm(eye), to_glm(target), to_glm(u)));
+  return to_eigen(glm::lookAtRH(to_glm(eye), to_glm(target), to_glm(usable_up((target - eye).normalized(), up))));
 }
 
 Eigen::Matrix4f perspective(double fov_deg, double aspect, double n, double f) {

@@ -29,8 +29,14 @@ void on_error(png_structp png, png_const_charp message) {
 }
 void on_warning(png_structp, png_const_charp) {}
 
+// The channels a PNG file keeps of an RGBA image: RGBA, RGB, or the red channel as grey.
+int png_colour_type(int channels) {
+  return channels == 4 ? PNG_COLOR_TYPE_RGBA : channels == 3 ? PNG_COLOR_TYPE_RGB : PNG_COLOR_TYPE_GRAY;
+}
+
 // Everything that touches setjmp lives in these two functions, with only plain locals.
-bool encode(std::FILE* f, const Image& image, int level, bool alpha, std::vector<std::uint8_t>& rgb, std::string& msg) {
+bool encode(std::FILE* f, const Image& image, int level, int channels, std::vector<std::uint8_t>& row_bytes,
+            std::string& msg) {
   png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &msg, on_error, on_warning);
   if (!png) return false;
   png_infop info = png_create_info_struct(png);
@@ -45,18 +51,18 @@ bool encode(std::FILE* f, const Image& image, int level, bool alpha, std::vector
   // shaded, 169 against 198 kB stress) in about 0.8x the time; adaptive filtering is much
   // slower.
   png_set_filter(png, 0, level <= 3 ? PNG_FILTER_NONE : PNG_ALL_FILTERS);
-  png_set_IHDR(png, info, image.width, image.height, 8, alpha ? PNG_COLOR_TYPE_RGBA : PNG_COLOR_TYPE_RGB,
-               PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_set_IHDR(png, info, image.width, image.height, 8, png_colour_type(channels), PNG_INTERLACE_NONE,
+               PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
   png_write_info(png, info);
   const size_t w = static_cast<size_t>(image.width);
   for (int y = 0; y < image.height; ++y) {
     const std::uint8_t* row = &image.rgba[y * w * 4];
-    if (alpha) {
+    if (channels == 4) {
       png_write_row(png, row);
     } else {
       for (size_t x = 0; x < w; ++x)
-        for (int c = 0; c < 3; ++c) rgb[x * 3 + c] = row[x * 4 + c];
-      png_write_row(png, rgb.data());
+        for (int c = 0; c < channels; ++c) row_bytes[x * size_t(channels) + size_t(c)] = row[x * 4 + size_t(c)];
+      png_write_row(png, row_bytes.data());
     }
   }
   png_write_end(png, info);
@@ -87,18 +93,20 @@ bool put_chunk(std::FILE* f, const char* type, const std::uint8_t* data, size_t 
          std::fwrite(tail, 1, 4, f) == 4;
 }
 
-// The PNG rows (filter byte 0, then RGB or RGBA) of the w x h RGBA pixels into `out`. RGB
-// may be written over the pixels themselves (out == rgba), whose buffer is large enough: row
-// y starts at y (1 + 3 w) <= 4 w y, and within a row each pixel's three bytes land before the
-// next unread pixel; the filter byte goes in once its row is moved (in row 0 it is pixel 0's
-// red).
-void pack_rows(const std::uint8_t* rgba, size_t w, size_t h, bool alpha, std::uint8_t* out) {
-  const size_t stride = 1 + (alpha ? 4 : 3) * w;
+// The PNG rows (filter byte 0, then RGBA, RGB or grey: `channels` 4, 3 or 1) of the w x h
+// RGBA pixels into `out`. RGB or grey may be written over the pixels themselves (out == rgba),
+// whose buffer is large enough: row y starts at y (1 + 3 w) <= 4 w y, and within a row each
+// pixel's bytes land before the next unread pixel; the filter byte goes in once its row is
+// moved (in row 0 it is pixel 0's red).
+void pack_rows(const std::uint8_t* rgba, size_t w, size_t h, int channels, std::uint8_t* out) {
+  const size_t stride = 1 + size_t(channels) * w;
   for (size_t y = 0; y < h; ++y) {
     std::uint8_t* d = out + y * stride + 1;
     const std::uint8_t* s = rgba + y * w * 4;
-    if (alpha) {
+    if (channels == 4) {
       std::copy(s, s + 4 * w, d);
+    } else if (channels == 1) {
+      for (size_t x = 0; x < w; ++x) d[x] = s[x * 4];
     } else {
       for (size_t x = 0; x < w; ++x, d += 3, s += 4) {
         const std::uint8_t r = s[0], g = s[1], bl = s[2];
@@ -111,9 +119,9 @@ void pack_rows(const std::uint8_t* rgba, size_t w, size_t h, bool alpha, std::ui
   }
 }
 
-// `spend`: null, or the image itself when its buffer may be overwritten (RGB only: its rows
-// are packed in place).
-bool encode_fast(std::FILE* f, const Image& image, Image* spend, int level, bool alpha, std::string& msg) {
+// `spend`: null, or the image itself when its buffer may be overwritten (RGB or grey only: its
+// rows are packed in place).
+bool encode_fast(std::FILE* f, const Image& image, Image* spend, int level, int channels, std::string& msg) {
   struct Compressor {
     libdeflate_compressor* c = nullptr;
     int level = -1;
@@ -133,14 +141,14 @@ bool encode_fast(std::FILE* f, const Image& image, Image* spend, int level, bool
     }
   }
   const size_t w = static_cast<size_t>(image.width), h = static_cast<size_t>(image.height);
-  const size_t channels = alpha ? 4 : 3, stride = 1 + channels * w;
+  const size_t stride = 1 + size_t(channels) * w;
   const std::uint8_t* rows = nullptr;
-  if (spend && !alpha) {  // the rows over the image's own pixels
-    pack_rows(spend->rgba.data(), w, h, false, spend->rgba.data());
+  if (spend && channels < 4) {  // the rows over the image's own pixels
+    pack_rows(spend->rgba.data(), w, h, channels, spend->rgba.data());
     rows = spend->rgba.data();
   } else {
     raw.resize(stride * h);
-    pack_rows(image.rgba.data(), w, h, alpha, raw.data());
+    pack_rows(image.rgba.data(), w, h, channels, raw.data());
     rows = raw.data();
   }
   // Renders compress to well under a quarter of their raw size: a buffer of that size, and
@@ -161,7 +169,7 @@ bool encode_fast(std::FILE* f, const Image& image, Image* spend, int level, bool
   put_u32(ihdr, std::uint32_t(w));
   put_u32(ihdr + 4, std::uint32_t(h));
   ihdr[8] = 8;                  // bits per channel
-  ihdr[9] = alpha ? 6 : 2;      // RGBA or RGB; compression, filter, interlace 0
+  ihdr[9] = channels == 4 ? 6 : channels == 3 ? 2 : 0;  // RGBA, RGB or grey; compression, filter, interlace 0
   return std::fwrite(signature, 1, 8, f) == 8 && put_chunk(f, "IHDR", ihdr, 13) &&
          put_chunk(f, "IDAT", packed.data(), n) && put_chunk(f, "IEND", nullptr, 0);
 }
@@ -205,7 +213,7 @@ bool decode(std::FILE* f, Image& image, std::vector<png_bytep>& rows, std::strin
   return ok;
 }
 
-bool write_file(const std::string& path, const Image& image, Image* spend, int level, bool alpha, std::string& error) {
+bool write_file(const std::string& path, const Image& image, Image* spend, int level, int channels, std::string& error) {
   namespace fs = std::filesystem;
   const std::string tmp = path + ".tmp";
   std::string msg;
@@ -218,12 +226,12 @@ bool write_file(const std::string& path, const Image& image, Image* spend, int l
     }
 #ifdef VDMSIM_HAVE_LIBDEFLATE
     if (level >= 1 && level <= 3) {
-      ok = encode_fast(f.get(), image, spend, level, alpha, msg);
+      ok = encode_fast(f.get(), image, spend, level, channels, msg);
     } else
 #endif
     {
-      std::vector<std::uint8_t> rgb(static_cast<size_t>(image.width) * 3);
-      ok = encode(f.get(), image, level, alpha, rgb, msg);
+      std::vector<std::uint8_t> row_bytes(static_cast<size_t>(image.width) * size_t(channels));
+      ok = encode(f.get(), image, level, channels, row_bytes, msg);
     }
     ok = ok && std::fflush(f.get()) == 0 && !std::ferror(f.get());
     ok = (std::fclose(f.release()) == 0) && ok;
@@ -246,11 +254,15 @@ bool write_file(const std::string& path, const Image& image, Image* spend, int l
 }  // namespace
 
 bool write_png(const std::string& path, const Image& image, int level, bool alpha, std::string& error) {
-  return write_file(path, image, nullptr, level, alpha, error);
+  return write_file(path, image, nullptr, level, alpha ? 4 : 3, error);
 }
 
 bool write_png_spending(const std::string& path, Image& image, int level, std::string& error) {
-  return write_file(path, image, &image, level, false, error);
+  return write_file(path, image, &image, level, 3, error);
+}
+
+bool write_grey_png_spending(const std::string& path, Image& image, int level, std::string& error) {
+  return write_file(path, image, &image, level, 1, error);
 }
 
 bool read_png(const std::string& path, Image& image, std::string& error) {

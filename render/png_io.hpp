@@ -15,6 +15,9 @@ bool write_png(const std::string& path, const Image& image, int compression_leve
 // buffer holds the PNG's rows while they are compressed (no 2.8 MB copy for a 720p frame),
 // so its pixels are overwritten. The file is the same as write_png's.
 bool write_png_spending(const std::string& path, Image& image, int compression_level, std::string& error);
+// An 8-bit greyscale PNG of the image's red channel (exact values: ids, masks), written as
+// write_png_spending writes (the image's pixels overwritten at the fast levels).
+bool write_grey_png_spending(const std::string& path, Image& image, int compression_level, std::string& error);
 
 // Reads any 8-bit or 16-bit PNG into RGBA8. On failure returns false with a message naming
 // the file.

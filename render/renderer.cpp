@@ -18,6 +18,7 @@
 #include "render/gl_context.hpp"
 #include "render/gl_program.hpp"
 #include "render/gizmo.hpp"
+#include "render/ground_truth_pass.hpp"
 #include "render/hud.hpp"
 #include "render/imgui_layer.hpp"
 #include "render/instrument_geometry.hpp"
@@ -142,6 +143,11 @@ struct Renderer::Impl {
   Eigen::Vector3d key_dir = Eigen::Vector3d(-0.55, -0.65, 1.2).normalized();
   Eigen::Vector3d fill_dir = Eigen::Vector3d(0.9, -0.3, 0.25).normalized();
   Eigen::Matrix4f view_proj = Eigen::Matrix4f::Identity(), floor_proj = Eigen::Matrix4f::Identity();
+  Eigen::Matrix4f view = Eigen::Matrix4f::Identity();  // world -> OpenGL's camera space
+  double near_plane = 0, far_plane = 0;                 // the projection's clip planes (m)
+  // The ground-truth views' pass, made by the first frame that needs it.
+  std::unique_ptr<GroundTruthPass> ground_truth;
+  ViewImage view_image;  // draw_views' image, reused frame to frame
   std::vector<Eigen::Vector4f> capsule_a, capsule_b;
   std::vector<Eigen::Vector4f> box_centre, box_half;  // box and convex probes' shadows
   std::vector<Eigen::Matrix3f> box_axes;
@@ -166,6 +172,7 @@ struct Renderer::Impl {
     glDeleteFramebuffers(1, &mask_fbo);
     glDeleteTextures(1, &mask_tex);
     for (auto& [name, tex] : colormaps) glDeleteTextures(1, &tex);
+    ground_truth.reset();
     fb.reset();
   }
 
@@ -175,7 +182,8 @@ struct Renderer::Impl {
   InstrumentMeshes& instrument_meshes(const InstrumentView& v);
   GpuMesh& skin_mesh(const SkinMesh* s);
   GLuint colormap_texture(ColorMapName name);
-  void draw_instruments(const RenderScene& scene, GlProgram& prog, bool mask_only);
+  // `id_uniform` (the ground-truth pass): set to each instrument's segmentation id, when >= 0.
+  void draw_instruments(const RenderScene& scene, GlProgram& prog, bool mask_only, int id_uniform = -1);
   void set_capsules(const RenderScene& scene);
   void shadow_mask_pass(const RenderScene& scene);
   void find_shadow_rect(const RenderScene& scene);
@@ -189,6 +197,10 @@ struct Renderer::Impl {
   void draw_overlay(const RenderScene& scene, const StressView* view, bool hud);
   void draw_frame(const RenderScene& scene, const StressView* view, bool hud, Image& out);
   bool draw(const RenderScene& scene, const StressView* view, bool hud, Image& out);
+  bool draw_ground_truth(const RenderScene& scene);
+  void draw_ground_truth_pass(const RenderScene& scene);
+  template <typename DrawFrame>
+  bool guarded(const DrawFrame& draw_frame);
   float* map_organ_buffer();
 
   std::string frame_error;  // why the frame being drawn failed (the first reason)
@@ -311,8 +323,10 @@ bool Renderer::Impl::init(const vdm::SurfaceMesh& rest, std::string& error) {
 void Renderer::Impl::set_view_proj() {
   const double aspect = double(settings.width) / settings.height;
   const double dist = (camera.eye - camera.target).norm();
-  view_proj = perspective(camera.fov_deg, aspect, std::max(dist - 6 * radius, dist * 0.02), dist + 8 * radius) *
-              look_at(camera.eye, camera.target, camera.up);
+  near_plane = std::max(dist - 6 * radius, dist * 0.02);
+  far_plane = dist + 8 * radius;
+  view = look_at(camera.eye, camera.target, camera.up);
+  view_proj = perspective(camera.fov_deg, aspect, near_plane, far_plane) * view;
 }
 
 bool Renderer::Impl::make_backdrop(std::string& error) {
@@ -450,7 +464,7 @@ GLuint Renderer::Impl::colormap_texture(ColorMapName name) {
   return tex;
 }
 
-void Renderer::Impl::draw_instruments(const RenderScene& scene, GlProgram& prog, bool mask_only) {
+void Renderer::Impl::draw_instruments(const RenderScene& scene, GlProgram& prog, bool mask_only, int id_uniform) {
   const int u_model = prog.uniform("u_model");
   const int u_normal = mask_only ? -1 : prog.uniform("u_normal_matrix");
   auto draw_with = [&](const Eigen::Isometry3f& model, const GpuMesh& g) {
@@ -461,7 +475,9 @@ void Renderer::Impl::draw_instruments(const RenderScene& scene, GlProgram& prog,
     }
     g.draw();
   };
-  for (const InstrumentView& v : scene.instruments) {
+  for (size_t k = 0; k < scene.instruments.size(); ++k) {
+    const InstrumentView& v = scene.instruments[k];
+    if (id_uniform >= 0) glUniform1ui(id_uniform, GLuint(kFirstInstrumentId + int(k)));
     const Eigen::Isometry3f frame = v.frame.cast<float>();
     InstrumentMeshes& param = instrument_meshes(v);
     draw_with(frame, v.skin ? skin_mesh(v.skin) : param.body);
@@ -651,15 +667,24 @@ GlProgram& Renderer::Impl::use(Material m) {
   return p;
 }
 
-// A frame, and whether it could be drawn: its own failures (frame_error) and any OpenGL
-// error it raised. Errors left from before the frame are cleared first (at most a few: each
-// call returns one).
 bool Renderer::Impl::draw(const RenderScene& scene, const StressView* view, bool hud, Image& out) {
+  return guarded([&] { draw_frame(scene, view, hud, out); });
+}
+
+bool Renderer::Impl::draw_ground_truth(const RenderScene& scene) {
+  return guarded([&] { draw_ground_truth_pass(scene); });
+}
+
+// A frame's drawing (or reading), and whether it could be done: its own failures
+// (frame_error) and any OpenGL error it raised. Errors left from before are cleared first (at
+// most a few: each call returns one).
+template <typename DrawFrame>
+bool Renderer::Impl::guarded(const DrawFrame& draw_frame) {
   gl->make_current();
   frame_error.clear();
   for (int k = 0; k < 16; ++k)
     if (glGetError() == GL_NO_ERROR) break;
-  draw_frame(scene, view, hud, out);
+  draw_frame();
   const GLenum e = glGetError();
   if (e != GL_NO_ERROR && frame_error.empty()) {
     char text[80];
@@ -750,6 +775,36 @@ void Renderer::Impl::draw_frame(const RenderScene& scene, const StressView* view
   timer.mark("resolve+read");
 }
 
+// The ground-truth targets of the scene's objects: the organ (closed, back faces culled, as in
+// the pictures) and the instruments, each with its segmentation id; no floor, no background.
+void Renderer::Impl::draw_ground_truth_pass(const RenderScene& scene) {
+  if (!ground_truth) {
+    auto pass = std::make_unique<GroundTruthPass>();
+    std::string error;
+    if (!pass->init(settings.width, settings.height, error)) {
+      frame_error = error;
+      return;
+    }
+    ground_truth = std::move(pass);
+  }
+  upload_positions(*scene.positions);
+  upload_normals(*scene.positions, nullptr, nullptr);
+  set_view_proj();
+  GlProgram& program = ground_truth->begin(view_proj, view);
+  const Eigen::Matrix4f identity = Eigen::Matrix4f::Identity();
+  const Eigen::Matrix3f identity3 = Eigen::Matrix3f::Identity();
+  glUniformMatrix4fv(program.uniform("u_model"), 1, GL_FALSE, identity.data());
+  glUniformMatrix3fv(program.uniform("u_normal_matrix"), 1, GL_FALSE, identity3.data());
+  ground_truth->set_id(unsigned(kOrganId));
+  glEnable(GL_CULL_FACE);
+  glCullFace(GL_BACK);
+  glBindVertexArray(organ_vao);
+  glDrawElements(GL_TRIANGLES, organ_count, GL_UNSIGNED_INT, nullptr);
+  glDisable(GL_CULL_FACE);
+  draw_instruments(scene, program, false, program.uniform("u_id"));
+  glBindVertexArray(0);
+}
+
 // The overlay (HUD, gizmo) on transparent black (ImGui blends colour by its alpha and alpha by ONE,
 // ONE_MINUS_SRC_ALPHA: the layer is premultiplied), read back where it was drawn and
 // composited over the smoothed frame: the same pixels as drawing it over the frame, to a
@@ -801,6 +856,39 @@ bool Renderer::draw_shaded(const RenderScene& scene, bool hud, Image& out) { ret
 
 bool Renderer::draw_stress(const RenderScene& scene, const StressView& view, bool hud, Image& out) {
   return impl_->draw(scene, &view, hud, out);
+}
+
+bool Renderer::draw_views(const RenderScene& scene, const std::vector<View>& views, const ViewOptions& options,
+                          const std::function<bool(View, ViewImage&)>& take) {
+  bool ground_truth_drawn = false;
+  ViewImage& image = impl_->view_image;
+  for (View v : views) {
+    const ViewRow& row = view_row(v);
+    image.file = row.file;
+    if (row.pass == ViewPass::picture) {
+      if (!impl_->draw(scene, v == View::stress ? &options.stress : nullptr, options.hud, image.image)) return false;
+    } else {
+      if (!ground_truth_drawn && !impl_->draw_ground_truth(scene)) return false;
+      ground_truth_drawn = true;
+      if (!impl_->guarded([&] {
+            switch (v) {
+              case View::depth: impl_->ground_truth->read_camera_z(image.floats); break;
+              case View::segmentation: impl_->ground_truth->read_ids(image.image); break;
+              case View::normals: impl_->ground_truth->read_normals(image.image); break;
+              case View::shaded:
+              case View::stress: break;  // pictures, drawn above
+            }
+          }))
+        return false;
+    }
+    if (!take(v, image)) return true;
+  }
+  return true;
+}
+
+CameraModel Renderer::camera_model() const {
+  return render::camera_model(impl_->camera, impl_->settings.width, impl_->settings.height, impl_->near_plane,
+                              impl_->far_plane);
 }
 
 const std::string& Renderer::error() const { return impl_->frame_error; }

@@ -197,4 +197,40 @@ out vec4 frag_color;
 void main() { frag_color = vec4(mix(u_bottom_srgb, u_top_srgb, gl_FragCoord.y / u_height), 1.0); }
 )";
 
+const char* const kGroundTruthVertex = R"(#version 450 core
+layout(location = 0) in vec3 a_position;
+layout(location = 1) in vec3 a_normal;
+uniform mat4 u_model;
+uniform mat3 u_normal_matrix;
+uniform mat4 u_view_proj;
+uniform mat4 u_view;     // world -> OpenGL's camera space (x right, y up, z backward)
+out vec3 v_camera;       // the point in OpenGL's camera space
+out vec3 v_normal;       // its normal there
+void main() {
+  vec4 world = u_model * vec4(a_position, 1.0);
+  v_camera = (u_view * world).xyz;
+  v_normal = mat3(u_view) * (u_normal_matrix * a_normal);
+  gl_Position = u_view_proj * world;
+}
+)";
+
+const char* const kGroundTruthFragment = R"(#version 450 core
+// Camera z is affine over a triangle, so its perspective-correct interpolation is the z of the
+// surface point seen through the pixel's centre. Outputs in OpenCV's camera axes (x right,
+// y down, z forward).
+in vec3 v_camera;
+in vec3 v_normal;
+uniform uint u_id;
+layout(location = 0) out uint out_id;
+layout(location = 1) out vec4 out_normal;
+layout(location = 2) out float out_depth;
+void main() {
+  out_id = u_id;
+  vec3 n = normalize(v_normal);
+  if (!gl_FrontFacing) n = -n;
+  out_normal = vec4(0.5 * vec3(n.x, -n.y, -n.z) + 0.5, 1.0);
+  out_depth = -v_camera.z;
+}
+)";
+
 }  // namespace render::shaders

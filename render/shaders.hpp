@@ -15,5 +15,9 @@ extern const char* const kFloorFragment;
 // The background gradient, drawn last at the far plane so that only uncovered pixels pay.
 extern const char* const kBackgroundVertex;
 extern const char* const kBackgroundFragment;
+// The ground-truth pass (render/ground_truth_pass.hpp): each object's id, its camera-space
+// normal and its camera z into three targets, unlit.
+extern const char* const kGroundTruthVertex;
+extern const char* const kGroundTruthFragment;
 
 }  // namespace render::shaders

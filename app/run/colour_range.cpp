@@ -60,7 +60,7 @@ void first_pass_range(const PreparedScene& ps, int frames, render::Quantity quan
 double set_auto_colour_range(const PreparedScene& ps, const RunSetup& setup, FrameOutput& output,
                              const StopSignals& signals, Progress& progress) {
   const RenderDef& rd = ps.scene.render;
-  if (!(setup.rendering && rd.stress && rd.range_auto)) return 0;
+  if (!(setup.rendering && rd.has(render::View::stress) && rd.range_auto)) return 0;
   const Checkpoint& cp = setup.resume_from;
   if (setup.resume && cp.range_lo < cp.range_hi) {
     output.set_stress_range(cp.range_lo, cp.range_hi);  // the interrupted run's range

@@ -5,26 +5,38 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
+#include "app/run/camera_json.hpp"
 #include "app/run/instrument_focus.hpp"
+#include "app/run/output_dir.hpp"
 #include "engine/stopwatch.hpp"
 #include "render/png_io.hpp"
-#include <cstdio>
 
 namespace vdmsim {
 namespace {
 using vdm::Clock;
 using vdm::ms_since;
 
-// Removes prefix_*.png (and unfinished .png.tmp) left in `folder` by an earlier run.
-void remove_old_frames(const std::filesystem::path& folder, const std::string& prefix) {
+// Removes prefix_*<extension> (and unfinished <extension>.tmp) left in `folder` by an earlier
+// run.
+void remove_old_frames(const std::filesystem::path& folder, const std::string& prefix, const std::string& extension) {
+  auto ends_with = [](const std::string& name, const std::string& tail) {
+    return name.size() > tail.size() && name.compare(name.size() - tail.size(), tail.size(), tail) == 0;
+  };
   std::error_code ec;
   for (const auto& entry : std::filesystem::directory_iterator(folder, ec)) {
     const std::string name = entry.path().filename().string();
-    const bool png = name.size() > 4 && (name.compare(name.size() - 4, 4, ".png") == 0 ||
-                                         (name.size() > 8 && name.compare(name.size() - 8, 8, ".png.tmp") == 0));
-    if (png && name.rfind(prefix + "_", 0) == 0) std::filesystem::remove(entry.path(), ec);
+    const bool frame = ends_with(name, extension) || ends_with(name, extension + ".tmp");
+    if (frame && name.rfind(prefix + "_", 0) == 0) std::filesystem::remove(entry.path(), ec);
   }
+}
+
+// The first picture view of the scene's (its frames make the contact sheet), or null.
+const render::ViewRow* first_picture_view(const RenderDef& rd) {
+  for (render::View v : rd.views)
+    if (render::view_row(v).pass == render::ViewPass::picture) return &render::view_row(v);
+  return nullptr;
 }
 }  // namespace
 
@@ -34,34 +46,34 @@ std::string frame_file_name(const std::string& prefix, int f, const char* extens
   return prefix + buf + extension;
 }
 
-bool FrameOutput::open(const PreparedScene& ps, const std::filesystem::path& dir, int frames, std::string& error,
-                       int resume_from, int fail_frame) {
+int FrameOutput::open(const PreparedScene& ps, const std::filesystem::path& dir, int frames, std::string& error,
+                      int resume_from, int fail_frame) {
   ps_ = &ps;
   fail_frame_ = fail_frame;
   dir_ = dir;
   const RenderDef& rd = ps.scene.render;
   view_ = rd.stress_view;
-  for (const char* sub : {"frames", "stress"}) {
-    const bool wanted = std::string(sub) == "frames" ? rd.shaded : rd.stress;
-    if (!wanted) continue;
+  for (render::View v : rd.views) {
+    const render::ViewRow& row = render::view_row(v);
     std::error_code ec;
-    std::filesystem::create_directories(dir / sub, ec);
+    std::filesystem::create_directories(dir / row.folder, ec);
     if (ec) {
-      error = (dir / sub).string() + ": cannot create the folder (" + ec.message() + ")";
-      return false;
+      error = (dir / row.folder).string() + ": cannot create the folder (" + ec.message() + ")";
+      return 1;
     }
-    if (resume_from == 0) remove_old_frames(dir / sub, std::string(sub) == "frames" ? "frame" : "stress");
+    if (resume_from == 0) remove_old_frames(dir / row.folder, row.prefix, render::file_extension(row.file));
   }
-  queue_ = std::make_unique<render::PngQueue>(rd.png_compression);
+  queue_ = std::make_unique<render::ImageQueue>(rd.png_compression);
   sheet_frames_ = render::contact_sheet_frames(frames, 12);
   // Thumbnails of the frames an interrupted run already wrote.
-  const std::string prefix = rd.shaded ? "frame" : "stress", sub = rd.shaded ? "frames" : "stress";
-  for (int f : sheet_frames_) {
-    if (f >= resume_from) break;
-    render::Image im;
-    if (!render::read_png((dir / sub / frame_file_name(prefix, f)).string(), im, error)) return false;
-    thumbnails_.push_back({f, render::downscale(im, std::max(1, im.width / 320)), ""});
-  }
+  if (const render::ViewRow* sheet_view = first_picture_view(rd))
+    for (int f : sheet_frames_) {
+      if (f >= resume_from) break;
+      render::Image im;
+      if (!render::read_png((dir / sheet_view->folder / render::view_file_name(*sheet_view, f)).string(), im, error))
+        return 1;
+      thumbnails_.push_back({f, render::downscale(im, std::max(1, im.width / 320)), ""});
+    }
   // The render thread owns the GL context: it creates the renderer and says whether it could.
   bool started = false;
   {
@@ -73,9 +85,14 @@ bool FrameOutput::open(const PreparedScene& ps, const std::filesystem::path& dir
   if (!started) {
     thread_.join();
     error = "the renderer could not start: " + error;
-    return false;
+    return 1;
   }
-  return true;
+  if (rd.has_ground_truth()) {
+    if (!write_file_atomically(dir / "camera.json", camera_json(camera_), error)) return 1;
+    const int objects = 1 + int(ps.scene.instruments.size());
+    if (const int code = poses_.open(dir, resume_from, objects, error); code >= 0) return code;
+  }
+  return -1;
 }
 
 FrameOutput::~FrameOutput() { stop(); }
@@ -98,7 +115,8 @@ void FrameOutput::render_loop(std::string* start_error, bool* started) {
     std::lock_guard<std::mutex> lock(mutex_);
     renderer_ = std::move(renderer);
     *started = renderer_ != nullptr;
-    if (!renderer_) *start_error = error;
+    if (renderer_) camera_ = renderer_->camera_model();
+    else *start_error = error;
     starting_ = false;
   }
   changed_.notify_all();
@@ -130,7 +148,7 @@ void FrameOutput::render_loop(std::string* start_error, bool* started) {
   // run's peak (+60 MB at 40k nodes without MSAA).
   malloc_trim(0);
   if (sheet && queue_->finish() && !thumbnails_.empty()) {
-    const std::string title = ps_->scene.name + " (" + std::string(ps_->scene.render.shaded ? "shaded" : "stress") + ")";
+    const std::string title = ps_->scene.name + " (" + first_picture_view(ps_->scene.render)->name + ")";
     std::string error;
     if (!render::write_contact_sheet(thumbnails_, title, (dir_ / "contact_sheet.png").string(),
                                      ps_->scene.render.png_compression, error))
@@ -142,14 +160,16 @@ void FrameOutput::draw(Job& job) {
   const RenderDef& rd = ps_->scene.render;
   job.scene.positions = &job.x;
   bool thumb_taken = false;
-  auto queue = [&](const std::string& sub, const std::string& prefix) {
-    if (job.keep_thumbnail && !thumb_taken) {
-      render::Thumbnail t{job.frame, render::downscale(image_, std::max(1, image_.width / 320)), ""};
+  // Each view's image to its file; the first picture view's to the contact sheet too.
+  auto queue = [&](render::View v, render::ViewImage& image) {
+    const render::ViewRow& row = render::view_row(v);
+    if (job.keep_thumbnail && !thumb_taken && row.pass == render::ViewPass::picture) {
+      render::Thumbnail t{job.frame, render::downscale(image.image, std::max(1, image.image.width / 320)), ""};
       std::lock_guard<std::mutex> lock(mutex_);
       thumbnails_.push_back(std::move(t));
       thumb_taken = true;
     }
-    return queue_->push(image_, (dir_ / sub / frame_file_name(prefix, job.frame)).string());
+    return queue_->push(image, (dir_ / row.folder / render::view_file_name(row, job.frame)).string());
   };
   // A frame the renderer cannot draw stops the output there: no image of it is written, nor
   // of the frames after it (the run stops on write()'s false).
@@ -163,14 +183,10 @@ void FrameOutput::draw(Job& job) {
     if (!render_error_.empty()) return;
   }
   if (job.frame == fail_frame_) renderer_->fail_next_map_for_testing();
-  if (rd.shaded) {
-    if (!renderer_->draw_shaded(job.scene, rd.hud, image_)) return failed();
-    if (!queue("frames", "frame")) return;
-  }
-  if (rd.stress) {
-    if (!renderer_->draw_stress(job.scene, view_, rd.hud, image_)) return failed();
-    queue("stress", "stress");
-  }
+  render::ViewOptions options;
+  options.hud = rd.hud;
+  options.stress = view_;
+  if (!renderer_->draw_views(job.scene, rd.views, options, queue)) failed();
 }
 
 std::string FrameOutput::render_error() const {
@@ -223,7 +239,8 @@ bool FrameOutput::write(int f, int frames, const SceneSimulation& sim) {
   hud.force_scale_n = hud.pressure_scale_pa * ps_->model.size * ps_->model.size;
   hud.volume_rel_error = st.volume_rel_error;
   hud.step_ms = sim.frame_step_ms();
-  if (rd.stress) render::scalar_field(view_.quantity, st, scene.scalar);
+  if (rd.has(render::View::stress)) render::scalar_field(view_.quantity, st, scene.scalar);
+  if (poses_.is_open() && !write_poses(f, scene)) return false;
   job.keep_thumbnail = std::find(sheet_frames_.begin(), sheet_frames_.end(), f) != sheet_frames_.end();
   {
     std::unique_lock<std::mutex> lock(mutex_);
@@ -231,16 +248,35 @@ bool FrameOutput::write(int f, int frames, const SceneSimulation& sim) {
     jobs_.push_back(std::move(job));
   }
   changed_.notify_all();
-  return queue_->error().empty() && render_error().empty();
+  return error().empty();
 }
 
+bool FrameOutput::write_poses(int f, const render::RenderScene& scene) {
+  std::vector<ObjectPose> poses;
+  poses.push_back({"camera", camera_.pose, 0.0});
+  for (size_t k = 0; k < scene.instruments.size(); ++k) {
+    const render::InstrumentView& v = scene.instruments[k];
+    const bool grasper = v.type == tools::InstrumentDef::Type::grasper;
+    const double jaw_deg = grasper ? tools::kMaxJawAngleDeg * std::clamp(v.jaw_opening, 0.0, 1.0) : 0.0;
+    poses.push_back({"instruments[" + std::to_string(k) + "]", v.frame, jaw_deg});
+  }
+  std::string error;
+  if (poses_.write(f, poses, error)) return true;
+  std::lock_guard<std::mutex> lock(mutex_);
+  if (poses_error_.empty()) poses_error_ = error;
+  return false;
+}
+
+void FrameOutput::keep_frames(int frames) { poses_.keep_frames(frames); }
+
 bool FrameOutput::flush() {
+  poses_.flush();
   if (!queue_) return true;
   {
     std::unique_lock<std::mutex> lock(mutex_);
     changed_.wait(lock, [&] { return (jobs_.empty() && !busy_) || !thread_.joinable(); });
   }
-  return queue_->finish() && render_error().empty();
+  return queue_->finish() && error().empty();
 }
 
 bool FrameOutput::finish(std::string& error) {
@@ -262,12 +298,17 @@ bool FrameOutput::finish(std::string& error) {
     error = "writing images failed: " + sheet_error_;
     return false;
   }
-  return true;
+  error = this->error();  // poses.csv's
+  return error.empty();
 }
 
 std::string FrameOutput::error() const {
   const std::string rendering = render_error();
   if (!rendering.empty()) return rendering;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (!poses_error_.empty()) return "writing poses failed: " + poses_error_;
+  }
   const std::string writing = queue_ ? queue_->error() : std::string();
   return writing.empty() ? writing : "writing images failed: " + writing;
 }

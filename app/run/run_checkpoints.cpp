@@ -42,7 +42,7 @@ Checkpoint RunCheckpoints::at(int frame, const std::string& state_hash) const {
   cp.range_lo = output_.stress_view().lo;
   cp.range_hi = output_.stress_view().hi;
   const RenderDef& rd = ps_.scene.render;
-  if (!(setup_.rendering && rd.stress && rd.range_auto)) cp.range_lo = cp.range_hi = 0;
+  if (!(setup_.rendering && rd.has(render::View::stress) && rd.range_auto)) cp.range_lo = cp.range_hi = 0;
   return cp;
 }
 

@@ -66,12 +66,19 @@ void write_render(const RunRecord& r, std::ostream& js) {
   const render::StressView& view = r.output.stress_view();
   js << "  \"render\": {\"width\": " << rd.settings.width << ", \"height\": " << rd.settings.height
      << ", \"antialias\": \"" << render::to_string(rd.settings.antialias) << "\", \"samples\": "
-     << rd.settings.msaa_samples() << ", \"views\": [" << (rd.shaded ? "\"shaded\"" : "")
-     << (rd.shaded && rd.stress ? ", " : "") << (rd.stress ? "\"stress\"" : "") << "], \"images_written\": "
-     << r.output.images_written();
-  if (rd.stress)
+     << rd.settings.msaa_samples() << ", \"views\": [";
+  for (size_t i = 0; i < rd.views.size(); ++i) js << (i ? ", " : "") << '"' << render::view_row(rd.views[i]).name << '"';
+  js << "], \"images_written\": " << r.output.images_written();
+  if (rd.has(render::View::stress))
     js << ", \"stress_quantity\": \"" << render::to_string(view.quantity) << "\", \"stress_range\": [" << view.lo << ", "
        << view.hi << "], \"stress_range_source\": \"" << (rd.range_auto ? "first pass" : "scene") << "\"";
+  // The segmentation view's ids (render/views.hpp): the organ's, then each instrument's.
+  if (rd.has(render::View::segmentation)) {
+    js << ", \"segmentation_ids\": {\"organ\": " << render::kOrganId;
+    for (size_t k = 0; k < r.prepared.scene.instruments.size(); ++k)
+      js << ", \"instruments[" << k << "]\": " << render::kFirstInstrumentId + int(k);
+    js << '}';
+  }
   js << ", \"video\": \"" << json_escape(r.video_status) << "\"},\n";
 }
 

@@ -52,7 +52,7 @@ static RunInputs run_inputs(const SceneDef& s, const std::string& options) {
 int run_frames(const SceneDef& s, const RunOptions& opt) { return opt.frames > 0 ? opt.frames : s.frames; }
 
 bool run_renders(const SceneDef& s, const RunOptions& opt) {
-  return opt.render && s.has_render && (s.render.shaded || s.render.stress);
+  return opt.render && s.has_render && !s.render.views.empty();
 }
 
 RunInputs run_inputs(const SceneDef& s, const RunOptions& opt) {
@@ -157,9 +157,11 @@ void remove_earlier_outputs(const fs::path& dir) {
   std::error_code ec;
   // run.json first: a fresh run killed before it writes its own leaves no other run's summary
   // beside its frames.
-  for (const char* old : {"run.json", "checkpoint.json", "state.bin", "video.mp4", "stress.mp4", "contact_sheet.png",
-                          "ffmpeg.log"})
+  for (const char* old : {"run.json", "checkpoint.json", "state.bin", "contact_sheet.png", "ffmpeg.log", "camera.json",
+                          "poses.csv", "video.mp4"})
     fs::remove(dir / old, ec);
+  for (const render::ViewRow& row : render::view_table())  // the picture views' videos (render::video_file_name)
+    if (row.pass == render::ViewPass::picture) fs::remove(dir / (std::string(row.name) + ".mp4"), ec);
 }
 
 }  // namespace
@@ -173,6 +175,11 @@ int set_up_run(const PreparedScene& ps, const RunOptions& opt, RunSetup& setup, 
   if (opt.video && !setup.rendering) {
     err << "vdmsim: error: --video needs rendered frames: " << (opt.render ? s.file + " has no render: section" : "drop --no-render")
         << "\n";
+    return 2;
+  }
+  if (opt.video && !s.render.has_picture()) {
+    err << "vdmsim: error: --video needs a picture view (shaded or stress) in " << s.file
+        << "'s render.views: the ground-truth views are not made into videos\n";
     return 2;
   }
   // Checked before anything is simulated: ffmpeg reads the frames through a pattern

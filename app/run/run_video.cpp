@@ -9,17 +9,18 @@ std::string encode_run_videos(const RenderDef& rd, const std::filesystem::path& 
   namespace fs = std::filesystem;
   std::string error;
   bool ok = true;
-  if (rd.shaded)
-    ok = render::encode_video((dir / "frames" / "frame_%05d.png").string(), rd.fps, (dir / "video.mp4").string(),
+  for (render::View v : rd.views) {
+    const std::string video = render::video_file_name(rd.views, v);
+    if (!ok || video.empty()) continue;
+    const render::ViewRow& row = render::view_row(v);
+    const std::string pattern = std::string(row.prefix) + "_%05d" + render::file_extension(row.file);
+    ok = render::encode_video((dir / row.folder / pattern).string(), rd.fps, (dir / video).string(),
                               (dir / "ffmpeg.log").string(), error);
-  if (ok && rd.stress)
-    ok = render::encode_video((dir / "stress" / "stress_%05d.png").string(), rd.fps,
-                              (dir / (rd.shaded ? "stress.mp4" : "video.mp4")).string(), (dir / "ffmpeg.log").string(),
-                              error);
+  }
   if (signals.received()) {  // Ctrl-C reached ffmpeg too: no half video
     std::error_code ec;
-    fs::remove(dir / "video.mp4", ec);
-    fs::remove(dir / "stress.mp4", ec);
+    for (render::View v : rd.views)
+      if (const std::string video = render::video_file_name(rd.views, v); !video.empty()) fs::remove(dir / video, ec);
     ok = false;
     outcome.status = "interrupted";
     outcome.reason = "interrupted while encoding the video; every frame is complete, the video is not written";

@@ -1,6 +1,7 @@
 #pragma once
-// DIR/video.mp4 from the PNG sequences by ffmpeg (the shaded view; the stress view too, as
-// stress.mp4 beside it, or as video.mp4 when it is the only view).
+// The videos of a run's picture views from their PNG sequences, by ffmpeg: DIR/video.mp4 of the
+// first picture view (render::video_file_name), DIR/<view>.mp4 of the others (stress.mp4 beside
+// the shaded view's).
 #include <ostream>
 #include <string>
 

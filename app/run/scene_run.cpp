@@ -2,6 +2,7 @@
 
 #include <malloc.h>
 
+#include <algorithm>
 #include <optional>
 
 #include "app/run/colour_range.hpp"
@@ -22,16 +23,16 @@
 namespace vdmsim {
 namespace {
 
-// After an image write failure only the frames whose images all reached the disk count:
-// metrics.csv is cut back to them (the writer reports a failure a frame or more late).
-void keep_frames_with_images(const RenderDef& rd, const RunSetup& setup, const FrameOutput& output, MetricsCsv& metrics,
+// After an image or poses write failure only the frames whose images all reached the disk
+// count (the writer reports a failure a frame or more late), and not the frame whose output
+// failed: metrics.csv and poses.csv are cut back to them.
+void keep_frames_with_images(const RenderDef& rd, const RunSetup& setup, FrameOutput& output, MetricsCsv& metrics,
                              RunOutcome& outcome) {
-  const int views = (rd.shaded ? 1 : 0) + (rd.stress ? 1 : 0);
+  const int views = static_cast<int>(rd.views.size());
   const int complete = setup.start + static_cast<int>(output.images_written() / std::max(1, views));
-  if (complete < outcome.done) {
-    outcome.done = complete;
-    metrics.cut_back(outcome.done - setup.start);
-  }
+  outcome.done = std::min(outcome.done, complete);
+  metrics.cut_back(outcome.done - setup.start);
+  output.keep_frames(outcome.done);
 }
 
 // The run's last line on stdout, and its exit code: 0 completed, 130 interrupted, 1 failed.
@@ -59,9 +60,12 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
   const StopSignals signals;
   FrameOutput output;
   std::string error;
-  if (setup.rendering && !output.open(ps, setup.dir, setup.frames, error, setup.start, opt.fail_render_at_frame)) {
-    err << "vdmsim: error: " << error << "\n";
-    return 1;
+  if (setup.rendering) {
+    if (const int code = output.open(ps, setup.dir, setup.frames, error, setup.start, opt.fail_render_at_frame);
+        code >= 0) {
+      err << "vdmsim: error: " << error << "\n";
+      return code;
+    }
   }
   const auto t_run = vdm::Clock::now();
   Progress progress(err, terminal);

@@ -883,18 +883,23 @@ void read_render(Reader& r, const YAML::Node& n, SceneDef& s) {
       r.error(up, "render.camera.up", "the up vector must not be zero");
   }
   if (const YAML::Node views = n["views"]; views && r.require_sequence(views, "render.views")) {
-    d.shaded = d.stress = false;
+    std::vector<bool> asked(render::view_table().size(), false);
     for (size_t i = 0; i < views.size(); ++i) {
       std::string v;
       if (!r.text(views[i], Reader::item("render.views", i), v)) continue;
-      if (v == "shaded") d.shaded = true;
-      else if (v == "stress") d.stress = true;
-      else {
-        const std::string near = closest(v, {"shaded", "stress"});
+      render::View view;
+      if (render::parse_view(v, view)) {
+        asked[static_cast<size_t>(view)] = true;
+      } else {
+        const std::string near = closest(v, render::view_names());
         r.error(views[i], Reader::item("render.views", i),
-                "unknown view '" + v + "': expected shaded or stress" + (near.empty() ? "" : " (did you mean '" + near + "'?)"));
+                "unknown view '" + v + "': expected " + or_list(render::view_names()) +
+                    (near.empty() ? "" : " (did you mean '" + near + "'?)"));
       }
     }
+    d.views.clear();
+    for (const render::ViewRow& row : render::view_table())
+      if (asked[static_cast<size_t>(row.view)]) d.views.push_back(row.view);
   }
   if (const YAML::Node st = n["stress"]; st && r.require_map(st, "render.stress")) {
     r.check_keys(st, "render.stress", "render.stress");
@@ -925,16 +930,20 @@ void read_render(Reader& r, const YAML::Node& n, SceneDef& s) {
     }
   }
   const bool stress_quantity = render::quantity_needs_stress(d.stress_view.quantity);
-  if (d.stress && stress_quantity && !organ_model(s.model).surface_stress)
+  if (d.has(render::View::stress) && stress_quantity && !organ_model(s.model).surface_stress)
     r.error(n["views"], "render.views",
             std::string("the stress view of '") + render::to_string(d.stress_view.quantity) + "' needs organ.model " +
                 or_list(organ_model_names(&OrganModel::surface_stress)) + " (" + vdm::to_string(s.model) +
                 " computes no stress at the surface): colour by displacement or contact_pressure");
-  if (d.stress && !s.has(Effect::stress) && stress_quantity)
+  if (d.has(render::View::stress) && !s.has(Effect::stress) && stress_quantity)
     r.error(n["views"], "render.views",
             std::string("the stress view of '") + render::to_string(d.stress_view.quantity) +
                 "' needs the stress effect: add stress to simulation.effects (or colour by displacement or "
                 "contact_pressure)");
+  if (d.has(render::View::segmentation) && s.instruments.size() > size_t(render::kMaxInstrumentsWithIds))
+    r.error(n["views"], "render.views",
+            "the segmentation view's 8-bit ids name at most " + std::to_string(render::kMaxInstrumentsWithIds) +
+                " instruments; the scene has " + std::to_string(s.instruments.size()));
 }
 
 }  // namespace
@@ -958,6 +967,20 @@ const char* to_string(Effect e) {
 }
 
 bool SceneDef::has(Effect e) const { return std::find(effects.begin(), effects.end(), e) != effects.end(); }
+
+bool RenderDef::has(render::View v) const { return std::find(views.begin(), views.end(), v) != views.end(); }
+
+bool RenderDef::has_ground_truth() const {
+  return std::any_of(views.begin(), views.end(),
+                     [](render::View v) { return render::view_row(v).pass == render::ViewPass::ground_truth; });
+}
+
+bool RenderDef::has_picture() const {
+  return std::any_of(views.begin(), views.end(),
+                     [](render::View v) { return render::view_row(v).pass == render::ViewPass::picture; });
+}
+
+void RenderDef::remove(render::View v) { views.erase(std::remove(views.begin(), views.end(), v), views.end()); }
 
 std::string SceneProblem::text() const {
   return where + ": " + (warning ? "warning: " : "") + field + ": " + message;

@@ -13,6 +13,7 @@
 #include "engine/settings.hpp"
 #include "engine/types.hpp"
 #include "render/view_settings.hpp"
+#include "render/views.hpp"
 #include "tools_scripted/instrument.hpp"
 
 namespace vdmsim {
@@ -95,13 +96,18 @@ using InstrumentDef = tools::InstrumentDef;
 // The scene's `render:` section.
 struct RenderDef {
   render::RenderSettings settings;     // size, samples, camera (auto unless given), floor, shadows
-  bool shaded = true, stress = false;  // views
+  std::vector<render::View> views = {render::View::shaded};  // in the view table's order, each once
   render::StressView stress_view;      // quantity, colour map, range
   bool range_auto = true;              // range computed in a first pass over the sequence
   bool hud = true;
   bool hud_step_time = false;          // the HUD's step time (varies run to run: opt-in)
   int png_compression = 1;             // zlib level 0-9 (1: fast)
   double fps = 30;                     // video frame rate
+
+  bool has(render::View v) const;
+  bool has_ground_truth() const;        // a view of ViewPass::ground_truth (camera.json, poses.csv)
+  bool has_picture() const;             // a view of ViewPass::picture (contact sheet, video)
+  void remove(render::View v);
 };
 
 // The rotation of a `rotate_deg` field: about x, then y, then z (degrees).

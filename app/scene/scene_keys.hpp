@@ -386,13 +386,18 @@ inline constexpr SceneKey kSceneKeys[] = {
   key("render.camera", KT::section, "The camera. Leave out `eye` and `target` for automatic framing of the organ "
       "(or of the instruments' working area, with `focus`).")
       .eg("camera: {eye: [0.16, -0.24, 0.19], target: [0.025, 0, 0.025], up: [0, 0, 1], fov_deg: 35}"),
-  key("render.views", KT::choice_list, "The pictures drawn each frame: `shaded` (what a camera sees) into "
-      "`frames/frame_NNNNN.png`, `stress` (the organ coloured by `stress.quantity`) into `stress/stress_NNNNN.png`.")
-      .one_of([] { return Words{"shaded", "stress"}; }).by_default([] {
-        const RenderDef d;
-        return std::string(d.shaded && d.stress ? "[shaded, stress]" : d.shaded ? "[shaded]" : "[stress]");
+  key("render.views", KT::choice_list, "The images drawn each frame: `shaded` (what a camera sees) into "
+      "`frames/frame_NNNNN.png`, `stress` (the organ coloured by `stress.quantity`) into `stress/stress_NNNNN.png`; "
+      "the ground truth, with `camera.json` and `poses.csv`: `depth` (the distance along the optical axis, m, float32) "
+      "into `depth/depth_NNNNN.npy`, `segmentation` (8-bit ids: 0 the background, 1 the organ, 2 + i `instruments[i]`) "
+      "into `segmentation/segmentation_NNNNN.png`, `normals` (camera-space normals as RGB) into "
+      "`normals/normals_NNNNN.png`.")
+      .one_of(render::view_names).by_default([] {
+        std::string text;
+        for (render::View v : RenderDef().views) text += (text.empty() ? "" : ", ") + std::string(render::view_row(v).name);
+        return "[" + text + "]";
       })
-      .eg("views: [shaded, stress]"),
+      .eg("views: [shaded, depth, segmentation]"),
   key("render.stress", KT::section, "What the stress view shows and its colours.")
       .eg("stress: {quantity: magnitude, colormap: viridis, range: auto}"),
   key("render.hud", KT::boolean, "The overlay: scene name, frame, time, contact force, fluid pressure, volume error.")

@@ -125,7 +125,7 @@ PreparedScene bench_probe_scene(const std::string& mesh, int frames, bool render
   s.contact.method = vdm::ContactSettings::Method::kinematic;
   for (auto& in : s.instruments) in.radius = 0.008;
   if (!render) s.has_render = false;
-  s.render.stress = false;
+  s.render.remove(render::View::stress);
   if (!prepare_scene_def(s, ps, problems))
     throw std::runtime_error(problems.empty() ? "cannot prepare the probe scene" : problems.back().text());
   return ps;
@@ -332,7 +332,7 @@ SlideSideBySide bench_slide_side_by_side(int pairs, int frames) {
     SceneDef s = loaded.scene;
     s.frames = frames;
     s.has_render = false;
-    s.render.stress = false;
+    s.render.remove(render::View::stress);
     if (k == 0) s.contact.method = vdm::ContactSettings::Method::kinematic;
     std::vector<SceneProblem> problems;
     if (!prepare_scene_def(s, ps[k], problems))
@@ -534,7 +534,7 @@ CoreSideBySide bench_core_side_by_side(const fs::path& dir, const std::string& s
     SceneDef s = loaded.scene;
     s.frames = frames;
     s.has_render = false;
-    s.render.stress = false;
+    s.render.remove(render::View::stress);
     s.effects.erase(std::remove(s.effects.begin(), s.effects.end(), Effect::stress), s.effects.end());
     s.model = vdm::ModelKind::vdm_core;
     s.young_modulus = 5000;

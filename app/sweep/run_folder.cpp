@@ -84,8 +84,10 @@ RunFolderState run_folder_state(const fs::path& dir, const RunOptions& options) 
   if (status == "completed" && cp.frame + 1 == frames) {
     const RenderDef& rd = scene.scene.render;
     std::error_code ec;
-    const bool videos = !options.video || ((!rd.shaded || fs::exists(dir / "video.mp4", ec)) &&
-                                           (!rd.stress || fs::exists(dir / "stress.mp4", ec)));
+    bool videos = true;
+    for (render::View v : rd.views)
+      if (const std::string video = render::video_file_name(rd.views, v); options.video && !video.empty())
+        videos = videos && fs::exists(dir / video, ec);
     return videos ? RunFolderState::finished : RunFolderState::fresh;
   }
   if ((status == "interrupted" || status.empty()) && cp.frame + 1 < frames) return RunFolderState::resumable;

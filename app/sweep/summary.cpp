@@ -8,6 +8,7 @@
 
 #include "render/contact_sheet.hpp"
 #include "render/png_io.hpp"
+#include "render/views.hpp"
 
 namespace vdmsim {
 namespace {
@@ -140,14 +141,15 @@ bool write_summary_png(const SweepPlan& plan, const std::vector<RunResult>& resu
   std::vector<render::Thumbnail> thumbs;
   for (size_t i = 0; i < plan.runs.size() && i < results.size(); ++i) {
     if (results[i].deepest_frame < 0) continue;
-    char name[32];
-    std::snprintf(name, sizeof name, "_%05d.png", results[i].deepest_frame);
     const fs::path run = dir / "runs" / plan.runs[i].folder;
     render::Image image;
     std::string ignored;
-    if (!render::read_png((run / "frames" / ("frame" + std::string(name))).string(), image, ignored) &&
-        !render::read_png((run / "stress" / ("stress" + std::string(name))).string(), image, ignored))
-      continue;  // not rendered
+    bool found = false;  // the frame of the first picture view the run drew
+    for (const render::ViewRow& row : render::view_table())
+      if (!found && row.pass == render::ViewPass::picture)
+        found = render::read_png((run / row.folder / render::view_file_name(row, results[i].deepest_frame)).string(),
+                                 image, ignored);
+    if (!found) continue;  // not rendered
     render::Thumbnail t;
     t.frame = results[i].deepest_frame;
     t.image = render::downscale(image, std::max(1, image.width / 320));

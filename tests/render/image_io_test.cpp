@@ -8,7 +8,7 @@
 #include "render/contact_sheet.hpp"
 #include "render/number_format.hpp"
 #include "render/png_io.hpp"
-#include "render/png_queue.hpp"
+#include "render/image_queue.hpp"
 
 namespace fs = std::filesystem;
 
@@ -115,10 +115,10 @@ TEST(PngIo, ReadingGarbageOrAMissingFileFailsWithTheFileName) {
 
 // A write into a folder that does not exist fails; the queue reports the file, stops taking
 // images, and the images before the failure are complete.
-TEST(PngQueue, AWriteFailureIsReportedAndEarlierImagesStayComplete) {
+TEST(ImageQueue, AWriteFailureIsReportedAndEarlierImagesStayComplete) {
   const fs::path ok1 = scratch("queue_ok1.png"), ok2 = scratch("queue_ok2.png");
   const fs::path bad = scratch("no_such_folder") / "x.png";
-  render::PngQueue q(1, 2);
+  render::ImageQueue q(1, 2);
   EXPECT_TRUE(q.push(pattern(64, 48), ok1.string()));
   EXPECT_TRUE(q.push(pattern(64, 48), ok2.string()));
   q.push(pattern(64, 48), bad.string());

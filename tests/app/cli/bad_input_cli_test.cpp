@@ -144,6 +144,7 @@ TEST(BadInputCli, EveryBrokenSceneExitsWith2NamingFileAndProblem) {
        "instruments[0].radius"},
       {"not_yaml.yaml", "organ: [unclosed\n", "not valid YAML"},
       {"antialias.yaml", scene("", ok_sim, "render: {antialias: fxaa}\n"), "render.antialias"},
+      {"view.yaml", scene("", ok_sim, "render: {views: [shaded, dept]}\n"), "render.views[1]: unknown view 'dept'"},
       // Issue 31: a Latin-1 name made run.json invalid JSON.
       {"latin1_name.yaml", "name: caf\xe9" + scene("", ok_sim).substr(9), "name: not valid UTF-8"},
   };

@@ -7,6 +7,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -324,4 +325,82 @@ TEST(Resume, RefusesACheckpointOrExportThatDoesNotFitTheRun) {
   EXPECT_EQ(r.code, 2) << r.output;
   EXPECT_NE(r.output.find("stopped before its first checkpoint"), std::string::npos) << r.output;
   EXPECT_EQ(r.output.find("run without --resume first"), std::string::npos) << r.output;
+}
+
+// The ground-truth files of a run that failed at frame 10 (the renderer made to fail there) and
+// was resumed from its checkpoint at frame 6 are those of a run that never stopped: poses.csv
+// drops the rows of the frames after the checkpoint and writes them again, once.
+TEST(Resume, GroundTruthFilesOfAResumedRunEqualAnUninterruptedRuns) {
+  const fs::path dir = kOut / "ground_truth";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string scene = (dir / "press.yaml").string();
+  std::ofstream(scene) << "name: press\norgan:\n  mesh: " << VDMSIM_SOURCE_DIR
+                       << "/assets/meshes/liver_L4.obj\n"
+                          "  fixed: [{box: {min: [-0.3, -0.2, -0.2], max: [0.3, 0.2, -0.03]}}]\n"
+                          "simulation: {frames: 12, dt: 0.05, effects: [contact]}\n"
+                          "instruments:\n  - {type: probe, radius: 0.008, script: [{t: 0, tip: [0.035, 0, 0.07], "
+                          "axis: [0, 0, -1]}, {t: 0.55, tip: [0.035, 0, 0.05]}]}\n"
+                          "render: {width: 96, height: 64, views: [shaded, depth, segmentation, normals], hud: false}\n";
+  const fs::path whole = dir / "whole", resumed = dir / "resumed";
+  ASSERT_EQ(run_in_process(scene, whole, false), 0);
+  {
+    vdmsim::PreparedScene ps;
+    std::vector<vdmsim::SceneProblem> problems;
+    ASSERT_TRUE(vdmsim::prepare_scene(scene, ps, problems));
+    vdmsim::RunOptions opt;
+    opt.out_dir = resumed.string();
+    opt.checkpoint_every = 7;
+    opt.fail_render_at_frame = 10;
+    std::ostringstream o, e;
+    ASSERT_EQ(vdmsim::run_scene(ps, opt, o, e, false), 1) << e.str();
+  }
+  const std::string cut = read_file(resumed / "poses.csv");
+  EXPECT_EQ(std::count(cut.begin(), cut.end(), '\n'), 1 + 10 * 2) << "the header and frames 0 to 9";
+  ASSERT_EQ(run_in_process(scene, resumed, true), 0);
+  EXPECT_NE(read_file(resumed / "run.json").find("\"resumed_from_frame\": 7"), std::string::npos);
+  EXPECT_EQ(read_file(whole / "poses.csv"), read_file(resumed / "poses.csv"));
+  EXPECT_EQ(read_file(whole / "camera.json"), read_file(resumed / "camera.json"));
+  EXPECT_EQ(metrics_without_timing(whole / "metrics.csv"), metrics_without_timing(resumed / "metrics.csv"));
+  for (int f = 0; f < 12; ++f)
+    for (const char* view : {"depth/depth_.npy", "segmentation/segmentation_.png", "normals/normals_.png"}) {
+      char number[16];
+      std::snprintf(number, sizeof number, "%05d", f);
+      std::string name = view;
+      name.insert(name.find('_') + 1, number);
+      ASSERT_TRUE(fs::exists(resumed / name)) << name;
+      EXPECT_EQ(read_file(whole / name), read_file(resumed / name)) << name;
+    }
+}
+
+// A poses.csv cut short (edited, or damaged) cannot be extended: the resume is refused with
+// exit 2, naming the file, and the file is left as it was.
+TEST(Resume, RefusesAPosesFileWithFewerFramesThanTheCheckpoint) {
+  const fs::path dir = kOut / "poses_damaged";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string scene = (dir / "press.yaml").string();
+  std::ofstream(scene) << "name: press\norgan:\n  mesh: " << VDMSIM_SOURCE_DIR
+                       << "/assets/meshes/liver_L4.obj\n"
+                          "  fixed: [{box: {min: [-0.3, -0.2, -0.2], max: [0.3, 0.2, -0.03]}}]\n"
+                          "simulation: {frames: 10, dt: 0.05}\n"
+                          "render: {width: 64, height: 48, views: [depth], hud: false}\n";
+  {
+    vdmsim::PreparedScene ps;
+    std::vector<vdmsim::SceneProblem> problems;
+    ASSERT_TRUE(vdmsim::prepare_scene(scene, ps, problems));
+    vdmsim::RunOptions opt;
+    opt.out_dir = dir.string();
+    opt.checkpoint_every = 7;
+    opt.fail_render_at_frame = 8;
+    std::ostringstream o, e;
+    ASSERT_EQ(vdmsim::run_scene(ps, opt, o, e, false), 1) << e.str();
+  }
+  const std::string poses = read_file(dir / "poses.csv");
+  size_t cut = 0;
+  for (int line = 0; line < 4; ++line) cut = poses.find('\n', cut) + 1;  // the header and frames 0 to 2
+  std::ofstream(dir / "poses.csv", std::ios::binary) << poses.substr(0, cut);
+  const std::string e = refused_resume(scene, dir);
+  EXPECT_NE(e.find("poses.csv: has 3 whole rows before frame 7 where the checkpoint needs 7"), std::string::npos) << e;
+  EXPECT_EQ(read_file(dir / "poses.csv"), poses.substr(0, cut));
 }

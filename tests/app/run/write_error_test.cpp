@@ -126,3 +126,73 @@ TEST(WriteError, AFullDiskEarlyLeavesAResumableRunAndNoTmpFile) {
   EXPECT_NE(js.str().find("\"status\": \"completed\""), std::string::npos) << js.str();
   EXPECT_NE(js.str().find("\"frames\": 40"), std::string::npos) << js.str();
 }
+
+// poses.csv filling the disk first (it grows fastest here: a camera row and a probe row per
+// frame): the run stops with the file named, and every frame it counts is whole everywhere: a
+// metrics row, a camera and a probe row in poses.csv, its depth and segmentation files.
+TEST(WriteError, AFullDiskUnderPosesCsvKeepsWholeFramesInEveryFile) {
+  const fs::path out = fs::path(VDMSIM_BUILD_DIR) / "test-output" / "write_error_poses";
+  fs::remove_all(out);
+  fs::create_directories(out);
+  const std::string scene = (out / "poses.yaml").string();
+  std::ofstream(scene) << "name: poses\norgan:\n  mesh: " << VDMSIM_SOURCE_DIR
+                       << "/assets/meshes/liver_L4.obj\n"
+                          "  fixed: [{box: {min: [-0.3, -0.2, -0.2], max: [0.3, 0.2, -0.03]}}]\n"
+                          "simulation: {frames: 400, dt: 0.01, effects: []}\n"
+                          "instruments:\n  - {type: probe, radius: 0.004, script: [{t: 0, tip: [0.0311, 0.0017, 0.1234], "
+                          "axis: [0.1, 0.2, -1]}, {t: 4, tip: [0.0511, -0.0213, 0.1571]}]}\n"
+                          "render: {width: 32, height: 24, views: [depth, segmentation]}\n";
+  const fs::path run = out / "run";
+  const pid_t pid = fork();
+  if (pid == 0) {
+    // Files may not grow past 24 kB: poses.csv reaches it first, after about 100 frames.
+    signal(SIGXFSZ, SIG_IGN);
+    rlimit lim{24000, 24000};
+    setrlimit(RLIMIT_FSIZE, &lim);
+    const std::string log = (out / "stderr.txt").string();
+    freopen(log.c_str(), "w", stderr);
+    freopen("/dev/null", "w", stdout);
+    execl(VDMSIM_BINARY, VDMSIM_BINARY, "run", scene.c_str(), "--out", run.string().c_str(), (char*)nullptr);
+    _exit(127);
+  }
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 1);
+  std::stringstream err, js;
+  err << std::ifstream(out / "stderr.txt").rdbuf();
+  EXPECT_NE(err.str().find("poses.csv: write failed"), std::string::npos) << err.str();
+  js << std::ifstream(run / "run.json").rdbuf();
+  EXPECT_NE(js.str().find("\"status\": \"failed\""), std::string::npos) << js.str();
+  const size_t at = js.str().find("\"frames\": ");
+  ASSERT_NE(at, std::string::npos);
+  const int frames = std::stoi(js.str().substr(at + 10));
+  EXPECT_GT(frames, 20);
+  EXPECT_LT(frames, 400);
+  auto whole_rows = [](const fs::path& csv, long& columns) {
+    std::ifstream in(csv);
+    std::string line;
+    int rows = -1;
+    columns = -1;
+    while (std::getline(in, line)) {
+      const long commas = std::count(line.begin(), line.end(), ',');
+      if (rows < 0) columns = commas;
+      EXPECT_EQ(commas, columns) << csv << " row " << rows;
+      ++rows;
+    }
+    return rows;
+  };
+  long columns = 0;
+  EXPECT_EQ(whole_rows(run / "metrics.csv", columns), frames);
+  EXPECT_EQ(whole_rows(run / "poses.csv", columns), 2 * frames);
+  EXPECT_EQ(columns, 14);
+  for (int f = 0; f < frames; ++f) {
+    char name[64];
+    std::snprintf(name, sizeof name, "segmentation_%05d.png", f);
+    render::Image im;
+    std::string error;
+    EXPECT_TRUE(render::read_png((run / "segmentation" / name).string(), im, error)) << error;
+    std::snprintf(name, sizeof name, "depth_%05d.npy", f);
+    EXPECT_EQ(fs::file_size(run / "depth" / name), 128u + 32 * 24 * 4) << name;
+  }
+}

@@ -1,7 +1,8 @@
 #pragma once
-// Writes PNG files on a worker thread so that encoding does not hold up the simulation. The
-// queue is bounded: push() waits while `capacity` images are pending, so memory stays flat
-// when encoding is slower than rendering. Files are written in push order.
+// Writes image files (the views' PNG and .npy files: render/view_image.hpp) on a worker
+// thread so that encoding does not hold up the simulation. The queue is bounded: push() waits
+// while `capacity` images are pending, so memory stays flat when encoding is slower than
+// rendering. Files are written in push order.
 #include <condition_variable>
 #include <deque>
 #include <mutex>
@@ -9,19 +10,21 @@
 #include <thread>
 
 #include "render/image.hpp"
+#include "render/view_image.hpp"
 
 namespace render {
 
-class PngQueue {
+class ImageQueue {
  public:
-  PngQueue(int compression_level, int capacity = 6);
-  ~PngQueue();  // finishes the pending writes
-  PngQueue(const PngQueue&) = delete;
-  PngQueue& operator=(const PngQueue&) = delete;
+  ImageQueue(int compression_level, int capacity = 6);
+  ~ImageQueue();  // finishes the pending writes
+  ImageQueue(const ImageQueue&) = delete;
+  ImageQueue& operator=(const ImageQueue&) = delete;
 
   // Queues `image` for `path`. Returns false (and queues nothing) once a write has failed;
   // error() then says which file and why.
-  bool push(Image image, std::string path);
+  bool push(ViewImage image, std::string path);
+  bool push(Image image, std::string path);  // an RGB PNG
   // Waits until every queued image is written. Returns false if any write failed.
   bool finish();
   std::string error() const;
@@ -34,7 +37,7 @@ class PngQueue {
   const size_t capacity_;
   mutable std::mutex mutex_;
   std::condition_variable changed_;
-  std::deque<std::pair<Image, std::string>> pending_;
+  std::deque<std::pair<ViewImage, std::string>> pending_;
   bool busy_ = false, stop_ = false;
   std::string error_;
   long written_ = 0;

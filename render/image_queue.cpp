@@ -1,16 +1,15 @@
-#include "render/png_queue.hpp"
+#include "render/image_queue.hpp"
 
 #include <pthread.h>
 
 #include "engine/stopwatch.hpp"
-#include "render/png_io.hpp"
 
 namespace render {
 
-PngQueue::PngQueue(int compression_level, int capacity)
+ImageQueue::ImageQueue(int compression_level, int capacity)
     : level_(compression_level), capacity_(static_cast<size_t>(capacity < 1 ? 1 : capacity)), worker_([this] { run(); }) {}
 
-PngQueue::~PngQueue() {
+ImageQueue::~ImageQueue() {
   {
     std::lock_guard<std::mutex> lock(mutex_);
     stop_ = true;
@@ -19,7 +18,13 @@ PngQueue::~PngQueue() {
   worker_.join();
 }
 
-bool PngQueue::push(Image image, std::string path) {
+bool ImageQueue::push(Image image, std::string path) {
+  ViewImage v;
+  v.image = std::move(image);
+  return push(std::move(v), std::move(path));
+}
+
+bool ImageQueue::push(ViewImage image, std::string path) {
   std::unique_lock<std::mutex> lock(mutex_);
   changed_.wait(lock, [&] { return pending_.size() < capacity_ || !error_.empty(); });
   if (!error_.empty()) return false;
@@ -28,29 +33,29 @@ bool PngQueue::push(Image image, std::string path) {
   return true;
 }
 
-bool PngQueue::finish() {
+bool ImageQueue::finish() {
   std::unique_lock<std::mutex> lock(mutex_);
   changed_.wait(lock, [&] { return (pending_.empty() && !busy_) || !error_.empty(); });
   return error_.empty();
 }
 
-std::string PngQueue::error() const {
+std::string ImageQueue::error() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return error_;
 }
 
-long PngQueue::written() const {
+long ImageQueue::written() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return written_;
 }
 
-double PngQueue::encode_ms() const {
+double ImageQueue::encode_ms() const {
   std::lock_guard<std::mutex> lock(mutex_);
   return encode_ms_;
 }
 
-void PngQueue::run() {
-  pthread_setname_np(pthread_self(), "vdmsim-png");  // for profilers (perf, top -H)
+void ImageQueue::run() {
+  pthread_setname_np(pthread_self(), "vdmsim-images");  // for profilers (perf, top -H)
   std::unique_lock<std::mutex> lock(mutex_);
   for (;;) {
     changed_.wait(lock, [&] { return !pending_.empty() || stop_; });
@@ -63,7 +68,7 @@ void PngQueue::run() {
     changed_.notify_all();
     std::string err;
     const auto t0 = vdm::Clock::now();
-    const bool ok = failed_before || write_png_spending(job.second, job.first, level_, err);
+    const bool ok = failed_before || write_view_image(job.second, job.first, level_, err);
     const double ms = vdm::ms_since(t0);
     lock.lock();
     busy_ = false;
