@@ -122,8 +122,8 @@ struct CoreState {
   NodeMat u;                // ns x 3 surface displacements (m)
   NodeMat v;                // ng x 3 lattice displacements (m)
   NodeMat velocity;         // ng x 3 lattice velocities (m/s), with inertia
-  // Where the step in progress started: a step solved again after rewind() starts from
-  // here, not from the last solve's answer.
+  // Where the step in progress started: a step solved again after rewind() is a step from
+  // here (with inertia also its first guess; static, the last solve's answer is).
   NodeMat u_start, v_start, velocity_start;
   NodeMat u_motion, v_motion;  // the last static step's motion: the next starts from it repeated
   bool rewound = false;
