@@ -12,26 +12,11 @@
 
 #include "engine/shapes.hpp"
 #include "render/renderer.hpp"
+#include "support/ray_triangle.hpp"
 
 namespace {
 
 constexpr double kNoHit = std::numeric_limits<double>::infinity();
-
-// Moller-Trumbore: the ray's parameter at triangle (a, b, c), or kNoHit.
-double gt_ray_triangle(const Eigen::Vector3d& o, const Eigen::Vector3d& d, const Eigen::Vector3d& a,
-                       const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
-  const Eigen::Vector3d e1 = b - a, e2 = c - a, p = d.cross(e2);
-  const double det = e1.dot(p);
-  if (std::abs(det) < 1e-18) return kNoHit;
-  const Eigen::Vector3d s = o - a;
-  const double u = s.dot(p) / det;
-  if (u < 0 || u > 1) return kNoHit;
-  const Eigen::Vector3d q = s.cross(e1);
-  const double v = d.dot(q) / det;
-  if (v < 0 || u + v > 1) return kNoHit;
-  const double t = e2.dot(q) / det;
-  return t > 0 ? t : kNoHit;
-}
 
 // The segment of a capsule probe (tools::probe_shape): from z = -r to z = -(L - r) in its frame.
 struct GtCapsule {
@@ -141,7 +126,7 @@ TEST(GroundTruthPass, DepthIdsAndNormalsAgreeWithARayCastThroughEachPixel) {
       const Eigen::Vector3d d = (R * ray_cam).normalized();
       double t_organ = kNoHit;
       for (Eigen::Index k = 0; k < g.sphere.triangles.rows(); ++k)
-        t_organ = std::min(t_organ, gt_ray_triangle(C, d, g.sphere.positions.row(g.sphere.triangles(k, 0)).transpose(),
+        t_organ = std::min(t_organ, test::ray_triangle(C, d, g.sphere.positions.row(g.sphere.triangles(k, 0)).transpose(),
                                                     g.sphere.positions.row(g.sphere.triangles(k, 1)).transpose(),
                                                     g.sphere.positions.row(g.sphere.triangles(k, 2)).transpose()));
       const double t_probe = gt_ray_capsule(C, d, g.capsule);

@@ -22,6 +22,7 @@
 #include "render/npy_io.hpp"
 #include "render/png_io.hpp"
 #include "support/scratch_dir.hpp"
+#include "support/ray_triangle.hpp"
 
 namespace {
 
@@ -116,21 +117,6 @@ GtoMesh gto_vtu(const std::string& vtu) {
   return m;
 }
 
-double gto_ray_triangle(const Eigen::Vector3d& o, const Eigen::Vector3d& d, const Eigen::Vector3d& a,
-                        const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
-  const Eigen::Vector3d e1 = b - a, e2 = c - a, p = d.cross(e2);
-  const double det = e1.dot(p);
-  if (std::abs(det) < 1e-20) return kMiss;
-  const Eigen::Vector3d s = o - a;
-  const double u = s.dot(p) / det;
-  if (u < 0 || u > 1) return kMiss;
-  const Eigen::Vector3d q = s.cross(e1);
-  const double v = d.dot(q) / det;
-  if (v < 0 || u + v > 1) return kMiss;
-  const double t = e2.dot(q) / det;
-  return t > 0 ? t : kMiss;
-}
-
 // A pinhole camera from camera.json and a pose from poses.csv, and ray casts through it.
 struct GtoCamera {
   int w = 0, h = 0;
@@ -174,7 +160,7 @@ std::vector<double> gto_cast_mesh(const GtoCamera& cam, const GtoMesh& m) {
       double best = kMiss;
       for (int k : bins[size_t((v / tile) * tw + u / tile)]) {
         const auto& tri = m.triangles[size_t(k)];
-        best = std::min(best, gto_ray_triangle(o, d, m.points[size_t(tri[0])], m.points[size_t(tri[1])],
+        best = std::min(best, test::ray_triangle(o, d, m.points[size_t(tri[0])], m.points[size_t(tri[1])],
                                                m.points[size_t(tri[2])]));
       }
       t[size_t(v * cam.w + u)] = best;

@@ -19,6 +19,32 @@
 
 namespace fs = std::filesystem;
 
+namespace {
+
+// Runs `vdmsim run SCENE --out RUN [--no-render]` in a child process whose files may not grow
+// past `limit` bytes (a disk that fills up), its stderr to DIR/stderr.txt; returns its exit
+// status, -1 when it did not exit.
+int run_on_a_full_disk(const std::string& scene, const fs::path& run, const fs::path& dir, rlim_t limit,
+                       bool render = true) {
+  const pid_t pid = fork();
+  if (pid == 0) {
+    signal(SIGXFSZ, SIG_IGN);
+    rlimit lim{limit, limit};
+    setrlimit(RLIMIT_FSIZE, &lim);
+    const std::string log = (dir / "stderr.txt").string();
+    freopen(log.c_str(), "w", stderr);
+    freopen("/dev/null", "w", stdout);
+    execl(VDMSIM_BINARY, VDMSIM_BINARY, "run", scene.c_str(), "--out", run.string().c_str(),
+          render ? (char*)nullptr : "--no-render", (char*)nullptr);
+    _exit(127);
+  }
+  int status = 0;
+  waitpid(pid, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+}  // namespace
+
 TEST(WriteError, AFullDiskStopsTheRunCleanlyAndKeepsEarlierFrames) {
   const fs::path out = fs::path(VDMSIM_BUILD_DIR) / "test-output" / "write_error";
   fs::remove_all(out);
@@ -32,22 +58,8 @@ TEST(WriteError, AFullDiskStopsTheRunCleanlyAndKeepsEarlierFrames) {
                           "simulation: {frames: 400, dt: 0.01, effects: []}\n"
                           "render: {width: 96, height: 64, views: [shaded], hud: false}\n";
   const fs::path run = out / "run";
-  const pid_t pid = fork();
-  if (pid == 0) {
-    // Files may not grow past 24 kB: metrics.csv reaches it after about 150 rows.
-    signal(SIGXFSZ, SIG_IGN);
-    rlimit lim{24000, 24000};
-    setrlimit(RLIMIT_FSIZE, &lim);
-    const std::string log = (out / "stderr.txt").string();
-    freopen(log.c_str(), "w", stderr);
-    freopen("/dev/null", "w", stdout);
-    execl(VDMSIM_BINARY, VDMSIM_BINARY, "run", scene.c_str(), "--out", run.string().c_str(), (char*)nullptr);
-    _exit(127);
-  }
-  int status = 0;
-  waitpid(pid, &status, 0);
-  ASSERT_TRUE(WIFEXITED(status));
-  EXPECT_EQ(WEXITSTATUS(status), 1);
+  // Files may not grow past 24 kB: metrics.csv reaches it after about 150 rows.
+  EXPECT_EQ(run_on_a_full_disk(scene, run, out, 24000), 1);
   std::stringstream err, js;
   err << std::ifstream(out / "stderr.txt").rdbuf();
   EXPECT_NE(err.str().find("metrics.csv"), std::string::npos) << err.str();
@@ -94,23 +106,9 @@ TEST(WriteError, AFullDiskEarlyLeavesAResumableRunAndNoTmpFile) {
                           "t: [0, 0.4]}]\n"
                           "simulation: {frames: 40, dt: 0.01, effects: []}\n";
   const fs::path run = out / "run";
-  const pid_t pid = fork();
-  if (pid == 0) {
-    // Files may not grow past 700 bytes: metrics.csv reaches it after a few rows, run.json (900
-    // bytes) cannot be written at all; checkpoint.json (300 bytes) fits.
-    signal(SIGXFSZ, SIG_IGN);
-    rlimit lim{700, 700};
-    setrlimit(RLIMIT_FSIZE, &lim);
-    const std::string log = (out / "stderr.txt").string();
-    freopen(log.c_str(), "w", stderr);
-    freopen("/dev/null", "w", stdout);
-    execl(VDMSIM_BINARY, VDMSIM_BINARY, "run", scene.c_str(), "--out", run.string().c_str(), "--no-render", (char*)nullptr);
-    _exit(127);
-  }
-  int status = 0;
-  waitpid(pid, &status, 0);
-  ASSERT_TRUE(WIFEXITED(status));
-  EXPECT_EQ(WEXITSTATUS(status), 1);
+  // Files may not grow past 700 bytes: metrics.csv reaches it after a few rows, run.json (900
+  // bytes) cannot be written at all; checkpoint.json (300 bytes) fits.
+  EXPECT_EQ(run_on_a_full_disk(scene, run, out, 700, false), 1);
   std::stringstream err;
   err << std::ifstream(out / "stderr.txt").rdbuf();
   EXPECT_NE(err.str().find("metrics.csv"), std::string::npos) << err.str();
@@ -143,22 +141,8 @@ TEST(WriteError, AFullDiskUnderPosesCsvKeepsWholeFramesInEveryFile) {
                           "axis: [0.1, 0.2, -1]}, {t: 4, tip: [0.0511, -0.0213, 0.1571]}]}\n"
                           "render: {width: 32, height: 24, views: [depth, segmentation]}\n";
   const fs::path run = out / "run";
-  const pid_t pid = fork();
-  if (pid == 0) {
-    // Files may not grow past 24 kB: poses.csv reaches it first, after about 100 frames.
-    signal(SIGXFSZ, SIG_IGN);
-    rlimit lim{24000, 24000};
-    setrlimit(RLIMIT_FSIZE, &lim);
-    const std::string log = (out / "stderr.txt").string();
-    freopen(log.c_str(), "w", stderr);
-    freopen("/dev/null", "w", stdout);
-    execl(VDMSIM_BINARY, VDMSIM_BINARY, "run", scene.c_str(), "--out", run.string().c_str(), (char*)nullptr);
-    _exit(127);
-  }
-  int status = 0;
-  waitpid(pid, &status, 0);
-  ASSERT_TRUE(WIFEXITED(status));
-  EXPECT_EQ(WEXITSTATUS(status), 1);
+  // Files may not grow past 24 kB: poses.csv reaches it first, after about 100 frames.
+  EXPECT_EQ(run_on_a_full_disk(scene, run, out, 24000), 1);
   std::stringstream err, js;
   err << std::ifstream(out / "stderr.txt").rdbuf();
   EXPECT_NE(err.str().find("poses.csv: write failed"), std::string::npos) << err.str();
