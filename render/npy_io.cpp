@@ -6,15 +6,10 @@
 #include <filesystem>
 #include <memory>
 
+#include "render/c_file.hpp"
+
 namespace render {
 namespace {
-
-struct NpyFileCloser {
-  void operator()(std::FILE* f) const {
-    if (f) std::fclose(f);
-  }
-};
-using NpyFile = std::unique_ptr<std::FILE, NpyFileCloser>;
 
 const char kNpyMagic[] = "\x93NUMPY";  // 6 bytes, then the version (1, 0)
 
@@ -57,7 +52,7 @@ bool write_npy(const std::string& path, const std::vector<float>& values, int wi
   const std::string tmp = path + ".tmp";
   bool ok = false;
   {
-    NpyFile f(std::fopen(tmp.c_str(), "wb"));
+    CFile f(std::fopen(tmp.c_str(), "wb"));
     if (!f) {
       error = path + ": cannot open for writing";
       return false;
@@ -84,7 +79,7 @@ bool write_npy(const std::string& path, const std::vector<float>& values, int wi
 }
 
 bool read_npy(const std::string& path, std::vector<float>& values, int& width, int& height, std::string& error) {
-  NpyFile f(std::fopen(path.c_str(), "rb"));
+  CFile f(std::fopen(path.c_str(), "rb"));
   if (!f) {
     error = path + ": cannot open";
     return false;

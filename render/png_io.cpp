@@ -11,15 +11,10 @@
 #include <memory>
 #include <vector>
 
+#include "render/c_file.hpp"
+
 namespace render {
 namespace {
-
-struct FileCloser {
-  void operator()(std::FILE* f) const {
-    if (f) std::fclose(f);
-  }
-};
-using File = std::unique_ptr<std::FILE, FileCloser>;
 
 // libpng reports errors by longjmp; the message is kept here for the caller.
 void on_error(png_structp png, png_const_charp message) {
@@ -219,7 +214,7 @@ bool write_file(const std::string& path, const Image& image, Image* spend, int l
   std::string msg;
   bool ok = false;
   {
-    File f(std::fopen(tmp.c_str(), "wb"));
+    CFile f(std::fopen(tmp.c_str(), "wb"));
     if (!f) {
       error = path + ": cannot open for writing";
       return false;
@@ -266,7 +261,7 @@ bool write_grey_png_spending(const std::string& path, Image& image, int level, s
 }
 
 bool read_png(const std::string& path, Image& image, std::string& error) {
-  File f(std::fopen(path.c_str(), "rb"));
+  CFile f(std::fopen(path.c_str(), "rb"));
   if (!f) {
     error = path + ": cannot open";
     return false;

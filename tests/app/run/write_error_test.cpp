@@ -43,6 +43,16 @@ int run_on_a_full_disk(const std::string& scene, const fs::path& run, const fs::
   return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
+// The frames a failed run's run.json counts (it must say the run failed); -1 without a count.
+int frames_of_a_failed_run(const fs::path& run) {
+  std::stringstream js;
+  js << std::ifstream(run / "run.json").rdbuf();
+  EXPECT_NE(js.str().find("\"status\": \"failed\""), std::string::npos) << js.str();
+  const size_t at = js.str().find("\"frames\": ");
+  EXPECT_NE(at, std::string::npos) << js.str();
+  return at == std::string::npos ? -1 : std::stoi(js.str().substr(at + 10));
+}
+
 }  // namespace
 
 TEST(WriteError, AFullDiskStopsTheRunCleanlyAndKeepsEarlierFrames) {
@@ -60,14 +70,10 @@ TEST(WriteError, AFullDiskStopsTheRunCleanlyAndKeepsEarlierFrames) {
   const fs::path run = out / "run";
   // Files may not grow past 24 kB: metrics.csv reaches it after about 150 rows.
   EXPECT_EQ(run_on_a_full_disk(scene, run, out, 24000), 1);
-  std::stringstream err, js;
+  std::stringstream err;
   err << std::ifstream(out / "stderr.txt").rdbuf();
   EXPECT_NE(err.str().find("metrics.csv"), std::string::npos) << err.str();
-  js << std::ifstream(run / "run.json").rdbuf();
-  EXPECT_NE(js.str().find("\"status\": \"failed\""), std::string::npos) << js.str();
-  const size_t at = js.str().find("\"frames\": ");
-  ASSERT_NE(at, std::string::npos);
-  const int frames = std::stoi(js.str().substr(at + 10));
+  const int frames = frames_of_a_failed_run(run);
   EXPECT_GT(frames, 20);
   EXPECT_LT(frames, 400);
   // Every row before the failure is whole; every image of those frames decodes.
@@ -143,14 +149,10 @@ TEST(WriteError, AFullDiskUnderPosesCsvKeepsWholeFramesInEveryFile) {
   const fs::path run = out / "run";
   // Files may not grow past 24 kB: poses.csv reaches it first, after about 100 frames.
   EXPECT_EQ(run_on_a_full_disk(scene, run, out, 24000), 1);
-  std::stringstream err, js;
+  std::stringstream err;
   err << std::ifstream(out / "stderr.txt").rdbuf();
   EXPECT_NE(err.str().find("poses.csv: write failed"), std::string::npos) << err.str();
-  js << std::ifstream(run / "run.json").rdbuf();
-  EXPECT_NE(js.str().find("\"status\": \"failed\""), std::string::npos) << js.str();
-  const size_t at = js.str().find("\"frames\": ");
-  ASSERT_NE(at, std::string::npos);
-  const int frames = std::stoi(js.str().substr(at + 10));
+  const int frames = frames_of_a_failed_run(run);
   EXPECT_GT(frames, 20);
   EXPECT_LT(frames, 400);
   auto whole_rows = [](const fs::path& csv, long& columns) {
