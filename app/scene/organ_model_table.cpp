@@ -7,20 +7,10 @@
 namespace vdmsim {
 namespace {
 
-constexpr bool organ_key(const char* path) {
-  const char* organ = "organ.";
-  while (*organ && *organ == *path) ++organ, ++path;
-  return *organ == '\0';
-}
-
-// Every key a row names is a key of the scene reader's table, and those only some models use
-// are the organ's: an unknown path does not compile.
+// Every key a row names is a key of the scene reader's table: an unknown path does not compile.
 template <class Row>
 constexpr bool keys_known() {
-  for (const char* k : Row::keys) {
-    scene_key_index(k);
-    if (!organ_key(k)) throw "not an organ key";
-  }
+  for (const char* k : Row::keys) scene_key_index(k);
   for (const char* k : Row::material) scene_key_index(k);
   return true;
 }
@@ -45,8 +35,11 @@ std::vector<OrganModel> models_of(RowList<Rows...>) {
   return {model_of<Rows>()...};
 }
 
-bool listed(const std::vector<std::string>& list, const std::string& word) {
-  return std::find(list.begin(), list.end(), word) != list.end();
+// Whether `path` is one of the keys in `list` or inside one of them (a section's keys).
+bool covered(const std::vector<std::string>& list, const std::string& path) {
+  return std::any_of(list.begin(), list.end(), [&](const std::string& k) {
+    return path == k || (path.size() > k.size() && path.compare(0, k.size(), k) == 0 && path[k.size()] == '.');
+  });
 }
 
 }  // namespace
@@ -78,15 +71,15 @@ std::vector<std::string> organ_model_names(bool OrganModel::*flag) {
 std::vector<std::string> model_specific_keys() {
   std::vector<std::string> keys;
   for (const SceneKey& k : kSceneKeys)
-    if (std::any_of(organ_models().begin(), organ_models().end(), [&](const OrganModel& m) { return listed(m.keys, k.path); }))
+    if (std::any_of(organ_models().begin(), organ_models().end(), [&](const OrganModel& m) { return covered(m.keys, k.path); }))
       keys.push_back(k.path);
   return keys;
 }
 
 bool OrganModel::uses(const std::string& path) const {
-  if (listed(keys, path)) return true;
+  if (covered(keys, path)) return true;
   return std::none_of(organ_models().begin(), organ_models().end(),
-                      [&](const OrganModel& m) { return listed(m.keys, path); });
+                      [&](const OrganModel& m) { return covered(m.keys, path); });
 }
 
 std::string or_list(const std::vector<std::string>& words) {

@@ -21,8 +21,9 @@
 
 namespace vdmsim {
 
-// The model a scene gets without organ.model.
-inline constexpr vdm::ModelKind kDefaultOrganModel = vdm::ModelKind::vdm;
+// The model a scene gets without organ.model, unless its material is given by VDM's moduli
+// (those select vdm, app/scene/scene.cpp).
+inline constexpr vdm::ModelKind kDefaultOrganModel = vdm::ModelKind::vdm_core;
 
 struct SceneDef;
 struct SceneProblem;
@@ -55,7 +56,7 @@ struct VdmRow {
   static constexpr vdm::ModelKind kind = vdm::ModelKind::vdm;
   static constexpr std::array keys{"organ.material.connectivity_modulus", "organ.material.capsule",
                                    "organ.material.bending_modulus", "organ.material.bulk_modulus",
-                                   "organ.material.poisson_ratio"};
+                                   "organ.material.poisson_ratio", "simulation.solver"};
   static constexpr std::array material{"organ.material.bulk_modulus", "organ.material.connectivity_modulus"};
   static constexpr bool vdm_moduli = true;
   static constexpr bool surface_stress = true;
@@ -71,15 +72,14 @@ struct VdmRow {
 // VDM's surface and pressure on an elastic core (engine/core) in place of the bulk term.
 struct VdmCoreRow {
   static constexpr vdm::ModelKind kind = vdm::ModelKind::vdm_core;
-  static constexpr std::array keys{"organ.cell_size"};
-  static constexpr std::array material{"organ.material.young_modulus"};
+  static constexpr std::array keys{"organ.cell_size", "organ.material.poisson_ratio"};
+  static constexpr std::array material{"organ.material.young_modulus", "organ.material.poisson_ratio"};
   static constexpr bool vdm_moduli = false;
   static constexpr bool surface_stress = true;
   static constexpr bool penalty_contact = false;
   static constexpr bool inertia = true;
-  // Kinematic as the reference models: a constraint contact step with friction costs about
-  // 1.6 times as much on a press (docs/model.md, "Cost").
-  static constexpr ContactMethod contact = ContactMethod::kinematic;
+  // Contact points with Coulomb friction, as on vdm: tissue slides under an instrument.
+  static constexpr ContactMethod contact = ContactMethod::constraint;
   static void check_placed(const SceneDef& scene, const vdm::SurfaceMesh& organ, std::vector<SceneProblem>& problems);
   static bool build(const SceneDef& scene, const vdm::TissueModel& model, ReferenceModel& out, std::string& error);
   static std::unique_ptr<vdm::OrganSolver> make_solver(const ReferenceModel& reference);

@@ -311,20 +311,48 @@ void check_vdm_conditioning(Reader& r, const YAML::Node& mat, const SceneDef& s)
   }
 }
 
-// Warns about the organ keys that organ.model does not use (they would change nothing).
-void warn_unused_by_model(Reader& r, const YAML::Node& organ, vdm::ModelKind model) {
+// Below it, a Poisson's ratio on the core is warned: the core cannot compress.
+constexpr double kCoreLeastPoissonRatio = 0.4;
+
+// The node at a dotted path under `at` (undefined when a key on the way is missing or not a map).
+YAML::Node node_at(const YAML::Node& at, const std::string& path, size_t from = 0) {
+  if (!at.IsMap()) return YAML::Node(YAML::NodeType::Undefined);
+  const size_t dot = std::min(path.find('.', from), path.size());
+  const YAML::Node next = at[path.substr(from, dot - from)];
+  if (!next || dot == path.size()) return next;
+  return node_at(next, path, dot + 1);
+}
+
+// Warns about the keys that organ.model does not use (they would change nothing): the outermost
+// of them present, once (a section, not also each key in it).
+void warn_unused_by_model(Reader& r, const YAML::Node& root, vdm::ModelKind model) {
   const OrganModel& m = organ_model(model);
+  std::string warned;  // the last key warned about
   for (const std::string& path : model_specific_keys()) {
     if (m.uses(path)) continue;
-    // The key's node: organ.cell_size under organ, organ.material.bulk_modulus under its material.
-    const std::string key = path.substr(std::string("organ.").size());
-    const size_t dot = key.find('.');
-    const YAML::Node parent = dot == std::string::npos ? organ : organ[key.substr(0, dot)];
-    if (!parent || !parent.IsMap()) continue;
-    const YAML::Node n = parent[key.substr(dot == std::string::npos ? 0 : dot + 1)];
+    if (!warned.empty() && path.compare(0, warned.size() + 1, warned + ".") == 0) continue;
+    const YAML::Node n = node_at(root, path);
     if (!n) continue;
     r.warn(n, path,
            std::string("ignored by organ.model ") + m.name() + " (docs/scene-reference.md says which models use it)");
+    warned = path;
+  }
+}
+
+// Without organ.model, a material given by VDM's own moduli (or the paper's capsule keys) keeps
+// the paper's model, with a note; every other material (E and nu, or none) gets the default.
+void select_model_by_material(Reader& r, const YAML::Node& organ, SceneDef& s) {
+  const YAML::Node mat = organ["material"];
+  if (!mat || !mat.IsMap()) return;
+  for (const char* key : {"bulk_modulus", "connectivity_modulus", "capsule", "bending_modulus"}) {
+    if (!mat[key]) continue;
+    s.model = vdm::ModelKind::vdm;
+    r.warn(mat[key], std::string("organ.material.") + key,
+           std::string("selects the paper's model (organ.model: vdm); the default model ") +
+               vdm::to_string(kDefaultOrganModel) +
+               " takes young_modulus and poisson_ratio (docs/model.md); write organ.model: vdm to keep this one "
+               "without this note");
+    return;
   }
 }
 
@@ -353,6 +381,7 @@ void read_organ(Reader& r, const YAML::Node& organ, SceneDef& s, const std::file
                                     "; expected " + or_list(organ_model_names()));
     }
   }
+  if (!organ["model"]) select_model_by_material(r, organ, s);
   if (const YAML::Node n = organ["tet_size"]) r.number(n, "organ.tet_size", s.tet_size, KEY("organ.tet_size"));
   if (const YAML::Node n = organ["cell_size"]) {
     r.number(n, "organ.cell_size", s.cell_size, KEY("organ.cell_size"));
@@ -419,10 +448,14 @@ void read_organ(Reader& r, const YAML::Node& organ, SceneDef& s, const std::file
         }
       }
       if (organ_model(s.model).vdm_moduli) check_vdm_conditioning(r, mat, s);
+      // The core keeps the organ's volume whatever nu is (its fluid is incompressible).
+      if (s.model == vdm::ModelKind::vdm_core && mat["poisson_ratio"] && s.poisson_ratio < kCoreLeastPoissonRatio)
+        r.warn(mat["poisson_ratio"], "organ.material.poisson_ratio",
+               "model vdm_core keeps the organ's volume (nearly incompressible tissue, nu 0.45-0.49); a compressible "
+               "material needs organ.model: fem");
       s.material_given = true;
     }
   }
-  warn_unused_by_model(r, organ, s.model);
   if (const YAML::Node list = organ["fixed"]) {
     if (r.require_sequence(list, "organ.fixed"))
       for (size_t i = 0; i < list.size(); ++i) {
@@ -1049,6 +1082,7 @@ SceneLoadResult load_scene(const std::string& path) {
   if (s.name.empty()) s.name = std::filesystem::path(path).stem().string();
   if (const YAML::Node organ = r.required(root, "organ", "", "the organ: {mesh, material, ...}")) read_organ(r, organ, s, base);
   if (const YAML::Node sim = root["simulation"]) read_simulation(r, sim, s);
+  warn_unused_by_model(r, root, s.model);
   if (const YAML::Node ins = root["instruments"]) read_instruments(r, ins, s, base);
   if (const YAML::Node render = root["render"]) {
     s.has_render = true;

@@ -111,26 +111,28 @@ inline constexpr SceneKey kSceneKeys[] = {
       .by_default([] { return yaml_vector(SceneDef().rotate_deg); }).eg("rotate_deg: [0, 0, 90]"),
   key("organ.translate", KT::vector3, "Moves the organ, after `scale` and `rotate_deg`.").in("m")
       .by_default([] { return yaml_vector(SceneDef().translate); }).eg("translate: [0.09, -0.16, 1.23]"),
-  key("organ.material", KT::section, "The tissue's material. For `model: vdm` give either `bulk_modulus` and "
-      "`connectivity_modulus`, or `young_modulus` and `poisson_ratio` (mapped to them by the rule of [the model page](model.md)).")
-      .eg("material: {bulk_modulus: 20000, connectivity_modulus: 2000, density: 1060}"),
+  key("organ.material", KT::section, "The tissue's material: `young_modulus` and `poisson_ratio` (and `density`). "
+      "Without `model`, VDM's own moduli `bulk_modulus` and `connectivity_modulus` select `model: vdm` (with a note); "
+      "for `model: vdm` give either those or `young_modulus` and `poisson_ratio` (mapped to them by the rule of "
+      "[the model page](model.md)).")
+      .eg("material: {young_modulus: 3000, poisson_ratio: 0.45, density: 1060}"),
   key("organ.fixed", KT::region_list, "Regions of nodes held in place, on all axes or on those listed in `axes`.")
       .eg("fixed: [{box: {min: [-0.3, -0.2, -0.2], max: [0.3, 0.2, -0.03]}}]"),
-  key("organ.model", KT::choice, "The tissue model: `vdm` (the Volume Distribution Method), `vdm_core` (VDM's surface "
-      "and pressure on an elastic core in place of the bulk term: the model closest to the FEM; [the model page](model.md)), "
-      "or the reference models `fem` (corotational linear tetrahedra, meshed by gmsh) and `mass_spring` (springs on the "
-      "surface edges).")
+  key("organ.model", KT::choice, "The tissue model: `vdm_core` (VDM's surface and pressure on an elastic core: the "
+      "model closest to the FEM; [the model page](model.md)), `vdm` (the paper's Volume Distribution Method, the default "
+      "when the material is given by `bulk_modulus` or `connectivity_modulus`), or the reference models `fem` "
+      "(corotational linear tetrahedra, meshed by gmsh) and `mass_spring` (springs on the surface edges).")
       .one_of(organ_model_names).by_default([] { return std::string(vdm::to_string(SceneDef().model)); }).eg("model: fem"),
   key("organ.loads", KT::region_list, "Forces: a total force spread equally over a region's nodes, ramped over a time interval.")
       .eg("loads: [{sphere: {center: [0, 0, 0.06], radius: 0.02}, force: [0, 0, -2], t: [0, 1]}]"),
   key("organ.prescribed", KT::region_list, "Prescribed motion: a region's nodes moved rigidly from rest, ramped over a time interval.")
       .eg("prescribed: [{nodes: [5, 6], translate: [0, 0, -0.015], t: [0, 1]}]"),
   key("organ.cell_size", KT::number, "The core's cell (a cube's edge); 0 takes the organ's "
-      "volume over its area V/A, no wider than the smallest instrument (its narrowest part), and no finer than gives "
+      "volume over its area V/A, no wider than the smallest instrument (a probe's narrowest part, a grasper's jaw face "
+      "across), and no finer than gives "
       "about 10000 cubes inside the organ (run.json reports the cell used). Smaller cells follow smaller loads (a dent narrower than a few cells is spread over "
       "them) and cost more. Refused when a cell does not fit in the organ's box (larger than its smallest side) and when "
-      "the box would hold more than 2e7 cells; warned when more than twice as wide as the smallest instrument "
-      "(its narrowest part).")
+      "the box would hold more than 2e7 cells; warned when more than twice as wide as the smallest instrument.")
       .in("m").range(0, std::numeric_limits<double>::infinity())
       .by_default([] { return yaml_number(SceneDef().cell_size); }).eg("cell_size: 0.005"),
   key("organ.tet_size", KT::number, "The largest tetrahedron edge; 0 grades the tetrahedra from the surface. Refused when the organ would need more than 5 million tetrahedra of that edge (its volume over a regular tetrahedron's).")
@@ -161,7 +163,8 @@ inline constexpr SceneKey kSceneKeys[] = {
       "`mass_spring`; for `vdm`, with `poisson_ratio`, instead of `bulk_modulus` and `connectivity_modulus`.").in("Pa").above(0, 1e12)
       .by_default([] { return yaml_number(SceneDef().young_modulus); }).eg("young_modulus: 3000"),
   key("organ.material.poisson_ratio", KT::number, "Poisson's ratio ν (for `vdm`, with `young_modulus`). "
-      "0.5 is exactly incompressible: use up to 0.49.").range(0, 0.5).allowing(">= 0 and < 0.5")
+      "0.5 is exactly incompressible: use up to 0.49. `vdm_core` keeps the organ's volume whatever ν is (warned below "
+      "0.4).").range(0, 0.5).allowing(">= 0 and < 0.5")
       .by_default([] { return yaml_number(SceneDef().poisson_ratio); }).eg("young_modulus: 3000, poisson_ratio: 0.45"),
   key("organ.material.thickness", KT::number, "The skin thickness that sets the springs' stiffness.")
       .in("m").above(0, 10).by_default([] { return yaml_number(SceneDef().thickness); }).eg("thickness: 0.005"),
@@ -256,7 +259,7 @@ inline constexpr SceneKey kSceneKeys[] = {
   // simulation.contact
   key("simulation.contact.method", KT::choice, "`constraint`: non-penetration constraints along the tool's normal at "
       "surface points (nodes, and points inside triangles a thin tool meets), with Coulomb friction `friction` (slides "
-      "or sticks; the default for `organ.model: vdm`; the reference models take `kinematic` unless a method is named, "
+      "or sticks; the default for `vdm_core` and `vdm`; the reference models take `kinematic` unless a method is named, "
       "and converge with it without friction only); `kinematic`: nodes that enter a tool are put on its "
       "surface and held there for the step (the tissue sticks); `penalty`: frictionless and compliant, pushed out by "
       "stiffness × depth (slides; `organ.model: vdm` only).")

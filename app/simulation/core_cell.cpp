@@ -11,13 +11,19 @@ namespace vdmsim {
 
 namespace {
 
-// The width of the scene's narrowest instrument (a probe's diameter, a jaw's width; 0 with
-// none) and its index.
+// The width of the tissue an instrument loads: a probe's diameter (its shape's smallest size),
+// a grasper's jaw face across (it holds the tissue between its faces, however thin the jaws).
+double loaded_width(const tools::InstrumentDef& def) {
+  if (def.type == tools::InstrumentDef::Type::grasper) return 2 * tools::jaw_half_size(def).x();
+  return 2 * tools::instrument_size(def);
+}
+
+// The narrowest loaded width of the scene's instruments (0 with none) and its index.
 double smallest_instrument(const SceneDef& s, size_t& which) {
   double width = 0;
   which = 0;
   for (size_t k = 0; k < s.instruments.size(); ++k) {
-    const double w = 2 * tools::instrument_size(s.instruments[k]);
+    const double w = loaded_width(s.instruments[k]);
     if (w > 0 && (width == 0 || w < width)) width = w, which = k;
   }
   return width;
@@ -68,8 +74,8 @@ void check_core_cell(const SceneDef& s, const vdm::SurfaceMesh& organ, std::vect
   }
   size_t which = 0;
   const double width = smallest_instrument(s, which);
-  // More than twice its width: the dent under it spans less than half a cell (the project's
-  // probe_poke_core, 1 cm cells under an 8 mm probe, is within).
+  // More than twice its width: the dent under it spans less than half a cell (1 cm cells under
+  // an 8 mm probe are within).
   if (width > 0 && h > 2 * width) {
     m << (given ? "a cell of " : "the default cell (bounded by the core's size) of ") << h
       << " m is more than twice as wide as instruments[" << which << "] (" << width

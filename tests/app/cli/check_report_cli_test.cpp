@@ -30,7 +30,7 @@ std::string liver() { return (fs::path(VDMSIM_SOURCE_DIR) / "assets/meshes/liver
 
 vdmsim::test::CliResult check(const std::string& scene) { return vdmsim::test::run_cli(VDMSIM_BINARY, "check " + scene); }
 
-const std::string kMaterial = "  material: {bulk_modulus: 20000, connectivity_modulus: 2000}\n";
+const std::string kMaterial = "  material: {young_modulus: 3000, poisson_ratio: 0.45}\n";
 const std::string kTable = "  fixed: [{box: {min: [-0.3, -0.2, -0.2], max: [0.3, 0.2, -0.03]}}]\n";
 
 // A scene on the liver with `organ` lines after the mesh, then `rest`.
@@ -142,7 +142,8 @@ TEST(CheckReportCli, AScriptLongerThanTheFramesSaysTheFramesNeeded) {
 TEST(CheckReportCli, ADefaultMaterialIsWarned) {
   const auto r = check(scene("no_material.yaml", kTable, kPress));
   EXPECT_EQ(r.code, 0) << r.output;
-  EXPECT_TRUE(has(r.output, "warning: organ.material: not given: the default material is used (bulk_modulus 20000 Pa"))
+  EXPECT_TRUE(has(r.output, "warning: organ.material: not given: the default material is used (young_modulus 3000 Pa, "
+                                "poisson_ratio 0.45"))
       << r.output;
 }
 

@@ -30,6 +30,7 @@ std::string scene(const std::string& solver) {
   std::ofstream(p) << "name: robust\n"
                       "organ:\n"
                       "  mesh: " << (fs::path(VDMSIM_SOURCE_DIR) / "assets/meshes/liver_L4.obj").string() << "\n"
+                      "  model: vdm\n"  // the surface solver's fallbacks
                       "  fixed: [{box: {min: [-1, -1, -1], max: [1, 1, -0.03]}}]\n"
                       "  prescribed: [{sphere: {center: [0.035, -0.01, 0.06], radius: 0.015}, translate: [0, 0, -0.01], t: [0, 0.12]}]\n"
                       "simulation:\n"

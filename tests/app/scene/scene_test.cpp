@@ -24,12 +24,15 @@ fs::path scene_dir() {
   return vdmsim::test::scratch_dir("scene");
 }
 
-// A valid scene around the project's small liver, with `organ_extra` / `sim_extra` lines.
+// A valid scene around the project's small liver, with `organ_extra` / `sim_extra` lines; on
+// the paper's model (whose settings most of these tests read) unless organ_extra names one.
 std::string scene_text(const std::string& organ_extra = "", const std::string& sim_extra = "",
                        const std::string& tail = "") {
+  const bool model_given = organ_extra.find("model:") != std::string::npos;
   return "name: test\n"
          "organ:\n"
-         "  mesh: " + (fs::path(VDMSIM_SOURCE_DIR) / "assets/meshes/liver_L4.obj").string() + "\n"
+         "  mesh: " + (fs::path(VDMSIM_SOURCE_DIR) / "assets/meshes/liver_L4.obj").string() + "\n" +
+         (model_given ? "" : "  model: vdm\n") +
          "  material: {bulk_modulus: 20000, connectivity_modulus: 2000, density: 1060}\n"
          "  fixed: [{box: {min: [-1, -1, -1], max: [1, 1, -0.03]}}]\n" +
          organ_extra +
@@ -75,13 +78,64 @@ TEST(Scene, ValidSceneHasNoProblems) {
   EXPECT_TRUE(msg.empty()) << msg;
 }
 
+// Without organ.model: a material given as E and nu (or none) gets the elastic core; VDM's own
+// moduli keep the paper's model, with a note at the modulus naming both models.
+TEST(Scene, TheMaterialsFormPicksTheModelWhenNoneIsNamed) {
+  const std::string mesh = (fs::path(VDMSIM_SOURCE_DIR) / "assets/meshes/liver_L4.obj").string();
+  const auto scene = [&](const std::string& organ) {
+    return "name: m\norgan:\n  mesh: " + mesh + "\n" + organ + "simulation: {frames: 2, dt: 0.04}\n";
+  };
+  struct Case {
+    std::string organ;
+    vdm::ModelKind model;
+    std::string note;  // "" when the scene loads without any message
+  };
+  const std::vector<Case> cases = {
+      {"  material: {young_modulus: 4000, poisson_ratio: 0.45}\n", vdm::ModelKind::vdm_core, ""},
+      {"", vdm::ModelKind::vdm_core, ""},
+      {"  material: {bulk_modulus: 20000, connectivity_modulus: 2000}\n", vdm::ModelKind::vdm,
+       ":4:28: warning: organ.material.bulk_modulus: selects the paper's model (organ.model: vdm); the default model "
+       "vdm_core takes young_modulus and poisson_ratio"},
+      {"  material: {density: 1000, connectivity_modulus: 2000}\n", vdm::ModelKind::vdm,
+       "warning: organ.material.connectivity_modulus: selects the paper's model"},
+      {"  model: vdm\n  material: {bulk_modulus: 20000, connectivity_modulus: 2000}\n", vdm::ModelKind::vdm, ""},
+      {"  model: vdm\n  material: {young_modulus: 4000, poisson_ratio: 0.45}\n", vdm::ModelKind::vdm, ""},
+      {"  material: {young_modulus: 4000, poisson_ratio: 0.3}\n", vdm::ModelKind::vdm_core,
+       "warning: organ.material.poisson_ratio: model vdm_core keeps the organ's volume"},
+  };
+  for (size_t k = 0; k < cases.size(); ++k) {
+    const std::string path = write_scene("model_" + std::to_string(k) + ".yaml", scene(cases[k].organ));
+    PreparedScene ps;
+    std::vector<SceneProblem> problems;
+    ASSERT_TRUE(prepare_scene(path, ps, problems)) << cases[k].organ;
+    EXPECT_EQ(ps.scene.model, cases[k].model) << cases[k].organ;
+    std::string all;
+    for (const auto& p : problems) all += p.text() + "\n";
+    if (cases[k].note.empty())
+      EXPECT_EQ(all, "") << cases[k].organ;
+    else
+      EXPECT_NE(all.find(cases[k].note), std::string::npos) << cases[k].organ << all;
+  }
+}
+
+// simulation.solver sets vdm::step: on the core it is warned as ignored.
+TEST(Scene, TheSurfaceSolversSettingsAreIgnoredByTheCore) {
+  const std::string path =
+      write_scene("core_solver.yaml", scene_text("  model: vdm_core\n", "  solver: {method: direct}\n"));
+  int errors = 0;
+  const std::string msg = problems_of(path, errors);
+  EXPECT_EQ(errors, 0) << msg;
+  EXPECT_NE(msg.find(":10:11: warning: simulation.solver: ignored by organ.model vdm_core"), std::string::npos)
+      << msg;
+}
+
 TEST(SceneErrors, MissingField) {
   expect_error("missing.yaml", "name: x\nsimulation: {frames: 3}\n", ":1:1: organ: missing required field 'organ'");
 }
 
 TEST(SceneErrors, WrongType) {
   expect_error("type.yaml", scene_text("", "", "  effects: stress\n"),
-               ":9:12: simulation.effects: expected a list, got a single value");
+               ":10:12: simulation.effects: expected a list, got a single value");
 }
 
 TEST(SceneErrors, OutOfRangeAndNegativeModulus) {
@@ -89,7 +143,7 @@ TEST(SceneErrors, OutOfRangeAndNegativeModulus) {
                "simulation.solver.tolerance: value 2 is out of range");
   std::string t = scene_text();
   t.replace(t.find("bulk_modulus: 20000"), 19, "bulk_modulus: -5");
-  expect_error("negative.yaml", t, ":4:28: organ.material.bulk_modulus: value -5 is out of range: expected > 0 (or inf) (Pa)");
+  expect_error("negative.yaml", t, ":5:28: organ.material.bulk_modulus: value -5 is out of range: expected > 0 (or inf) (Pa)");
 }
 
 // The volume tolerance (relative error left uncorrected) is read, and bounded: above 1 %
@@ -153,7 +207,7 @@ TEST(SceneErrors, TimelineNotIncreasing) {
                scene_text("", "",
                           "instruments:\n  - type: probe\n    script:\n      - {t: 0, tip: [0, 0, 0.1]}\n"
                           "      - {t: 2, tip: [0, 0, 0.05]}\n      - {t: 1, tip: [0, 0, 0.0]}\n"),
-               ":14:13: instruments[0].script[2].t: keyframe times must increase");
+               ":15:13: instruments[0].script[2].t: keyframe times must increase");
 }
 
 std::string shape_scene(const std::string& type, const std::string& shape) {
@@ -189,7 +243,7 @@ TEST(SceneShapes, EveryShapeIsValid) {
 
 TEST(SceneErrors, ShapeZeroOrNegativeSize) {
   expect_error("shape_size.yaml", shape_scene("probe", "{type: box, size: [0.01, 0, 0.02]}"),
-               ":12:37: instruments[0].shape.size[1]: value 0 is out of range: expected > 0");
+               ":13:37: instruments[0].shape.size[1]: value 0 is out of range: expected > 0");
   expect_error("shape_neg.yaml", shape_scene("probe", "{type: box, size: [0.01, 0.01, -0.02]}"),
                "instruments[0].shape.size[2]: value -0.02 is out of range: expected > 0");
   expect_error("shape_nosize.yaml", shape_scene("probe", "{type: box}"),
@@ -313,14 +367,14 @@ TEST(SceneRender, AntialiasDefaultAndSamplesAlone) {
 
 TEST(SceneErrors, AntialiasUnknownOrSamplesThatDoNotFit) {
   expect_error("aa_unknown.yaml", scene_text("", "", "render:\n  antialias: fxaa\n"),
-               ":10:14: render.antialias: unknown method 'fxaa': expected edge (smoothed edges, the default), msaa "
+               ":11:14: render.antialias: unknown method 'fxaa': expected edge (smoothed edges, the default), msaa "
                "(multisampling, with samples) or none");
   expect_error("aa_edge_samples.yaml", scene_text("", "", "render:\n  antialias: edge\n  samples: 4\n"),
-               ":11:12: render.samples: samples are for antialias: msaa (antialias is edge)");
+               ":12:12: render.samples: samples are for antialias: msaa (antialias is edge)");
   expect_error("aa_msaa_one.yaml", scene_text("", "", "render:\n  antialias: msaa\n  samples: 1\n"),
-               ":11:12: render.samples: antialias: msaa needs 2, 4, 8 or 16 samples per pixel");
+               ":12:12: render.samples: antialias: msaa needs 2, 4, 8 or 16 samples per pixel");
   expect_error("aa_samples3.yaml", scene_text("", "", "render:\n  samples: 3\n"),
-               ":10:12: render.samples: expected 1, 2, 4, 8 or 16");
+               ":11:12: render.samples: expected 1, 2, 4, 8 or 16");
   expect_error("aa_type.yaml", scene_text("", "", "render:\n  antialias: [edge]\n"), "render.antialias:");
 }
 
@@ -701,7 +755,7 @@ TEST(Scene, IllConditionedVdmModuliAreRefused) {
 TEST(Scene, DuplicateKeysMergeKeysAndSecondDocumentsAreErrors) {
   std::string dup = scene_text();
   dup.replace(dup.find("density: 1060}"), 14, "density: 1060, bulk_modulus: -5}");
-  expect_error("dup_key.yaml", dup, "organ.material.bulk_modulus: duplicate key 'bulk_modulus' (first at line 4)");
+  expect_error("dup_key.yaml", dup, "organ.material.bulk_modulus: duplicate key 'bulk_modulus' (first at line 5)");
   const std::string merge = "defaults: &d {bulk_modulus: 1000}\n" + scene_text();
   std::string merged = merge;
   merged.replace(merged.find("  material: {"), 13, "  material: {<<: *d, ");

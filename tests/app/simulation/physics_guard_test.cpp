@@ -94,7 +94,7 @@ TEST(PhysicsGuard, AProbeDeepInsideSaysWhyForThisScene) {
   } cases[] = {
       {"thin", thin, "it is 2e-300 m across, far thinner than the organ's triangles (edges of 0.00601 m on average): it "
                      "slips between the nodes; give it a radius of at least 0.0003 m"},
-      {"softest", soft, "the organ's material (modulus 8.92e-302 Pa) is far softer than any tissue"},
+      {"softest", soft, "the organ's material (young_modulus 1e-300 Pa) is far softer than any tissue"},
       {"rigid_again", deep_probe("inf"), "contact could not push the organ away (is it rigid, bulk_modulus inf"},
   };
   for (const auto& c : cases) {

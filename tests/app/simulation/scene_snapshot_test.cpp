@@ -35,7 +35,7 @@ PreparedScene prepare(const std::string& text) {
 TEST(SceneSnapshot, ALoadedSimulationWithContactAndAGraspContinuesBitForBit) {
   const PreparedScene ps = prepare(
       std::string("name: snap\norgan:\n  mesh: ") + VDMSIM_SOURCE_DIR +
-      "/assets/meshes/liver_L4.obj\n"
+      "/assets/meshes/liver_L4.obj\n  model: vdm\n"
       "  fixed: [{box: {min: [-0.3, -0.2, -0.2], max: [0.3, 0.2, -0.03]}}]\n"
       "simulation: {frames: 16, dt: 0.05, effects: [contact, grasp, stress]}\n"
       "instruments:\n  - {type: probe, radius: 0.008, script: [{t: 0, tip: [0.035, 0, 0.065], "
@@ -77,7 +77,7 @@ TEST(SceneSnapshot, PenaltyContactContinuesBitForBit) {
   // and the matrices of the last step keep them (the snapshot carries them).
   const PreparedScene ps = prepare(
       std::string("name: snap\norgan:\n  mesh: ") + VDMSIM_SOURCE_DIR +
-      "/assets/meshes/liver_L4.obj\n"
+      "/assets/meshes/liver_L4.obj\n  model: vdm\n"
       "  fixed: [{box: {min: [-0.3, -0.2, -0.2], max: [0.3, 0.2, -0.03]}}]\n"
       "simulation: {frames: 12, dt: 0.05, effects: [contact, stress], contact: {method: penalty}}\n"
       "instruments:\n  - {type: probe, radius: 0.008, script: [{t: 0, tip: [0.035, 0, 0.065], "
@@ -104,7 +104,7 @@ TEST(SceneSnapshot, ConstraintContactWithFrictionContinuesBitForBit) {
   // compliance's fitted scale over: the snapshot must too. The probe presses, then slides.
   const PreparedScene ps = prepare(
       std::string("name: snap\norgan:\n  mesh: ") + VDMSIM_SOURCE_DIR +
-      "/assets/meshes/liver_L4.obj\n"
+      "/assets/meshes/liver_L4.obj\n  model: vdm\n"
       "  fixed: [{box: {min: [-0.3, -0.2, -0.2], max: [0.3, 0.2, -0.03]}}]\n"
       "simulation: {frames: 14, dt: 0.05, effects: [contact, stress], contact: {method: constraint, friction: 0.3}}\n"
       "instruments:\n  - {type: probe, radius: 0.008, script: [{t: 0, tip: [0.035, 0, 0.062], "
