@@ -47,8 +47,12 @@ if [ "$install" = 1 ]; then
 fi
 
 # The normal build: the same configuration as ./setup.sh's (whose objects are reused), now with
-# the tests. The long and e2e tests start first (their COST, tests/CMakeLists.txt).
-phase "configure" cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo > /dev/null
+# the tests. A new ./build is a unity build of four files a compile, as ./setup.sh makes it; a
+# ./build configured before keeps its setting. The long and e2e tests start first (their COST,
+# tests/CMakeLists.txt).
+unity=()
+[ -f build/CMakeCache.txt ] || unity=(-DCMAKE_UNITY_BUILD=ON -DCMAKE_UNITY_BUILD_BATCH_SIZE=4)
+phase "configure" cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo "${unity[@]}" > /dev/null
 phase "build" cmake --build build -j "$jobs"
 phase "tests" ctest --test-dir build --output-on-failure -j "$jobs" --no-tests=error
 
