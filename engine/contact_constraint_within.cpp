@@ -43,6 +43,8 @@ void ContactSolver::step_constraint_within(const TissueModel& m, const StepInput
     ++rep.solves;
     rep.iterations += s.stats.iterations;
     if (s.failed) break;  // the caller stops; the state is the step's start
+    // A solve that did not converge is not judged or repeated: the next would meet the same.
+    if (!s.stats.converged) break;
 
     // The laws at the solved state, with the compliance there: converged when they hold and
     // the forces would move no point by more than the tolerance.

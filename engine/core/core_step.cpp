@@ -364,7 +364,10 @@ void step(const CoreModel& m, const StepInput& in, CoreState& s, SurfaceForceLaw
   constexpr int kRateSpan = 4;
   double g_norms[kRateSpan] = {0, 0, 0, 0};
   bool done = false;
-  for (int it = 0; it < m.settings.max_iterations && !done; ++it) {
+  // With a law's forces (contact), contact that does not settle stops the step sooner.
+  const int max_iterations = law ? std::min(m.settings.max_iterations, m.settings.max_law_iterations)
+                                 : m.settings.max_iterations;
+  for (int it = 0; it < max_iterations && !done; ++it) {
     ++s.stats.iterations;
     w.x = m.surface.positions + s.u;
     distributed_area_vectors(w.x, m.surface.triangles, w.area);
