@@ -21,6 +21,7 @@
 // moved onto the volume (the linearised volume row leaves an error of second order).
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "engine/core/core_workspace.hpp"
@@ -364,10 +365,11 @@ void step(const CoreModel& m, const StepInput& in, CoreState& s, SurfaceForceLaw
   constexpr int kRateSpan = 4;
   double g_norms[kRateSpan] = {0, 0, 0, 0};
   bool done = false;
-  // With a law's forces (contact), contact that does not settle stops the step sooner.
-  const int max_iterations = law ? std::min(m.settings.max_iterations, m.settings.max_law_iterations)
-                                 : m.settings.max_iterations;
-  for (int it = 0; it < max_iterations && !done; ++it) {
+  // With a law's forces (contact), contact that does not settle stops the step sooner: when
+  // the residual has not reached a new low for law_stall_iterations.
+  double g_norm_least = std::numeric_limits<double>::infinity();
+  int it_least = 0;
+  for (int it = 0; it < m.settings.max_iterations && !done; ++it) {
     ++s.stats.iterations;
     w.x = m.surface.positions + s.u;
     distributed_area_vectors(w.x, m.surface.triangles, w.area);
@@ -469,6 +471,8 @@ void step(const CoreModel& m, const StepInput& in, CoreState& s, SurfaceForceLaw
       }
     }
     g_norm_prev = g_norm;
+    if (g_norm < g_norm_least) g_norm_least = g_norm, it_least = it;
+    if (law && it - it_least >= m.settings.law_stall_iterations) break;
     // The surface follows the mixed lattice for the next linearisation.
     surface_from_lattice(m, w, s.v, lambda, s.u);
   }
