@@ -52,9 +52,10 @@ std::string accuracy_scene_yaml(const AccuracyConfig& c, int frames, const std::
   std::ostringstream solver;
   solver << std::setprecision(12) << "{method: " << vdm::to_string(c.method) << ", tolerance: " << c.tolerance
          << ", refresh_every: " << c.refresh_every << ", nonlinear_iterations: " << c.nonlinear_iterations << "}";
+  // simulation.solver sets the paper's model's steps only.
   return scenario_scene_yaml(config_name(c), std::string("`vdmsim accuracy` (") + c.varied + " row)", c.scenario,
-                             mesh_dir + "/" + level_mesh(c.level), vdm::to_string(c.model), y.str(), solver.str(),
-                             frames);
+                             mesh_dir + "/" + level_mesh(c.level), vdm::to_string(c.model), y.str(),
+                             c.model == vdm::ModelKind::vdm ? solver.str() : "", frames);
 }
 
 std::string scenario_scene_yaml(const std::string& name, const std::string& writer, const std::string& scenario,

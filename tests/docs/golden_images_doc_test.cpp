@@ -32,13 +32,13 @@ std::string cmake_block(const std::string& page) {
 }
 
 // tests/golden/scenes/probe_small.yaml (four frames at 320x240) as my_scene, its mesh path made
-// absolute, with `bulk_modulus`.
-void write_scene(const fs::path& path, int bulk_modulus) {
+// absolute, with `young_modulus`.
+void write_scene(const fs::path& path, int young_modulus) {
   std::string scene = read(fs::path(VDMSIM_SOURCE_DIR) / "tests/golden/scenes/probe_small.yaml");
   scene = std::regex_replace(scene, std::regex("mesh: \\S+"),
                              "mesh: " + (fs::path(VDMSIM_SOURCE_DIR) / "assets/meshes/liver_L4.obj").string());
   scene = std::regex_replace(scene, std::regex("name: \\S+"), "name: my_scene");
-  scene = std::regex_replace(scene, std::regex("bulk_modulus: \\d+"), "bulk_modulus: " + std::to_string(bulk_modulus));
+  scene = std::regex_replace(scene, std::regex("young_modulus: \\d+"), "young_modulus: " + std::to_string(young_modulus));
   fs::create_directories(path.parent_path());
   std::ofstream(path) << scene;
 }
@@ -50,7 +50,7 @@ TEST(GoldenImagesDoc, TheCTestExamplePassesOnTheSameSceneAndFailsOnAChangedOne) 
   fs::remove_all(project);
   fs::create_directories(project);
   std::ofstream(project / "CMakeLists.txt") << lists;
-  write_scene(project / "scenes/my_scene.yaml", 20000);
+  write_scene(project / "scenes/my_scene.yaml", 3000);
 
   const CliResult reference = vdmsim::test::run_cli(
       VDMSIM_BINARY, "run " + (project / "scenes/my_scene.yaml").string() + " --out " + (project / "expected/my_scene").string());
@@ -65,7 +65,7 @@ TEST(GoldenImagesDoc, TheCTestExamplePassesOnTheSameSceneAndFailsOnAChangedOne) 
   EXPECT_EQ(same.code, 0) << same.output;
   EXPECT_NE(same.output.find("100% tests passed, 0 tests failed out of 2"), std::string::npos) << same.output;
 
-  write_scene(project / "scenes/my_scene.yaml", 18000);
+  write_scene(project / "scenes/my_scene.yaml", 2000);
   const CliResult changed = vdmsim::test::run_cli(ctest, "");
   EXPECT_NE(changed.code, 0) << changed.output;
   EXPECT_NE(changed.output.find("frames/frame_00003.png: beyond tolerance"), std::string::npos) << changed.output;

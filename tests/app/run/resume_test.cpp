@@ -88,7 +88,7 @@ TEST(Resume, AnInterruptedRunResumedEqualsAnUninterruptedOne) {
   // A probe pressing into the liver (contact, stress view with an automatic colour range).
   const std::string scene = (dir / "press.yaml").string();
   std::ofstream(scene) << "name: press\norgan:\n  mesh: " << VDMSIM_SOURCE_DIR
-                       << "/assets/meshes/liver_L4.obj\n"
+                       << "/assets/meshes/liver_L4.obj\n  model: vdm\n"  // the state snapshot
                           "  fixed: [{box: {min: [-0.3, -0.2, -0.2], max: [0.3, 0.2, -0.03]}}]\n"
                           "simulation: {frames: 60, dt: 0.05, effects: [contact, stress]}\n"
                           "instruments:\n  - {type: probe, radius: 0.008, script: [{t: 0, tip: [0.035, 0, 0.07], "
@@ -159,8 +159,8 @@ TEST(Determinism, TheSameSceneTwiceGivesIdenticalMetricsAndFrames) {
                           "simulation: {frames: 12, dt: 0.05, effects: [contact, grasp, stress]}\n"
                           "instruments:\n  - {type: probe, radius: 0.008, script: [{t: 0, tip: [0.035, 0, 0.065], "
                           "axis: [0, 0, -1]}, {t: 0.6, tip: [0.035, 0, 0.045]}]}\n"
-                          "  - {type: grasper, script: [{t: 0, tip: [-0.08, 0, 0.03], axis: [0, 0, -1], jaw: open},"
-                          " {t: 0.1, jaw: closed}, {t: 0.6, tip: [-0.08, 0, 0.045]}]}\n"
+                          "  - {type: grasper, script: [{t: 0, tip: [-0.08, 0, 0.041], axis: [0, 0, -1], jaw: open},"
+                          " {t: 0.1, jaw: closed}, {t: 0.6, tip: [-0.08, 0, 0.056]}]}\n"
                           "render: {width: 160, height: 120, views: [shaded, stress], hud_step_time: false}\n";
   ASSERT_EQ(run_in_process(scene, kOut / "twice" / "1", false), 0);
   ASSERT_EQ(run_in_process(scene, kOut / "twice" / "2", false), 0);
@@ -212,7 +212,7 @@ TEST(Resume, AfterAHardKillResumesFromTheLastPeriodicCheckpoint) {
   fs::create_directories(dir);
   const std::string scene = (dir / "press.yaml").string();
   std::ofstream(scene) << "name: press\norgan:\n  mesh: " << VDMSIM_SOURCE_DIR
-                       << "/assets/meshes/liver_L4.obj\n"
+                       << "/assets/meshes/liver_L4.obj\n  model: vdm\n"  // the state snapshot
                           "  fixed: [{box: {min: [-0.3, -0.2, -0.2], max: [0.3, 0.2, -0.03]}}]\n"
                           "  prescribed: [{sphere: {center: [0.035, 0, 0.06], radius: 0.015}, translate: [0, 0, -0.012], "
                           "t: [0, 2]}]\n"

@@ -28,7 +28,7 @@ using vdmsim::test::run_cli;
 namespace {
 
 const std::string kBase = std::string(VDMSIM_SOURCE_DIR) + "/tests/golden/scenes/probe_small.yaml";
-const std::string kGrid = "vary:\n  organ.material.bulk_modulus: [10000, 20000, 40000]\n  instruments[0].radius: [0.006, 0.008]\n";
+const std::string kGrid = "vary:\n  organ.material.young_modulus: [10000, 20000, 40000]\n  instruments[0].radius: [0.006, 0.008]\n";
 
 fs::path dir() { return vdmsim::test::scratch_dir("sweep_run"); }
 
@@ -110,7 +110,7 @@ TEST(Sweep, GridTwoAtATimeThenARerunSimulatesNothing) {
   ASSERT_EQ(r.code, 0) << r.output;
   std::vector<std::string> header;
   const std::vector<Row> rows = read_summary(out / "summary.csv", &header);
-  EXPECT_EQ(header, (std::vector<std::string>{"run", "status", "organ.material.bulk_modulus", "instruments[0].radius", "frames",
+  EXPECT_EQ(header, (std::vector<std::string>{"run", "status", "organ.material.young_modulus", "instruments[0].radius", "frames",
                                               "median_step_ms", "max_volume_rel_error", "max_contact_force_n", "wall_time_s",
                                               "reason"}));
   ASSERT_EQ(rows.size(), 6u) << text_of(out / "summary.csv");
@@ -175,7 +175,7 @@ TEST(Sweep, SlurmJobArrayGivesTheLocalResults) {
 
 TEST(Sweep, CtrlCStopsCleanlyAndTheRerunContinuesToTheSameResults) {
   // Long enough runs (80 frames, a checkpoint every 30) to be stopped in the middle.
-  const std::string sweep = write_sweep("stop.yaml", "vary:\n  organ.material.bulk_modulus: [10000, 20000, 40000]\n");
+  const std::string sweep = write_sweep("stop.yaml", "vary:\n  organ.material.young_modulus: [10000, 20000, 40000]\n");
   const fs::path out = dir() / "stopped", reference = dir() / "unstopped";
   const auto ref = run_cli(VDMSIM_BINARY, "sweep " + sweep + " --out " + reference.string() + " --jobs 2 --no-render --frames 80");
   ASSERT_EQ(ref.code, 0) << ref.output;
@@ -183,7 +183,7 @@ TEST(Sweep, CtrlCStopsCleanlyAndTheRerunContinuesToTheSameResults) {
   const pid_t pid = vdmsim::test::spawn_quiet(
       {VDMSIM_BINARY, "sweep", sweep, "--out", out.string(), "--jobs", "2", "--no-render", "--frames", "80"}, log.string());
   ASSERT_NE(pid, 0);
-  const int code = vdmsim::test::interrupt_once_exists(pid, out / "runs" / "000_bulk_modulus-10000" / "checkpoint.json", 120);
+  const int code = vdmsim::test::interrupt_once_exists(pid, out / "runs" / "000_young_modulus-10000" / "checkpoint.json", 120);
   const std::string stopped_said = text_of(log);
   EXPECT_EQ(code, 130) << stopped_said;
   std::vector<Row> rows = read_summary(out / "summary.csv");
@@ -194,11 +194,11 @@ TEST(Sweep, CtrlCStopsCleanlyAndTheRerunContinuesToTheSameResults) {
   const auto again = run_cli(VDMSIM_BINARY, "sweep " + sweep + " --out " + out.string() + " --jobs 2 --no-render --frames 80");
   ASSERT_EQ(again.code, 0) << again.output;
   EXPECT_NE(again.output.find("to continue"), std::string::npos);
-  EXPECT_NE(text_of(out / "runs" / "000_bulk_modulus-10000" / "run.json").find("\"resumed_from_frame\""), std::string::npos);
+  EXPECT_NE(text_of(out / "runs" / "000_young_modulus-10000" / "run.json").find("\"resumed_from_frame\""), std::string::npos);
   rows = read_summary(out / "summary.csv");
   EXPECT_EQ(without_times(rows), without_times(read_summary(reference / "summary.csv")));
   // Every frame's numbers, not only the summary's, as in the run that was never stopped.
-  for (const std::string run : {"000_bulk_modulus-10000", "001_bulk_modulus-20000", "002_bulk_modulus-40000"}) {
+  for (const std::string run : {"000_young_modulus-10000", "001_young_modulus-20000", "002_young_modulus-40000"}) {
     const std::string got = without_step_times(text_of(out / "runs" / run / "metrics.csv"));
     EXPECT_EQ(std::count(got.begin(), got.end(), '\n'), 81) << run;
     EXPECT_EQ(got, without_step_times(text_of(reference / "runs" / run / "metrics.csv"))) << run;
@@ -209,7 +209,7 @@ TEST(Sweep, AFailingRunIsReportedAndTheOthersComplete) {
   // An open surface: the run refuses the organ; the runs around it go on.
   std::ofstream(dir() / "open.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 2 4\n";
   const std::string sweep = write_sweep(
-      "failing.yaml", "cases:\n  - {organ.material.bulk_modulus: 10000}\n  - {organ.mesh: open.obj}\n  - {organ.material.bulk_modulus: 40000}\n");
+      "failing.yaml", "cases:\n  - {organ.material.young_modulus: 10000}\n  - {organ.mesh: open.obj}\n  - {organ.material.young_modulus: 40000}\n");
   const fs::path out = dir() / "failing";
   const auto r = run_cli(VDMSIM_BINARY, "sweep " + sweep + " --out " + out.string() + " --jobs 2 --no-render");
   EXPECT_EQ(r.code, 1) << r.output;
@@ -228,7 +228,7 @@ TEST(Sweep, AFailingRunIsReportedAndTheOthersComplete) {
 }
 
 TEST(Sweep, RenderedSweepLaysOutEachRunsDeepestContactFrame) {
-  const std::string sweep = write_sweep("rendered.yaml", "vary:\n  organ.material.bulk_modulus: [10000, 40000]\n");
+  const std::string sweep = write_sweep("rendered.yaml", "vary:\n  organ.material.young_modulus: [10000, 40000]\n");
   const fs::path out = dir() / "rendered";
   const auto r = run_cli(VDMSIM_BINARY, "sweep " + sweep + " --out " + out.string() + " --jobs 2");
   ASSERT_EQ(r.code, 0) << r.output;
@@ -236,16 +236,16 @@ TEST(Sweep, RenderedSweepLaysOutEachRunsDeepestContactFrame) {
   std::string error;
   ASSERT_TRUE(render::read_png((out / "summary.png").string(), sheet, error)) << error;
   EXPECT_GT(sheet.width, 2 * 320);  // two thumbnails side by side
-  EXPECT_TRUE(fs::exists(out / "runs" / "001_bulk_modulus-40000" / "frames" / "frame_00003.png"));
+  EXPECT_TRUE(fs::exists(out / "runs" / "001_young_modulus-40000" / "frames" / "frame_00003.png"));
 }
 
 TEST(Sweep, TaskRunsOneRunOnly) {
-  const std::string sweep = write_sweep("task.yaml", "vary:\n  organ.material.bulk_modulus: [10000, 40000]\n");
+  const std::string sweep = write_sweep("task.yaml", "vary:\n  organ.material.young_modulus: [10000, 40000]\n");
   const fs::path out = dir() / "task";
   const auto r = run_cli(VDMSIM_BINARY, "sweep " + sweep + " --out " + out.string() + " --task 1 --no-render");
   ASSERT_EQ(r.code, 0) << r.output;
-  EXPECT_TRUE(fs::exists(out / "runs" / "001_bulk_modulus-40000" / "run.json"));
-  EXPECT_FALSE(fs::exists(out / "runs" / "000_bulk_modulus-10000" / "run.json"));
+  EXPECT_TRUE(fs::exists(out / "runs" / "001_young_modulus-40000" / "run.json"));
+  EXPECT_FALSE(fs::exists(out / "runs" / "000_young_modulus-10000" / "run.json"));
   EXPECT_FALSE(fs::exists(out / "summary.csv"));
   const auto beyond = run_cli(VDMSIM_BINARY, "sweep " + sweep + " --out " + out.string() + " --task 2");
   EXPECT_EQ(beyond.code, 2);
@@ -255,13 +255,13 @@ TEST(Sweep, TaskRunsOneRunOnly) {
 // Issue 46: a sweep killed with SIGKILL takes its runs with it: none keeps running (and holding
 // its folder) for a rerun to collide with.
 TEST(Sweep, ASweepKilledTakesItsRunsWithIt) {
-  const std::string sweep = write_sweep("killed.yaml", "vary:\n  organ.material.bulk_modulus: [10000]\n");
+  const std::string sweep = write_sweep("killed.yaml", "vary:\n  organ.material.young_modulus: [10000]\n");
   const fs::path out = dir() / "killed";
   const pid_t pid = vdmsim::test::spawn_quiet(
       {VDMSIM_BINARY, "sweep", sweep, "--out", out.string(), "--jobs", "1", "--no-render", "--frames", "100000"});
   ASSERT_NE(pid, 0);
   // The run writes its process id into its folder's lock file once it owns the folder.
-  const fs::path lock = out / "runs" / "000_bulk_modulus-10000" / ".vdmsim.lock";
+  const fs::path lock = out / "runs" / "000_young_modulus-10000" / ".vdmsim.lock";
   pid_t run = 0;
   vdmsim::test::wait_for_file(lock, 60);
   for (int k = 0; k < 6000 && run <= 0; ++k) {
