@@ -15,6 +15,15 @@ std::unique_ptr<vdm::OrganSolver> VdmRow::make_solver(const ReferenceModel&) { r
 
 void VdmCoreRow::check_placed(const SceneDef& s, const vdm::SurfaceMesh& organ, std::vector<SceneProblem>& problems) {
   check_core_cell(s, organ, problems);
+  // Nothing in the core anchors the organ (unlike vdm's bulk term): static steps under a load
+  // have no equilibrium when no region holds it.
+  if (s.fixed.empty() && s.prescribed.empty() && !s.has(Effect::inertia) &&
+      (s.has(Effect::gravity) || !s.loads.empty()))
+    problems.push_back({s.file, "organ.fixed",
+                        "nothing holds the organ: on organ.model vdm_core a static step under gravity or loads has no "
+                        "equilibrium (the organ would fall away); fix a region (organ.fixed: where it rests or hangs) "
+                        "or add the inertia effect",
+                        false});
 }
 bool VdmCoreRow::build(const SceneDef& s, const vdm::TissueModel& m, ReferenceModel& out, std::string& error) {
   vdm::core::CoreDef def;

@@ -118,6 +118,29 @@ TEST(Scene, TheMaterialsFormPicksTheModelWhenNoneIsNamed) {
   }
 }
 
+// On the core nothing anchors the organ: gravity with no region holding it is refused at the
+// organ; a fixed region or inertia makes it a scene like any.
+TEST(Scene, AFreeOrganUnderGravityOnTheCoreIsRefused) {
+  const std::string mesh = (fs::path(VDMSIM_SOURCE_DIR) / "assets/meshes/liver_L4.obj").string();
+  const auto problems = [&](const std::string& name, const std::string& organ, const std::string& effects) {
+    int errors = 0;
+    const std::string msg = problems_of(
+        write_scene(name, "name: free\norgan:\n  mesh: " + mesh + "\n  material: {young_modulus: 3000, poisson_ratio: 0.45}\n" +
+                              organ + "simulation: {frames: 2, dt: 0.04, effects: " + effects + "}\n"),
+        errors);
+    return std::make_pair(errors, msg);
+  };
+  const auto free = problems("free.yaml", "", "[gravity]");
+  EXPECT_EQ(free.first, 1) << free.second;
+  EXPECT_NE(free.second.find("free.yaml: organ.fixed: nothing holds the organ: on organ.model vdm_core a static step"),
+            std::string::npos)
+      << free.second;
+  const auto held = problems("held.yaml", "  fixed: [{box: {min: [-1, -1, -1], max: [1, 1, -0.03]}}]\n", "[gravity]");
+  EXPECT_EQ(held.first, 0) << held.second;
+  const auto falling = problems("falling.yaml", "", "[gravity, inertia]");
+  EXPECT_EQ(falling.first, 0) << falling.second;
+}
+
 // simulation.solver sets vdm::step: on the core it is warned as ignored.
 TEST(Scene, TheSurfaceSolversSettingsAreIgnoredByTheCore) {
   const std::string path =
