@@ -339,15 +339,20 @@ void warn_unused_by_model(Reader& r, const YAML::Node& root, vdm::ModelKind mode
   }
 }
 
-// Without organ.model, a material given by VDM's own moduli (or the paper's capsule keys) keeps
-// the paper's model, with a note; every other material (E and nu, or none) gets the default.
+// Without organ.model, a material key only the paper's model uses (its moduli, its capsule's)
+// keeps that model, with a note; every other material (E and nu, or none) gets the default.
 void select_model_by_material(Reader& r, const YAML::Node& organ, SceneDef& s) {
   const YAML::Node mat = organ["material"];
   if (!mat || !mat.IsMap()) return;
-  for (const char* key : {"bulk_modulus", "connectivity_modulus", "capsule", "bending_modulus"}) {
-    if (!mat[key]) continue;
+  const auto only_vdm = [](const std::string& path) {
+    return std::none_of(organ_models().begin(), organ_models().end(),
+                        [&](const OrganModel& m) { return m.kind != vdm::ModelKind::vdm && m.uses(path); });
+  };
+  for (auto it = mat.begin(); it != mat.end(); ++it) {  // the first such key in the file
+    const std::string path = "organ.material." + it->first.as<std::string>("");
+    if (!only_vdm(path)) continue;
     s.model = vdm::ModelKind::vdm;
-    r.warn(mat[key], std::string("organ.material.") + key,
+    r.warn(it->second, path,
            std::string("selects the paper's model (organ.model: vdm); the default model ") +
                vdm::to_string(kDefaultOrganModel) +
                " takes young_modulus and poisson_ratio (docs/model.md); write organ.model: vdm to keep this one "

@@ -99,7 +99,13 @@ TEST(OrganModelTable, EachModelWarnsAboutExactlyTheKeysItIgnores) {
   for (const OrganModel& m : organ_models())
     for (const std::string& path : model_specific_keys()) {
       SCOPED_TRACE(std::string(m.name()) + " " + path);
-      const std::string field = path.rfind("simulation.solver", 0) == 0 ? "simulation.solver" : path;
+      // The outermost model-specific key holding `path` (the keys come sections first).
+      std::string field = path;
+      for (const std::string& k : model_specific_keys())
+        if (path.rfind(k + ".", 0) == 0) {
+          field = k;
+          break;
+        }
       int ignored = 0;
       for (const SceneProblem& p : model_table_scene_problems(m.name(), path))
         if (p.message.find("ignored by organ.model") != std::string::npos) {
