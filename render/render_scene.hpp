@@ -68,6 +68,11 @@ struct RenderScene {
   std::vector<float> scalar;                // N values of the stress view's quantity
   std::vector<InstrumentView> instruments;
   HudInfo hud;
+  // The endoscope's pose this frame (world from camera, OpenCV axes: x right, y down, z
+  // forward; at its tip) and the distance its light is set for (its exposure: the tip to where
+  // the shaft is aimed). Read only when the renderer's camera is an endoscope.
+  Eigen::Isometry3d camera_pose = Eigen::Isometry3d::Identity();
+  double light_distance = 0.1;  // m
 };
 
 }  // namespace render

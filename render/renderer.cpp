@@ -14,6 +14,7 @@
 #include <glm/glm.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
+#include "render/abdomen.hpp"
 #include "render/edge_aa.hpp"
 #include "render/gl_context.hpp"
 #include "render/gl_program.hpp"
@@ -23,6 +24,7 @@
 #include "render/imgui_layer.hpp"
 #include "render/instrument_geometry.hpp"
 #include "render/shaders.hpp"
+#include "render/tissue_texture.hpp"
 
 namespace render {
 namespace {
@@ -56,6 +58,8 @@ struct GpuMesh {
     glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 6 * sizeof(float), reinterpret_cast<void*>(3 * sizeof(float)));
     glDisableVertexAttribArray(2);
     glVertexAttrib1f(2, 0.0f);
+    glDisableVertexAttribArray(3);
+    glVertexAttrib3f(3, 0.0f, 0.0f, 0.0f);
     glBindVertexArray(0);
     count = GLsizei(m.indices.size());
   }
@@ -75,6 +79,11 @@ struct InstrumentMeshes {
 };
 
 Eigen::Vector3f f3(const Eigen::Vector3d& v) { return v.cast<float>(); }
+
+// The endoscope's near clip plane (m): its tip can come this close to the tissue.
+constexpr double kEndoscopeNear = 0.001;
+// The tissue texture's coarse scale: one period of its field over this much of the rest shape.
+constexpr double kTissueTexturePeriod = 0.05;  // m
 
 // VDMSIM_RENDER_TIMING=1 prints the wall and CPU time (all of the process's threads,
 // llvmpipe's included) of each pass, with glFinish between passes, so the total is slower
@@ -112,6 +121,7 @@ struct Renderer::Impl {
   GLuint empty_vao = 0;
   // The organ: topology fixed, positions, normals and the scalar streamed each frame.
   GLuint organ_vao = 0, organ_vbo = 0, organ_ebo = 0;
+  GLuint organ_rest_vbo = 0;  // the rest positions: the tissue texture's coordinates
   GLsizei organ_count = 0;
   const vdm::TriMat* triangles = nullptr;  // the rest mesh's (Renderer::create: it outlives the renderer)
   std::vector<Eigen::Vector3f> normals;
@@ -138,6 +148,16 @@ struct Renderer::Impl {
   Image hud_layer;
   ImGuiLayer imgui;
   Camera camera;
+  // The endoscope: its light's exposure distance this frame, the abdomen's wall, the tissue's
+  // texture, and each node's depth in a crease (its shading) with what it is computed from.
+  bool endoscope = false;
+  double light_distance = 0.1;
+  Abdomen abdomen;
+  GpuMesh wall;
+  GLuint noise_tex = 0;
+  std::vector<float> crease, node_crease;
+  std::vector<Eigen::Vector3f> neighbour_sum;
+  std::vector<float> neighbour_count;
   Eigen::Vector3d centre, lo, hi;
   double radius = 1, floor_z = 0;
   Eigen::Vector3d key_dir = Eigen::Vector3d(-0.55, -0.65, 1.2).normalized();
@@ -163,6 +183,9 @@ struct Renderer::Impl {
     for (auto& [key, m] : skins) m.destroy();
     floor.destroy();
     shadow_quad.destroy();
+    if (endoscope) wall.destroy();
+    glDeleteTextures(1, &noise_tex);
+    glDeleteBuffers(1, &organ_rest_vbo);
     glDeleteFramebuffers(1, &backdrop_fbo);
     glDeleteRenderbuffers(1, &backdrop_color);
     glDeleteVertexArrays(1, &organ_vao);
@@ -179,6 +202,10 @@ struct Renderer::Impl {
   bool init(const vdm::SurfaceMesh& rest, std::string& error);
   void upload_positions(const vdm::NodeMat& x);
   void upload_normals(const vdm::NodeMat& x, const std::vector<float>* scalar, GLsync mask_done);
+  void find_creases(const vdm::NodeMat& x);
+  void set_camera(const RenderScene& scene);
+  void set_tissue(GlProgram& p, const Eigen::Vector3f& base, const Eigen::Vector3f& second, float bump, double period,
+                  bool world);
   InstrumentMeshes& instrument_meshes(const InstrumentView& v);
   GpuMesh& skin_mesh(const SkinMesh* s);
   GLuint colormap_texture(ColorMapName name);
@@ -247,6 +274,14 @@ bool Renderer::Impl::init(const vdm::SurfaceMesh& rest, std::string& error) {
   glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, 7 * sizeof(float), reinterpret_cast<void*>(3 * sizeof(float)));
   glEnableVertexAttribArray(2);
   glVertexAttribPointer(2, 1, GL_FLOAT, GL_FALSE, 7 * sizeof(float), reinterpret_cast<void*>(6 * sizeof(float)));
+  std::vector<float> rest_xyz(static_cast<size_t>(3 * n));
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (int d = 0; d < 3; ++d) rest_xyz[static_cast<size_t>(3 * i + d)] = float(rest.positions(i, d));
+  glGenBuffers(1, &organ_rest_vbo);
+  glBindBuffer(GL_ARRAY_BUFFER, organ_rest_vbo);
+  glBufferData(GL_ARRAY_BUFFER, GLsizeiptr(rest_xyz.size() * sizeof(float)), rest_xyz.data(), GL_STATIC_DRAW);
+  glEnableVertexAttribArray(3);
+  glVertexAttribPointer(3, 3, GL_FLOAT, GL_FALSE, 3 * sizeof(float), nullptr);
   glBindVertexArray(0);
 
   // Framing from the rest shape.
@@ -256,7 +291,26 @@ bool Renderer::Impl::init(const vdm::SurfaceMesh& rest, std::string& error) {
   radius = std::max(0.5 * (hi - lo).norm(), 1e-6);
   floor_z = lo.z() - 0.02 * radius;
   const double aspect = double(settings.width) / settings.height;
-  if (!settings.auto_camera) camera = settings.camera;
+  if (endoscope) {
+    std::vector<Eigen::Vector3d> ports = settings.ports;
+    ports.push_back(settings.endoscope.port);
+    abdomen = abdomen_around(lo, hi, ports);
+    wall.upload(abdomen_wall(abdomen, 48));
+    const int texels = 64;
+    const std::vector<std::uint8_t> noise = tissue_noise_texture(texels, 20261202u);
+    glGenTextures(1, &noise_tex);
+    glBindTexture(GL_TEXTURE_3D, noise_tex);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTexImage3D(GL_TEXTURE_3D, 0, GL_RGBA8, texels, texels, texels, 0, GL_RGBA, GL_UNSIGNED_BYTE, noise.data());
+    glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_3D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    for (GLenum wrap : {GL_TEXTURE_WRAP_S, GL_TEXTURE_WRAP_T, GL_TEXTURE_WRAP_R}) glTexParameteri(GL_TEXTURE_3D, wrap, GL_REPEAT);
+    RenderScene first;
+    const tools::EndoscopePose pose = tools::endoscope_at(settings.endoscope, 0.0);
+    first.camera_pose = pose.camera;
+    first.light_distance = (pose.look_at - pose.tip).norm();
+    set_camera(first);
+  } else if (!settings.auto_camera) camera = settings.camera;
   else if (settings.has_focus_box) camera = auto_frame(settings.focus_lo, settings.focus_hi, settings.camera.fov_deg, aspect);
   else camera = auto_frame(lo, hi, settings.camera.fov_deg, aspect);
 
@@ -325,6 +379,12 @@ void Renderer::Impl::set_view_proj() {
   const double dist = (camera.eye - camera.target).norm();
   near_plane = std::max(dist - 6 * radius, dist * 0.02);
   far_plane = dist + 8 * radius;
+  if (endoscope) {
+    // The tip may come within a few millimetres of the tissue; from inside the abdomen its
+    // wall is at most a diameter away.
+    near_plane = kEndoscopeNear;
+    far_plane = 3 * abdomen.radius;
+  }
   view = look_at(camera.eye, camera.target, camera.up);
   view_proj = perspective(camera.fov_deg, aspect, near_plane, far_plane) * view;
 }
@@ -351,7 +411,7 @@ bool Renderer::Impl::make_backdrop(std::string& error) {
   glDepthFunc(GL_LESS);
   set_view_proj();
   if (settings.floor) draw_floor(floor, false);
-  draw_background();
+  if (!endoscope) draw_background();  // the endoscope's picture is dark past its light's reach
   fb->blit_color_to(backdrop_fbo);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   return true;
@@ -406,6 +466,7 @@ void Renderer::Impl::upload_normals(const vdm::NodeMat& x, const std::vector<flo
     glClientWaitSync(mask_done, GL_SYNC_FLUSH_COMMANDS_BIT, GL_TIMEOUT_IGNORED);
     glDeleteSync(mask_done);
   }
+  if (scalar == &crease) find_creases(x);
   float* const data = map_organ_buffer();
   if (!data) return;
   for (size_t i = 0; i < n; ++i) {
@@ -418,6 +479,68 @@ void Renderer::Impl::upload_normals(const vdm::NodeMat& x, const std::vector<flo
     d[6] = (scalar && scalar->size() == n) ? (*scalar)[i] : 0.0f;
   }
   glUnmapBuffer(GL_ARRAY_BUFFER);
+}
+
+// How deep each node lies in a crease, 0 (open or convex surface) to 0.5: the mean of its
+// neighbours (over its triangles) lies outward of it along its normal by a fair part of its
+// edges' length. Shades the endoscope's tissue darker in folds, where its light reaches less.
+// Needs upload_normals' accumulated normals.
+void Renderer::Impl::find_creases(const vdm::NodeMat& x) {
+  const size_t n = normals.size();
+  neighbour_sum.assign(n, Eigen::Vector3f::Zero());
+  neighbour_count.assign(n, 0.0f);
+  node_crease.resize(n);
+  crease.resize(n);
+  const vdm::TriMat& tris = *triangles;
+  for (Eigen::Index t = 0; t < tris.rows(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const int a = tris(t, k), b = tris(t, (k + 1) % 3), c = tris(t, (k + 2) % 3);
+      neighbour_sum[size_t(a)] += (x.row(b) + x.row(c)).transpose().cast<float>();
+      neighbour_count[size_t(a)] += 2.0f;
+    }
+  for (size_t i = 0; i < n; ++i) {
+    const float len = normals[i].norm();
+    node_crease[i] = 0;
+    if (len <= 0 || neighbour_count[i] <= 0) continue;
+    const Eigen::Vector3f p = x.row(Eigen::Index(i)).transpose().cast<float>();
+    const Eigen::Vector3f off = neighbour_sum[i] / neighbour_count[i] - p;
+    const float reach = off.norm() + 1e-12f;
+    const float depth = off.dot(normals[i] / len) / reach;  // > 0: the neighbours stand out of it
+    node_crease[i] = std::clamp((depth - 0.1f) / 0.4f, 0.0f, 1.0f);
+  }
+  // Averaged over each node's triangles: a crease is a few edges wide; single nodes a little
+  // inward of their neighbours (the mesh's own roughness) are not creases.
+  std::fill(crease.begin(), crease.end(), 0.0f);
+  for (Eigen::Index t = 0; t < tris.rows(); ++t) {
+    const float mean =
+        (node_crease[size_t(tris(t, 0))] + node_crease[size_t(tris(t, 1))] + node_crease[size_t(tris(t, 2))]) / 3.0f;
+    for (int k = 0; k < 3; ++k) crease[size_t(tris(t, k))] += 2.0f * mean;
+  }
+  for (size_t i = 0; i < n; ++i) crease[i] = neighbour_count[i] > 0 ? 0.5f * crease[i] / neighbour_count[i] : 0.0f;
+}
+
+// This frame's camera: the endoscope's pose and light, or the framing camera as it is.
+void Renderer::Impl::set_camera(const RenderScene& scene) {
+  if (!endoscope) return;
+  const double aspect = double(settings.width) / settings.height;
+  camera = endoscope_camera(scene.camera_pose, tools::vertical_fov_deg(settings.endoscope.fov_deg, aspect));
+  light_distance = std::max(scene.light_distance, 0.01);
+}
+
+// The endoscope's tissue material: its colours (sRGB), bumps, its texture's coarse period (m),
+// and whether the texture is read at the world position (the wall) or the organ's rest
+// position.
+void Renderer::Impl::set_tissue(GlProgram& p, const Eigen::Vector3f& base, const Eigen::Vector3f& second, float bump,
+                                double period, bool world) {
+  glUniform3fv(p.uniform("u_base_srgb"), 1, base.data());
+  glUniform3fv(p.uniform("u_second_srgb"), 1, second.data());
+  glUniform1f(p.uniform("u_bump"), bump);
+  glUniform1f(p.uniform("u_world_texture"), world ? 1.0f : 0.0f);
+  glUniform1f(p.uniform("u_noise_scale"), float(1.0 / period));
+  glUniform1i(p.uniform("u_noise"), 1);
+  glActiveTexture(GL_TEXTURE1);
+  glBindTexture(GL_TEXTURE_3D, noise_tex);
+  glActiveTexture(GL_TEXTURE0);
 }
 
 InstrumentMeshes& Renderer::Impl::instrument_meshes(const InstrumentView& v) {
@@ -635,7 +758,8 @@ void Renderer::Impl::draw_background() {
 
 bool Renderer::Impl::build_material(Material m, std::string& error) {
   const char* defines[3] = {"MODE_TISSUE", "MODE_COLORMAP", "MODE_METAL"};
-  const std::string fragment = std::string("#version 450 core\n#define ") + defines[m] + "\n" + shaders::kMeshFragment;
+  const std::string fragment = std::string("#version 450 core\n#define ") + defines[m] + "\n" +
+                               (endoscope ? "#define LIGHT_TIP\n" : "") + shaders::kMeshFragment;
   return materials[m].build(shaders::kMeshVertex, fragment.c_str(), error);
 }
 
@@ -653,6 +777,11 @@ GlProgram& Renderer::Impl::use(Material m) {
   glUniform3fv(p.uniform("u_key_dir"), 1, f3(key_dir).data());
   glUniform3fv(p.uniform("u_fill_dir"), 1, f3(fill_dir).data());
   glUniform1i(p.uniform("u_colormap"), 0);
+  glUniform1f(p.uniform("u_world_texture"), 0.0f);
+  if (endoscope) {
+    glUniform1f(p.uniform("u_light_distance"), float(light_distance));
+    glUniform2f(p.uniform("u_viewport"), float(settings.width), float(settings.height));
+  }
   glUniform1i(p.uniform("u_capsules"), settings.shadows ? int(capsule_a.size()) : 0);
   if (!capsule_a.empty()) {
     glUniform4fv(p.uniform("u_capsule_a"), GLsizei(capsule_a.size()), capsule_a[0].data());
@@ -697,6 +826,7 @@ bool Renderer::Impl::guarded(const DrawFrame& draw_frame) {
 
 void Renderer::Impl::draw_frame(const RenderScene& scene, const StressView* view, bool hud, Image& out) {
   PassTimer timer;
+  set_camera(scene);
   upload_positions(*scene.positions);
   set_capsules(scene);
   timer.mark("upload");
@@ -706,7 +836,7 @@ void Renderer::Impl::draw_frame(const RenderScene& scene, const StressView* view
     mask_done = glFenceSync(GL_SYNC_GPU_COMMANDS_COMPLETE, 0);
   }
   timer.mark("shadow mask");
-  upload_normals(*scene.positions, view ? &scene.scalar : nullptr, mask_done);
+  upload_normals(*scene.positions, view ? &scene.scalar : endoscope ? &crease : nullptr, mask_done);
   timer.mark("normals");
 
   fb->copy_color_from(backdrop_fbo);
@@ -728,6 +858,9 @@ void Renderer::Impl::draw_frame(const RenderScene& scene, const StressView* view
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, colormap_texture(view->colormap));
     glUniform2f(organ.uniform("u_range"), float(view->lo), float(view->hi));
+  } else if (endoscope) {
+    set_tissue(organ, Eigen::Vector3f(0.47f, 0.15f, 0.11f), Eigen::Vector3f(0.37f, 0.10f, 0.08f), 0.12f,
+               kTissueTexturePeriod, false);
   } else {
     glUniform3f(organ.uniform("u_base_srgb"), 0.55f, 0.20f, 0.16f);
   }
@@ -742,6 +875,20 @@ void Renderer::Impl::draw_frame(const RenderScene& scene, const StressView* view
   glUniform3f(metal.uniform("u_base_srgb"), 0.62f, 0.64f, 0.67f);
   draw_instruments(scene, metal, false);
   timer.mark("instruments");
+  if (endoscope) {
+    // The abdomen's wall, behind everything (drawn last: covered pixels cost little): pink
+    // peritoneum with yellow fat, lit by the scope's light.
+    GlProgram& wall_program = use(kTissue);
+    glUniformMatrix4fv(wall_program.uniform("u_model"), 1, GL_FALSE, identity.data());
+    glUniformMatrix3fv(wall_program.uniform("u_normal_matrix"), 1, GL_FALSE, identity3.data());
+    set_tissue(wall_program, Eigen::Vector3f(0.80f, 0.54f, 0.50f), Eigen::Vector3f(0.84f, 0.70f, 0.44f), 0.08f,
+               3 * kTissueTexturePeriod, true);
+    glEnable(GL_CULL_FACE);
+    glCullFace(GL_BACK);
+    wall.draw();
+    glDisable(GL_CULL_FACE);
+    timer.mark("wall");
+  }
 
   // The floor where its shadow falls, behind what is drawn (the backdrop has the rest of
   // the floor and the background).
@@ -787,6 +934,7 @@ void Renderer::Impl::draw_ground_truth_pass(const RenderScene& scene) {
     }
     ground_truth = std::move(pass);
   }
+  set_camera(scene);
   upload_positions(*scene.positions);
   upload_normals(*scene.positions, nullptr, nullptr);
   set_view_proj();
@@ -841,6 +989,11 @@ std::unique_ptr<Renderer> Renderer::create(const RenderSettings& settings, const
   std::unique_ptr<Renderer> r(new Renderer());
   r->impl_ = std::make_unique<Impl>();
   r->impl_->settings = settings;
+  if (settings.camera_type == CameraType::endoscope) {
+    r->impl_->endoscope = true;
+    r->impl_->settings.floor = false;    // the abdomen's wall instead
+    r->impl_->settings.shadows = false;  // the light is at the lens: shadows fall behind what casts them
+  }
   if (settings.width < 16 || settings.height < 16 || settings.width > 8192 || settings.height > 8192) {
     error = "render size " + std::to_string(settings.width) + "x" + std::to_string(settings.height) +
             " out of range (16 to 8192)";

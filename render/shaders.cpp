@@ -6,6 +6,7 @@ const char* const kMeshVertex = R"(#version 450 core
 layout(location = 0) in vec3 a_position;
 layout(location = 1) in vec3 a_normal;
 layout(location = 2) in float a_scalar;
+layout(location = 3) in vec3 a_rest;   // the organ's rest position (its texture's coordinates)
 uniform mat4 u_model;
 uniform mat3 u_normal_matrix;
 uniform mat4 u_view_proj;
@@ -17,10 +18,12 @@ uniform int u_boxes;             // box and convex probes: oriented boxes with r
 uniform vec4 u_box_centre[4];    // xyz: centre, w: edge rounding
 uniform vec4 u_box_half[4];      // xyz: half sizes of the core box
 uniform mat3 u_box_axes[4];      // columns: the box's axes in the world
+uniform float u_world_texture;   // 1: the texture at the world position (the abdomen's wall)
 out vec3 v_position;
 out vec3 v_normal;
 out float v_scalar;
 out float v_shadow;
+out vec3 v_rest;
 
 // Light reaching p from the key light past the instruments (capsules): the distance from
 // the light ray to each capsule's segment gives a soft edge that widens with distance.
@@ -84,6 +87,7 @@ void main() {
   v_position = world.xyz;
   v_normal = u_normal_matrix * a_normal;
   v_scalar = a_scalar;
+  v_rest = mix(a_rest, world.xyz, u_world_texture);
   // Per vertex: the organ's mesh is much finer than a shadow's soft edge.
   v_shadow = capsule_light(world.xyz) * box_light(world.xyz);
   gl_Position = u_view_proj * world;
@@ -92,18 +96,30 @@ void main() {
 
 const char* const kMeshFragment = R"(
 // Compiled once per material with MODE_TISSUE, MODE_COLORMAP or MODE_METAL defined:
-// llvmpipe runs every branch of a shader, so each material gets its own small program.
-// Lighting is done in an approximately linear space (gamma 2: square in, square root out).
+// llvmpipe runs every branch of a shader, so each material gets its own small program. With
+// LIGHT_TIP (the endoscope) the only light is at the camera, falling off with distance; the
+// tissue gets its texture (colour variation, fine bumps, a wet highlight) and every material
+// the lens's vignetting. Lighting is done in an approximately linear space (gamma 2: square
+// in, square root out).
 in vec3 v_position;
 in vec3 v_normal;
 in float v_scalar;
 in float v_shadow;
+in vec3 v_rest;
 uniform vec3 u_base_srgb;
 uniform vec3 u_eye;
 uniform vec3 u_key_dir;          // toward the key light
 uniform vec3 u_fill_dir;         // toward the fill light
 uniform vec2 u_range;            // colour map range
 uniform sampler2D u_colormap;    // 256 x 1, sRGB
+#ifdef LIGHT_TIP
+uniform float u_light_distance;  // where the light's exposure is set for (m)
+uniform vec2 u_viewport;         // width, height (pixels)
+uniform sampler3D u_noise;       // render/tissue_texture.hpp: rgb the field's gradient, a the field
+uniform float u_noise_scale;     // texture periods per metre of the rest shape (the coarse scale)
+uniform vec3 u_second_srgb;      // the tissue's other colour, where the field is high
+uniform float u_bump;            // how far the fine field tilts the normal
+#endif
 out vec4 frag_color;
 
 // x^32 by repeated squaring (cheaper than pow on llvmpipe).
@@ -113,6 +129,46 @@ void main() {
   vec3 n = normalize(v_normal);
   if (!gl_FrontFacing) n = -n;
   vec3 v = normalize(u_eye - v_position);
+#ifdef LIGHT_TIP
+  // The light is at the lens: it comes from the viewer, and falls off as 1 / d^2, exposed for
+  // u_light_distance (a surface there is lit as by a unit light).
+  float d = length(u_eye - v_position);
+  float fall = min(u_light_distance * u_light_distance / max(d * d, 1e-8), 4.0);
+  vec2 q = (gl_FragCoord.xy - 0.5 * u_viewport) / (0.5 * length(u_viewport));
+  float vignette = 1.0 - 0.62 * dot(q, q) * (0.6 + 0.4 * dot(q, q));
+#ifdef MODE_COLORMAP
+  float t = clamp((v_scalar - u_range.x) / max(u_range.y - u_range.x, 1e-30), 0.0, 1.0);
+  vec3 c = texture(u_colormap, vec2((t * 255.0 + 0.5) / 256.0, 0.5)).rgb;
+  float lit = max(dot(n, v), 0.0);
+  float shade = 0.45 + 0.55 * min(lit * fall, 1.2);
+  frag_color = vec4(clamp(c * shade * vignette + vec3(0.06 * pow32(lit)), 0.0, 1.0), 1.0);
+#else
+  vec3 base = u_base_srgb * u_base_srgb;
+  vec3 color;
+#ifdef MODE_TISSUE
+  vec4 coarse = texture(u_noise, v_rest * u_noise_scale);
+  vec4 fine = texture(u_noise, v_rest * (u_noise_scale * 9.7));
+  vec3 g = fine.rgb * 2.0 - 1.0;
+  n = normalize(n - u_bump * (g - dot(g, n) * n));
+  vec3 second = u_second_srgb * u_second_srgb;
+  base = mix(base, second, smoothstep(0.45, 0.8, coarse.a)) * (0.9 + 0.2 * fine.a);
+  float lit = max(dot(n, v), 0.0);
+  float wrap = max((lit + 0.2) / 1.2, 0.0);
+  float crease = 1.0 - v_scalar;   // v_scalar: how deep in a crease (0 on open surface)
+  // A wet layer: a sharp bright highlight where the surface faces the lens, a faint broad one.
+  float wet = pow32(lit);
+  wet *= wet;
+  color = (base * (1.15 * wrap + 0.05) * crease + vec3(0.55) * wet + vec3(0.05) * pow32(sqrt(lit)) * crease) * fall;
+#else
+  // Brushed steel under the tip light.
+  float lit = max(dot(n, v), 0.0);
+  color = (base * (0.9 * lit + 0.06) + vec3(0.7) * pow32(lit) * pow32(lit)) * fall;
+#endif
+  // A soft shoulder instead of clipping: the tip light over-exposes what comes close.
+  color = vec3(1.0) - exp(-1.6 * color);
+  frag_color = vec4(sqrt(clamp(color, 0.0, 1.0)) * vignette, 1.0);
+#endif
+#else
   float shadow = v_shadow;
   float key = max(dot(n, u_key_dir), 0.0);
   float fill = max(dot(n, u_fill_dir), 0.0);
@@ -144,6 +200,7 @@ void main() {
   color += vec3(0.8) * pow32(nh) * pow32(nh) * shadow + vec3(0.12) * pow32(fh);
 #endif
   frag_color = vec4(sqrt(clamp(color, 0.0, 1.0)), 1.0);
+#endif
 #endif
 }
 )";

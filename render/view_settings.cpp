@@ -13,4 +13,6 @@ const char* to_string(Antialias a) {
 
 const char* to_string(CameraFocus f) { return f == CameraFocus::instruments ? "instruments" : "organ"; }
 
+const char* to_string(CameraType t) { return t == CameraType::endoscope ? "endoscope" : "framing"; }
+
 }  // namespace render

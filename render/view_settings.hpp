@@ -5,6 +5,7 @@
 #include "render/camera.hpp"
 #include "render/colormap.hpp"
 #include "render/render_scene.hpp"
+#include "tools_scripted/endoscope.hpp"
 
 namespace render {
 
@@ -21,6 +22,12 @@ const char* to_string(Antialias a);  // "edge", "msaa", "none"
 enum class CameraFocus { organ, instruments };
 const char* to_string(CameraFocus f);  // "organ", "instruments"
 
+// The camera: a framing camera outside the body (look-at, fixed for the sequence), or an
+// endoscope through a port (its pose each frame in RenderScene::camera_pose; its light at its
+// tip; the abdomen's wall behind the organ instead of the floor).
+enum class CameraType { framing, endoscope };
+const char* to_string(CameraType t);  // "framing", "endoscope"
+
 struct RenderSettings {
   int width = 1280, height = 720;
   Antialias antialias = Antialias::edge;
@@ -31,6 +38,12 @@ struct RenderSettings {
   bool has_focus_box = false;               // auto_camera frames [focus_lo, focus_hi] instead
   Eigen::Vector3d focus_lo = Eigen::Vector3d::Zero(), focus_hi = Eigen::Vector3d::Zero();  // m
   Camera camera;             // used when !auto_camera
+  CameraType camera_type = CameraType::framing;
+  tools::EndoscopeDef endoscope;  // camera_type endoscope: its port, aim, optics and script
+  // Other ports in the abdominal wall (the instruments'): the wall drawn behind the organ
+  // passes through or inside each of them and the endoscope's, so that no shaft is seen
+  // outside the abdomen.
+  std::vector<Eigen::Vector3d> ports;
   bool gizmo = false;        // small x, y, z axes in the bottom-left corner
   bool floor = true;         // a floor under the organ, with the key light's shadow
   bool shadows = true;

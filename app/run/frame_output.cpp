@@ -226,6 +226,11 @@ bool FrameOutput::write(int f, int frames, const SceneSimulation& sim) {
     }
     scene.instruments.push_back(v);
   }
+  if (rd.settings.camera_type == render::CameraType::endoscope) {
+    const tools::EndoscopePose scope = tools::endoscope_at(rd.settings.endoscope, sim.time());
+    scene.camera_pose = scope.camera;
+    scene.light_distance = (scope.look_at - scope.tip).norm();
+  }
   render::HudInfo& hud = scene.hud;
   hud.scene_name = ps_->scene.name;
   hud.show_step_time = rd.hud_step_time;
@@ -253,7 +258,8 @@ bool FrameOutput::write(int f, int frames, const SceneSimulation& sim) {
 
 bool FrameOutput::write_poses(int f, const render::RenderScene& scene) {
   std::vector<ObjectPose> poses;
-  poses.push_back({"camera", camera_.pose, 0.0});
+  const bool endoscope = ps_->scene.render.settings.camera_type == render::CameraType::endoscope;
+  poses.push_back({"camera", endoscope ? scene.camera_pose : camera_.pose, 0.0});
   for (size_t k = 0; k < scene.instruments.size(); ++k) {
     const render::InstrumentView& v = scene.instruments[k];
     const bool grasper = v.type == tools::InstrumentDef::Type::grasper;

@@ -873,6 +873,84 @@ void read_antialias(Reader& r, const YAML::Node& n, render::RenderSettings& rs) 
     r.error(samples, "render.samples", "samples are for antialias: msaa (antialias is " + t + ")");
 }
 
+void read_views_and_stress(Reader& r, const YAML::Node& n, SceneDef& s);
+
+// render.camera.type: true for the endoscope.
+bool read_camera_type(Reader& r, const YAML::Node& cam, render::RenderSettings& rs) {
+  const YAML::Node type = cam["type"];
+  std::string t;
+  if (!type || !r.text(type, "render.camera.type", t)) return false;
+  if (t == "endoscope") {
+    rs.camera_type = render::CameraType::endoscope;
+    return true;
+  }
+  if (t != "framing") {
+    const std::string near = closest(t, {"framing", "endoscope"});
+    r.error(type, "render.camera.type",
+            "unknown camera type '" + t + "'" + (near.empty() ? "" : " (did you mean '" + near + "'?)") +
+                "; expected framing or endoscope");
+  }
+  return false;
+}
+
+// A look_at that leaves the shaft a direction: not at the port.
+void check_aim(Reader& r, const YAML::Node& at, const std::string& field, const vdm::Vec3& port, const vdm::Vec3& look_at) {
+  if ((look_at - port).norm() < 1e-6)
+    r.error(at, field, "the shaft is aimed at its own port: look_at must be away from the port");
+}
+
+// The endoscope's keys (render.camera with type: endoscope); the framing camera's are refused.
+void read_endoscope(Reader& r, const YAML::Node& cam, const YAML::Node& render_node, render::RenderSettings& rs) {
+  tools::EndoscopeDef& e = rs.endoscope;
+  rs.auto_camera = false;
+  rs.floor = false;  // the abdomen's wall is behind the organ
+  for (const char* framing : {"eye", "target", "up", "focus"})
+    if (const YAML::Node v = cam[framing])
+      r.error(v, std::string("render.camera.") + framing,
+              "is for the framing camera: an endoscope is placed by port, look_at, depth, angle_deg and roll_deg");
+  if (const YAML::Node v = render_node["floor"]; v && v.IsScalar() && v.Scalar() == "true")
+    r.warn(v, "render.floor", "the endoscope's picture has the abdomen's wall behind the organ, not a floor: ignored");
+  const YAML::Node port = r.required(cam, "port", "render.camera", "where the scope passes the abdominal wall [x, y, z] (m)");
+  const YAML::Node look = r.required(cam, "look_at", "render.camera", "the point the scope is aimed at [x, y, z] (m)");
+  const bool placed = port && r.vec3(port, "render.camera.port", e.port, KEY("render.camera.port")) && look &&
+                      r.vec3(look, "render.camera.look_at", e.look_at, KEY("render.camera.look_at"));
+  if (placed) check_aim(r, look, "render.camera.look_at", e.port, e.look_at);
+  if (const YAML::Node v = cam["depth"]) r.number(v, "render.camera.depth", e.depth, KEY("render.camera.depth"));
+  if (const YAML::Node v = cam["angle_deg"]) r.number(v, "render.camera.angle_deg", e.angle_deg, KEY("render.camera.angle_deg"));
+  if (const YAML::Node v = cam["roll_deg"]) r.number(v, "render.camera.roll_deg", e.roll_deg, KEY("render.camera.roll_deg"));
+  if (const YAML::Node v = cam["fov_deg"]) r.number(v, "render.camera.fov_deg", e.fov_deg, KEY("render.camera.fov_deg"));
+  const YAML::Node script = cam["script"];
+  if (!script || !r.require_sequence(script, "render.camera.script")) return;
+  double last_t = 0;
+  for (size_t k = 0; k < script.size(); ++k) {
+    const std::string fk = Reader::item("render.camera.script", k);
+    const YAML::Node kf = script[k];
+    if (!r.require_map(kf, fk)) continue;
+    r.check_keys(kf, fk, "render.camera.script[]");
+    tools::EndoscopeKeyframe key;
+    if (const YAML::Node t = r.required(kf, "t", fk, "the keyframe's time (s)");
+        t && r.number(t, Reader::sub(fk, "t"), key.t, KEY("render.camera.script[].t")) && !(key.t > last_t))
+      r.error(t, Reader::sub(fk, "t"),
+              k == 0 ? "the first keyframe's time must be after 0 s (the scope starts at port, look_at, depth and roll_deg)"
+                     : "keyframe times must increase: " + std::to_string(key.t) + " s does not come after " +
+                           std::to_string(last_t) + " s");
+    last_t = std::max(last_t, key.t);
+    vdm::Vec3 v;
+    if (const YAML::Node at = kf["look_at"];
+        at && r.vec3(at, Reader::sub(fk, "look_at"), v, KEY("render.camera.script[].look_at"))) {
+      key.look_at = v;
+      if (placed) check_aim(r, at, Reader::sub(fk, "look_at"), e.port, v);
+    }
+    double x = 0;
+    if (const YAML::Node d = kf["depth"]; d && r.number(d, Reader::sub(fk, "depth"), x, KEY("render.camera.script[].depth")))
+      key.depth = x;
+    if (const YAML::Node d = kf["roll_deg"];
+        d && r.number(d, Reader::sub(fk, "roll_deg"), x, KEY("render.camera.script[].roll_deg")))
+      key.roll_deg = x;
+    e.script.push_back(key);
+  }
+}
+
 void read_render(Reader& r, const YAML::Node& n, SceneDef& s) {
   RenderDef& d = s.render;
   if (!r.require_map(n, "render")) return;
@@ -889,6 +967,13 @@ void read_render(Reader& r, const YAML::Node& n, SceneDef& s) {
   if (const YAML::Node v = n["fps"]) r.number(v, "render.fps", d.fps, KEY("render.fps"));
   if (const YAML::Node cam = n["camera"]; cam && r.require_map(cam, "render.camera")) {
     r.check_keys(cam, "render.camera", "render.camera");
+    if (read_camera_type(r, cam, d.settings)) {
+      read_endoscope(r, cam, n, d.settings);
+      return read_views_and_stress(r, n, s);
+    }
+    for (const char* scope : {"port", "look_at", "depth", "angle_deg", "roll_deg", "script"})
+      if (const YAML::Node v = cam[scope])
+        r.error(v, std::string("render.camera.") + scope, "is for the endoscope: add type: endoscope to the camera");
     render::Camera& c = d.settings.camera;
     if (const YAML::Node v = cam["fov_deg"]) r.number(v, "render.camera.fov_deg", c.fov_deg, KEY("render.camera.fov_deg"));
     const YAML::Node eye = cam["eye"], target = cam["target"];
@@ -920,6 +1005,11 @@ void read_render(Reader& r, const YAML::Node& n, SceneDef& s) {
     if (const YAML::Node up = cam["up"]; up && r.vec3(up, "render.camera.up", c.up, KEY("render.camera.up")) && c.up.norm() < 1e-9)
       r.error(up, "render.camera.up", "the up vector must not be zero");
   }
+  read_views_and_stress(r, n, s);
+}
+
+void read_views_and_stress(Reader& r, const YAML::Node& n, SceneDef& s) {
+  RenderDef& d = s.render;
   if (const YAML::Node views = n["views"]; views && r.require_sequence(views, "render.views")) {
     std::vector<bool> asked(render::view_table().size(), false);
     for (size_t i = 0; i < views.size(); ++i) {

@@ -386,8 +386,9 @@ inline constexpr SceneKey kSceneKeys[] = {
       "whatever is asked). A scene without `antialias` that gives `samples` gets msaa for 2 to 16, none for 1.")
       .range(1, 16).allowing("1, 2, 4, 8 or 16").by_default([] { return std::to_string(RenderDef().settings.samples); })
       .eg("antialias: msaa, samples: 4"),
-  key("render.camera", KT::section, "The camera. Leave out `eye` and `target` for automatic framing of the organ "
-      "(or of the instruments' working area, with `focus`).")
+  key("render.camera", KT::section, "The camera: a framing camera outside the body (`eye` and `target`; leave them out "
+      "for automatic framing of the organ, or of the instruments' working area with `focus`), or a laparoscope "
+      "(`type: endoscope`, through a `port`).")
       .eg("camera: {eye: [0.16, -0.24, 0.19], target: [0.025, 0, 0.025], up: [0, 0, 1], fov_deg: 35}"),
   key("render.views", KT::choice_list, "The images drawn each frame: `shaded` (what a camera sees) into "
       "`frames/frame_NNNNN.png`, `stress` (the organ coloured by `stress.quantity`) into `stress/stress_NNNNN.png`; "
@@ -429,8 +430,45 @@ inline constexpr SceneKey kSceneKeys[] = {
       .by_default([] { return std::string(render::to_string(RenderDef().settings.focus)); }).eg("focus: instruments"),
   key("render.camera.up", KT::vector3, "Which way is up in the picture (not zero).").in("unit vector")
       .by_default([] { return yaml_vector(RenderDef().settings.camera.up); }).eg("up: [0, 1, 0]"),
-  key("render.camera.fov_deg", KT::number, "The vertical field of view.").in("degrees").range(1, 170)
-      .by_default([] { return yaml_number(RenderDef().settings.camera.fov_deg); }).eg("fov_deg: 35"),
+  key("render.camera.fov_deg", KT::number, "The field of view: vertical for the framing camera, horizontal for the "
+      "endoscope.").in("degrees").range(1, 170)
+      .by_default([] {
+        return yaml_number(RenderDef().settings.camera.fov_deg) + " (framing), " +
+               yaml_number(tools::EndoscopeDef().fov_deg) + " (endoscope)";
+      })
+      .eg("fov_deg: 35"),
+  key("render.camera.type", KT::choice, "`framing`: a camera outside the organ (`eye`, `target`, or automatic); "
+      "`endoscope`: a laparoscope through a port in the abdominal wall, its light at its tip, the abdomen's wall "
+      "behind the organ instead of the floor.").one_of([] { return Words{"framing", "endoscope"}; })
+      .by_default("framing").eg("type: endoscope, port: [0, -0.12, 0.12], look_at: [0, 0, 0.02], depth: 0.05"),
+  key("render.camera.port", KT::vector3, "Endoscope: where its shaft passes the abdominal wall.").in("m").needed()
+      .eg("port: [0, -0.12, 0.12]"),
+  key("render.camera.look_at", KT::vector3, "Endoscope: the point its shaft is aimed at (not the port).").in("m")
+      .needed().eg("look_at: [0, 0, 0.02]"),
+  key("render.camera.depth", KT::number, "Endoscope: how far its tip (the lens and the light) is past the port, along "
+      "the shaft.").in("m").above(0, 1).by_default([] { return yaml_number(tools::EndoscopeDef().depth); })
+      .eg("depth: 0.06"),
+  key("render.camera.angle_deg", KT::number, "Endoscope: how far its optics look off the shaft (0, 30 and 45 degree "
+      "scopes): above the shaft at roll 0, below it at roll 180.").in("degrees").range(0, 60)
+      .by_default([] { return yaml_number(tools::EndoscopeDef().angle_deg); }).eg("angle_deg: 30"),
+  key("render.camera.roll_deg", KT::number, "Endoscope: the scope turned about its shaft (right-handed, handle toward "
+      "tip), and with it where its angled optics look. The picture stays level (the camera head held level): the "
+      "world's up (+z) toward its top.").in("degrees").range(-360, 360)
+      .by_default([] { return yaml_number(tools::EndoscopeDef().roll_deg); }).eg("roll_deg: 15"),
+  key("render.camera.script", KT::list, "Endoscope: a timeline moving `look_at`, `depth` and `roll_deg` from the "
+      "values above (at t = 0), linearly from keyframe to keyframe; a field a keyframe leaves out keeps its value; "
+      "after the last keyframe the scope stays.")
+      .eg("script: [{t: 1, look_at: [0.02, 0, 0.02]}, {t: 2, depth: 0.08, roll_deg: 20}]"),
+
+  // render.camera.script[]
+  key("render.camera.script[].t", KT::number, "The keyframe's time, after 0 and after the keyframe before.").in("s")
+      .above(0, std::numeric_limits<double>::infinity()).needed().eg("t: 1.5"),
+  key("render.camera.script[].look_at", KT::vector3, "Where the shaft is aimed from then (not the port).").in("m")
+      .by_default("the previous value").eg("look_at: [0.02, 0, 0.02]"),
+  key("render.camera.script[].depth", KT::number, "The tip past the port from then.").in("m").above(0, 1)
+      .by_default("the previous value").eg("depth: 0.08"),
+  key("render.camera.script[].roll_deg", KT::number, "The scope's roll from then.").in("degrees").range(-360, 360)
+      .by_default("the previous value").eg("roll_deg: 20"),
 
   // render.stress
   key("render.stress.quantity", KT::choice, "The quantity coloured: `magnitude` (the norm of the per-axis stress), "

@@ -35,8 +35,19 @@ std::string gto_read(const fs::path& p) {
   return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
-// The probe scene of the golden images at 320 x 240, with the ground-truth views.
-fs::path gto_scene() {
+// The framing camera of the probe scene of the golden images.
+const char* const kFramingCamera =
+    "  camera: {eye: [0.2, -0.28, 0.22], target: [0.02, 0.0, 0.02], up: [0, 0, 1], fov_deg: 35}\n";
+// A 30 degree endoscope looking down at the probe, moved by its script: aimed elsewhere, deeper
+// and rolled at the last frame (t = 0.2 s).
+const char* const kEndoscope =
+    "  camera:\n    type: endoscope\n    port: [-0.04, -0.15, 0.13]\n    look_at: [0.05, 0.0, 0.06]\n"
+    "    depth: 0.05\n    angle_deg: 30\n    roll_deg: 180\n    fov_deg: 75\n"
+    "    script:\n      - {t: 0.1, look_at: [0.06, 0.01, 0.07]}\n      - {t: 0.2, depth: 0.06, roll_deg: 170}\n";
+
+// The probe scene of the golden images at 320 x 240, with the ground-truth views, seen by
+// `camera` (the render.camera lines).
+fs::path gto_scene(const std::string& camera) {
   const fs::path p = vdmsim::test::scratch_dir("ground_truth_output") / "probe.yaml";
   std::ofstream(p) << "name: ground_truth\norgan:\n  mesh: "
                    << (fs::path(VDMSIM_SOURCE_DIR) / "assets/meshes/liver_L4.obj").string()
@@ -47,15 +58,14 @@ fs::path gto_scene() {
                       "      - {t: 0.0, tip: [0.035, 0.0, 0.0603], axis: [0.2, 0, -1]}\n"
                       "      - {t: 0.2, tip: [0.035, 0.0, 0.0483]}\n"
                       "render:\n  width: 320\n  height: 240\n"
-                      "  camera: {eye: [0.2, -0.28, 0.22], target: [0.02, 0.0, 0.02], up: [0, 0, 1], fov_deg: 35}\n"
-                      "  views: [shaded, depth, segmentation, normals]\n  hud: false\n";
+                   << camera << "  views: [shaded, depth, segmentation, normals]\n  hud: false\n";
   return p;
 }
 
-fs::path gto_run(const std::string& tag) {
+fs::path gto_run(const std::string& tag, const std::string& camera = kFramingCamera) {
   vdmsim::PreparedScene ps;
   std::vector<vdmsim::SceneProblem> problems;
-  EXPECT_TRUE(vdmsim::prepare_scene(gto_scene().string(), ps, problems)) << (problems.empty() ? "" : problems[0].text());
+  EXPECT_TRUE(vdmsim::prepare_scene(gto_scene(camera).string(), ps, problems)) << (problems.empty() ? "" : problems[0].text());
   vdmsim::RunOptions opt;
   opt.out_dir = (vdmsim::test::scratch_dir("ground_truth_output") / tag).string();
   opt.export_mesh = true;
@@ -182,11 +192,15 @@ double gto_ray_capsule(const Eigen::Vector3d& o, const Eigen::Vector3d& d, const
   return kMiss;
 }
 
-}  // namespace
 
-TEST(GroundTruthOutput, DepthAndSegmentationAgreeWithARayCastOfTheExportedMesh) {
-  const fs::path dir = gto_run("one");
-  const int frame = 2;  // the last: the probe pressed in
+// The least of each kind of pixel a view must have for its check to mean something.
+struct GtoCounts {
+  int organ = 0, probe = 0, background = 0;
+};
+
+// Frame `frame` of the run in `dir` against the ray cast (the file's comment); the camera at
+// `eye` in poses.csv.
+void gto_check_frame(const fs::path& dir, int frame, const Eigen::Vector3d& eye, const GtoCounts& least) {
   const std::string camera_js = gto_read(dir / "camera.json"), poses = gto_read(dir / "poses.csv");
   GtoCamera cam;
   cam.w = int(gto_json_number(camera_js, "width"));
@@ -201,7 +215,7 @@ TEST(GroundTruthOutput, DepthAndSegmentationAgreeWithARayCastOfTheExportedMesh) 
   EXPECT_GT(near, 0.0);
   EXPECT_GT(far, near);
   cam.pose = gto_pose(poses, frame, "camera");
-  EXPECT_LT((cam.pose.translation() - Eigen::Vector3d(0.2, -0.28, 0.22)).norm(), 1e-9);
+  EXPECT_LT((cam.pose.translation() - eye).norm(), 1e-9);
   double jaw = -1;
   const Eigen::Isometry3d probe = gto_pose(poses, frame, "instruments[0]", &jaw);
   EXPECT_EQ(jaw, 0.0);
@@ -263,9 +277,9 @@ TEST(GroundTruthOutput, DepthAndSegmentationAgreeWithARayCastOfTheExportedMesh) 
         errors.push_back(std::abs(double(depth[i]) - want_z[i]));
       }
     }
-  EXPECT_GT(organ, 20000);
-  EXPECT_GT(probe_px, 500);
-  EXPECT_GT(background, 20000);
+  EXPECT_GT(organ, least.organ);
+  EXPECT_GT(probe_px, least.probe);
+  EXPECT_GE(background, least.background);
   EXPECT_EQ(off_edge, 0) << "pixels whose id differs from the ray cast's away from any silhouette";
   EXPECT_LT(near_edge, (organ + probe_px) / 100) << "silhouette pixels whose id differs from the ray cast's";
   ASSERT_FALSE(errors.empty());
@@ -304,6 +318,48 @@ TEST(GroundTruthOutput, DepthAndSegmentationAgreeWithARayCastOfTheExportedMesh) 
     EXPECT_NEAR(z, q.z(), 1.5 * footprint) << "node " << k;
   }
   EXPECT_GT(checked, 300);
+}
+
+}  // namespace
+
+TEST(GroundTruthOutput, DepthAndSegmentationAgreeWithARayCastOfTheExportedMesh) {
+  const fs::path dir = gto_run("one");
+  gto_check_frame(dir, 2, Eigen::Vector3d(0.2, -0.28, 0.22), {20000, 500, 20000});  // the last: the probe pressed in
+}
+
+// The endoscope: its pose in poses.csv is the scope's through its port, frame by frame, as its
+// script moves it; its depth and segmentation agree with the ray cast from that pose (the
+// abdomen's wall is not an object: background).
+TEST(GroundTruthOutput, TheEndoscopesPoseFollowsItsPortAndScriptAndItsImagesAgreeWithARayCast) {
+  const fs::path dir = gto_run("endoscope", kEndoscope);
+  const std::string poses = gto_read(dir / "poses.csv");
+  const Eigen::Vector3d port(-0.04, -0.15, 0.13);
+  const double vertical_fov = 2 * std::atan(std::tan(75 * M_PI / 360) * 240.0 / 320.0);
+  const std::string camera_js = gto_read(dir / "camera.json");
+  EXPECT_NEAR(gto_json_number(camera_js, "fy"), 120.0 / std::tan(vertical_fov / 2), 1e-6);
+  EXPECT_NEAR(gto_json_number(camera_js, "fx"), 160.0 / std::tan(75 * M_PI / 360), 1e-6);
+  // Frame f at t = 0.1 f: look_at moves from the first to the second point over 0.1 s, then the
+  // depth from 5 to 6 cm and the roll from 180 to 170 degrees.
+  const Eigen::Vector3d look0(0.05, 0.0, 0.06), look1(0.06, 0.01, 0.07);
+  const Eigen::Vector3d looks[3] = {look0, look1, look1};
+  const double depths[3] = {0.05, 0.05, 0.06}, rolls[3] = {180, 180, 170};
+  for (int f = 0; f < 3; ++f) {
+    const Eigen::Isometry3d pose = gto_pose(poses, f, "camera");
+    const Eigen::Vector3d shaft = (looks[f] - port).normalized();
+    // The tip (the optical centre) is `depth` past the port on the line to look_at.
+    EXPECT_LT((pose.translation() - (port + depths[f] * shaft)).norm(), 1e-9) << "frame " << f;
+    // The optics look 30 degrees off the shaft; roll 180 looks below it; the picture is level.
+    const Eigen::Vector3d axis = pose.linear().col(2);
+    EXPECT_NEAR(std::acos(std::clamp(axis.dot(shaft), -1.0, 1.0)) * 180 / M_PI, 30, 1e-6) << "frame " << f;
+    EXPECT_LT(axis.z(), shaft.z()) << "frame " << f;
+    EXPECT_NEAR(pose.linear().col(0).z(), 0, 1e-9) << "frame " << f;
+    // The roll: the axis's turn about the shaft from straight below it (roll 180).
+    const Eigen::Vector3d level_x = shaft.cross(Eigen::Vector3d::UnitZ()).normalized();
+    const Eigen::Vector3d level_y = shaft.cross(level_x);  // toward the world's down
+    const double turn = std::atan2(-axis.dot(level_x), axis.dot(level_y)) * 180 / M_PI;  // 0 at roll 180
+    EXPECT_NEAR(turn, rolls[f] - 180, 1e-6) << "frame " << f;
+  }
+  gto_check_frame(dir, 2, port + 0.06 * (look1 - port).normalized(), {10000, 200, 0});
 }
 
 // Two runs of the same scene write the same bytes: every depth, segmentation and normals file,
