@@ -69,8 +69,9 @@ struct RenderScene {
   std::vector<InstrumentView> instruments;
   HudInfo hud;
   // The endoscope's pose this frame (world from camera, OpenCV axes: x right, y down, z
-  // forward; at its tip) and the distance its light is set for (its exposure: the tip to where
-  // the shaft is aimed). Read only when the renderer's camera is an endoscope.
+  // forward; at its tip), and the distance its light's exposure is set for when no organ is in
+  // view (the renderer sets it for the organ it sees). Read only when the renderer's camera is
+  // an endoscope.
   Eigen::Isometry3d camera_pose = Eigen::Isometry3d::Identity();
   double light_distance = 0.1;  // m
 };

@@ -3,6 +3,7 @@
 #include <GL/gl.h>
 #include <GL/glext.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstring>
 #include <cstdio>
@@ -156,6 +157,7 @@ struct Renderer::Impl {
   GpuMesh wall;
   GLuint noise_tex = 0;
   std::vector<float> crease, node_crease;
+  std::vector<double> seen_depths;
   std::vector<Eigen::Vector3f> neighbour_sum;
   std::vector<float> neighbour_count;
   Eigen::Vector3d centre, lo, hi;
@@ -204,6 +206,7 @@ struct Renderer::Impl {
   void upload_normals(const vdm::NodeMat& x, const std::vector<float>* scalar, GLsync mask_done);
   void find_creases(const vdm::NodeMat& x);
   void set_camera(const RenderScene& scene);
+  double exposure_distance(const RenderScene& scene);
   void set_tissue(GlProgram& p, const Eigen::Vector3f& base, const Eigen::Vector3f& second, float bump, double period,
                   bool world);
   InstrumentMeshes& instrument_meshes(const InstrumentView& v);
@@ -524,7 +527,27 @@ void Renderer::Impl::set_camera(const RenderScene& scene) {
   if (!endoscope) return;
   const double aspect = double(settings.width) / settings.height;
   camera = endoscope_camera(scene.camera_pose, tools::vertical_fov_deg(settings.endoscope.fov_deg, aspect));
-  light_distance = std::max(scene.light_distance, 0.01);
+  light_distance = std::max(exposure_distance(scene), 0.01);
+}
+
+// The scope's exposure, as its automatic exposure would set it for the organ in view: the
+// median distance along the optical axis of the organ's nodes inside the field of view (not
+// minding what hides them); the scene's light distance when none is.
+double Renderer::Impl::exposure_distance(const RenderScene& scene) {
+  if (!scene.positions) return scene.light_distance;
+  const Eigen::Isometry3d from_world = scene.camera_pose.inverse();
+  const double aspect = double(settings.width) / settings.height;
+  const double tx = std::tan(settings.endoscope.fov_deg * 3.14159265358979323846 / 360.0), ty = tx / aspect;
+  seen_depths.clear();
+  const vdm::NodeMat& x = *scene.positions;
+  for (Eigen::Index i = 0; i < x.rows(); ++i) {
+    const Eigen::Vector3d p = from_world * Eigen::Vector3d(x(i, 0), x(i, 1), x(i, 2));
+    if (p.z() > kEndoscopeNear && std::abs(p.x()) < tx * p.z() && std::abs(p.y()) < ty * p.z()) seen_depths.push_back(p.z());
+  }
+  if (seen_depths.empty()) return scene.light_distance;
+  auto mid = seen_depths.begin() + std::ptrdiff_t(seen_depths.size() / 2);
+  std::nth_element(seen_depths.begin(), mid, seen_depths.end());
+  return *mid;
 }
 
 // The endoscope's tissue material: its colours (sRGB), bumps, its texture's coarse period (m),
@@ -881,7 +904,7 @@ void Renderer::Impl::draw_frame(const RenderScene& scene, const StressView* view
     GlProgram& wall_program = use(kTissue);
     glUniformMatrix4fv(wall_program.uniform("u_model"), 1, GL_FALSE, identity.data());
     glUniformMatrix3fv(wall_program.uniform("u_normal_matrix"), 1, GL_FALSE, identity3.data());
-    set_tissue(wall_program, Eigen::Vector3f(0.80f, 0.54f, 0.50f), Eigen::Vector3f(0.84f, 0.70f, 0.44f), 0.08f,
+    set_tissue(wall_program, Eigen::Vector3f(0.78f, 0.50f, 0.47f), Eigen::Vector3f(0.80f, 0.62f, 0.46f), 0.08f,
                3 * kTissueTexturePeriod, true);
     glEnable(GL_CULL_FACE);
     glCullFace(GL_BACK);

@@ -14,15 +14,17 @@ struct Filled {
   double t;
   vdm::Vec3 tip, axis;
   bool jaw_closed;
+  double roll_deg;
 };
 
 Filled filled(const InstrumentDef& def, size_t k) {
-  Filled f{def.script[k].t, vdm::Vec3::Zero(), -vdm::Vec3::UnitZ(), false};
+  Filled f{def.script[k].t, vdm::Vec3::Zero(), -vdm::Vec3::UnitZ(), false, 0.0};
   for (size_t j = 0; j <= k; ++j) {
     const Keyframe& key = def.script[j];
     if (key.tip) f.tip = *key.tip;
     if (key.axis) f.axis = key.axis->normalized();
     if (key.jaw_closed) f.jaw_closed = *key.jaw_closed;
+    if (key.roll_deg) f.roll_deg = *key.roll_deg;
   }
   return f;
 }
@@ -51,6 +53,8 @@ InstrumentPose pose_at(const InstrumentDef& def, double t) {
     pose.axis = a.axis;
     pose.jaw_closed = a.jaw_closed;
     pose.jaw_opening = a.jaw_closed ? 0.0 : 1.0;
+    pose.roll_deg = a.roll_deg;
+    if (def.port) pose.axis = (pose.tip - *def.port).normalized();
     return pose;
   }
   const Filled b = filled(def, k + 1);
@@ -67,6 +71,8 @@ InstrumentPose pose_at(const InstrumentDef& def, double t) {
   pose.axis = Eigen::Quaterniond::Identity().slerp(w, vdm::rotation_between(a.axis, b.axis)) * a.axis;
   pose.jaw_closed = w < 1.0 ? a.jaw_closed : b.jaw_closed;
   pose.jaw_opening = (1 - w) * (a.jaw_closed ? 0.0 : 1.0) + w * (b.jaw_closed ? 0.0 : 1.0);
+  pose.roll_deg = (1 - w) * a.roll_deg + w * b.roll_deg;
+  if (def.port) pose.axis = (pose.tip - *def.port).normalized();  // through the port, whatever the path
   return pose;
 }
 
@@ -81,8 +87,15 @@ vdm::Capsule probe_capsule(const InstrumentDef& def, const InstrumentPose& pose)
 Eigen::Isometry3d instrument_frame(const InstrumentPose& pose) {
   Eigen::Isometry3d f = Eigen::Isometry3d::Identity();
   f.linear() = vdm::rotation_between(vdm::Vec3::UnitZ(), pose.axis.normalized()).toRotationMatrix();
+  if (pose.roll_deg != 0)
+    f.linear() = f.linear() * Eigen::AngleAxisd(pose.roll_deg * 3.14159265358979323846 / 180.0, vdm::Vec3::UnitZ());
   f.translation() = pose.tip;
   return f;
+}
+
+vdm::Vec3 port_direction(double pan_deg, double tilt_deg) {
+  const double k = 3.14159265358979323846 / 180.0, pan = pan_deg * k, tilt = tilt_deg * k;
+  return vdm::Vec3(std::cos(tilt) * std::cos(pan), std::cos(tilt) * std::sin(pan), -std::sin(tilt));
 }
 
 namespace {
@@ -175,7 +188,9 @@ vdm::ToolShape shaft_shape(const InstrumentDef& def, const InstrumentPose& pose,
 
 double instrument_motion(const InstrumentDef& def, const InstrumentPose& a, const InstrumentPose& b) {
   // The tip's motion plus the turn of the axis and the jaws times the reach of the shapes.
-  const double turn = std::acos(std::clamp(a.axis.normalized().dot(b.axis.normalized()), -1.0, 1.0));
+  // (A roll moves no point farther than the reach times its angle either.)
+  const double turn = std::acos(std::clamp(a.axis.normalized().dot(b.axis.normalized()), -1.0, 1.0)) +
+                      std::abs(b.roll_deg - a.roll_deg) * 3.14159265358979323846 / 180.0;
   double reach = 0;
   if (def.type == InstrumentDef::Type::probe) {
     vdm::ToolShape t;

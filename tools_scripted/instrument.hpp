@@ -23,6 +23,7 @@ struct Keyframe {
   std::optional<vdm::Vec3> tip;      // m: where the working end is
   std::optional<vdm::Vec3> axis;     // unit vector from the handle toward the tip
   std::optional<bool> jaw_closed;    // grasper only
+  std::optional<double> roll_deg;    // the instrument turned about its shaft (right-handed, handle toward tip)
 };
 
 // A probe's collision shape, in the instrument frame (origin at the tip, +z from the handle
@@ -44,6 +45,9 @@ struct InstrumentDef {
   double jaw_length = 0.02;          // grasper: jaws from the pivot to the tip (m)
   double grasp_width = 0.005;        // grasper: nodes within this of the closed jaws are held (m)
   std::vector<Keyframe> script;      // strictly increasing t, first keyframe has a tip
+  // A port in the abdominal wall: the shaft always passes through it, the axis from the port
+  // toward the tip (the keyframes give no axis).
+  std::optional<vdm::Vec3> port;
   enum class Path { linear, spline } path = Path::linear;  // how tip positions are interpolated
 };
 
@@ -52,6 +56,7 @@ struct InstrumentPose {
   vdm::Vec3 axis = -vdm::Vec3::UnitZ();
   bool jaw_closed = false;
   double jaw_opening = 1;  // for drawing: 1 open, 0 closed, moving linearly between keyframes
+  double roll_deg = 0;     // about the axis, from the frame instrument_frame() gives at 0
 };
 
 InstrumentPose pose_at(const InstrumentDef& def, double t);
@@ -59,7 +64,8 @@ InstrumentPose pose_at(const InstrumentDef& def, double t);
 // The probe's collision shape: a capsule whose rounded end is exactly at the tip.
 vdm::Capsule probe_capsule(const InstrumentDef& def, const InstrumentPose& pose);
 
-// The instrument frame: origin at the tip, z along the axis (handle toward tip).
+// The instrument frame: origin at the tip, z along the axis (handle toward tip); at roll 0 the
+// least rotation from the world's z axis to the axis, turned about the axis by the roll.
 Eigen::Isometry3d instrument_frame(const InstrumentPose& pose);
 
 // The probe's collision shape at `pose`, having been at `previous` one step earlier.
@@ -72,6 +78,9 @@ constexpr double kMaxJawAngleDeg = 30.0;
 vdm::Vec3 jaw_half_size(const InstrumentDef& def);  // (w, t / 2, jaw_length / 2)
 // The jaw's motion in the instrument frame for an opening in [0, 1].
 Eigen::Isometry3d jaw_transform(double jaw_length, double opening, int side);
+// The axis of a shaft through `port` pointing `pan_deg` about the world's z axis from +x
+// toward +y and `tilt_deg` below the horizontal (port coordinates; tilt 90 points straight down).
+vdm::Vec3 port_direction(double pan_deg, double tilt_deg);
 // A jaw's collision box at `pose` (previous: one step earlier).
 vdm::ToolShape jaw_shape(const InstrumentDef& def, const InstrumentPose& pose, const InstrumentPose& previous, int side);
 

@@ -40,6 +40,8 @@ bool instruments_working_area(const PreparedScene& ps, vdm::Vec3& lo, vdm::Vec3&
 
 render::RenderSettings framed_settings(const PreparedScene& ps) {
   render::RenderSettings settings = ps.scene.render.settings;
+  for (const tools::InstrumentDef& in : ps.scene.instruments)
+    if (in.port) settings.ports.push_back(*in.port);
   vdm::Vec3 lo, hi;
   if (settings.auto_camera && settings.focus == render::CameraFocus::instruments && instruments_working_area(ps, lo, hi)) {
     settings.has_focus_box = true;

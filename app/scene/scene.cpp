@@ -694,14 +694,80 @@ void read_shape(Reader& r, const YAML::Node& n, const std::string& f, Instrument
   }
 }
 
+// The port coordinates carried from keyframe to keyframe (a keyframe that leaves one out keeps
+// it): from the last keyframe's port coordinates or its tip.
+struct PortCarry {
+  bool known = false;
+  double pan_deg = 0, tilt_deg = 0, depth = 0;
+};
+
+// With instruments[].port: the keyframe's tip from its port coordinates (pan_deg, tilt_deg,
+// depth), or its tip checked against the port; no axis (the port gives it). Without a port,
+// pan_deg and tilt_deg are refused.
+void read_port_keyframe(Reader& r, const YAML::Node& kf, const std::string& fk, const InstrumentDef& in, Keyframe& key,
+                        PortCarry& carry) {
+  const bool on_surface = bool(kf["on_surface"]);
+  const YAML::Node pan = kf["pan_deg"], tilt = kf["tilt_deg"], depth = on_surface ? YAML::Node() : kf["depth"];
+  if (!in.port) {
+    if (pan) r.error(pan, Reader::sub(fk, "pan_deg"), "port coordinates need the instrument's port: add port: [x, y, z]");
+    if (tilt) r.error(tilt, Reader::sub(fk, "tilt_deg"), "port coordinates need the instrument's port: add port: [x, y, z]");
+    return;
+  }
+  const vdm::Vec3 port = *in.port;
+  if (const YAML::Node axis = kf["axis"])
+    r.error(axis, Reader::sub(fk, "axis"), "the instrument has a port: its axis runs from the port through the tip; leave axis out");
+  if (const YAML::Node align = kf["align"])
+    r.error(align, Reader::sub(fk, "align"), "the instrument has a port: its axis runs from the port through the tip; leave align out");
+  if (pan || tilt || depth) {
+    if (key.tip || on_surface) {
+      const YAML::Node first = pan ? pan : tilt ? tilt : depth;
+      r.error(first, Reader::sub(fk, pan ? "pan_deg" : tilt ? "tilt_deg" : "depth"),
+              "give the tip (tip or on_surface) or port coordinates (pan_deg, tilt_deg, depth), not both");
+      return;
+    }
+    PortCarry next = carry;
+    bool ok = true;
+    if (pan) ok = r.number(pan, Reader::sub(fk, "pan_deg"), next.pan_deg, KEY("instruments[].script[].pan_deg")) && ok;
+    if (tilt) ok = r.number(tilt, Reader::sub(fk, "tilt_deg"), next.tilt_deg, KEY("instruments[].script[].tilt_deg")) && ok;
+    if (depth) ok = r.number(depth, Reader::sub(fk, "depth"), next.depth, KEY("instruments[].script[].depth")) && ok;
+    if (!ok) return;
+    if (!carry.known && !(pan && tilt && depth)) {
+      r.error(kf, fk, "the first keyframe in port coordinates gives pan_deg, tilt_deg and depth (no earlier keyframe to keep them from)");
+      return;
+    }
+    if (!(next.depth > 0)) {
+      r.error(depth ? depth : kf, Reader::sub(fk, "depth"),
+              "the tip must be past the port: depth " + std::to_string(next.depth) + " m is at or behind it");
+      return;
+    }
+    next.known = true;
+    carry = next;
+    key.tip = port + next.depth * tools::port_direction(next.pan_deg, next.tilt_deg);
+  } else if (key.tip) {
+    const vdm::Vec3 d = *key.tip - port;
+    if (d.norm() < 1e-3) {
+      r.error(kf["tip"], Reader::sub(fk, "tip"), "the tip is at the port: the shaft has no direction");
+      return;
+    }
+    const double kDeg = 180.0 / 3.14159265358979323846;
+    carry = {true, std::atan2(d.y(), d.x()) * kDeg, std::asin(std::clamp(-d.z() / d.norm(), -1.0, 1.0)) * kDeg, d.norm()};
+  } else {
+    carry.known = false;  // an on_surface tip, found later
+  }
+  if (key.tip && (*key.tip - port).norm() > in.length)
+    r.error(kf, fk,
+            "the tip is " + std::to_string((*key.tip - port).norm()) + " m from the port: farther than the instrument is long (" +
+                std::to_string(in.length) + " m)");
+}
+
 // A keyframe's on_surface, depth and align (a tip placed on the organ, resolved when the organ
 // is loaded): appended to `out` for instruments[instrument].script[keyframe].
 void read_surface_placement(Reader& r, const YAML::Node& kf, const std::string& fk, size_t instrument, size_t keyframe,
-                            std::vector<SurfacePlacement>& out) {
+                            bool port, std::vector<SurfacePlacement>& out) {
   const YAML::Node on = kf["on_surface"];
   if (!on) {
     for (const char* k : {"depth", "align"})
-      if (const YAML::Node n = kf[k])
+      if (const YAML::Node n = kf[k]; n && !(port && std::string(k) == "depth"))
         r.error(n, Reader::sub(fk, k),
                 std::string(k) + " places the tip relative to the surface: give on_surface: {from: [x, y, z], toward: "
                 "[dx, dy, dz]} beside it");
@@ -798,14 +864,21 @@ void read_instruments(Reader& r, const YAML::Node& list, SceneDef& s, const std:
       if (const YAML::Node v = sk["rotate_deg"]) r.vec3(v, Reader::sub(fs, "rotate_deg"), skin.rotate_deg, KEY("instruments[].skin.rotate_deg"));
       if (!sk["body"] && !sk["jaws"]) r.error(sk, fs, "give body: MESH and/or jaws: [MESH, MESH]");
     }
+    if (const YAML::Node v = n["port"]) {
+      vdm::Vec3 port;
+      if (r.vec3(v, Reader::sub(fi, "port"), port, KEY("instruments[].port"))) in.port = port;
+    }
     const YAML::Node script = r.required(n, "script", fi, "a timeline of keyframes [{t, tip, axis, jaw}, ...]");
     if (!script || !r.require_sequence(script, Reader::sub(fi, "script"))) continue;
     if (script.size() == 0) r.error(script, Reader::sub(fi, "script"), "the timeline is empty: give at least one keyframe");
+    PortCarry carry;
+    s.keyframe_where.emplace_back();
     for (size_t k = 0; k < script.size(); ++k) {
       const std::string fk = Reader::item(Reader::sub(fi, "script"), k);
       const YAML::Node kf = script[k];
       if (!r.require_map(kf, fk)) continue;
       r.check_keys(kf, fk, "instruments[].script[]");
+      s.keyframe_where.back().push_back(r.where(kf));
       Keyframe key;
       if (const YAML::Node t = r.required(kf, "t", fk, "the keyframe's time (s)"))
         r.number(t, Reader::sub(fk, "t"), key.t, KEY("instruments[].script[].t"));
@@ -819,7 +892,12 @@ void read_instruments(Reader& r, const YAML::Node& list, SceneDef& s, const std:
         if (v.norm() < 1e-9) r.error(ax, Reader::sub(fk, "axis"), "the axis must not be zero");
         else key.axis = v.normalized();
       }
-      read_surface_placement(r, kf, fk, s.instruments.size(), in.script.size(), s.surface_keyframes);
+      read_surface_placement(r, kf, fk, s.instruments.size(), in.script.size(), bool(in.port), s.surface_keyframes);
+      read_port_keyframe(r, kf, fk, in, key, carry);
+      if (const YAML::Node v = kf["roll_deg"]) {
+        double roll = 0;
+        if (r.number(v, Reader::sub(fk, "roll_deg"), roll, KEY("instruments[].script[].roll_deg"))) key.roll_deg = roll;
+      }
       if (const YAML::Node jaw = kf["jaw"]) {
         const std::string j = jaw.IsScalar() ? jaw.Scalar() : "";
         if (j == "open" || j == "closed") key.jaw_closed = j == "closed";
@@ -830,7 +908,8 @@ void read_instruments(Reader& r, const YAML::Node& list, SceneDef& s, const std:
     const bool first_on_surface = script.size() > 0 && script[0].IsMap() && script[0]["on_surface"];
     if (!in.script.empty() && !in.script.front().tip && !first_on_surface)
       r.error(script[0], Reader::sub(Reader::item(Reader::sub(fi, "script"), 0), "tip"),
-              "the first keyframe must give the tip position [x, y, z] (m), or place it with on_surface");
+              "the first keyframe must give the tip position [x, y, z] (m), or place it with on_surface (or, with a "
+              "port, pan_deg, tilt_deg and depth)");
     s.instruments.push_back(in);
     s.instrument_skins.push_back(skin);
     s.instrument_convex.push_back(convex);

@@ -154,6 +154,7 @@ struct SceneDef {
   // instruments and rendering
   std::vector<InstrumentDef> instruments;
   std::vector<std::string> instrument_where;  // file:line:col of each instrument
+  std::vector<std::vector<std::string>> keyframe_where;  // file:line:col of instruments[i].script[k]
   std::vector<SkinDef> instrument_skins;      // one per instrument
   std::vector<ConvexDef> instrument_convex;   // one per instrument (present: shape convex)
   std::vector<SurfacePlacement> surface_keyframes;  // keyframes placed on the organ, in file order

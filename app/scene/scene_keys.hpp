@@ -295,6 +295,11 @@ inline constexpr SceneKey kSceneKeys[] = {
       .by_default([] { return yaml_number(tools::InstrumentDef().jaw_length); }).eg("jaw_length: 0.015"),
   key("instruments[].grasp_width", KT::number, "Grasper: surface nodes this close to the closed jaws are held.").in("m").above(0, 1)
       .by_default([] { return yaml_number(tools::InstrumentDef().grasp_width); }).eg("grasp_width: 0.006"),
+  key("instruments[].port", KT::vector3, "A port in the abdominal wall: the shaft always passes through it. The "
+      "keyframes then place the tip (`tip`, `on_surface`, or the port coordinates `pan_deg`, `tilt_deg`, `depth`) "
+      "and give no `axis`: it runs from the port through the tip. A tip at or behind the port (on its side away "
+      "from the organ), or farther from it than the instrument is long, is an error.").in("m")
+      .by_default("none: the keyframes give the axis").eg("port: [0.09, -0.08, 0.14]"),
   key("instruments[].script", KT::list, "The timeline: keyframes in increasing time; a field a keyframe leaves out keeps "
       "its previous value. Before the first keyframe the instrument waits at it, after the last it stays.").needed()
       .eg("script: [{t: 0, tip: [0.035, 0, 0.075], axis: [0, 0, -1]}, {t: 1.5, tip: [0.035, 0, 0.0453]}]"),
@@ -359,11 +364,23 @@ inline constexpr SceneKey kSceneKeys[] = {
       "`vdmsim check` prints where. A ray that misses the organ, or starts inside it, is an error.")
       .eg("on_surface: {from: [0.035, 0, 0.3], toward: [0, 0, -1]}"),
   key("instruments[].script[].depth", KT::number, "With `on_surface`: how far the tip goes past the surface point, "
-      "along the inward normal (negative: it stays outside, that far from the surface).").in("m").range(-1, 1)
+      "along the inward normal (negative: it stays outside, that far from the surface). With a `port` and port "
+      "coordinates (`pan_deg`, `tilt_deg`): how far the tip is past the port, along the shaft (above 0).")
+      .in("m").range(-1, 1)
       .by_default([] { return yaml_number(0.0); }).eg("on_surface: {from: [0.035, 0, 0.3], toward: [0, 0, -1]}, depth: 0.005"),
   key("instruments[].script[].align", KT::boolean, "With `on_surface`: the axis set along the inward normal at the "
       "surface point, so that the instrument pushes straight in (give `axis` or `align`, not both).")
       .by_default([] { return yaml_bool(false); }).eg("on_surface: {from: [0.035, 0, 0.3], toward: [0, 0, -1]}, align: true"),
+  key("instruments[].script[].pan_deg", KT::number, "With a `port`: the shaft's heading, turned about the world's z "
+      "axis from +x toward +y (0: the tip lies toward +x of the port). With `tilt_deg` and `depth` the tip's place "
+      "in port coordinates; each left out keeps the previous keyframe's (its tip's, if it gave a tip).")
+      .in("degrees").range(-360, 360).by_default("the previous keyframe's").eg("pan_deg: 90, tilt_deg: 50, depth: 0.12"),
+  key("instruments[].script[].tilt_deg", KT::number, "With a `port`: how far the shaft points below the horizontal, "
+      "from the port toward the tip (90: straight down).").in("degrees").range(-90, 90)
+      .by_default("the previous keyframe's").eg("pan_deg: 90, tilt_deg: 50, depth: 0.12"),
+  key("instruments[].script[].roll_deg", KT::number, "The instrument turned about its shaft (right-handed, handle "
+      "toward tip): where a grasper's jaws open. Moves linearly between keyframes.").in("degrees").range(-720, 720)
+      .by_default("the previous keyframe's; 0 at the first").eg("roll_deg: 90"),
   key("instruments[].script[].jaw", KT::choice, "Grasper: the jaws' state, reached at this keyframe (they swing "
       "linearly from the previous keyframe).").one_of([] { return Words{"open", "closed"}; })
       .by_default("the previous keyframe's; open at the first").eg("jaw: closed"),

@@ -6,6 +6,7 @@
 
 #include "app/scene/mesh_io.hpp"
 #include "app/simulation/organ_models.hpp"
+#include "app/simulation/port_keyframes.hpp"
 
 namespace vdmsim {
 
@@ -159,6 +160,7 @@ bool prepare_scene_def(const SceneDef& scene, PreparedScene& out, std::vector<Sc
   place_organ(placed.positions, s.rotate_deg, s.translate);
   // Keyframes placed on the organ get their tips before anything reads the scripts.
   if (!resolve_surface_keyframes(out.scene, placed, out.surface_hits, problems)) return false;
+  if (!check_port_keyframes(out.scene, placed, problems)) return false;
   vdm::TissueDef def = vdm::default_tissue(placed);
   const int n = def.mesh.node_count();
   def.bulk_modulus = vdm::NodeMat(n, 3);
