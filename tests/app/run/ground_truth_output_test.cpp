@@ -380,3 +380,41 @@ TEST(GroundTruthOutput, TwoRunsWriteTheSameBytes) {
   EXPECT_EQ(poses, gto_read(b / "poses.csv"));
   EXPECT_EQ(std::count(poses.begin(), poses.end(), '\n'), 1 + 3 * 2);  // the header, the camera and the probe per frame
 }
+
+// An instrument through a port: in every frame of poses.csv its shaft (the line through its tip
+// along its z axis) passes through the port, behind the tip; the scene's keyframes give its tip
+// by position and in port coordinates.
+TEST(GroundTruthOutput, APortedInstrumentsShaftPassesItsPortInEveryFrame) {
+  const fs::path p = vdmsim::test::scratch_dir("ground_truth_output") / "ported.yaml";
+  const Eigen::Vector3d port(0.12, -0.1, 0.12);
+  std::ofstream(p) << "name: ported\norgan:\n  mesh: "
+                   << (fs::path(VDMSIM_SOURCE_DIR) / "assets/meshes/liver_L4.obj").string()
+                   << "\n  fixed:\n    - {box: {min: [-0.3, -0.2, -0.2], max: [0.3, 0.2, -0.03]}}\n"
+                      "simulation:\n  frames: 4\n  dt: 0.1\n  effects: [contact]\n"
+                      "instruments:\n  - type: grasper\n    port: [0.12, -0.1, 0.12]\n    script:\n"
+                      "      - {t: 0.0, tip: [0.06, -0.03, 0.09]}\n"
+                      "      - {t: 0.3, pan_deg: 150, tilt_deg: 35, depth: 0.11, roll_deg: 60}\n"
+                      "      - {t: 0.5, depth: 0.09, jaw: closed}\n"
+                      "render:\n  width: 64\n  height: 48\n"
+                   << kEndoscope << "  views: [depth]\n";
+  vdmsim::PreparedScene ps;
+  std::vector<vdmsim::SceneProblem> problems;
+  ASSERT_TRUE(vdmsim::prepare_scene(p.string(), ps, problems)) << (problems.empty() ? "" : problems[0].text());
+  vdmsim::RunOptions opt;
+  opt.out_dir = (vdmsim::test::scratch_dir("ground_truth_output") / "ported").string();
+  std::ostringstream out, err;
+  ASSERT_EQ(vdmsim::run_scene(ps, opt, out, err, false), 0) << err.str();
+  const std::string poses = gto_read(fs::path(opt.out_dir) / "poses.csv");
+  for (int f = 0; f < 4; ++f) {
+    const Eigen::Isometry3d pose = gto_pose(poses, f, "instruments[0]");
+    const Eigen::Vector3d tip = pose.translation(), axis = pose.linear().col(2), to_port = port - tip;
+    EXPECT_LT((to_port - to_port.dot(axis) * axis).norm(), 1e-6) << "frame " << f;  // poses.csv's digits
+    EXPECT_LT(to_port.dot(axis), 0) << "frame " << f;
+  }
+  // Frame 3 (t = 0.3) is the port-coordinate keyframe: 11 cm in, 150 degrees from +x, 35 below.
+  const Eigen::Vector3d at3 = gto_pose(poses, 3, "instruments[0]").translation();
+  const double k = M_PI / 180;
+  const Eigen::Vector3d want = port + 0.11 * Eigen::Vector3d(std::cos(35 * k) * std::cos(150 * k),
+                                                            std::cos(35 * k) * std::sin(150 * k), -std::sin(35 * k));
+  EXPECT_LT((at3 - want).norm(), 1e-6);
+}
