@@ -113,11 +113,11 @@ struct PassTimer {
 }  // namespace
 
 struct Renderer::Impl {
-  enum Material { kTissue, kColormap, kMetal };
+  enum Material { kTissue, kColormap, kMetal, kWall };  // kWall: the endoscope's only
   RenderSettings settings;
   std::unique_ptr<GlContext> gl;
   std::unique_ptr<Framebuffer> fb;
-  GlProgram materials[3], mask_program, floor_program, background;
+  GlProgram materials[4], mask_program, floor_program, background;
   GpuMesh floor;
   GLuint empty_vao = 0;
   // The organ: topology fixed, positions, normals and the scalar streamed each frame.
@@ -245,7 +245,7 @@ bool Renderer::Impl::init(const vdm::SurfaceMesh& rest, std::string& error) {
     error = "OpenGL framebuffer incomplete at " + std::to_string(settings.width) + "x" + std::to_string(settings.height);
     return false;
   }
-  for (int k = 0; k < 3; ++k)
+  for (int k = 0; k < (endoscope ? 4 : 3); ++k)
     if (!build_material(Material(k), error)) return false;
   // The colour-map material (stress views) is checked here and built again by its first use:
   // each linked program keeps about 1 MB of driver memory, for nothing in a shaded-only run.
@@ -780,10 +780,13 @@ void Renderer::Impl::draw_background() {
 }
 
 bool Renderer::Impl::build_material(Material m, std::string& error) {
-  const char* defines[3] = {"MODE_TISSUE", "MODE_COLORMAP", "MODE_METAL"};
-  const std::string fragment = std::string("#version 450 core\n#define ") + defines[m] + "\n" +
-                               (endoscope ? "#define LIGHT_TIP\n" : "") + shaders::kMeshFragment;
-  return materials[m].build(shaders::kMeshVertex, fragment.c_str(), error);
+  const char* defines[4] = {"MODE_TISSUE", "MODE_COLORMAP", "MODE_METAL", "MODE_WALL"};
+  const std::string prefix = std::string("#define ") + defines[m] + "\n" + (endoscope ? "#define LIGHT_TIP\n" : "");
+  const std::string fragment = "#version 450 core\n" + prefix + shaders::kMeshFragment;
+  // The vertex shader with the same defines: after its first line (its #version).
+  std::string vertex = shaders::kMeshVertex;
+  vertex.insert(vertex.find('\n') + 1, prefix);
+  return materials[m].build(vertex.c_str(), fragment.c_str(), error);
 }
 
 GlProgram& Renderer::Impl::use(Material m) {
@@ -802,6 +805,8 @@ GlProgram& Renderer::Impl::use(Material m) {
   glUniform1i(p.uniform("u_colormap"), 0);
   glUniform1f(p.uniform("u_world_texture"), 0.0f);
   if (endoscope) {
+    glUniform1i(p.uniform("u_noise"), 1);  // every material's vertex shader reads it
+    glUniform1f(p.uniform("u_noise_scale"), float(1.0 / kTissueTexturePeriod));
     glUniform1f(p.uniform("u_light_distance"), float(light_distance));
     glUniform2f(p.uniform("u_viewport"), float(settings.width), float(settings.height));
   }
@@ -901,7 +906,7 @@ void Renderer::Impl::draw_frame(const RenderScene& scene, const StressView* view
   if (endoscope) {
     // The abdomen's wall, behind everything (drawn last: covered pixels cost little): pink
     // peritoneum with yellow fat, lit by the scope's light.
-    GlProgram& wall_program = use(kTissue);
+    GlProgram& wall_program = use(kWall);
     glUniformMatrix4fv(wall_program.uniform("u_model"), 1, GL_FALSE, identity.data());
     glUniformMatrix3fv(wall_program.uniform("u_normal_matrix"), 1, GL_FALSE, identity3.data());
     set_tissue(wall_program, Eigen::Vector3f(0.78f, 0.50f, 0.47f), Eigen::Vector3f(0.80f, 0.62f, 0.46f), 0.08f,

@@ -24,6 +24,20 @@ out vec3 v_normal;
 out float v_scalar;
 out float v_shadow;
 out vec3 v_rest;
+#ifdef LIGHT_TIP
+uniform sampler3D u_noise;       // render/tissue_texture.hpp
+uniform float u_noise_scale;     // its coarse scale: the colour's variation, per vertex
+out float v_tint;
+#endif
+#ifdef MODE_WALL
+// The abdomen's wall, lit per vertex (it is smooth, dim and out of focus): its colour, tone
+// mapped and in sRGB, for the fragment shader to vignette.
+uniform vec3 u_eye;
+uniform float u_light_distance;
+uniform vec3 u_base_srgb;
+uniform vec3 u_second_srgb;
+out vec3 v_color;
+#endif
 
 // Light reaching p from the key light past the instruments (capsules): the distance from
 // the light ray to each capsule's segment gives a soft edge that widens with distance.
@@ -88,6 +102,18 @@ void main() {
   v_normal = u_normal_matrix * a_normal;
   v_scalar = a_scalar;
   v_rest = mix(a_rest, world.xyz, u_world_texture);
+#ifdef LIGHT_TIP
+  v_tint = textureLod(u_noise, v_rest * u_noise_scale, 0.0).a;
+#endif
+#ifdef MODE_WALL
+  vec3 to_eye = u_eye - world.xyz;
+  float d = length(to_eye);
+  float fall = min(u_light_distance * u_light_distance / max(d * d, 1e-8), 4.0);
+  float lit = max(dot(normalize(v_normal), to_eye / d), 0.0);
+  vec3 base = mix(u_base_srgb * u_base_srgb, u_second_srgb * u_second_srgb, smoothstep(0.45, 0.8, v_tint));
+  vec3 c = base * (1.15 * max((lit + 0.2) / 1.2, 0.0) + 0.05) * fall;
+  v_color = sqrt(vec3(1.0) - exp(-1.6 * c));
+#endif
   // Per vertex: the organ's mesh is much finer than a shadow's soft edge.
   v_shadow = capsule_light(world.xyz) * box_light(world.xyz);
   gl_Position = u_view_proj * world;
@@ -113,6 +139,10 @@ uniform vec3 u_fill_dir;         // toward the fill light
 uniform vec2 u_range;            // colour map range
 uniform sampler2D u_colormap;    // 256 x 1, sRGB
 #ifdef LIGHT_TIP
+in float v_tint;                 // the coarse field at the vertices (the colour's variation)
+#ifdef MODE_WALL
+in vec3 v_color;                 // the wall's, lit per vertex
+#endif
 uniform float u_light_distance;  // where the light's exposure is set for (m)
 uniform vec2 u_viewport;         // width, height (pixels)
 uniform sampler3D u_noise;       // render/tissue_texture.hpp: rgb the field's gradient, a the field
@@ -129,6 +159,11 @@ void main() {
   vec3 n = normalize(v_normal);
   if (!gl_FrontFacing) n = -n;
   vec3 v = normalize(u_eye - v_position);
+#ifdef MODE_WALL
+  vec2 w = (gl_FragCoord.xy - 0.5 * u_viewport) / (0.5 * length(u_viewport));
+  frag_color = vec4(v_color * (1.0 - 0.62 * dot(w, w) * (0.6 + 0.4 * dot(w, w))), 1.0);
+  return;
+#endif
 #ifdef LIGHT_TIP
   // The light is at the lens: it comes from the viewer, and falls off as 1 / d^2, exposed for
   // u_light_distance (a surface there is lit as by a unit light).
@@ -146,12 +181,13 @@ void main() {
   vec3 base = u_base_srgb * u_base_srgb;
   vec3 color;
 #ifdef MODE_TISSUE
-  vec4 coarse = texture(u_noise, v_rest * u_noise_scale);
+  vec3 second = u_second_srgb * u_second_srgb;
+  base = mix(base, second, smoothstep(0.45, 0.8, v_tint));
+  // Fine bumps: the field at a finer scale tilts the normal (one fetch a pixel).
   vec4 fine = texture(u_noise, v_rest * (u_noise_scale * 9.7));
   vec3 g = fine.rgb * 2.0 - 1.0;
   n = normalize(n - u_bump * (g - dot(g, n) * n));
-  vec3 second = u_second_srgb * u_second_srgb;
-  base = mix(base, second, smoothstep(0.45, 0.8, coarse.a)) * (0.9 + 0.2 * fine.a);
+  base *= 0.9 + 0.2 * fine.a;
   float lit = max(dot(n, v), 0.0);
   float wrap = max((lit + 0.2) / 1.2, 0.0);
   float crease = 1.0 - v_scalar;   // v_scalar: how deep in a crease (0 on open surface)

@@ -1,4 +1,5 @@
 #include "app/studies/bench.hpp"
+#include "app/studies/bench_endoscope.hpp"
 
 #include <sys/wait.h>
 #include <unistd.h>
@@ -794,6 +795,26 @@ int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::os
       err << "vdmsim: error: " << (dir / file).string() << ": write failed\n";
       return 1;
     }
+  }
+  // The endoscope's frame against the framing camera's, in turn, and its ground-truth views.
+  if (only.empty() || std::string("endoscope_720p side by side").find(only) != std::string::npos) {
+    out << "bench: endoscope_720p side by side ..." << std::flush;
+    const EndoscopeFrameCost r = bench_endoscope_frame(dir, quick ? 6 : 20, quick ? 20 : 60);
+    std::ofstream sc(dir / "bench_endoscope.csv");
+    sc << "nodes,frames,framing_ms,endoscope_ms,ratio,pair_ratio_max,depth_ms,segmentation_ms,normals_ms\n";
+    sc << r.nodes << ',' << r.frames << ',' << std::setprecision(6) << r.framing_ms << ',' << r.endoscope_ms << ','
+       << r.ratio << ',' << r.pair_ratio_max << ',' << r.depth_ms << ',' << r.segmentation_ms << ',' << r.normals_ms
+       << '\n';
+    sc.flush();
+    if (!sc) {
+      err << "vdmsim: error: " << (dir / "bench_endoscope.csv").string() << ": write failed\n";
+      return 1;
+    }
+    out << " " << r.nodes << " nodes, " << r.frames << " frames in turn: the endoscope's frame " << std::setprecision(3)
+        << r.endoscope_ms << " ms, the framing camera's " << r.framing_ms << " ms (draw and encode): " << r.ratio
+        << "x (frame by frame at most " << r.pair_ratio_max << "x); ground truth through the endoscope (draw and "
+        << "read): depth " << r.depth_ms << " ms, segmentation " << r.segmentation_ms << " ms, normals "
+        << r.normals_ms << " ms\n";
   }
   // The scaling exponent from VDM's probe on every size in turn (40k only in the full bench).
   if (only.empty() || std::string("liver_probe sizes in turn").find(only) != std::string::npos) {
