@@ -109,8 +109,8 @@ TEST(CoreSnapshot, HeldEntriesThroughAKeptFactorContinueBitForBit) {
 }
 
 TEST(CoreSnapshot, AFactorisedPrescribedSetContinuesBitForBit) {
-  // A max_held below the cap's entries: the cap is factorised with them, and released at step
-  // 5 (the factors made again for the fixed entries).
+  // A max_held below the cap's entries: the cap is factorised with them, and partly released
+  // at step 5 (the factors made again for the smaller cap).
   const CoreModel m = ball(0.008, 12);
   CoreState a = make_core_state(m);
   StepInput in = test::free_input(m.ns);
