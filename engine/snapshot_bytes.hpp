@@ -16,7 +16,10 @@ namespace vdm::snapshot {
 class Writer {
  public:
   explicit Writer(std::string& out) : out_(out) {}
-  void bytes(const void* p, size_t n) { out_.append(static_cast<const char*>(p), n); }
+  // (an empty array's data() may be null: nothing is copied then)
+  void bytes(const void* p, size_t n) {
+    if (n > 0) out_.append(static_cast<const char*>(p), n);
+  }
   void i64(std::int64_t v) { bytes(&v, sizeof v); }
   void f64(double v) { bytes(&v, sizeof v); }
   template <class M>
@@ -39,6 +42,7 @@ class Reader {
   Reader(std::string_view in, size_t& pos) : in_(in), pos_(pos) {}
   bool bytes(void* p, size_t n) {
     if (in_.size() - pos_ < n) return false;
+    if (n == 0) return true;  // (an empty array's data() may be null)
     std::memcpy(p, in_.data() + pos_, n);
     pos_ += n;
     return true;
