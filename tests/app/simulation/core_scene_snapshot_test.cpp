@@ -1,7 +1,7 @@
 // Scene snapshots of the default organ model, vdm_core (the elastic core): a SceneSimulation
 // loaded from the snapshot of another continues bit for bit like it, with constraint contact
-// and friction (a probe that presses, then slides) and with a grasper holding tissue across
-// the snapshot; a cut snapshot, or one of another lattice, is refused.
+// and friction (a probe that presses, then slides), with kinematic contact, and with a grasper
+// holding tissue across the snapshot; a cut snapshot, or one of another lattice, is refused.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -79,24 +79,39 @@ TEST(CoreSceneSnapshot, ConstraintContactWithFrictionContinuesBitForBit) {
   for (int f = 0; f < 7; ++f) a.advance(f);
   ASSERT_FALSE(a.state().failed) << a.state().failure;
   ASSERT_GT(a.contact_report().nodes, 0) << "the probe touches by now";
-  expect_continues_bit_for_bit(ps, a, 7, 14);
+  expect_continues_bit_for_bit(ps, a, 7, 11);  // (sliding from frame 7 on)
   EXPECT_GT(a.contact_report().force.norm(), 0.0) << "the probe presses";
 }
 
+TEST(CoreSceneSnapshot, KinematicContactContinuesBitForBit) {
+  // Kinematic contact holds the nodes under the probe as prescribed entries (held through the
+  // core's factor by multipliers); what it reads of the last step (velocities, reactions) is
+  // the SimState's.
+  std::string scene = kPressAndSlide;
+  scene.replace(scene.find("effects: [contact, stress]"), 26, "effects: [contact, stress], contact: {method: kinematic}");
+  const PreparedScene ps = prepare(liver_scene("", scene));
+  ASSERT_EQ(ps.scene.contact.method, vdm::ContactSettings::Method::kinematic);
+  SceneSimulation a(ps);
+  for (int f = 0; f < 7; ++f) a.advance(f);
+  ASSERT_FALSE(a.state().failed) << a.state().failure;
+  ASSERT_GT(a.contact_report().nodes, 0) << "the probe holds nodes by now";
+  expect_continues_bit_for_bit(ps, a, 7, 11);
+}
+
 TEST(CoreSceneSnapshot, AGraspHeldAcrossTheSnapshotContinuesBitForBit) {
-  // The grasper closes on the right lobe at t = 0.1 s and lifts it 2 cm; the snapshot is
-  // taken while it holds (its nodes prescribed: held by multipliers through the core's
-  // factor), with the jaws' contact on.
+  // The grasper closes on the right lobe at t = 0.1 s and lifts it 2 cm by t = 0.45 s; the
+  // snapshot is taken while it holds (its nodes prescribed: held by multipliers through the
+  // core's factor), with the jaws' contact on.
   const PreparedScene ps = prepare(liver_scene(
-      "", "simulation: {frames: 14, dt: 0.05, effects: [contact, grasp, stress]}\n"
+      "", "simulation: {frames: 10, dt: 0.05, effects: [contact, grasp, stress]}\n"
           "instruments:\n  - {type: grasper, radius: 0.005, jaw_length: 0.015, grasp_width: 0.006, script: ["
           "{t: 0, tip: [0.035, 0, 0.0603], axis: [0, 0, -1], jaw: open}, {t: 0.1, jaw: closed},"
-          " {t: 0.65, tip: [0.035, 0, 0.0803]}]}\n"));
+          " {t: 0.45, tip: [0.035, 0, 0.0803]}]}\n"));
   SceneSimulation a(ps);
-  for (int f = 0; f < 6; ++f) a.advance(f);
+  for (int f = 0; f < 5; ++f) a.advance(f);
   ASSERT_FALSE(a.state().failed) << a.state().failure;
   ASSERT_LT(a.total_force().z(), -0.1) << "the grasper holds and lifts by now";
-  expect_continues_bit_for_bit(ps, a, 6, 14);
+  expect_continues_bit_for_bit(ps, a, 5, 10);
   // The grasp held on: the tissue at the jaws was lifted with them (2 cm by the last frame).
   EXPECT_GT(a.state().u.col(2).maxCoeff(), 0.01);
 }
