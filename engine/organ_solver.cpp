@@ -2,6 +2,7 @@
 
 #include <chrono>
 
+#include "engine/core/core_snapshot.hpp"
 #include "engine/core/core_stress.hpp"
 #include "engine/core/elastic_core.hpp"
 #include "engine/fem/fem_state.hpp"
@@ -30,6 +31,9 @@ class VdmSolver final : public OrganSolver {
   bool takes_tolerance() const override { return m_.solver.method == SolverMethod::structured; }
   const AxisStiffness& contact_stiffness(const TissueModel&, const SimState& s) override { return s.work->K; }
   long contact_stiffness_version(const SimState& s) const override { return s.stats.total_refreshes; }
+  // Everything the engine carries is in the SimState (engine/state_snapshot.hpp).
+  bool save_state(std::string&) const override { return true; }
+  bool load_state(std::string_view, size_t&, std::string&) override { return true; }
 
  private:
   const TissueModel& m_;
@@ -212,6 +216,16 @@ class CoreSolver final : public ReferenceSolver {
   bool surface_compliance(const std::vector<int>& nodes, Eigen::MatrixXd& C) override {
     core::surface_compliance(m_, s_, nodes, C);
     return true;
+  }
+  // The core's state. The rest is not carried between steps: the start that rewind() goes back
+  // to is taken again by every solve before anything reads it, strain_ is the stress pass's
+  // scratch, and the rest stiffness is built again from the rest shape when asked for.
+  bool save_state(std::string& out) const override {
+    core::save_core_state(m_, s_, out);
+    return true;
+  }
+  bool load_state(std::string_view in, size_t& pos, std::string& error) override {
+    return core::load_core_state(m_, in, pos, s_, error);
   }
 
  private:

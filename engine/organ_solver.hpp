@@ -14,6 +14,8 @@
 // with finish_step(). Every model does these, so every contact method runs on every model
 // that takes its loads (penalty contact needs takes_springs()).
 #include <memory>
+#include <string>
+#include <string_view>
 #include <vector>
 
 #include "engine/fem/fem_model.hpp"
@@ -82,6 +84,23 @@ class OrganSolver {
     (void)input;
     (void)state;
     (void)law;
+    return false;
+  }
+  // A snapshot of what the model carries from one step to the next, between steps, appended to
+  // `out`: with the SimState's own snapshot (engine/state_snapshot.hpp) a solver loaded from it
+  // continues bit for bit. False, appending nothing, when the model does not save its state
+  // (fem, mass_spring: a resumed run re-simulates). vdm: nothing to add (the engine's state is
+  // the SimState's). vdm_core: engine/core/core_snapshot.hpp.
+  virtual bool save_state(std::string& out) const {
+    (void)out;
+    return false;
+  }
+  // Reads a snapshot save_state() wrote for the same model from `in` at `pos` (moved past it).
+  // False with the reason when it is not one.
+  virtual bool load_state(std::string_view in, size_t& pos, std::string& error) {
+    (void)in;
+    (void)pos;
+    error = "state snapshot: a reference model's state is not saved";
     return false;
   }
 };

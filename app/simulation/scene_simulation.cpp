@@ -174,7 +174,8 @@ std::vector<tools::InstrumentPose> SceneSimulation::poses(double t) const {
 }
 
 bool SceneSimulation::save(std::string& out) const {
-  if (organ_) return false;
+  // The organ model's own state first (vdm_core's; a reference model saves none: false).
+  if (organ_ && !organ_->save_state(out)) return false;
   vdm::save_state(ps_.model, state_, out);
   const std::int64_t grasps = static_cast<std::int64_t>(grasps_.size());
   out.append(reinterpret_cast<const char*>(&grasps), sizeof grasps);
@@ -188,11 +189,8 @@ bool SceneSimulation::save(std::string& out) const {
 }
 
 bool SceneSimulation::load(std::string_view in, std::string& error) {
-  if (organ_) {
-    error = "state snapshot: a reference model's state is not saved";
-    return false;
-  }
   size_t pos = 0;
+  if (organ_ && !organ_->load_state(in, pos, error)) return false;
   if (!vdm::load_state(ps_.model, in, pos, state_, error)) return false;
   std::int64_t grasps = -1;
   if (in.size() - pos >= sizeof grasps) std::memcpy(&grasps, in.data() + pos, sizeof grasps);

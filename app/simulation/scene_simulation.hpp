@@ -64,9 +64,10 @@ class SceneSimulation {
   // tip far inside the organ (contact could not push it away: a rigid organ?).
   std::string unsound() const;
   const StageTimes& stage_times() const { return times_; }
-  // A snapshot of the simulation between frames (the engine's state with its warm starts and
-  // the grasps), appended to `out`, for resuming a run bit for bit. False when this run's
-  // state cannot be saved (organ.model fem or mass_spring: a resume re-simulates instead).
+  // A snapshot of the simulation between frames (the engine's state with its warm starts,
+  // organ.model vdm_core's lattice state, the grasps, the contact's carry and the run's
+  // tallies), appended to `out`, for resuming a run bit for bit. False when this run's state
+  // cannot be saved (organ.model fem or mass_spring: a resume re-simulates instead).
   bool save(std::string& out) const;
   // Reads a snapshot written by save() for the same prepared scene.
   bool load(std::string_view in, std::string& error);
@@ -78,7 +79,7 @@ class SceneSimulation {
   std::vector<const tools::InstrumentDef*> probes_, graspers_;
   std::vector<size_t> probe_index_, grasper_index_;  // their places in the scene's instruments
   std::vector<tools::Grasp> grasps_;
-  std::unique_ptr<vdm::OrganSolver> organ_;  // organ.model fem or mass_spring: this run's own
+  std::unique_ptr<vdm::OrganSolver> organ_;  // organ.model vdm_core, fem or mass_spring: this run's own
   std::unique_ptr<vdm::ContactSolver> contact_;
   std::vector<vdm::ToolShape> tools_;  // probes' shapes, then two jaw boxes per grasper
   vdm::ContactReport report_;

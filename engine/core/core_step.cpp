@@ -71,33 +71,8 @@ Eigen::Matrix3d nearest_rotation(const Eigen::Matrix3d& F, Eigen::Quaterniond& q
 
 // Factor slot k for the entries axis k's factored_mask holds.
 void factorize(const CoreModel& m, int k, CoreWorkspace& w, CoreState& s) {
-  SpMat& K = w.K[k];
-  K = m.K_core;
-  // A tiny share of the diagonal keeps an axis with no prescribed entry (free translation)
-  // solvable: it moves the answer by about 1e-10 of itself.
-  const double reg = 1e-10 * m.K_core.diagonal().maxCoeff();
-  for (int j = 0; j < m.ng; ++j) K.coeffRef(j, j) += reg;
-  // Implicit Euler's mass term, M / dt^2 + damping M / dt.
-  if (m.mass.size() == m.ng)
-    for (int j = 0; j < m.ng; ++j) K.coeffRef(j, j) += m.inertia_rate * m.mass[j];
-  for (int i = 0; i < m.ns; ++i) {
-    if (!w.factored_mask(i, k)) continue;
-    for (int p = 0; p < 4; ++p)
-      for (int q = 0; q < 4; ++q)
-        K.coeffRef(m.tie_node(i, p), m.tie_node(i, q)) += m.tie_k[i] * m.tie_weight(i, p) * m.tie_weight(i, q);
-  }
-#ifdef VDMSIM_HAVE_CHOLMOD
-  w.chol[k].cholmod().print = 0;
-#endif
-  if (!w.analyzed) {
-    for (int e = 0; e < 3; ++e) w.chol[e].analyzePattern(K);  // the ties' entries are Kuhn-tet edges: same pattern
-    w.analyzed = true;
-  }
-  w.chol[k].factorize(K);
-  w.chol_ok[k] = w.chol[k].info() == Eigen::Success;
   w.chol_mask.col(k) = w.factored_mask.col(k);
-  w.columns[k].clear();
-  w.held.factored = false;
+  factorize_slot(m, k, w);
   ++s.stats.factorizations;
 }
 
@@ -255,6 +230,35 @@ CoreState::CoreState() = default;
 CoreState::~CoreState() = default;
 CoreState::CoreState(CoreState&&) noexcept = default;
 CoreState& CoreState::operator=(CoreState&&) noexcept = default;
+
+void factorize_slot(const CoreModel& m, int k, CoreWorkspace& w) {
+  SpMat& K = w.K[k];
+  K = m.K_core;
+  // A tiny share of the diagonal keeps an axis with no prescribed entry (free translation)
+  // solvable: it moves the answer by about 1e-10 of itself.
+  const double reg = 1e-10 * m.K_core.diagonal().maxCoeff();
+  for (int j = 0; j < m.ng; ++j) K.coeffRef(j, j) += reg;
+  // Implicit Euler's mass term, M / dt^2 + damping M / dt.
+  if (m.mass.size() == m.ng)
+    for (int j = 0; j < m.ng; ++j) K.coeffRef(j, j) += m.inertia_rate * m.mass[j];
+  for (int i = 0; i < m.ns; ++i) {
+    if (!w.chol_mask(i, k)) continue;
+    for (int p = 0; p < 4; ++p)
+      for (int q = 0; q < 4; ++q)
+        K.coeffRef(m.tie_node(i, p), m.tie_node(i, q)) += m.tie_k[i] * m.tie_weight(i, p) * m.tie_weight(i, q);
+  }
+#ifdef VDMSIM_HAVE_CHOLMOD
+  w.chol[k].cholmod().print = 0;
+#endif
+  if (!w.analyzed) {
+    for (int e = 0; e < 3; ++e) w.chol[e].analyzePattern(K);  // the ties' entries are Kuhn-tet edges: same pattern
+    w.analyzed = true;
+  }
+  w.chol[k].factorize(K);
+  w.chol_ok[k] = w.chol[k].info() == Eigen::Success;
+  w.columns[k].clear();
+  w.held.factored = false;
+}
 
 void solve_axes(CoreWorkspace& w, const NodeMat& rhs, NodeMat& out) {
   if (w.slot[1] == w.slot[0] && w.slot[2] == w.slot[0]) {

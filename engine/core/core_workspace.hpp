@@ -20,6 +20,10 @@ namespace vdm::core {
 struct LatticeColumns {
   std::vector<int> slot;  // per lattice node: its column, or -1
   std::vector<int> node;  // per column: its lattice node
+  // Per multi-column solve that made them, in order: how many columns it added. A state
+  // snapshot solves them again in the same groups (a column's last bits depend on the group
+  // it was solved in), so that a loaded state's columns are the run's.
+  std::vector<int> batch;
   Eigen::MatrixXd cols;   // ng x capacity
   int count = 0;
   void clear();
@@ -74,6 +78,13 @@ struct CoreWorkspace {
   int history = 0, next = 0;
 };
 
+// Builds factor slot k's matrix, K_core with the ties of the entries w.chol_mask.col(k) holds
+// (and the regularisation and inertia's mass), and factorises it: w.K[k], w.chol[k],
+// w.chol_ok[k] (the symbolic analysis once, for every slot). The slot's columns and the held
+// entries' factor are then out of date and dropped. The same mask gives the same bits: a
+// state snapshot rebuilds its factors with it.
+void factorize_slot(const CoreModel& m, int k, CoreWorkspace& w);
+
 // Solves K_d out.col(d) = rhs.col(d) on every axis: one solve of three columns when the axes
 // share a factor.
 void solve_axes(CoreWorkspace& w, const NodeMat& rhs, NodeMat& out);
@@ -90,6 +101,10 @@ double tied_at(const CoreModel& m, const V& v, int i) {
 // are tied to (one multi-column solve for those missing).
 void ensure_columns(const CoreModel& m, int d, const std::vector<int>& nodes, CoreWorkspace& w);
 
+// Solves the columns of factor slot k from column `before` to its count (the lattice nodes
+// added to its node list since), in one multi-column solve, and notes the batch.
+void solve_columns(const CoreModel& m, int k, int before, CoreWorkspace& w);
+
 // (K_d^-1) between the lattice motions at surface nodes i and j (W_i K_d^-1 W_j^T), from the
 // columns ensure_columns() made.
 double tied_compliance(const CoreModel& m, const LatticeColumns& c, int i, int j);
@@ -98,6 +113,10 @@ double tied_compliance(const CoreModel& m, const LatticeColumns& c, int i, int j
 // hold (w.factored_mask); their C0 factorised again when they or the factors changed.
 // False when C0 could not be factorised.
 bool prepare_held_entries(const CoreModel& m, CoreWorkspace& w);
+
+// Factorises the held entries' H.C0 (H.factored: it is positive definite) and sizes their
+// per-entry vectors (the multipliers zero). A state snapshot calls it on the saved C0.
+bool factor_held_entries(HeldEntries& H);
 
 // Adds r_p (W_p^T, through K_d^-1) to the lattice's motion `v` for every held entry on axis d.
 void add_held_response(const CoreModel& m, const CoreWorkspace& w, int d, Eigen::Ref<Vec> v);

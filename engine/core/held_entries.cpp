@@ -18,6 +18,7 @@ namespace vdm::core {
 void LatticeColumns::clear() {
   for (int j : node) slot[static_cast<size_t>(j)] = -1;
   node.clear();
+  batch.clear();
   count = 0;
 }
 
@@ -32,6 +33,11 @@ void ensure_columns(const CoreModel& m, int d, const std::vector<int>& nodes, Co
       c.slot[static_cast<size_t>(j)] = c.count++;
       c.node.push_back(j);
     }
+  solve_columns(m, w.slot[d], before, w);
+}
+
+void solve_columns(const CoreModel& m, int k, int before, CoreWorkspace& w) {
+  LatticeColumns& c = w.columns[k];
   const int added = c.count - before;
   if (added == 0) return;
   if (c.cols.cols() < c.count) {  // grow with headroom, keeping the columns solved
@@ -40,8 +46,9 @@ void ensure_columns(const CoreModel& m, int d, const std::vector<int>& nodes, Co
     c.cols.swap(grown);
   }
   Eigen::MatrixXd unit = Eigen::MatrixXd::Zero(m.ng, added);
-  for (int k = 0; k < added; ++k) unit(c.node[static_cast<size_t>(before + k)], k) = 1.0;
-  c.cols.middleCols(before, added) = w.chol[w.slot[d]].solve(unit);
+  for (int q = 0; q < added; ++q) unit(c.node[static_cast<size_t>(before + q)], q) = 1.0;
+  c.cols.middleCols(before, added) = w.chol[k].solve(unit);
+  c.batch.push_back(added);
 }
 
 double tied_compliance(const CoreModel& m, const LatticeColumns& c, int i, int j) {
@@ -98,6 +105,11 @@ bool prepare_held_entries(const CoreModel& m, CoreWorkspace& w) {
     for (int q = 0; q <= p; ++q)
       H.C0(p, q) = H.C0(q, p) = entry_compliance(m, w, H.node[static_cast<size_t>(p)], H.axis[static_cast<size_t>(p)],
                                                   H.node[static_cast<size_t>(q)], H.axis[static_cast<size_t>(q)]);
+  return factor_held_entries(H);
+}
+
+bool factor_held_entries(HeldEntries& H) {
+  const int n = H.size();
   H.C0_factor.compute(H.C0);
   H.factored = H.C0_factor.info() == Eigen::Success && H.C0_factor.isPositive();
   H.rhs.resize(n);

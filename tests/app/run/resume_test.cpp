@@ -20,37 +20,15 @@
 #include "app/run/scene_run.hpp"
 #include "engine/shapes.hpp"
 #include "support/binary.hpp"
+#include "support/run_outputs.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
+using vdmsim::test::metrics_without_timing;
+using vdmsim::test::read_file;
+
 const fs::path kOut = fs::path(VDMSIM_BUILD_DIR) / "test-output" / "resume";
-
-std::string read_file(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-// metrics.csv without the step_ms column (wall-clock time, different in every run).
-std::vector<std::string> metrics_without_timing(const fs::path& p) {
-  std::ifstream in(p);
-  std::vector<std::string> rows;
-  std::string line;
-  while (std::getline(in, line)) {
-    std::vector<std::string> cells;
-    std::stringstream ss(line);
-    std::string c;
-    while (std::getline(ss, c, ',')) cells.push_back(c);
-    if (line.back() == ',') cells.push_back("");
-    if (cells.size() > 2) cells.erase(cells.begin() + 2);
-    std::string joined;
-    for (const auto& x : cells) joined += x + ",";
-    rows.push_back(joined);
-  }
-  return rows;
-}
 
 int run_in_process(const std::string& scene, const fs::path& out, bool resume) {
   vdmsim::PreparedScene ps;
