@@ -126,6 +126,11 @@ std::vector<SceneProblem> problems_with(const std::string& path, const std::stri
   const fs::path dir = test::scratch_dir("scene_reference");
   YAML::Node root = YAML::Load(kBaseScene);
   if (!model.empty()) root["organ"]["model"] = model;
+  // The endoscope's keys go into an endoscope, not the base scene's framing camera.
+  for (const char* scope : {"type", "port", "look_at", "depth", "angle_deg", "roll_deg", "script"})
+    if (path.rfind(std::string("render.camera.") + scope, 0) == 0)
+      root["render"]["camera"] =
+          YAML::Load("{type: endoscope, port: [0, -0.12, 0.12], look_at: [0, 0, 0.02], script: [{t: 1}]}");
   YAML::Node into = holder(root, path);
   const YAML::Node add = YAML::Load("{" + entries + "}");
   for (auto it = add.begin(); it != add.end(); ++it) into[it->first.Scalar()] = it->second;
@@ -135,7 +140,14 @@ std::vector<SceneProblem> problems_with(const std::string& path, const std::stri
     YAML::Node key = root["instruments"][0]["script"][0];
     if (path.find("on_surface") != std::string::npos || add["on_surface"]) key.remove("tip");
     if (add["align"]) key.remove("axis");
+    // Port coordinates place the tip from the instrument's port.
+    if (add["pan_deg"] || add["tilt_deg"]) {
+      root["instruments"][0]["port"] = YAML::Load("[0.09, -0.08, 0.14]");
+      key.remove("tip");
+    }
   }
+  // Through a port, the axis runs from the port through the tip: the keyframes give none.
+  if (root["instruments"][0]["port"]) root["instruments"][0]["script"][0].remove("axis");
   // The camera's focus is for the automatic camera: the base camera's eye and target go.
   if (add["focus"]) {
     into.remove("eye");
