@@ -905,11 +905,11 @@ void Renderer::Impl::draw_frame(const RenderScene& scene, const StressView* view
   timer.mark("instruments");
   if (endoscope) {
     // The abdomen's wall, behind everything (drawn last: covered pixels cost little): pink
-    // peritoneum with yellow fat, lit by the scope's light.
+    // peritoneum with yellow fat, lit per vertex by the scope's light (no bumps).
     GlProgram& wall_program = use(kWall);
     glUniformMatrix4fv(wall_program.uniform("u_model"), 1, GL_FALSE, identity.data());
     glUniformMatrix3fv(wall_program.uniform("u_normal_matrix"), 1, GL_FALSE, identity3.data());
-    set_tissue(wall_program, Eigen::Vector3f(0.78f, 0.50f, 0.47f), Eigen::Vector3f(0.80f, 0.62f, 0.46f), 0.08f,
+    set_tissue(wall_program, Eigen::Vector3f(0.78f, 0.50f, 0.47f), Eigen::Vector3f(0.80f, 0.62f, 0.46f), 0.0f,
                3 * kTissueTexturePeriod, true);
     glEnable(GL_CULL_FACE);
     glCullFace(GL_BACK);

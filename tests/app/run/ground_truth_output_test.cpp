@@ -418,3 +418,19 @@ TEST(GroundTruthOutput, APortedInstrumentsShaftPassesItsPortInEveryFrame) {
                                                             std::cos(35 * k) * std::sin(150 * k), -std::sin(35 * k));
   EXPECT_LT((at3 - want).norm(), 1e-6);
 }
+
+// Through the endoscope too (its light, texture, wall and exposure), two runs draw the same
+// bytes: every shaded frame and ground-truth file, and poses.csv.
+TEST(GroundTruthOutput, TheEndoscopesImagesAreTheSameRunAfterRun) {
+  const fs::path a = gto_run("endoscope_first", kEndoscope), b = gto_run("endoscope_second", kEndoscope);
+  int files = 0;
+  for (const char* folder : {"frames", "depth", "segmentation", "normals"})
+    for (const auto& e : fs::directory_iterator(a / folder)) {
+      const fs::path other = b / folder / e.path().filename();
+      ASSERT_TRUE(fs::exists(other)) << other;
+      EXPECT_EQ(gto_read(e.path()), gto_read(other)) << folder << "/" << e.path().filename().string();
+      ++files;
+    }
+  EXPECT_EQ(files, 12);
+  EXPECT_EQ(gto_read(a / "poses.csv"), gto_read(b / "poses.csv"));
+}
