@@ -137,6 +137,110 @@ SkinMesh grasper_jaw_mesh(double radius, double jaw_length, int side) {
   return m;
 }
 
+void append_sweep(SkinMesh& m, const std::vector<Eigen::Vector2f>& path, const std::vector<float>& half_width, float y0,
+                  float y1, bool closed) {
+  const size_t n = path.size();
+  if (n < 2) return;
+  // Each point's across direction (in the x-z plane, perpendicular to the path there).
+  std::vector<Eigen::Vector2f> across(n);
+  for (size_t i = 0; i < n; ++i) {
+    const Eigen::Vector2f prev = closed ? path[(i + n - 1) % n] : path[i > 0 ? i - 1 : 0];
+    const Eigen::Vector2f next = closed ? path[(i + 1) % n] : path[i + 1 < n ? i + 1 : n - 1];
+    const Eigen::Vector2f t = (next - prev).normalized();
+    across[i] = Eigen::Vector2f(t.y(), -t.x());
+  }
+  auto at = [&](size_t i, float side, float y) {
+    const Eigen::Vector2f p = path[i] + side * half_width[i] * across[i];
+    return Eigen::Vector3f(p.x(), y, p.y());
+  };
+  auto quad = [&](const Eigen::Vector3f& a, const Eigen::Vector3f& b, const Eigen::Vector3f& c, const Eigen::Vector3f& d,
+                  const Eigen::Vector3f& outward) {
+    Eigen::Vector3f normal = (b - a).cross(d - a);
+    if (normal.norm() < 1e-12f) normal = (c - b).cross(a - b);
+    const bool flip = normal.dot(outward) < 0;
+    normal = outward.normalized();
+    const unsigned i0 = add_vertex(m, a, normal), i1 = add_vertex(m, b, normal), i2 = add_vertex(m, c, normal),
+                   i3 = add_vertex(m, d, normal);
+    if (flip) {
+      add_triangle(m, i0, i3, i2);
+      add_triangle(m, i0, i2, i1);
+    } else {
+      add_triangle(m, i0, i1, i2);
+      add_triangle(m, i0, i2, i3);
+    }
+  };
+  const size_t segments = closed ? n : n - 1;
+  for (size_t k = 0; k < segments; ++k) {
+    const size_t i = k, j = (k + 1) % n;
+    const Eigen::Vector2f mid = 0.5f * (across[i] + across[j]);
+    const Eigen::Vector3f out(mid.x(), 0.0f, mid.y());
+    quad(at(i, 1, y1), at(j, 1, y1), at(j, -1, y1), at(i, -1, y1), Eigen::Vector3f::UnitY());   // top
+    quad(at(i, 1, y0), at(i, -1, y0), at(j, -1, y0), at(j, 1, y0), -Eigen::Vector3f::UnitY());  // bottom
+    quad(at(i, 1, y0), at(j, 1, y0), at(j, 1, y1), at(i, 1, y1), out);                          // one side
+    quad(at(i, -1, y0), at(i, -1, y1), at(j, -1, y1), at(j, -1, y0), -out);                     // the other
+  }
+  if (closed) return;
+  for (size_t e : {size_t(0), n - 1}) {  // the ends' caps, facing along the path
+    const Eigen::Vector2f t = (e == 0 ? path[0] - path[1] : path[n - 1] - path[n - 2]).normalized();
+    quad(at(e, 1, y0), at(e, -1, y0), at(e, -1, y1), at(e, 1, y1), Eigen::Vector3f(t.x(), 0.0f, t.y()));
+  }
+}
+
+namespace {
+
+// Scales a jaw's mesh along z onto [-L, 0], the collision box's length: a swept end's corners
+// turn with the path and can reach a little past it.
+void fit_length(SkinMesh& m, float L) {
+  float lo = 0, hi = -L;
+  for (const Eigen::Vector3f& p : m.positions) lo = std::min(lo, p.z()), hi = std::max(hi, p.z());
+  const float scale = L / (hi - lo);
+  for (Eigen::Vector3f& p : m.positions) p.z() = -L + (p.z() - lo) * scale;
+}
+
+}  // namespace
+
+SkinMesh grasper_jaw_mesh(double radius, double jaw_length, int side, tools::InstrumentDef::JawLook look) {
+  using Look = tools::InstrumentDef::JawLook;
+  if (look == Look::box) return grasper_jaw_mesh(radius, jaw_length, side);
+  tools::InstrumentDef def;
+  def.radius = radius;
+  def.jaw_length = jaw_length;
+  const vdm::Vec3 h = tools::jaw_half_size(def);
+  const float w = float(h.x()), t = float(2 * h.y()), L = float(2 * h.z());
+  const float y0 = side > 0 ? 0.0f : -t, y1 = side > 0 ? t : 0.0f;
+  SkinMesh m;
+  const int samples = 24;
+  if (look == Look::fenestrated) {
+    // A rounded frame around a window over the front 80 % of the jaw, on a solid heel.
+    const float heel = 0.25f * L, rail = 0.36f * w, mid = w - rail;  // the frame's bars and their centre line
+    const float zb = -L + heel, zt = -(0.9f * mid + rail);            // the frame's ends: its front at the tip
+    std::vector<Eigen::Vector2f> loop;
+    for (int k = 0; k <= samples; ++k) {  // one side, back to front, round the tip, the other side
+      const float a = 3.14159265f * float(k) / samples;
+      loop.emplace_back(mid * std::cos(a), zt + (mid * 0.9f) * std::sin(a));
+    }
+    for (int k = 0; k <= samples; ++k) {
+      const float a = 3.14159265f * (1.0f + float(k) / samples);
+      loop.emplace_back(mid * std::cos(a), zb + (mid * 0.9f) * std::sin(a) * 0.4f);
+    }
+    append_sweep(m, loop, std::vector<float>(loop.size(), rail), y0, y1, true);
+    append_box(m, Eigen::Vector3f(-w, y0, -L), Eigen::Vector3f(w, y1, zb - 0.2f * rail));
+    fit_length(m, L);
+    return m;
+  }
+  // Maryland: the centre line curves to +x toward the tip, the jaw tapering to a blunt point.
+  std::vector<Eigen::Vector2f> line;
+  std::vector<float> half;
+  for (int k = 0; k <= samples; ++k) {
+    const float s = float(k) / samples;
+    line.emplace_back(0.55f * w * s * s, -L + s * L);
+    half.push_back(w * (1.0f - 0.55f * s * s));
+  }
+  append_sweep(m, line, half, y0, y1, false);
+  fit_length(m, L);
+  return m;
+}
+
 Eigen::Isometry3f jaw_transform(double jaw_length, double opening, int side) {
   return Eigen::Isometry3f(tools::jaw_transform(jaw_length, opening, side).matrix().cast<float>());
 }

@@ -27,6 +27,15 @@ SkinMesh grasper_shaft_mesh(double radius, double length, double jaw_length);
 // One jaw (side = +1 upper, -1 lower) in the closed position: from the pivot at
 // z = -jaw_length to the tip at z = 0.
 SkinMesh grasper_jaw_mesh(double radius, double jaw_length, int side);
+// The same jaw as it looks (drawn over its collision box, within it): a fenestrated jaw (a
+// rounded frame around a window, a solid heel at the pivot) or a Maryland jaw (tapering and
+// curving to the side, both jaws alike so that they meet).
+SkinMesh grasper_jaw_mesh(double radius, double jaw_length, int side, tools::InstrumentDef::JawLook look);
+// Appends a bar of rectangular section swept along `path` in the x-z plane: `half_width[i]`
+// across the path in that plane at path[i], spanning y in [y0, y1]; flat faces; `closed`: the
+// path is a loop (else its ends are capped).
+void append_sweep(SkinMesh& m, const std::vector<Eigen::Vector2f>& path, const std::vector<float>& half_width, float y0,
+                  float y1, bool closed);
 // The rotation of a jaw about the pivot for an opening in [0, 1] (tools::jaw_transform).
 Eigen::Isometry3f jaw_transform(double jaw_length, double opening, int side);
 

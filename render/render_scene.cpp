@@ -83,6 +83,7 @@ InstrumentView instrument_view(const tools::InstrumentDef& def, const tools::Ins
   v.length = def.length;
   v.jaw_length = def.jaw_length;
   v.jaw_opening = pose.jaw_opening;
+  v.jaw_look = def.jaw_look;
   v.frame = tools::jaw_frame(pose);
   return v;
 }

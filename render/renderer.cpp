@@ -567,7 +567,7 @@ void Renderer::Impl::set_tissue(GlProgram& p, const Eigen::Vector3f& base, const
 }
 
 InstrumentMeshes& Renderer::Impl::instrument_meshes(const InstrumentView& v) {
-  const auto key = std::make_tuple(int(v.type), v.radius, v.length, v.jaw_length, int(v.shape.kind), v.shape.size.x(),
+  const auto key = std::make_tuple(int(v.type) + 16 * int(v.jaw_look), v.radius, v.length, v.jaw_length, int(v.shape.kind), v.shape.size.x(),
                                    v.shape.size.y(), v.shape.size.z(), v.shape.rounding,
                                    static_cast<const void*>(v.shape.hull.get()));
   auto it = instruments.find(key);
@@ -577,8 +577,8 @@ InstrumentMeshes& Renderer::Impl::instrument_meshes(const InstrumentView& v) {
     m.body.upload(probe_mesh(v.shape, v.radius, v.length));
   } else {
     m.body.upload(grasper_shaft_mesh(v.radius, v.length, v.jaw_length));
-    m.jaws[0].upload(grasper_jaw_mesh(v.radius, v.jaw_length, +1));
-    m.jaws[1].upload(grasper_jaw_mesh(v.radius, v.jaw_length, -1));
+    m.jaws[0].upload(grasper_jaw_mesh(v.radius, v.jaw_length, +1, v.jaw_look));
+    m.jaws[1].upload(grasper_jaw_mesh(v.radius, v.jaw_length, -1, v.jaw_look));
   }
   return instruments.emplace(key, m).first->second;
 }

@@ -49,6 +49,9 @@ struct InstrumentDef {
   // toward the tip (the keyframes give no axis).
   std::optional<vdm::Vec3> port;
   enum class Path { linear, spline } path = Path::linear;  // how tip positions are interpolated
+  // Grasper: how its jaws are drawn (their collision boxes whatever the look): the boxes
+  // themselves, an atraumatic grasper's fenestrated jaws, or a Maryland dissector's curved ones.
+  enum class JawLook { box, fenestrated, maryland } jaw_look = JawLook::box;
 };
 
 struct InstrumentPose {

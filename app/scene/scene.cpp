@@ -830,6 +830,20 @@ void read_instruments(Reader& r, const YAML::Node& list, SceneDef& s, const std:
     if (const YAML::Node v = n["length"]) r.number(v, Reader::sub(fi, "length"), in.length, KEY("instruments[].length"));
     if (const YAML::Node v = n["jaw_length"]) r.number(v, Reader::sub(fi, "jaw_length"), in.jaw_length, KEY("instruments[].jaw_length"));
     if (const YAML::Node v = n["grasp_width"]) r.number(v, Reader::sub(fi, "grasp_width"), in.grasp_width, KEY("instruments[].grasp_width"));
+    if (const YAML::Node v = n["jaws"]) {
+      std::string look;
+      if (r.text(v, Reader::sub(fi, "jaws"), look)) {
+        if (look == "box") in.jaw_look = InstrumentDef::JawLook::box;
+        else if (look == "fenestrated") in.jaw_look = InstrumentDef::JawLook::fenestrated;
+        else if (look == "maryland") in.jaw_look = InstrumentDef::JawLook::maryland;
+        else {
+          const std::string near = closest(look, {"box", "fenestrated", "maryland"});
+          r.error(v, Reader::sub(fi, "jaws"), "unknown jaws '" + look + "'" + (near.empty() ? "" : " (did you mean '" + near + "'?)") +
+                                                  "; expected box, fenestrated or maryland");
+        }
+        if (in.type != InstrumentDef::Type::grasper) r.warn(v, Reader::sub(fi, "jaws"), "a probe has no jaws: ignored");
+      }
+    }
     if (const YAML::Node v = n["path"]) {
       std::string p;
       if (r.text(v, Reader::sub(fi, "path"), p)) {

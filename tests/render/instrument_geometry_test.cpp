@@ -89,3 +89,57 @@ TEST(InstrumentGeometry, DrawnGrasperShaftLiesOnItsCollisionCapsule) {
 
 }  // namespace
 }  // namespace render
+
+// The jaws' looks are drawn within their collision boxes (what is seen touching is what
+// touches), closed shut against each other; the fenestrated jaw has a window through it, the
+// Maryland jaw curves to the side toward its tip.
+TEST(InstrumentGeometry, JawLooksStayWithinTheirCollisionBoxes) {
+  using Look = tools::InstrumentDef::JawLook;
+  tools::InstrumentDef def;
+  def.radius = 0.005;
+  def.jaw_length = 0.02;
+  const vdm::Vec3 h = tools::jaw_half_size(def);
+  const float w = float(h.x()), t = float(2 * h.y()), L = float(2 * h.z()), eps = 1e-6f;
+  for (Look look : {Look::fenestrated, Look::maryland})
+    for (int side : {+1, -1}) {
+      const render::SkinMesh m = render::grasper_jaw_mesh(def.radius, def.jaw_length, side, look);
+      ASSERT_FALSE(m.indices.empty());
+      float y_lo = 1, y_hi = -1;
+      for (const Eigen::Vector3f& p : m.positions) {
+        EXPECT_LE(std::abs(p.x()), w + eps);
+        EXPECT_GE(p.z(), -L - eps);
+        EXPECT_LE(p.z(), eps);
+        y_lo = std::min(y_lo, p.y());
+        y_hi = std::max(y_hi, p.y());
+      }
+      EXPECT_NEAR(y_lo, side > 0 ? 0.0f : -t, eps);  // the closed jaws meet at y = 0
+      EXPECT_NEAR(y_hi, side > 0 ? t : 0.0f, eps);
+      for (const Eigen::Vector3f& n : m.normals) EXPECT_NEAR(n.norm(), 1.0f, 1e-4f);
+    }
+  // Seen along y (the way the jaws close), the fenestrated jaw covers its rim but not its middle.
+  auto covered = [](const render::SkinMesh& m, float x, float z) {
+    for (size_t k = 0; k + 2 < m.indices.size(); k += 3) {
+      const Eigen::Vector3f &a = m.positions[m.indices[k]], &b = m.positions[m.indices[k + 1]], &c = m.positions[m.indices[k + 2]];
+      auto edge = [&](const Eigen::Vector3f& p, const Eigen::Vector3f& q) {
+        return (q.x() - p.x()) * (z - p.z()) - (q.z() - p.z()) * (x - p.x());
+      };
+      const float e0 = edge(a, b), e1 = edge(b, c), e2 = edge(c, a);
+      if ((e0 > 0 && e1 > 0 && e2 > 0) || (e0 < 0 && e1 < 0 && e2 < 0)) return true;
+    }
+    return false;
+  };
+  const render::SkinMesh fen = render::grasper_jaw_mesh(def.radius, def.jaw_length, +1, Look::fenestrated);
+  EXPECT_FALSE(covered(fen, 0.0f, -0.5f * L)) << "the window";
+  EXPECT_TRUE(covered(fen, 0.8f * w, -0.5f * L)) << "a rail";
+  EXPECT_TRUE(covered(fen, 0.0f, -0.95f * L)) << "the heel";
+  const render::SkinMesh box = render::grasper_jaw_mesh(def.radius, def.jaw_length, +1, Look::box);
+  EXPECT_TRUE(covered(box, 0.1f * w, -0.47f * L));  // (off its faces' diagonals)
+  // The Maryland jaw's tip lies to +x of its heel's centre.
+  const render::SkinMesh md = render::grasper_jaw_mesh(def.radius, def.jaw_length, +1, Look::maryland);
+  float tip_x = 0, tip_n = 0;
+  for (const Eigen::Vector3f& p : md.positions)
+    if (p.z() > -0.05f * L) tip_x += p.x(), tip_n += 1;
+  ASSERT_GT(tip_n, 0);
+  EXPECT_GT(tip_x / tip_n, 0.3f * w);
+  EXPECT_FALSE(covered(md, -0.9f * w, -0.02f * L)) << "tapered and curved away at the tip";
+}
