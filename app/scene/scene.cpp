@@ -751,8 +751,8 @@ void read_port_keyframe(Reader& r, const YAML::Node& kf, const std::string& fk, 
     }
     const double kDeg = 180.0 / 3.14159265358979323846;
     carry = {true, std::atan2(d.y(), d.x()) * kDeg, std::asin(std::clamp(-d.z() / d.norm(), -1.0, 1.0)) * kDeg, d.norm()};
-  } else {
-    carry.known = false;  // an on_surface tip, found later
+  } else if (on_surface) {
+    carry.known = false;  // a tip found later: nothing to keep port coordinates from
   }
   if (key.tip && (*key.tip - port).norm() > in.length)
     r.error(kf, fk,

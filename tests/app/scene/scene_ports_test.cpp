@@ -110,6 +110,7 @@ TEST(ScenePorts, APortedInstrumentsShaftPassesItsPortAtEveryTime) {
       "instruments:\n  - type: grasper\n    port: [-0.15, -0.1, 0.12]\n    script:\n"
       "      - {t: 0.0, tip: [-0.1, -0.03, 0.06], jaw: open}\n"
       "      - {t: 0.5, pan_deg: 40, tilt_deg: 30, depth: 0.1, roll_deg: 90}\n"
+      "      - {t: 0.7, jaw: closed}\n"
       "      - {t: 1.0, depth: 0.12}\n");
   const vdmsim::SceneLoadResult r = vdmsim::load_scene(path);
   ASSERT_TRUE(r.ok()) << (r.problems.empty() ? "" : r.problems[0].text());
@@ -120,8 +121,9 @@ TEST(ScenePorts, APortedInstrumentsShaftPassesItsPortAtEveryTime) {
   const double k = M_PI / 180;
   const vdm::Vec3 d1(std::cos(30 * k) * std::cos(40 * k), std::cos(30 * k) * std::sin(40 * k), -std::sin(30 * k));
   EXPECT_LT((*in.script[1].tip - (port + 0.1 * d1)).norm(), 1e-15);
-  // The third keeps the pan and tilt and goes 12 cm in.
-  EXPECT_LT((*in.script[2].tip - (port + 0.12 * d1)).norm(), 1e-15);
+  // The fourth keeps the pan and tilt (past a keyframe that moves only the jaws) and goes 12 cm in.
+  EXPECT_FALSE(in.script[2].tip);
+  EXPECT_LT((*in.script[3].tip - (port + 0.12 * d1)).norm(), 1e-15);
   for (double t = 0; t <= 1.2; t += 0.05) {
     const tools::InstrumentPose pose = tools::pose_at(in, t);
     // The axis runs from the port through the tip: the port is on the shaft's line.
