@@ -11,27 +11,14 @@
 #include <vector>
 
 #include "app/simulation/scene_simulation.hpp"
+#include "support/scene_text.hpp"
 
 namespace vdmsim {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path dir() {
-  const fs::path d = fs::path(VDMSIM_BUILD_DIR) / "test-output" / "core_scene_snapshot" /
-                     ::testing::UnitTest::GetInstance()->current_test_info()->name();
-  fs::create_directories(d);
-  return d;
-}
-
-PreparedScene prepare(const std::string& text) {
-  const fs::path p = dir() / "scene.yaml";
-  std::ofstream(p) << text;
-  PreparedScene ps;
-  std::vector<SceneProblem> problems;
-  EXPECT_TRUE(prepare_scene(p.string(), ps, problems)) << (problems.empty() ? "" : problems[0].text());
-  return ps;
-}
+PreparedScene prepare(const std::string& text) { return test::prepare_scene_text("core_scene_snapshot", text); }
 
 // The liver on the default model (no organ.model), its base fixed; `rest` is the scene's
 // simulation and instruments.
