@@ -296,7 +296,7 @@ inline constexpr SceneKey kSceneKeys[] = {
   key("instruments[].jaws", KT::choice, "Grasper: how its jaws look in the pictures: `box` (their collision boxes), "
       "`fenestrated` (an atraumatic grasper's jaws, a window in each) or `maryland` (a dissector's jaws, tapering and "
       "curving to the side). Contact and grasping use the boxes whatever the look.")
-      .one_of([] { return Words{"box", "fenestrated", "maryland"}; }).by_default("box").eg("jaws: fenestrated"),
+      .one_of([] { return Words{"box", "fenestrated", "maryland"}; }).by_default("box").eg("type: grasper, jaws: fenestrated"),
   key("instruments[].grasp_width", KT::number, "Grasper: surface nodes this close to the closed jaws are held.").in("m").above(0, 1)
       .by_default([] { return yaml_number(tools::InstrumentDef().grasp_width); }).eg("grasp_width: 0.006"),
   key("instruments[].port", KT::vector3, "A port in the abdominal wall: the shaft always passes through it. The "
