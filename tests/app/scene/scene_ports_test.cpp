@@ -177,3 +177,16 @@ TEST(ScenePorts, AKeyframeWhoseShaftCannotPassItsPortIsRefused) {
   EXPECT_EQ(problems.back().text().rfind(behind + ":11:", 0), 0u) << problems.back().text();
   EXPECT_NE(problems.back().text().find("behind the port"), std::string::npos);
 }
+
+TEST(ScenePorts, AGraspersJawLookIsReadAndAnUnknownOneRefused) {
+  const std::string good = ports_scene(
+      "jaws.yaml", "", "instruments:\n  - type: grasper\n    jaws: maryland\n    script: [{t: 0, tip: [0, 0, 0.08]}]\n");
+  const vdmsim::SceneLoadResult r = vdmsim::load_scene(good);
+  ASSERT_TRUE(r.ok()) << (r.problems.empty() ? "" : r.problems[0].text());
+  EXPECT_EQ(r.scene.instruments[0].jaw_look, tools::InstrumentDef::JawLook::maryland);
+  const std::string bad = ports_scene(
+      "bad_jaws.yaml", "", "instruments:\n  - type: grasper\n    jaws: fenestratd\n    script: [{t: 0, tip: [0, 0, 0.08]}]\n");
+  const std::string text = problem_at(vdmsim::load_scene(bad), "instruments[0].jaws");
+  EXPECT_EQ(text.rfind(bad + ":8:11:", 0), 0u) << text;
+  EXPECT_NE(text.find("did you mean 'fenestrated'"), std::string::npos) << text;
+}
