@@ -127,7 +127,7 @@ struct Renderer::Impl {
   const vdm::TriMat* triangles = nullptr;  // the rest mesh's (Renderer::create: it outlives the renderer)
   std::vector<Eigen::Vector3f> normals;
   // Instruments (parametric, by dimensions) and skins (by address).
-  std::map<std::tuple<int, double, double, double, int, double, double, double, double, const void*>, InstrumentMeshes>
+  std::map<std::tuple<int, int, double, double, double, int, double, double, double, double, const void*>, InstrumentMeshes>
       instruments;
   std::map<const SkinMesh*, GpuMesh> skins;
   // The floor's shadow mask.
@@ -567,7 +567,7 @@ void Renderer::Impl::set_tissue(GlProgram& p, const Eigen::Vector3f& base, const
 }
 
 InstrumentMeshes& Renderer::Impl::instrument_meshes(const InstrumentView& v) {
-  const auto key = std::make_tuple(int(v.type) + 16 * int(v.jaw_look), v.radius, v.length, v.jaw_length, int(v.shape.kind), v.shape.size.x(),
+  const auto key = std::make_tuple(int(v.type), int(v.jaw_look), v.radius, v.length, v.jaw_length, int(v.shape.kind), v.shape.size.x(),
                                    v.shape.size.y(), v.shape.size.z(), v.shape.rounding,
                                    static_cast<const void*>(v.shape.hull.get()));
   auto it = instruments.find(key);

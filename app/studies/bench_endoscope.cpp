@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "app/install/install_paths.hpp"
+#include "app/run/instrument_focus.hpp"
 #include "app/simulation/prepared_scene.hpp"
 #include "app/simulation/scene_simulation.hpp"
 #include "app/studies/quantile.hpp"
@@ -26,9 +27,7 @@ EndoscopeFrameCost bench_endoscope_frame(const fs::path& dir, int frames, int si
   SceneSimulation sim(ps);
   for (int f = 0; f < simulated_frames; ++f) sim.advance(f);
 
-  render::RenderSettings scope = ps.scene.render.settings;
-  for (const tools::InstrumentDef& in : ps.scene.instruments)
-    if (in.port) scope.ports.push_back(*in.port);
+  const render::RenderSettings scope = framed_settings(ps);  // as `vdmsim run` draws it: with the ports
   render::RenderSettings framing = scope;
   framing.camera_type = render::CameraType::framing;
   framing.auto_camera = true;

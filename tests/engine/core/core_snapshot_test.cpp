@@ -54,6 +54,17 @@ void press(const CoreModel& m, int k, StepInput& in) {
   in.force(0, 0) = 0.002 * (k % 3);
 }
 
+// Steps 1 to `steps` of the press from the state `a` (just made); whether each converged.
+bool pressed(const CoreModel& m, int steps, StepInput& in, CoreState& a) {
+  bool converged = true;
+  for (int k = 1; k <= steps; ++k) {
+    press(m, k, in);
+    step(m, in, a);
+    converged = converged && a.stats.converged;
+  }
+  return converged;
+}
+
 // A fresh state loaded from a snapshot of `a` (the whole snapshot read).
 CoreState reloaded(const CoreModel& m, const CoreState& a) {
   std::string bytes;
@@ -91,11 +102,7 @@ TEST(CoreSnapshot, HeldEntriesThroughAKeptFactorContinueBitForBit) {
   const CoreModel m = ball(0.008);
   CoreState a = make_core_state(m);
   StepInput in = test::free_input(m.ns);
-  for (int k = 1; k <= 3; ++k) {
-    press(m, k, in);
-    step(m, in, a);
-    ASSERT_TRUE(a.stats.converged);
-  }
+  ASSERT_TRUE(pressed(m, 3, in, a));
   // What the snapshot must carry is there: held entries with their factor, a factor for x
   // and y and one for z, and columns solved in more than one group.
   const CoreCarry carry = core_carry(a);
@@ -114,11 +121,7 @@ TEST(CoreSnapshot, AFactorisedPrescribedSetContinuesBitForBit) {
   const CoreModel m = ball(0.008, 12);
   CoreState a = make_core_state(m);
   StepInput in = test::free_input(m.ns);
-  for (int k = 1; k <= 3; ++k) {
-    press(m, k, in);
-    step(m, in, a);
-    ASSERT_TRUE(a.stats.converged);
-  }
+  ASSERT_TRUE(pressed(m, 3, in, a));
   ASSERT_NE(core_carry(a).factored, m.fixed) << "the cap is in the factor";
   CoreState b = reloaded(m, a);
   expect_same_steps(m, a, b, 4, 6, true);
@@ -179,10 +182,7 @@ TEST(CoreSnapshot, TruncatedForeignOrInconsistentBytesAreRefused) {
   const CoreModel m = ball(0.008);
   CoreState a = make_core_state(m);
   StepInput in = test::free_input(m.ns);
-  for (int k = 1; k <= 2; ++k) {
-    press(m, k, in);
-    step(m, in, a);
-  }
+  pressed(m, 2, in, a);
   std::string bytes;
   save_core_state(m, a, bytes);
   auto refusal = [&](const CoreModel& model, std::string_view data) {
