@@ -241,6 +241,80 @@ SkinMesh grasper_jaw_mesh(double radius, double jaw_length, int side, tools::Ins
   return m;
 }
 
+void append_tube(SkinMesh& m, const std::vector<Eigen::Vector2f>& path, float tube_radius, int segments) {
+  const size_t n = path.size();
+  if (n < 2) return;
+  const unsigned base = static_cast<unsigned>(m.positions.size());
+  const int row = segments + 1;
+  std::vector<Eigen::Vector3f> tangent(n);
+  for (size_t i = 0; i < n; ++i) {
+    const Eigen::Vector2f t = (path[std::min(i + 1, n - 1)] - path[i > 0 ? i - 1 : 0]).normalized();
+    tangent[i] = Eigen::Vector3f(t.x(), 0.0f, t.y());
+    // The section's circle: its in-plane direction (across the path in x-z) and y.
+    const Eigen::Vector3f across(t.y(), 0.0f, -t.x());
+    for (int k = 0; k <= segments; ++k) {
+      const float a = 2.0f * float(kPi) * float(k) / float(segments);
+      const Eigen::Vector3f normal = std::cos(a) * across + std::sin(a) * Eigen::Vector3f::UnitY();
+      add_vertex(m, Eigen::Vector3f(path[i].x(), 0.0f, path[i].y()) + tube_radius * normal, normal);
+    }
+  }
+  for (size_t i = 0; i + 1 < n; ++i)
+    for (int k = 0; k < segments; ++k) {
+      const unsigned a = base + unsigned(i * row + k), b = a + 1, c = a + row, d = c + 1;
+      // across x y = tangent: the ring turns counter-clockwise about the path, so (ring step)
+      // x (path step) points outward.
+      add_triangle(m, a, b, c);
+      add_triangle(m, b, d, c);
+    }
+  for (size_t e : {size_t(0), n - 1}) {  // flat discs closing the ends
+    const Eigen::Vector3f out = e == 0 ? Eigen::Vector3f(-tangent[0]) : tangent[n - 1];
+    const unsigned centre = add_vertex(m, Eigen::Vector3f(path[e].x(), 0.0f, path[e].y()), out);
+    const unsigned ring = static_cast<unsigned>(m.positions.size());
+    for (int k = 0; k <= segments; ++k) add_vertex(m, m.positions[base + e * row + k], out);
+    for (int k = 0; k < segments; ++k) {
+      if (e == 0)
+        add_triangle(m, centre, ring + k + 1, ring + k);
+      else
+        add_triangle(m, centre, ring + k, ring + k + 1);
+    }
+  }
+}
+
+HookMeshes probe_hook_meshes(double radius, double length) {
+  const float r = float(radius), len = float(std::max(length, 2 * radius));
+  HookMeshes h;
+  // The insulation: the capsule's cylinder up to 2.2 r behind the tip, then a short taper
+  // onto the wire's collar.
+  const float taper0 = -2.2f * r, taper1 = -1.7f * r, collar = 0.3f * r;
+  const Eigen::Vector2d slope = Eigen::Vector2d(taper1 - taper0, r - collar).normalized();  // (rho, z) outward
+  std::vector<Eigen::Vector2d> p = {{0, -len}, {r, -len}, {r, -len}, {r, taper0}, {r, taper0}, {collar, taper1}, {collar, taper1}, {0, taper1}};
+  std::vector<Eigen::Vector2d> n = {{0, -1}, {0, -1}, {1, 0}, {1, 0}, slope, slope, {0, 1}, {0, 1}};
+  append_lathe(h.shaft, p, n, 32);
+  // The wire: along the axis from inside the collar to a little behind the tip, over a
+  // half turn to +x (its crown at the tip) and back toward the handle: a hook of 0.84 r across.
+  // In units of r, then scaled about the capsule's tip centre (0, -r) if the tube would leave
+  // the capsule (it does not with these sizes).
+  const float wire = 0.13f, bend = 0.29f, crown = -0.5f;
+  std::vector<Eigen::Vector2f> path;
+  path.emplace_back(0.0f, -1.9f);
+  const int arc = 16;
+  for (int k = 0; k <= arc; ++k) {
+    const float a = float(kPi) * float(k) / float(arc);
+    path.emplace_back(bend - bend * std::cos(a), crown + bend * std::sin(a));
+  }
+  path.emplace_back(2 * bend, crown - 0.45f);
+  // The farthest the tube reaches from the capsule's axis segment, in units of r.
+  float farthest = 0;
+  for (const Eigen::Vector2f& q : path) {
+    const float along = std::min(q.y(), -1.0f);  // the axis segment's nearest point (z <= -r)
+    farthest = std::max(farthest, Eigen::Vector2f(q.x(), q.y() - along).norm() + wire);
+  }
+  const float fit = farthest > 1.0f ? 1.0f / farthest : 1.0f;
+  for (Eigen::Vector2f& q : path) q = r * Eigen::Vector2f(fit * q.x(), -1.0f + fit * (q.y() + 1.0f));
+  append_tube(h.hook, path, r * wire * fit, 16);
+  return h;
+}
+
 Eigen::Isometry3f jaw_transform(double jaw_length, double opening, int side) {
   return Eigen::Isometry3f(tools::jaw_transform(jaw_length, opening, side).matrix().cast<float>());
 }

@@ -31,6 +31,16 @@ SkinMesh grasper_jaw_mesh(double radius, double jaw_length, int side);
 // rounded frame around a window, a solid heel at the pivot) or a Maryland jaw (tapering and
 // curving to the side, both jaws alike so that they meet).
 SkinMesh grasper_jaw_mesh(double radius, double jaw_length, int side, tools::InstrumentDef::JawLook look);
+// An L-hook electrode drawn within a capsule probe of `radius` (tip at z = 0): `shaft`, the
+// insulated shaft ending in a taper a little behind the tip, and `hook`, the bare wire that
+// leaves it along the axis, turns over at the tip and comes back on the +x side.
+struct HookMeshes {
+  SkinMesh shaft, hook;
+};
+HookMeshes probe_hook_meshes(double radius, double length);
+// Appends a tube of circular section `tube_radius` along `path` in the x-z plane (y = 0),
+// its ends closed by flat discs.
+void append_tube(SkinMesh& m, const std::vector<Eigen::Vector2f>& path, float tube_radius, int segments);
 // Appends a bar of rectangular section swept along `path` in the x-z plane: `half_width[i]`
 // across the path in that plane at path[i], spanning y in [y0, y1]; flat faces; `closed`: the
 // path is a loop (else its ends are capped).

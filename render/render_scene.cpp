@@ -84,6 +84,7 @@ InstrumentView instrument_view(const tools::InstrumentDef& def, const tools::Ins
   v.jaw_length = def.jaw_length;
   v.jaw_opening = pose.jaw_opening;
   v.jaw_look = def.jaw_look;
+  v.probe_look = def.probe_look;
   v.frame = tools::jaw_frame(pose);
   return v;
 }

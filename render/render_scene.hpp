@@ -41,6 +41,7 @@ struct InstrumentView {
   double radius = 0.004, length = 0.3, jaw_length = 0.02;
   double jaw_opening = 1;                    // grasper: 0 closed, 1 fully open
   tools::InstrumentDef::JawLook jaw_look = tools::InstrumentDef::JawLook::box;  // grasper: the jaws drawn
+  tools::InstrumentDef::ProbeLook probe_look = tools::InstrumentDef::ProbeLook::plain;  // capsule probe: as drawn
   Eigen::Isometry3d frame = Eigen::Isometry3d::Identity();
   const SkinMesh* skin = nullptr;            // replaces the parametric body (probe, or grasper shaft)
   const SkinMesh* jaw_skins[2] = {nullptr, nullptr};  // grasper jaws, in the frame, closed

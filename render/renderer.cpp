@@ -75,11 +75,21 @@ struct GpuMesh {
   }
 };
 
+// An instrument's parametric meshes: its body (a probe, or a grasper's or hook's shaft), a
+// grasper's jaws, a hook's wire.
 struct InstrumentMeshes {
-  GpuMesh body, jaws[2];
+  GpuMesh body, jaws[2], wire;
 };
+// Which parts of the instruments a draw takes: the endoscope's view draws the shafts' black
+// insulation and the bare metal (jaws, a hook's wire) in two colours.
+enum class InstrumentParts { all, shafts, metal };
 
 Eigen::Vector3f f3(const Eigen::Vector3d& v) { return v.cast<float>(); }
+
+// A capsule probe drawn as a hook (other shapes are drawn as they collide).
+bool hook_look(const InstrumentView& v) {
+  return v.probe_look == tools::InstrumentDef::ProbeLook::hook && v.shape.kind == tools::ProbeShape::Kind::capsule;
+}
 
 // The endoscope's near clip plane (m): its tip can come this close to the tissue.
 constexpr double kEndoscopeNear = 0.001;
@@ -127,7 +137,7 @@ struct Renderer::Impl {
   const vdm::TriMat* triangles = nullptr;  // the rest mesh's (Renderer::create: it outlives the renderer)
   std::vector<Eigen::Vector3f> normals;
   // Instruments (parametric, by dimensions) and skins (by address).
-  std::map<std::tuple<int, int, double, double, double, int, double, double, double, double, const void*>, InstrumentMeshes>
+  std::map<std::tuple<int, int, int, double, double, double, int, double, double, double, double, const void*>, InstrumentMeshes>
       instruments;
   std::map<const SkinMesh*, GpuMesh> skins;
   // The floor's shadow mask.
@@ -159,7 +169,7 @@ struct Renderer::Impl {
   std::vector<float> crease, node_crease;
   std::vector<double> seen_depths;
   std::vector<Eigen::Vector3f> neighbour_sum;
-  std::vector<float> neighbour_count;
+  std::vector<float> neighbour_count, edge_sum;
   Eigen::Vector3d centre, lo, hi;
   double radius = 1, floor_z = 0;
   Eigen::Vector3d key_dir = Eigen::Vector3d(-0.55, -0.65, 1.2).normalized();
@@ -213,7 +223,8 @@ struct Renderer::Impl {
   GpuMesh& skin_mesh(const SkinMesh* s);
   GLuint colormap_texture(ColorMapName name);
   // `id_uniform` (the ground-truth pass): set to each instrument's segmentation id, when >= 0.
-  void draw_instruments(const RenderScene& scene, GlProgram& prog, bool mask_only, int id_uniform = -1);
+  void draw_instruments(const RenderScene& scene, GlProgram& prog, bool mask_only, int id_uniform = -1,
+                        InstrumentParts parts = InstrumentParts::all);
   void set_capsules(const RenderScene& scene);
   void shadow_mask_pass(const RenderScene& scene);
   void find_shadow_rect(const RenderScene& scene);
@@ -486,12 +497,15 @@ void Renderer::Impl::upload_normals(const vdm::NodeMat& x, const std::vector<flo
 
 // How deep each node lies in a crease, 0 (open or convex surface) to 0.5: the mean of its
 // neighbours (over its triangles) lies outward of it along its normal by a fair part of its
-// edges' length. Shades the endoscope's tissue darker in folds, where its light reaches less.
-// Needs upload_normals' accumulated normals.
+// edges' mean length. Measured against the edges, not against the neighbours' mean offset
+// (which is near zero on a regular patch, so that any slight kink would count as a crease).
+// Shades the endoscope's tissue darker in folds, where its light reaches less. Needs
+// upload_normals' accumulated normals.
 void Renderer::Impl::find_creases(const vdm::NodeMat& x) {
   const size_t n = normals.size();
   neighbour_sum.assign(n, Eigen::Vector3f::Zero());
   neighbour_count.assign(n, 0.0f);
+  edge_sum.assign(n, 0.0f);
   node_crease.resize(n);
   crease.resize(n);
   const vdm::TriMat& tris = *triangles;
@@ -500,6 +514,7 @@ void Renderer::Impl::find_creases(const vdm::NodeMat& x) {
       const int a = tris(t, k), b = tris(t, (k + 1) % 3), c = tris(t, (k + 2) % 3);
       neighbour_sum[size_t(a)] += (x.row(b) + x.row(c)).transpose().cast<float>();
       neighbour_count[size_t(a)] += 2.0f;
+      edge_sum[size_t(a)] += float((x.row(b) - x.row(a)).norm() + (x.row(c) - x.row(a)).norm());
     }
   for (size_t i = 0; i < n; ++i) {
     const float len = normals[i].norm();
@@ -507,8 +522,8 @@ void Renderer::Impl::find_creases(const vdm::NodeMat& x) {
     if (len <= 0 || neighbour_count[i] <= 0) continue;
     const Eigen::Vector3f p = x.row(Eigen::Index(i)).transpose().cast<float>();
     const Eigen::Vector3f off = neighbour_sum[i] / neighbour_count[i] - p;
-    const float reach = off.norm() + 1e-12f;
-    const float depth = off.dot(normals[i] / len) / reach;  // > 0: the neighbours stand out of it
+    const float edge = edge_sum[i] / neighbour_count[i] + 1e-12f;
+    const float depth = off.dot(normals[i] / len) / edge;  // > 0: the neighbours stand out of it
     node_crease[i] = std::clamp((depth - 0.1f) / 0.4f, 0.0f, 1.0f);
   }
   // Averaged over each node's triangles: a crease is a few edges wide; single nodes a little
@@ -567,13 +582,17 @@ void Renderer::Impl::set_tissue(GlProgram& p, const Eigen::Vector3f& base, const
 }
 
 InstrumentMeshes& Renderer::Impl::instrument_meshes(const InstrumentView& v) {
-  const auto key = std::make_tuple(int(v.type), int(v.jaw_look), v.radius, v.length, v.jaw_length, int(v.shape.kind), v.shape.size.x(),
+  const auto key = std::make_tuple(int(v.type), int(v.jaw_look), int(v.probe_look), v.radius, v.length, v.jaw_length, int(v.shape.kind), v.shape.size.x(),
                                    v.shape.size.y(), v.shape.size.z(), v.shape.rounding,
                                    static_cast<const void*>(v.shape.hull.get()));
   auto it = instruments.find(key);
   if (it != instruments.end()) return it->second;
   InstrumentMeshes m;
-  if (v.type == tools::InstrumentDef::Type::probe) {
+  if (v.type == tools::InstrumentDef::Type::probe && hook_look(v)) {
+    const HookMeshes hook = probe_hook_meshes(v.radius, v.length);
+    m.body.upload(hook.shaft);
+    m.wire.upload(hook.hook);
+  } else if (v.type == tools::InstrumentDef::Type::probe) {
     m.body.upload(probe_mesh(v.shape, v.radius, v.length));
   } else {
     m.body.upload(grasper_shaft_mesh(v.radius, v.length, v.jaw_length));
@@ -610,7 +629,8 @@ GLuint Renderer::Impl::colormap_texture(ColorMapName name) {
   return tex;
 }
 
-void Renderer::Impl::draw_instruments(const RenderScene& scene, GlProgram& prog, bool mask_only, int id_uniform) {
+void Renderer::Impl::draw_instruments(const RenderScene& scene, GlProgram& prog, bool mask_only, int id_uniform,
+                                      InstrumentParts parts) {
   const int u_model = prog.uniform("u_model");
   const int u_normal = mask_only ? -1 : prog.uniform("u_normal_matrix");
   auto draw_with = [&](const Eigen::Isometry3f& model, const GpuMesh& g) {
@@ -626,8 +646,13 @@ void Renderer::Impl::draw_instruments(const RenderScene& scene, GlProgram& prog,
     if (id_uniform >= 0) glUniform1ui(id_uniform, GLuint(kFirstInstrumentId + int(k)));
     const Eigen::Isometry3f frame = v.frame.cast<float>();
     InstrumentMeshes& param = instrument_meshes(v);
-    draw_with(frame, v.skin ? skin_mesh(v.skin) : param.body);
-    if (v.type == tools::InstrumentDef::Type::grasper)
+    // A plain probe is bare metal; a grasper's or a hook's shaft insulated.
+    const bool insulated = v.type == tools::InstrumentDef::Type::grasper || (!v.skin && hook_look(v));
+    const bool body = parts == InstrumentParts::all || (parts == InstrumentParts::shafts) == insulated;
+    const bool metal = parts != InstrumentParts::shafts;
+    if (body) draw_with(frame, v.skin ? skin_mesh(v.skin) : param.body);
+    if (metal && !v.skin && hook_look(v)) draw_with(frame, param.wire);
+    if (metal && v.type == tools::InstrumentDef::Type::grasper)
       for (int j = 0; j < 2; ++j) {
         const Eigen::Isometry3f model = frame * jaw_transform(v.jaw_length, v.jaw_opening, j == 0 ? +1 : -1);
         draw_with(model, v.jaw_skins[j] ? skin_mesh(v.jaw_skins[j]) : param.jaws[j]);
@@ -900,8 +925,15 @@ void Renderer::Impl::draw_frame(const RenderScene& scene, const StressView* view
   timer.mark("organ");
   // Instruments.
   GlProgram& metal = use(kMetal);
-  glUniform3f(metal.uniform("u_base_srgb"), 0.62f, 0.64f, 0.67f);
-  draw_instruments(scene, metal, false);
+  if (endoscope) {  // black insulated shafts, bare steel jaws and wires
+    glUniform3f(metal.uniform("u_base_srgb"), 0.05f, 0.05f, 0.055f);
+    draw_instruments(scene, metal, false, -1, InstrumentParts::shafts);
+    glUniform3f(metal.uniform("u_base_srgb"), 0.62f, 0.64f, 0.67f);
+    draw_instruments(scene, metal, false, -1, InstrumentParts::metal);
+  } else {
+    glUniform3f(metal.uniform("u_base_srgb"), 0.62f, 0.64f, 0.67f);
+    draw_instruments(scene, metal, false);
+  }
   timer.mark("instruments");
   if (endoscope) {
     // The abdomen's wall, behind everything (drawn last: covered pixels cost little): pink

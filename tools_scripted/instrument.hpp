@@ -52,6 +52,10 @@ struct InstrumentDef {
   // Grasper: how its jaws are drawn (their collision boxes whatever the look): the boxes
   // themselves, an atraumatic grasper's fenestrated jaws, or a Maryland dissector's curved ones.
   enum class JawLook { box, fenestrated, maryland } jaw_look = JawLook::box;
+  // Capsule probe: how it is drawn (its collision capsule whatever the look): the capsule
+  // itself, or an L-hook electrode (an insulated shaft, a bare wire bent sideways at the tip,
+  // within the capsule).
+  enum class ProbeLook { plain, hook } probe_look = ProbeLook::plain;
 };
 
 struct InstrumentPose {

@@ -854,6 +854,22 @@ void read_instruments(Reader& r, const YAML::Node& list, SceneDef& s, const std:
     }
     ConvexDef convex;
     if (const YAML::Node sh = n["shape"]) read_shape(r, sh, Reader::sub(fi, "shape"), in, convex, base);
+    if (const YAML::Node v = n["look"]) {
+      std::string look;
+      if (r.text(v, Reader::sub(fi, "look"), look)) {
+        if (look == "plain") in.probe_look = InstrumentDef::ProbeLook::plain;
+        else if (look == "hook") in.probe_look = InstrumentDef::ProbeLook::hook;
+        else {
+          const std::string near = closest(look, {"plain", "hook"});
+          r.error(v, Reader::sub(fi, "look"), "unknown look '" + look + "'" + (near.empty() ? "" : " (did you mean '" + near + "'?)") +
+                                                  "; expected plain or hook");
+        }
+        if (in.type != InstrumentDef::Type::probe)
+          r.warn(v, Reader::sub(fi, "look"), "a grasper's look is its jaws (`jaws`): ignored");
+        else if (in.probe_look == InstrumentDef::ProbeLook::hook && in.shape.kind != tools::ProbeShape::Kind::capsule)
+          r.warn(v, Reader::sub(fi, "look"), "a hook is drawn on a capsule probe only; this probe is drawn as its shape");
+      }
+    }
     SkinDef skin;
     if (const YAML::Node sk = n["skin"]; sk && r.require_map(sk, Reader::sub(fi, "skin"))) {
       const std::string fs = Reader::sub(fi, "skin");

@@ -297,6 +297,10 @@ inline constexpr SceneKey kSceneKeys[] = {
       "`fenestrated` (an atraumatic grasper's jaws, a window in each) or `maryland` (a dissector's jaws, tapering and "
       "curving to the side). Contact and grasping use the boxes whatever the look.")
       .one_of([] { return Words{"box", "fenestrated", "maryland"}; }).by_default("box").eg("type: grasper, jaws: fenestrated"),
+  key("instruments[].look", KT::choice, "Capsule probe: how it looks in the pictures: `plain` (the capsule) or `hook` "
+      "(an L-hook electrode: an insulated shaft and a bare wire that turns over at the tip and comes back on the "
+      "+x side of the instrument's frame; `roll_deg` turns it). Contact uses the capsule whatever the look.")
+      .one_of([] { return Words{"plain", "hook"}; }).by_default("plain").eg("type: probe, look: hook"),
   key("instruments[].grasp_width", KT::number, "Grasper: surface nodes this close to the closed jaws are held.").in("m").above(0, 1)
       .by_default([] { return yaml_number(tools::InstrumentDef().grasp_width); }).eg("grasp_width: 0.006"),
   key("instruments[].port", KT::vector3, "A port in the abdominal wall: the shaft always passes through it. The "
@@ -315,7 +319,8 @@ inline constexpr SceneKey kSceneKeys[] = {
       "cubic, continuous velocity, no overshoot; a hold stays a hold). Axes turn by slerp either way.")
       .one_of([] { return Words{"linear", "spline"}; }).by_default([] { return std::string(tools::InstrumentDef().path == tools::InstrumentDef::Path::linear ? "linear" : "spline"); })
       .eg("path: spline"),
-  key("instruments[].shape", KT::section, "A probe's collision shape, which is also what is drawn: a name "
+  key("instruments[].shape", KT::section, "A probe's collision shape, which is also what is drawn (a capsule may look "
+      "like a hook: `look`): a name "
       "(`capsule`, `cylinder`) or a mapping with `type` and the shape's own keys.").typed("name or mapping")
       .eg("shape: {type: cylinder, rounding: 0.001}"),
 

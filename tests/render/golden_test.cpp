@@ -96,6 +96,14 @@ TEST(GoldenImages, GraspLiftWithoutHud) {
   expect_matches_golden(dir / "stress" / "stress_00003.png", "grasp_small_stress_f3", kSceneTolerance);
 }
 
+// The endoscope's view: the textured tissue under the tip light, the abdomen's wall, black
+// shafts through their ports, the fenestrated jaws and the hook, a dent under the hook.
+TEST(GoldenImages, LaparoscopicView) {
+  const fs::path dir = render_scene("lap_small", "a");
+  expect_matches_golden(dir / "frames" / "frame_00001.png", "lap_small_shaded_f1", kSceneTolerance);
+  expect_matches_golden(dir / "stress" / "stress_00001.png", "lap_small_stress_f1", kSceneTolerance);
+}
+
 // The same scene rendered twice gives identical pixels (not merely within tolerance).
 TEST(GoldenImages, SameSceneTwiceGivesIdenticalPixels) {
   const fs::path a = render_scene("probe_small", "twice1"), b = render_scene("probe_small", "twice2");

@@ -88,6 +88,64 @@ TEST(InstrumentGeometry, DrawnGrasperShaftLiesOnItsCollisionCapsule) {
 }
 
 }  // namespace
+
+namespace {
+// The enclosed volume of a closed mesh by the divergence theorem: positive when its triangles
+// wind outward.
+double enclosed_volume(const SkinMesh& m) {
+  double v = 0;
+  for (size_t k = 0; k + 2 < m.indices.size(); k += 3) {
+    const Eigen::Vector3d a = m.positions[m.indices[k]].cast<double>(), b = m.positions[m.indices[k + 1]].cast<double>(),
+                          c = m.positions[m.indices[k + 2]].cast<double>();
+    v += a.dot(b.cross(c)) / 6.0;
+  }
+  return v;
+}
+}  // namespace
+
+TEST(InstrumentGeometry, AHookLiesWithinItsCapsuleAndTurnsOverAtTheTip) {
+  tools::InstrumentDef def;
+  def.radius = 0.004;
+  def.length = 0.3;
+  tools::InstrumentPose pose;
+  pose.tip = vdm::Vec3::Zero();
+  pose.axis = vdm::Vec3::UnitZ();
+  const vdm::ToolShape capsule = tools::probe_shape(def, pose, pose);
+  const HookMeshes h = probe_hook_meshes(def.radius, def.length);
+  ASSERT_FALSE(h.shaft.indices.empty());
+  ASSERT_FALSE(h.hook.indices.empty());
+  const double r = def.radius;
+  for (const SkinMesh* m : {&h.shaft, &h.hook}) {
+    for (const Eigen::Vector3f& v : m->positions) {
+      if (v.z() < -0.5 * def.length) continue;  // the drawn handle end is flat, the capsule's rounded
+      vdm::Vec3 p, n;
+      EXPECT_LE(vdm::tool_distance(capsule, v.cast<double>(), p, n), 1e-6) << "outside the capsule at " << v.transpose();
+    }
+    for (const Eigen::Vector3f& n : m->normals) EXPECT_NEAR(n.norm(), 1.0f, 1e-4f);
+  }
+  // The insulation is the capsule's cylinder behind its taper.
+  int on_cylinder = 0;
+  for (const Eigen::Vector3f& v : h.shaft.positions) {
+    if (v.z() < -0.5 * def.length || v.z() > -2.2 * r + 1e-6 || v.head<2>().norm() < 1e-9) continue;
+    vdm::Vec3 p, n;
+    EXPECT_NEAR(vdm::tool_distance(capsule, v.cast<double>(), p, n), 0.0, 1e-6);
+    ++on_cylinder;
+  }
+  EXPECT_GT(on_cylinder, 0);
+  // Both meshes are closed and wind outward: the wire's volume is about its section times its
+  // length (1.4 r of stem + a half turn of 0.29 r + 0.45 r back, 0.13 r in radius; its
+  // section a 16-gon, 2.6 % smaller than the circle).
+  EXPECT_GT(enclosed_volume(h.shaft), 0.9 * 3.14159 * r * r * (def.length - 2.2 * r));
+  const double wire_length = 1.4 * r + 3.14159 * 0.29 * r + 0.45 * r, section = 3.14159 * std::pow(0.13 * r, 2);
+  EXPECT_NEAR(enclosed_volume(h.hook), section * wire_length, 0.04 * section * wire_length);
+  // Its crown is at the tip; it comes back on the +x side only.
+  float z_hi = -1, x_lo = 1, x_hi = -1;
+  for (const Eigen::Vector3f& v : h.hook.positions) z_hi = std::max(z_hi, v.z()), x_lo = std::min(x_lo, v.x()), x_hi = std::max(x_hi, v.x());
+  EXPECT_GT(z_hi, -0.1 * r);
+  EXPECT_GT(x_hi, 0.6 * r);
+  EXPECT_GT(x_lo, -0.2 * r);
+}
+
 }  // namespace render
 
 // The jaws' looks are drawn within their collision boxes (what is seen touching is what

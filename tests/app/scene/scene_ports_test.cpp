@@ -190,3 +190,30 @@ TEST(ScenePorts, AGraspersJawLookIsReadAndAnUnknownOneRefused) {
   EXPECT_EQ(text.rfind(bad + ":8:11:", 0), 0u) << text;
   EXPECT_NE(text.find("did you mean 'fenestrated'"), std::string::npos) << text;
 }
+
+TEST(ScenePorts, AProbesHookLookIsReadAndWarnedWhereItCannotBeDrawn) {
+  const std::string good = ports_scene(
+      "hook.yaml", "", "instruments:\n  - type: probe\n    look: hook\n    script: [{t: 0, tip: [0, 0, 0.08]}]\n");
+  const vdmsim::SceneLoadResult r = vdmsim::load_scene(good);
+  ASSERT_TRUE(r.ok()) << (r.problems.empty() ? "" : r.problems[0].text());
+  EXPECT_TRUE(r.problems.empty()) << r.problems[0].text();
+  EXPECT_EQ(r.scene.instruments[0].probe_look, tools::InstrumentDef::ProbeLook::hook);
+  // On a grasper, or on a probe whose shape is not a capsule, the look is warned about (the
+  // scene still loads; such an instrument is drawn as it collides).
+  const std::string grasper = ports_scene(
+      "hook_grasper.yaml", "", "instruments:\n  - type: grasper\n    look: hook\n    script: [{t: 0, tip: [0, 0, 0.08]}]\n");
+  const vdmsim::SceneLoadResult g = vdmsim::load_scene(grasper);
+  EXPECT_TRUE(g.ok());
+  EXPECT_NE(problem_at(g, "instruments[0].look").find("a grasper's look is its jaws"), std::string::npos);
+  const std::string box = ports_scene("hook_box.yaml", "",
+                                      "instruments:\n  - type: probe\n    shape: {type: box, size: [0.01, 0.01, 0.02]}\n"
+                                      "    look: hook\n    script: [{t: 0, tip: [0, 0, 0.08]}]\n");
+  const vdmsim::SceneLoadResult b = vdmsim::load_scene(box);
+  EXPECT_TRUE(b.ok());
+  EXPECT_NE(problem_at(b, "instruments[0].look").find("capsule probe only"), std::string::npos);
+  const std::string bad = ports_scene(
+      "bad_hook.yaml", "", "instruments:\n  - type: probe\n    look: hok\n    script: [{t: 0, tip: [0, 0, 0.08]}]\n");
+  const std::string text = problem_at(vdmsim::load_scene(bad), "instruments[0].look");
+  EXPECT_EQ(text.rfind(bad + ":8:11:", 0), 0u) << text;
+  EXPECT_NE(text.find("did you mean 'hook'"), std::string::npos) << text;
+}
