@@ -1,5 +1,5 @@
-// Hard cases on the elastic core (issue 42): a deep press and a squeeze with the default
-// constraint contact (friction 0.2, solved inside the core's iteration), and the awkward
+// Hard cases on the elastic core (issue 42): a deep press, a squeeze and a free ball pushed,
+// with the default constraint contact (friction 0.2, solved inside the core's iteration), and the awkward
 // meshes (slivers of aspect 1e4, cells differing 100 times) compressed by 30 %. Each step ends
 // finite, with the volume to round-off, no collapsed triangle, no folded edge (to each case's
 // measured limit; support/hard_cases.hpp), converged, and no free node in a probe. Label `long`.
@@ -93,6 +93,43 @@ TEST(CoreHard, ProbePressedToHalfTheBallsDepth) {
     last_force = rep.force.z();
   }
   EXPECT_GT(last_force, 0.0);
+}
+
+// An organ held nowhere, pushed by a probe: with no inertia nothing resists a rigid motion (the
+// core's regularisation, 1e-10 of its stiffness, only keeps it solvable), so the ball moves
+// ahead of the probe, the force stays a vanishing share of what the same press into a held ball
+// takes, every step converges and the volume holds.
+TEST(CoreHard, AFreeBallPushedByAProbeMovesAheadOfItWithoutForce) {
+  const double R = 0.05, r = 0.008, step_m = 2e-3;
+  const SurfaceMesh ball = make_icosphere(R, 3);
+  const FlagMat none = FlagMat::Zero(ball.node_count(), 3);
+  double force[2] = {0, 0};
+  Vec3 centroid_moved = Vec3::Zero();
+  for (int held = 0; held < 2; ++held) {
+    Organ o = organ(ball, held ? held_below(ball, -0.045) : none, 0.01);
+    SimState s = make_sim_state(o.m);
+    const StepInput base = make_step_input(o.m);
+    ContactSolver cs(o.m);
+    cs.set_solver(o.core.get());
+    ContactReport rep;
+    for (int k = 0; k <= 5; ++k) {  // 10 mm down from touching the top
+      const std::vector<ToolShape> tools = {probe(Vec3(0, 0, R - k * step_m), -Vec3::UnitZ(), r,
+                                                  k ? Vec3(0, 0, -step_m) : Vec3::Zero())};
+      cs.step(o.m, base, tools, s, rep);
+      expect_sensible(o.m, s, 0.06, "held " + std::to_string(held) + ", step " + std::to_string(k));
+      ASSERT_FALSE(HasFailure());
+      EXPECT_TRUE(rep.converged) << "held " << held << ", step " << k;
+      EXPECT_LT(std::abs(s.volume_rel_error), 1e-12);
+      EXPECT_LE(free_penetration(s, cs, tools), 0.02 * r);
+    }
+    force[held] = rep.force.z();
+    if (!held) centroid_moved = (s.x - o.m.rest.positions).colwise().mean().transpose();
+  }
+  EXPECT_GT(force[1], 0.0);
+  EXPECT_LT(std::abs(force[0]), 1e-4 * force[1]) << "free " << force[0] << " N, held " << force[1] << " N";
+  // The free ball went down with the probe (its top stays on the tip; its shape barely changes).
+  EXPECT_NEAR(centroid_moved.z(), -5 * step_m, 0.1 * 5 * step_m);
+  EXPECT_LT(std::abs(centroid_moved.x()) + std::abs(centroid_moved.y()), 0.1 * 5 * step_m);
 }
 
 TEST(CoreHard, LiverSqueezedBetweenTwoProbes) {
