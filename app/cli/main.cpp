@@ -92,8 +92,8 @@ int main(int argc, char** argv) {
 
   std::string organ = "liver", organ_out;
   int organ_level = 4;
-  auto* make_organ = app.add_subcommand("make-organ", "Generate the project's organ mesh (OBJ, metres)");
-  make_organ->add_option("ORGAN", organ, "Organ to generate: liver")->required();
+  auto* make_organ = app.add_subcommand("make-organ", "Generate one of the project's organ meshes (OBJ, metres)");
+  make_organ->add_option("ORGAN", organ, "Organ to generate: liver or gallbladder")->required();
   make_organ->add_option("--level", organ_level, "Subdivision level: 4, 5, 6 give 2562, 10242, 40962 nodes");
   make_organ->add_option("--out", organ_out, "Output OBJ file")->required()->check(cli::named_path());
   bool organ_scan_like = false;

@@ -39,22 +39,41 @@ double LiverShape::value(const vdm::Vec3& p) const {
   return blended + groove - 1.0;
 }
 
-vdm::Vec3 LiverShape::gradient(const vdm::Vec3& p) const {
+namespace {
+
+// The gradient of an implicit shape by central differences.
+template <class Shape>
+vdm::Vec3 central_gradient(const Shape& s, const vdm::Vec3& p) {
   const double h = 1e-6;
   vdm::Vec3 g;
   for (int d = 0; d < 3; ++d) {
     vdm::Vec3 a = p, b = p;
     a[d] += h;
     b[d] -= h;
-    g[d] = (value(a) - value(b)) / (2 * h);
+    g[d] = (s.value(a) - s.value(b)) / (2 * h);
   }
   return g;
 }
 
+}  // namespace
+
+vdm::Vec3 LiverShape::gradient(const vdm::Vec3& p) const { return central_gradient(*this, p); }
+
+double GallbladderShape::value(const vdm::Vec3& p) const {
+  // The fundus and body: an ellipsoid 6.8 cm long; the neck: a narrower one overlapping its
+  // +x end, a little higher, blended in so that the body tapers into it.
+  const double body = ellipsoid(p, vdm::Vec3(0.0, 0.0, 0.0), vdm::Vec3(0.034, 0.016, 0.015));
+  const double neck = ellipsoid(p, vdm::Vec3(0.036, 0.0, 0.006), vdm::Vec3(0.02, 0.007, 0.007));
+  return smooth_min(body, neck, 0.3) - 1.0;
+}
+
+vdm::Vec3 GallbladderShape::gradient(const vdm::Vec3& p) const { return central_gradient(*this, p); }
+
 namespace {
 
 // Newton steps along the gradient onto the zero level set.
-vdm::Vec3 project(const LiverShape& s, vdm::Vec3 p) {
+template <class Shape>
+vdm::Vec3 project(const Shape& s, vdm::Vec3 p) {
   for (int it = 0; it < 20; ++it) {
     const double f = s.value(p);
     const vdm::Vec3 g = s.gradient(p);
@@ -67,7 +86,8 @@ vdm::Vec3 project(const LiverShape& s, vdm::Vec3 p) {
 }
 
 // The surface point on the ray from the shape's centre along `dir` (first crossing).
-vdm::Vec3 ray_hit(const LiverShape& s, const vdm::Vec3& dir) {
+template <class Shape>
+vdm::Vec3 ray_hit(const Shape& s, const vdm::Vec3& dir) {
   const vdm::Vec3 c = s.center();
   double lo = 0.0, hi = 0.005;
   while (s.value(c + hi * dir) < 0.0) {
@@ -81,13 +101,18 @@ vdm::Vec3 ray_hit(const LiverShape& s, const vdm::Vec3& dir) {
   return c + 0.5 * (lo + hi) * dir;
 }
 
-}  // namespace
-
-vdm::SurfaceMesh make_liver_mesh(int level, int relax_iterations) {
-  const LiverShape shape;
+// The shape meshed: the icosphere's nodes projected along its rays from the shape's centre,
+// then relaxed along the surface.
+// `stretch` scales the icosphere's directions before they are cast (empty: as they are).
+template <class Shape>
+vdm::SurfaceMesh mesh_shape(const Shape& shape, int level, int relax_iterations, const vdm::Vec3* stretch) {
   vdm::SurfaceMesh mesh = vdm::make_icosphere(1.0, level);
   const int n = mesh.node_count();
-  for (int i = 0; i < n; ++i) mesh.positions.row(i) = ray_hit(shape, mesh.positions.row(i).transpose()).transpose();
+  for (int i = 0; i < n; ++i) {
+    vdm::Vec3 dir = mesh.positions.row(i).transpose();
+    if (stretch) dir = dir.cwiseProduct(*stretch).normalized();
+    mesh.positions.row(i) = ray_hit(shape, dir).transpose();
+  }
   // Tangential relaxation: move each node toward the average of its neighbours, remove the
   // normal part of the move, and project back onto the surface. Evens out the triangles that
   // the radial projection stretched over the elongated lobes.
@@ -118,6 +143,18 @@ vdm::SurfaceMesh make_liver_mesh(int level, int relax_iterations) {
   // memory nearly in order.
   vdm::renumber_for_locality(mesh);
   return mesh;
+}
+
+}  // namespace
+
+vdm::SurfaceMesh make_liver_mesh(int level, int relax_iterations) {
+  return mesh_shape(LiverShape(), level, relax_iterations, nullptr);
+}
+
+vdm::SurfaceMesh make_gallbladder_mesh(int level, int relax_iterations) {
+  const GallbladderShape shape;
+  const vdm::Vec3 stretch = shape.stretch();
+  return mesh_shape(shape, level, relax_iterations, &stretch);
 }
 
 }  // namespace vdmsim
