@@ -184,7 +184,7 @@ void main() {
   vec3 second = u_second_srgb * u_second_srgb;
   base = mix(base, second, smoothstep(0.45, 0.8, v_tint));
   // Fine bumps: the field at a finer scale tilts the normal (one fetch a pixel).
-  vec4 fine = texture(u_noise, v_rest * (u_noise_scale * 9.7));
+  vec4 fine = textureLod(u_noise, v_rest * (u_noise_scale * 9.7), 0.0);  // no mipmaps: level 0, no derivatives
   vec3 g = fine.rgb * 2.0 - 1.0;
   n = normalize(n - u_bump * (g - dot(g, n) * n));
   base *= 0.9 + 0.2 * fine.a;
