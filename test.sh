@@ -67,7 +67,8 @@ if [ "$sanitizers" = 1 ]; then
     -DCMAKE_CXX_FLAGS_DEBUG="-g1 -O1" -DVDMSIM_SANITIZE=ON \
     -DCMAKE_UNITY_BUILD=ON -DCMAKE_UNITY_BUILD_BATCH_SIZE=8 > /dev/null
   # Only what the sanitizer pass runs: the unit tests and the binary some of them call (the
-  # long, e2e and bench executables run in the first pass only).
+  # long, e2e and bench executables run in the first pass only, and so do the unit tests
+  # labelled numerics: tests/numerics_labels.cmake).
   phase "sanitizer build" cmake --build build-asan -j "$jobs" --target vdmsim vdmsim_tests vdmsim_render_tests
   # alloc_dealloc_mismatch=0: Debian's libfcl.so allocates BVH arrays with Eigen's aligned
   # operator new[] (malloc) while the header-instantiated ~BVHModel frees them with the plain
@@ -77,5 +78,5 @@ if [ "$sanitizers" = 1 ]; then
     LSAN_OPTIONS="suppressions=$PWD/tests/lsan.supp:print_suppressions=0" \
     ASAN_OPTIONS=detect_leaks=1:abort_on_error=1:alloc_dealloc_mismatch=0 \
     UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-    ctest --test-dir build-asan --output-on-failure -j "$jobs" --no-tests=error -LE "long|e2e" -E NOT_BUILT
+    ctest --test-dir build-asan --output-on-failure -j "$jobs" --no-tests=error -LE "long|e2e|numerics" -E NOT_BUILT
 fi
