@@ -1,6 +1,7 @@
 # Read by CTest after the discovered tests (tests/CMakeLists.txt): the unit tests labelled
 # `numerics`, which test.sh's sanitizer pass leaves out. Each is a law checked over many steps
 # or meshes; the code it runs is run under the sanitizers by shorter tests (named after each).
+# A name CTest does not find is ignored (a renamed test then runs in the sanitizer pass too).
 set(vdmsim_numerics_tests
   # constraint contact, with friction and on the core: ConstraintContact.SmallSidewaysPushSticks,
   # ThinProbeBetweenNodesMovesTheSurface, OrganSolverContact.*, CoreSceneSnapshot.*, CoreStress.*
