@@ -66,8 +66,8 @@ Eigen::Matrix3d nearest_rotation(const Eigen::Matrix3d& F, Eigen::Quaterniond& q
     // less, which the core's next iteration takes up (it fits again from here, with turns that
     // shrink as it converges, so its last fits are exact to 1e-10). A second pass to confirm
     // each such fit would be a third more passes on a press and two thirds more on a slide,
-    // for the same iterations and forces. (At 1e-3 rad the slowly converging bend of
-    // ElasticCore.LoadedBendingStopsNearItsFixedPoint stopped 1.2 % short.)
+    // for the same iterations and forces. A looser bound lets a slowly converging bend stop
+    // short (ElasticCore.LoadedBendingStopsNearItsFixedPoint, by 1.2 % at 1e-3 rad).
     if (newton && angle < 3e-4) break;
   }
   return R;
