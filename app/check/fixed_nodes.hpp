@@ -11,10 +11,10 @@ struct FixedCount {
   int nodes = 0;                 // the organ's nodes
   int fixed = 0;                 // held on all three axes
   int partly = 0;                // held on one or two axes only
-  std::vector<int> per_region;   // nodes each organ.fixed entry selects
+  std::vector<int> per_region;   // nodes each of its fixed entries selects
 };
 
-// Counts on the rest positions `rest` (the prepared organ's, after scale and placement).
-FixedCount count_fixed(const SceneDef& scene, const vdm::NodeMat& rest);
+// Counts on the rest positions `rest` of `organ` (the prepared organ's, after scale and placement).
+FixedCount count_fixed(const OrganDef& organ, const vdm::NodeMat& rest);
 
 }  // namespace vdmsim

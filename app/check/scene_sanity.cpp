@@ -6,6 +6,8 @@
 #include <sstream>
 
 #include "app/scene/scene_keys.hpp"
+#include "app/simulation/organ_overlap.hpp"
+#include "app/simulation/scene_simulation.hpp"
 
 namespace vdmsim {
 
@@ -30,19 +32,43 @@ double region_extent(const Region& r) {
   return 0;
 }
 
-void check_fixed(const SceneDef& s, const FixedCount& c, double organ_size, std::vector<SceneProblem>& out) {
+void check_fixed(const SceneDef& s, const OrganDef& o, const FixedCount& c, double organ_size,
+                 std::vector<SceneProblem>& out) {
   if (c.nodes == 0 || c.fixed < c.nodes) return;
   std::string message = "all " + std::to_string(c.nodes) + " nodes are fixed on every axis: nothing can move";
   size_t widest = 0;
-  for (size_t k = 0; k < s.fixed.size(); ++k)
-    if (region_extent(s.fixed[k].region) > region_extent(s.fixed[widest].region)) widest = k;
-  const double extent = s.fixed.empty() ? 0 : region_extent(s.fixed[widest].region);
+  for (size_t k = 0; k < o.fixed.size(); ++k)
+    if (region_extent(o.fixed[k].region) > region_extent(o.fixed[widest].region)) widest = k;
+  const double extent = o.fixed.empty() ? 0 : region_extent(o.fixed[widest].region);
   if (extent > 10 * organ_size)
-    message += " (organ.fixed[" + std::to_string(widest) + "] is " + num(extent) + " m across, the organ " + num(organ_size) +
+    message += " (" + o.field + ".fixed[" + std::to_string(widest) + "] is " + num(extent) + " m across, the organ " + num(organ_size) +
                " m: a region in millimetres? regions are in metres, after organ.scale)";
   else
     message += "; fix only the part of the organ that rests on something";
-  out.push_back({s.fixed.empty() ? s.file : s.fixed[widest].region.where, "organ.fixed", message, false});
+  out.push_back({o.fixed.empty() ? s.file : o.fixed[widest].region.where, o.field + ".fixed", message, false});
+}
+
+// Organs that overlap at rest: deeper than a run allows (it would stop at its first frame) an
+// error, a touch within it a warning.
+void check_overlaps(const PreparedScene& ps, std::vector<SceneProblem>& out) {
+  const SceneDef& s = ps.scene;
+  for (size_t i = 0; i < ps.organs.size(); ++i)
+    for (size_t j = i + 1; j < ps.organs.size(); ++j) {
+      const vdm::SurfaceMesh &a = ps.organs[i].model.rest, &b = ps.organs[j].model.rest;
+      const OrganOverlap o = find_overlap(a.positions, a.triangles, b.positions, b.triangles);
+      if (!o.crossing) continue;
+      const OrganDef& in = s.organs[o.in_b ? i : j];
+      const OrganDef& into = s.organs[o.in_b ? j : i];
+      const bool deep = o.depth > kOrganOverlap;
+      out.push_back({s.file, s.organs[j].field,
+                     s.organs[i].name + " and " + s.organs[j].name + " overlap at rest: node " + std::to_string(o.node) +
+                         " of " + in.name + " is " + num(o.depth * 1000) + " mm inside " + into.name + " at [" +
+                         num(o.where.x()) + ", " + num(o.where.y()) + ", " + num(o.where.z()) + "] m" +
+                         (deep ? "; contact between organs is not simulated: a run stops when organs are more than " +
+                                     num(kOrganOverlap * 1000) + " mm inside each other; move them apart"
+                               : " (their surfaces touch)"),
+                     !deep});
+    }
 }
 
 void check_instruments(const SceneDef& s, const std::vector<InstrumentReach>& reach, double organ_size, double end,
@@ -91,17 +117,17 @@ void check_instruments(const SceneDef& s, const std::vector<InstrumentReach>& re
 }
 
 void check_material(const SceneDef& s, std::vector<SceneProblem>& out) {
-  if (s.material_given) return;
+  if (s.organ().material_given) return;
   const SceneDef d;
   // The model's material keys with their defaults, as the scene reference gives them.
   std::string values;
-  for (const std::string& path : organ_model(s.model).material) {
+  for (const std::string& path : organ_model(s.organ().model).material) {
     const SceneKey& k = kSceneKeys[scene_key_index(path.c_str())];
     values += (values.empty() ? "" : ", ") + path.substr(path.rfind('.') + 1) + " " + k.default_value() +
               (*k.unit ? std::string(" ") + k.unit : std::string());
   }
   out.push_back({s.file, "organ.material",
-                 "not given: the default material is used (" + values + ", density " + num(d.density, 6) +
+                 "not given: the default material is used (" + values + ", density " + num(d.organ().density, 6) +
                      " kg/m^3); give your tissue's",
                  true});
 }
@@ -116,7 +142,7 @@ std::string point(const vdm::Vec3& v, double scale) {
 // Where instrument k's keyframes placed on the organ (on_surface) put its tip.
 void print_placements(const PreparedScene& ps, size_t k, std::ostream& out) {
   const std::vector<SurfacePlacement>& list = ps.scene.surface_keyframes;
-  const double size = std::max(ps.model.size, 1e-300);
+  const double size = std::max(ps.organ().model.size, 1e-300);
   for (size_t j = 0; j < list.size() && j < ps.surface_hits.size(); ++j) {
     const SurfacePlacement& p = list[j];
     if (p.instrument != k) continue;
@@ -136,24 +162,31 @@ SanityReport scene_sanity(const PreparedScene& ps) {
   const SceneDef& s = ps.scene;
   SanityReport r;
   r.end_time = std::max(s.frames - 1, 0) * s.dt;  // frame f is the scene at f dt
-  r.fixed = count_fixed(s, ps.model.rest.positions);
+  for (size_t o = 0; o < s.organs.size(); ++o) {
+    r.fixed.push_back(count_fixed(s.organs[o], ps.organs[o].model.rest.positions));
+    check_fixed(s, s.organs[o], r.fixed.back(), ps.organs[o].model.size, r.problems);
+  }
+  check_overlaps(ps, r.problems);
   for (const InstrumentDef& def : s.instruments)
-    r.reach.push_back(instrument_reach(def, ps.model.rest, reach_times(def, s.frames, s.dt)));
-  check_fixed(s, r.fixed, ps.model.size, r.problems);
-  check_instruments(s, r.reach, ps.model.size, r.end_time, r.problems);
+    r.reach.push_back(instrument_reach(def, ps.surface, reach_times(def, s.frames, s.dt)));
+  check_instruments(s, r.reach, ps.organ().model.size, r.end_time, r.problems);
   check_material(s, r.problems);
   return r;
 }
 
 void print_sanity(const PreparedScene& ps, const SanityReport& report, std::ostream& out) {
   const SceneDef& s = ps.scene;
-  const FixedCount& c = report.fixed;
-  out << "fixed:      " << c.fixed << " of " << c.nodes << " nodes (" << share(c.fixed, c.nodes) << ") on every axis";
-  if (c.partly) out << ", " << c.partly << " (" << share(c.partly, c.nodes) << ") on some axes";
-  out << "\n";
-  for (size_t k = 0; k < c.per_region.size(); ++k)
-    out << "            organ.fixed[" << k << "]: " << c.per_region[k] << " nodes (" << share(c.per_region[k], c.nodes)
-        << ")\n";
+  for (size_t o = 0; o < report.fixed.size(); ++o) {
+    const FixedCount& c = report.fixed[o];
+    const OrganDef& organ = s.organs[o];
+    out << (report.fixed.size() > 1 ? "fixed (" + organ.name + "): " : std::string("fixed:      ")) << c.fixed << " of "
+        << c.nodes << " nodes (" << share(c.fixed, c.nodes) << ") on every axis";
+    if (c.partly) out << ", " << c.partly << " (" << share(c.partly, c.nodes) << ") on some axes";
+    out << "\n";
+    for (size_t k = 0; k < c.per_region.size(); ++k)
+      out << "            " << organ.field << ".fixed[" << k << "]: " << c.per_region[k] << " nodes ("
+          << share(c.per_region[k], c.nodes) << ")\n";
+  }
   for (size_t k = 0; k < report.reach.size(); ++k) {
     const InstrumentReach& r = report.reach[k];
     out << instrument_name(k) << " ("

@@ -13,7 +13,7 @@
 namespace vdmsim {
 
 struct SanityReport {
-  FixedCount fixed;
+  std::vector<FixedCount> fixed;       // per organ, in the scene's order
   std::vector<InstrumentReach> reach;  // per instrument, in the scene's order
   double end_time = 0;                 // the last frame's time (s)
   std::vector<SceneProblem> problems;  // warnings; an error when every node is fixed

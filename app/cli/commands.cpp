@@ -124,7 +124,7 @@ int cmd_check(const std::string& scene_path, std::ostream& out, std::ostream& er
   const SanityReport sanity = scene_sanity(ps);
   problems.insert(problems.end(), sanity.problems.begin(), sanity.problems.end());
   if (!report_problems(problems, err)) return 2;
-  out << scene_path << ": ok (" << ps.model.n << " nodes, " << ps.scene.frames << " frames of " << ps.scene.dt
+  out << scene_path << ": ok (" << ps.surface.node_count() << " nodes, " << ps.scene.frames << " frames of " << ps.scene.dt
       << " s, effects:";
   for (Effect e : ps.scene.effects) out << ' ' << to_string(e);
   out << ")\n";

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <vector>
 
+#include "app/run/scene_field.hpp"
 #include "app/simulation/scene_simulation.hpp"
 #include "engine/stopwatch.hpp"
 
@@ -18,8 +19,12 @@ namespace {
 void widen_to_frame(const PreparedScene& ps, render::Quantity quantity, std::vector<float>& field, double& lo, double& hi) {
   if (quantity == render::Quantity::contact_pressure) {
     size_t kept = 0;
-    for (size_t i = 0; i < field.size(); ++i)
-      if (field[i] > 0.0f && ps.model.held.row(static_cast<Eigen::Index>(i)).minCoeff() == 0) field[kept++] = field[i];
+    for (size_t o = 0; o < ps.organs.size(); ++o) {
+      const vdm::FlagMat& held = ps.organs[o].model.held;
+      const size_t first = static_cast<size_t>(ps.node_offset[o]);
+      for (Eigen::Index i = 0; i < held.rows(); ++i)
+        if (field[first + i] > 0.0f && held.row(i).minCoeff() == 0) field[kept++] = field[first + i];
+    }
     field.resize(kept);
     if (field.empty()) return;
   }
@@ -39,8 +44,8 @@ void first_pass_range(const PreparedScene& ps, int frames, render::Quantity quan
   progress.restart();
   for (int f = 0; f < frames && !signals.received(); ++f) {
     pass.advance(f);
-    if (pass.state().failed || !pass.state().u.allFinite()) break;
-    render::scalar_field(quantity, pass.state(), field);
+    if (pass.failed() || !pass.positions().allFinite()) break;
+    scene_scalar_field(quantity, pass, field);
     widen_to_frame(ps, quantity, field, lo, hi);
     progress.show("colour range", f + 1, frames);
   }

@@ -5,6 +5,14 @@
 #include <csignal>
 
 namespace vdmsim {
+namespace {
+// The hash of every organ's state (one organ's: its state's own).
+std::string scene_state_hash(const SceneSimulation& sim) {
+  std::string h = state_hash(sim.state(0));
+  for (size_t i = 1; i < sim.organ_count(); ++i) h += "-" + state_hash(sim.state(i));
+  return h;
+}
+}  // namespace
 
 void RunTally::add_step(double ms) {
   sum_step += ms;
@@ -32,9 +40,8 @@ void FrameLoop::run(int first, RunTally& tally, RunOutcome& outcome) {
       break;
     }
     sim.advance(f);
-    const vdm::SimState& state = sim.state();
-    if (state.failed) {  // the engine could not do this frame: stop, keeping every frame so far
-      outcome.fail("frame " + std::to_string(f) + ": " + state.failure);
+    if (sim.failed()) {  // the engine could not do this frame: stop, keeping every frame so far
+      outcome.fail("frame " + std::to_string(f) + ": " + sim.failure());
       break;
     }
     // Nothing unsound is written: the run stops as failed, every frame before this one kept.
@@ -43,7 +50,8 @@ void FrameLoop::run(int first, RunTally& tally, RunOutcome& outcome) {
       break;
     }
     if (sim.frame_stepped()) tally.add_step(sim.frame_step_ms());  // an inertial frame 0 takes none
-    tally.max_volume_error = std::max(tally.max_volume_error, std::abs(state.volume_rel_error));
+    for (size_t i = 0; i < sim.organ_count(); ++i)
+      tally.max_volume_error = std::max(tally.max_volume_error, std::abs(sim.state(i).volume_rel_error));
     if (!(f < setup.start ? replay(f, outcome) : write(f, tally, outcome))) break;
   }
   progress.end_line();
@@ -51,7 +59,7 @@ void FrameLoop::run(int first, RunTally& tally, RunOutcome& outcome) {
 
 bool FrameLoop::replay(int f, RunOutcome& outcome) {
   const Checkpoint& cp = setup.resume_from;
-  if (f == cp.frame && state_hash(sim.state()) != cp.state_hash) {
+  if (f == cp.frame && scene_state_hash(sim) != cp.state_hash) {
     outcome.fail("resuming: re-simulating up to frame " + std::to_string(f) +
                  " did not reproduce the checkpoint's state (was the program or a mesh changed?)");
     return false;
@@ -81,7 +89,7 @@ bool FrameLoop::write(int f, RunTally& tally, RunOutcome& outcome) {
   }
   outcome.done = f + 1;
   outcome.state_frame = f;
-  outcome.last_hash = state_hash(sim.state());
+  outcome.last_hash = scene_state_hash(sim);
   if (options.frame_done_ms) options.frame_done_ms->push_back(vdm::ms_since(run_start));
   progress.show(setup.rendering ? "render" : "simulate", outcome.done, setup.frames);
   // A checkpoint after the first frame written (a disk that fills up early still leaves a run

@@ -10,6 +10,7 @@
 #include "app/run/camera_json.hpp"
 #include "app/run/instrument_focus.hpp"
 #include "app/run/output_dir.hpp"
+#include "app/run/scene_field.hpp"
 #include "engine/stopwatch.hpp"
 #include "render/png_io.hpp"
 
@@ -111,7 +112,7 @@ void FrameOutput::render_loop(std::string* start_error, bool* started) {
   pthread_setname_np(pthread_self(), "vdmsim-render");  // for profilers (perf, top -H)
   {
     std::string error;
-    auto renderer = render::Renderer::create(framed_settings(*ps_), ps_->model.rest, error);
+    auto renderer = render::Renderer::create(framed_settings(*ps_), ps_->surface, error);
     std::lock_guard<std::mutex> lock(mutex_);
     renderer_ = std::move(renderer);
     *started = renderer_ != nullptr;
@@ -202,9 +203,12 @@ void FrameOutput::set_stress_range(double lo, double hi) {
 namespace {
 // The largest of the scene's moduli (Pa): the order of the pressures it can have.
 double stiffness_scale(const SceneDef& s) {
-  double scale = std::max(s.connectivity_modulus, s.young_modulus);
-  for (int d = 0; d < 3; ++d)
-    if (std::isfinite(s.bulk_modulus[d])) scale = std::max(scale, s.bulk_modulus[d]);
+  double scale = 0;
+  for (const OrganDef& o : s.organs) {
+    scale = std::max({scale, o.connectivity_modulus, o.young_modulus});
+    for (int d = 0; d < 3; ++d)
+      if (std::isfinite(o.bulk_modulus[d])) scale = std::max(scale, o.bulk_modulus[d]);
+  }
   return scale;
 }
 }  // namespace
@@ -214,7 +218,7 @@ bool FrameOutput::write(int f, int frames, const SceneSimulation& sim) {
   const vdm::SimState& st = sim.state();
   Job job;
   job.frame = f;
-  job.x = st.x;
+  job.x = sim.positions();
   render::RenderScene& scene = job.scene;
   const std::vector<tools::InstrumentPose> poses = sim.poses(sim.time());
   for (size_t k = 0; k < poses.size(); ++k) {
@@ -241,10 +245,13 @@ bool FrameOutput::write(int f, int frames, const SceneSimulation& sim) {
   hud.contact_force_n = sim.contact_simulated() ? sim.total_force().norm() : 0.0;  // with the grasped nodes
   hud.pressure_pa = st.pressure;
   hud.pressure_scale_pa = stiffness_scale(ps_->scene);
-  hud.force_scale_n = hud.pressure_scale_pa * ps_->model.size * ps_->model.size;
-  hud.volume_rel_error = st.volume_rel_error;
+  hud.force_scale_n = hud.pressure_scale_pa * ps_->organ().model.size * ps_->organ().model.size;
+  hud.volume_rel_error = st.volume_rel_error;  // the worst organ's
+  for (size_t i = 1; i < sim.organ_count(); ++i)
+    if (std::abs(sim.state(i).volume_rel_error) > std::abs(hud.volume_rel_error))
+      hud.volume_rel_error = sim.state(i).volume_rel_error;
   hud.step_ms = sim.frame_step_ms();
-  if (rd.has(render::View::stress)) render::scalar_field(view_.quantity, st, scene.scalar);
+  if (rd.has(render::View::stress)) scene_scalar_field(view_.quantity, sim, scene.scalar);
   if (poses_.is_open() && !write_poses(f, scene)) return false;
   job.keep_thumbnail = std::find(sheet_frames_.begin(), sheet_frames_.end(), f) != sheet_frames_.end();
   {

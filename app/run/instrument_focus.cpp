@@ -12,7 +12,7 @@ double working_distance(const InstrumentDef& def) { return std::max(0.005, 3 * d
 
 bool instruments_working_area(const PreparedScene& ps, vdm::Vec3& lo, vdm::Vec3& hi) {
   const SceneDef& s = ps.scene;
-  const vdm::SurfaceMesh& rest = ps.model.rest;
+  const vdm::SurfaceMesh& rest = ps.surface;
   if (s.instruments.empty()) return false;
   const double inf = std::numeric_limits<double>::infinity();
   vdm::Vec3 near_lo = vdm::Vec3::Constant(inf), near_hi = vdm::Vec3::Constant(-inf);
@@ -32,7 +32,7 @@ bool instruments_working_area(const PreparedScene& ps, vdm::Vec3& lo, vdm::Vec3&
       deepest = std::max(deepest, depth_inside(rest.positions, rest.triangles, tip));
     }
   }
-  const double pad = std::max({0.06 * ps.model.size, 5 * radius, 2 * deepest});
+  const double pad = std::max({0.06 * ps.organ().model.size, 5 * radius, 2 * deepest});
   lo = (any_near ? near_lo : all_lo) - vdm::Vec3::Constant(pad);
   hi = (any_near ? near_hi : all_hi) + vdm::Vec3::Constant(pad);
   return true;

@@ -5,7 +5,8 @@
 // view can show, named as in render.stress.quantity and computed by the renderer's own
 // function (render::scalar_field); DIR/mesh.pvd lists the frames with their times. Both are
 // written on the simulation thread from the SimState (no rendering needed), the .pvd again
-// after every frame so that it always lists exactly the frames on disk.
+// after every frame so that it always lists exactly the frames on disk. With several organs each
+// has its own: DIR/mesh/<name>/frame_NNNNN.vtu and DIR/<name>.pvd.
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -21,13 +22,18 @@ namespace vdmsim {
 // array, whose magnitude is the stress view's displacement.
 std::vector<render::Quantity> exported_scalars(bool stress_computed);
 
-// A fresh run: removes what an earlier run's export wrote in `dir` (mesh.pvd and
-// mesh/frame_*.vtu, with their .tmp), and nothing else.
-void remove_mesh_export(const std::filesystem::path& dir);
+// The scene's organ names, which name the export's files when there are several.
+std::vector<std::string> organ_names(const PreparedScene& ps);
 
-// The frames before `frames` whose DIR/mesh/frame_NNNNN.vtu is missing (a resume's export
-// extends them), ascending.
-std::vector<int> missing_export_frames(const std::filesystem::path& dir, int frames);
+// A fresh run: removes what an earlier run's export of organs `organs` (their names; empty or
+// one: the one-organ layout) wrote in `dir` (the .pvd files and the frame_*.vtu files, with
+// their .tmp), and nothing else.
+void remove_mesh_export(const std::filesystem::path& dir, const std::vector<std::string>& organs = {});
+
+// The frames before `frames` of which some organ's .vtu is missing (a resume's export extends
+// them), ascending.
+std::vector<int> missing_export_frames(const std::filesystem::path& dir, int frames,
+                                       const std::vector<std::string>& organs = {});
 
 class MeshExport {
  public:
@@ -49,11 +55,12 @@ class MeshExport {
   double write_ms() const { return write_ms_; }
 
  private:
-  std::filesystem::path frame_path(int f) const;
+  std::filesystem::path frame_path(int f, size_t organ) const;
   bool write_pvd(std::string& error) const;
 
   const PreparedScene* ps_ = nullptr;
   std::filesystem::path dir_;
+  std::vector<std::string> organs_;  // the organs' names
   std::vector<render::Quantity> scalars_;
   std::vector<int> listed_;  // frames on disk, ascending
   std::vector<std::vector<float>> values_;  // scratch: each scalar at every node

@@ -16,9 +16,11 @@ namespace vdmsim {
 class MetricsCsv {
  public:
   // Writes the header (and, when `resume`, the first `start` rows of the file there).
-  // `stress`: the model computes stress (its column filled). Returns -1 when the file is
+  // `stress`: the model computes stress (its column filled). `organs`: with several organs,
+  // their names: each gets columns of its own after the scene's. Returns -1 when the file is
   // ready, otherwise the exit code after a message on `err`.
-  int open(const std::filesystem::path& dir, int start, bool resume, bool stress, std::ostream& err);
+  int open(const std::filesystem::path& dir, int start, bool resume, bool stress, std::ostream& err,
+           const std::vector<std::string>& organs = {});
   // Frame f's row. False when it could not be written, with `reason`; the file is then cut
   // back to its last whole row and closed.
   bool write(int f, const SceneSimulation& sim, std::string& reason);
@@ -31,6 +33,7 @@ class MetricsCsv {
   std::filesystem::path path_;
   std::ofstream file_;
   bool stress_ = false;
+  size_t organ_columns_ = 0;  // organs with columns of their own
   std::uintmax_t good_size_ = 0;      // the file's size after its last whole row
   std::uintmax_t rows_base_ = 0;      // its size before this run's first row
   std::vector<std::uintmax_t> row_end_;  // its size after each row of this run

@@ -1,5 +1,5 @@
-// Each organ model's lines of run.json (organ_model_table.hpp's write_run_json): the material
-// it used.
+// Each organ model's part of an organ's entry in run.json (organ_model_table.hpp's
+// write_run_json): the material it used.
 #include <cmath>
 #include <ostream>
 #include <string>
@@ -10,31 +10,30 @@
 namespace vdmsim {
 
 // The moduli the VDM model used (an infinite bulk modulus as the string "inf").
-void VdmRow::write_run_json(const PreparedScene& ps, std::ostream& js) {
-  const SceneDef& s = ps.scene;
-  const vdm::TissueModel& m = ps.model;
+void VdmRow::write_run_json(const OrganDef& o, const PreparedOrgan& organ, std::ostream& js) {
+  const vdm::TissueModel& m = organ.model;
   auto modulus = [](double b) { return std::isfinite(b) ? std::to_string(b) : std::string("\"inf\""); };
-  js << "  \"material\": {\"bulk_modulus_pa\": [" << modulus(s.bulk_modulus[0]) << ", " << modulus(s.bulk_modulus[1])
-     << ", " << modulus(s.bulk_modulus[2]) << "], \"connectivity_modulus_pa\": " << s.connectivity_modulus
+  js << "\"material\": {\"bulk_modulus_pa\": [" << modulus(o.bulk_modulus[0]) << ", " << modulus(o.bulk_modulus[1])
+     << ", " << modulus(o.bulk_modulus[2]) << "], \"connectivity_modulus_pa\": " << o.connectivity_modulus
      << ", \"capsule\": \"" << vdm::to_string(m.capsule) << '"';
   if (m.membrane_capsule()) js << ", \"capsule_tension_n_per_m\": " << m.capsule_tension;
   if (m.bending_modulus > 0) js << ", \"bending_modulus_n_m\": " << m.bending_modulus;
-  if (s.moduli_from_elastic)
-    js << ", \"from\": {\"young_modulus_pa\": " << s.young_modulus << ", \"poisson_ratio\": " << s.poisson_ratio
+  if (o.moduli_from_elastic)
+    js << ", \"from\": {\"young_modulus_pa\": " << o.young_modulus << ", \"poisson_ratio\": " << o.poisson_ratio
        << ", \"rule\": \"docs/model.md: B = beta E, B_ij = gamma(nu) E\"}";
-  js << "},\n";
+  js << "}";
 }
 
 // The elastic core's material and lattice.
-void VdmCoreRow::write_run_json(const PreparedScene& ps, std::ostream& js) {
-  const vdm::core::CoreModel& c = ps.reference.core;
-  js << "  \"material\": {\"young_modulus_pa\": " << c.young_modulus << ", \"core\": {\"cell_size_m\": " << c.h
+void VdmCoreRow::write_run_json(const OrganDef&, const PreparedOrgan& organ, std::ostream& js) {
+  const vdm::core::CoreModel& c = organ.reference.core;
+  js << "\"material\": {\"young_modulus_pa\": " << c.young_modulus << ", \"core\": {\"cell_size_m\": " << c.h
      << ", \"lattice_nodes\": " << c.ng << ", \"cubes\": " << c.cubes.rows() << ", \"tie_pa_per_m\": " << c.kappa
-     << "}},\n";
+     << "}}";
 }
 
 // The reference models report no material of their own.
-void FemRow::write_run_json(const PreparedScene&, std::ostream&) {}
-void MassSpringRow::write_run_json(const PreparedScene&, std::ostream&) {}
+void FemRow::write_run_json(const OrganDef&, const PreparedOrgan&, std::ostream&) {}
+void MassSpringRow::write_run_json(const OrganDef&, const PreparedOrgan&, std::ostream&) {}
 
 }  // namespace vdmsim

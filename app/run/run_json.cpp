@@ -98,11 +98,30 @@ void write_mesh_export(const RunRecord& r, std::ostream& js) {
   js << "},\n";
 }
 
+// Each organ: its name, nodes, model (and material), and its largest volume error.
+void write_organs(const RunRecord& r, std::ostream& js) {
+  const SceneDef& s = r.prepared.scene;
+  js << "  \"organs\": [";
+  for (size_t i = 0; i < s.organs.size(); ++i) {
+    const OrganDef& o = s.organs[i];
+    const PreparedOrgan& po = r.prepared.organs[i];
+    js << (i ? ",\n    " : "\n    ") << "{\"name\": \"" << json_escape(o.name) << "\", \"nodes\": " << po.model.n
+       << ", \"model\": \"" << vdm::to_string(o.model) << '"';
+    std::ostringstream material;
+    material << std::setprecision(9);
+    organ_model_run(o.model).write_run_json(o, po, material);
+    if (!material.str().empty()) js << ", " << material.str();
+    if (i < r.organ_max_volume_errors.size()) js << ", \"max_volume_rel_error\": " << r.organ_max_volume_errors[i];
+    js << '}';
+  }
+  js << "\n  ],\n";
+}
+
 }  // namespace
 
 std::string run_json(const RunRecord& r) {
   const SceneDef& s = r.prepared.scene;
-  const vdm::TissueModel& m = r.prepared.model;
+  const vdm::TissueModel& m = r.prepared.organ().model;
   std::ostringstream js;
   js << std::setprecision(9);
   js << "{\n  \"scene\": \"" << json_escape(s.name) << "\",\n  \"scene_file\": \"" << json_escape(s.file)
@@ -111,12 +130,20 @@ std::string run_json(const RunRecord& r) {
   if (r.setup.resume)
     js << "  \"resumed_from_frame\": " << r.setup.start << ",\n  \"resumed_by\": \""
        << (r.resumed_by_snapshot ? "state snapshot" : "re-simulation") << "\",\n";
-  js << "  \"frames\": " << r.outcome.done << ",\n  \"frames_requested\": " << r.setup.frames << ",\n  \"nodes\": " << m.n
-     << ",\n  \"model\": \"" << vdm::to_string(s.model) << "\",\n  \"solver\": \"" << vdm::to_string(m.solver.method)
-     << "\",\n  \"effects\": [";
+  js << "  \"frames\": " << r.outcome.done << ",\n  \"frames_requested\": " << r.setup.frames << ",\n  \"nodes\": "
+     << r.prepared.surface.node_count();
+  // One organ: its model and material at the top (as every run.json has them); several: in organs.
+  if (r.prepared.organs.size() == 1) js << ",\n  \"model\": \"" << vdm::to_string(s.organ().model) << '"';
+  js << ",\n  \"solver\": \"" << vdm::to_string(m.solver.method) << "\",\n  \"effects\": [";
   for (size_t i = 0; i < s.effects.size(); ++i) js << (i ? ", " : "") << '"' << to_string(s.effects[i]) << '"';
   js << "],\n";
-  organ_model_run(s.model).write_run_json(r.prepared, js);
+  if (r.prepared.organs.size() == 1) {
+    std::ostringstream material;
+    material << std::setprecision(9);
+    organ_model_run(s.organ().model).write_run_json(s.organ(), r.prepared.organ(), material);
+    if (!material.str().empty()) js << "  " << material.str() << ",\n";
+  }
+  write_organs(r, js);
   if (s.has(Effect::contact)) write_contact(r, js);
   write_instruments(r, js);
   write_times(r, js);

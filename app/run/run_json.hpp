@@ -23,6 +23,7 @@ struct RunRecord {
   std::vector<std::string> warnings;
   bool forces = false;                    // the instruments' forces were measured (contact or grasp)
   std::vector<double> peak_forces;        // per instrument (N)
+  std::vector<double> organ_max_volume_errors;  // per organ: its largest |volume_rel_error|
   long contact_iterations = 0, unconverged_contact_steps = 0;
   double wall_s = 0, colour_range_ms = 0;
   std::string video_status;

@@ -31,7 +31,7 @@ void note_inert_instruments(const SceneDef& s, std::ostream& err) {
 static RunInputs run_inputs(const SceneDef& s, const std::string& options) {
   RunInputs in;
   in.items.emplace_back("the scene file", file_hash(s.file));
-  in.items.emplace_back("the organ mesh", file_hash(s.mesh_path));
+  in.items.emplace_back("the organ mesh", file_hash(s.organ().mesh_path));
   for (size_t k = 0; k < s.instruments.size(); ++k) {
     const std::string which = "instrument " + std::to_string(k + 1) + "'s ";
     if (k < s.instrument_convex.size() && s.instrument_convex[k].present)
@@ -114,7 +114,7 @@ int check_resume_frame(const RunSetup& setup, std::ostream& err) {
 // Resuming with --export-mesh: the frames before the resumed ones must be on disk, or the export
 // would end with only the resumed frames.
 int check_resumed_export(const RunSetup& setup, std::ostream& err) {
-  const std::vector<int> missing = missing_export_frames(setup.dir, setup.start);
+  const std::vector<int> missing = missing_export_frames(setup.dir, setup.start, setup.organs);
   if (missing.empty()) return -1;
   err << "vdmsim: error: " << (setup.dir / "mesh").string() << ": " << missing.size() << " of the " << setup.start
       << " frames this resume's --export-mesh extends are missing (frame " << missing.front()
@@ -169,6 +169,7 @@ void remove_earlier_outputs(const fs::path& dir) {
 int set_up_run(const PreparedScene& ps, const RunOptions& opt, RunSetup& setup, std::ostream& err) {
   const SceneDef& s = ps.scene;
   setup.frames = run_frames(s, opt);
+  setup.organs = organ_names(ps);
   setup.dir = opt.out_dir.empty() ? fs::path("out") / safe_folder_name(s.name) : fs::path(opt.out_dir);
   setup.rendering = run_renders(s, opt);
   setup.resume = opt.resume;
@@ -211,7 +212,7 @@ int set_up_run(const PreparedScene& ps, const RunOptions& opt, RunSetup& setup, 
   setup.run_hash = setup.inputs.hash();
   if (opt.resume) return read_resume_point(setup, opt, err);
   remove_earlier_outputs(setup.dir);
-  remove_mesh_export(setup.dir);
+  remove_mesh_export(setup.dir, setup.organs);
   return -1;
 }
 

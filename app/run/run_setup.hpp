@@ -2,6 +2,7 @@
 // What a scene run starts from: the frame count, the output folder and whether it renders,
 // checked against the options; and, when resuming, the checkpoint it continues from.
 #include <filesystem>
+#include <vector>
 #include <memory>
 #include <ostream>
 #include <string>
@@ -21,6 +22,7 @@ struct RunSetup {
   std::string run_hash;       // inputs.hash()
   Checkpoint resume_from;     // when resuming: the interrupted run's last checkpoint
   int start = 0;              // the first frame to write
+  std::vector<std::string> organs;  // the organs' names (they name --export-mesh's files)
   std::filesystem::path checkpoint_path() const { return dir / "checkpoint.json"; }
   std::shared_ptr<OutputLock> lock;  // the folder, owned for the whole run
 };

@@ -39,7 +39,7 @@ void keep_frames_with_images(const RenderDef& rd, const RunSetup& setup, FrameOu
 int report(const RunRecord& r, std::ostream& out, std::ostream& err) {
   const SceneDef& s = r.prepared.scene;
   const RunOutcome& o = r.outcome;
-  out << s.name << ": " << o.done << " frames, " << r.prepared.model.n << " nodes, median step " << r.tally.median_step()
+  out << s.name << ": " << o.done << " frames, " << r.prepared.surface.node_count() << " nodes, median step " << r.tally.median_step()
       << " ms, max |volume error| " << r.tally.max_volume_error
       << (r.setup.rendering ? ", " + std::to_string(r.output.images_written()) + " images" : std::string())
       << ", status " << o.status << " -> " << r.setup.dir.string() << "\n";
@@ -76,7 +76,13 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
     return 1;
   }
   MetricsCsv metrics;
-  if (const int code = metrics.open(setup.dir, setup.start, setup.resume, ps.model.compute_stress, err); code >= 0)
+  std::vector<std::string> organ_names;
+  bool stress = false;
+  for (size_t i = 0; i < ps.organs.size(); ++i) {
+    organ_names.push_back(ps.scene.organs[i].name);
+    stress = stress || ps.organs[i].model.compute_stress;
+  }
+  if (const int code = metrics.open(setup.dir, setup.start, setup.resume, stress, err, organ_names); code >= 0)
     return code;
 
   std::optional<SceneSimulation> simulation(std::in_place, ps);  // (freed before the contact sheet)
@@ -109,7 +115,9 @@ int run_scene(PreparedScene& ps, const RunOptions& opt, std::ostream& out, std::
   record.resumed_by_snapshot = from_snapshot;
   record.colour_range_ms = colour_range_ms;
   record.stage_times = simulation->stage_times();
-  record.warnings = simulation->state().warnings;
+  record.warnings = simulation->warnings();
+  for (size_t i = 0; i < simulation->organ_count(); ++i)
+    record.organ_max_volume_errors.push_back(simulation->max_volume_error(i));
   record.forces = simulation->forces_simulated();
   record.peak_forces = simulation->peak_forces();
   record.contact_iterations = simulation->contact_iterations();

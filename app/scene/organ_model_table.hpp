@@ -26,6 +26,8 @@ namespace vdmsim {
 inline constexpr vdm::ModelKind kDefaultOrganModel = vdm::ModelKind::vdm_core;
 
 struct SceneDef;
+struct OrganDef;
+struct PreparedOrgan;
 struct SceneProblem;
 struct PreparedScene;
 struct ReferenceModel;
@@ -48,7 +50,8 @@ using ContactMethod = vdm::ContactSettings::Method;
 //   check_placed        appends the problems of its own settings on the placed organ
 //   build               builds its reference model on the organ's surface (false with a message)
 //   make_solver         a solver of its own on a copy of the reference model; null: vdm::step
-//   write_run_json      its lines of run.json (the material it used), each ending with ",\n"
+//   write_run_json      its part of an organ's run.json entry: `"material": {...}` (the material
+//                       it used), or nothing
 
 // The Volume Distribution Method on the organ's surface (the paper's engine, with the membrane
 // capsule by default): vdm::step on the tissue model itself.
@@ -63,10 +66,12 @@ struct VdmRow {
   static constexpr bool penalty_contact = true;
   static constexpr bool inertia = true;
   static constexpr ContactMethod contact = ContactMethod::constraint;
-  static void check_placed(const SceneDef& scene, const vdm::SurfaceMesh& organ, std::vector<SceneProblem>& problems);
-  static bool build(const SceneDef& scene, const vdm::TissueModel& model, ReferenceModel& out, std::string& error);
+  static void check_placed(const SceneDef& scene, const OrganDef& def, const vdm::SurfaceMesh& organ,
+                           std::vector<SceneProblem>& problems);
+  static bool build(const SceneDef& scene, const OrganDef& def, const vdm::TissueModel& model, ReferenceModel& out,
+                    std::string& error);
   static std::unique_ptr<vdm::OrganSolver> make_solver(const ReferenceModel& reference);
-  static void write_run_json(const PreparedScene& prepared, std::ostream& js);
+  static void write_run_json(const OrganDef& def, const PreparedOrgan& organ, std::ostream& js);
 };
 
 // VDM's surface and pressure on an elastic core (engine/core) in place of the bulk term.
@@ -80,10 +85,12 @@ struct VdmCoreRow {
   static constexpr bool inertia = true;
   // Contact points with Coulomb friction, as on vdm: tissue slides under an instrument.
   static constexpr ContactMethod contact = ContactMethod::constraint;
-  static void check_placed(const SceneDef& scene, const vdm::SurfaceMesh& organ, std::vector<SceneProblem>& problems);
-  static bool build(const SceneDef& scene, const vdm::TissueModel& model, ReferenceModel& out, std::string& error);
+  static void check_placed(const SceneDef& scene, const OrganDef& def, const vdm::SurfaceMesh& organ,
+                           std::vector<SceneProblem>& problems);
+  static bool build(const SceneDef& scene, const OrganDef& def, const vdm::TissueModel& model, ReferenceModel& out,
+                    std::string& error);
   static std::unique_ptr<vdm::OrganSolver> make_solver(const ReferenceModel& reference);
-  static void write_run_json(const PreparedScene& prepared, std::ostream& js);
+  static void write_run_json(const OrganDef& def, const PreparedOrgan& organ, std::ostream& js);
 };
 
 // The FEM reference: corotational linear tetrahedra meshed by gmsh.
@@ -97,10 +104,12 @@ struct FemRow {
   static constexpr bool inertia = false;
   // Constraint contact converges on the FEM without friction only (docs/reference-models.md).
   static constexpr ContactMethod contact = ContactMethod::kinematic;
-  static void check_placed(const SceneDef& scene, const vdm::SurfaceMesh& organ, std::vector<SceneProblem>& problems);
-  static bool build(const SceneDef& scene, const vdm::TissueModel& model, ReferenceModel& out, std::string& error);
+  static void check_placed(const SceneDef& scene, const OrganDef& def, const vdm::SurfaceMesh& organ,
+                           std::vector<SceneProblem>& problems);
+  static bool build(const SceneDef& scene, const OrganDef& def, const vdm::TissueModel& model, ReferenceModel& out,
+                    std::string& error);
   static std::unique_ptr<vdm::OrganSolver> make_solver(const ReferenceModel& reference);
-  static void write_run_json(const PreparedScene& prepared, std::ostream& js);
+  static void write_run_json(const OrganDef& def, const PreparedOrgan& organ, std::ostream& js);
 };
 
 // The mass-spring reference: springs on the surface edges and an optional volume spring.
@@ -113,10 +122,12 @@ struct MassSpringRow {
   static constexpr bool penalty_contact = false;
   static constexpr bool inertia = false;
   static constexpr ContactMethod contact = ContactMethod::kinematic;
-  static void check_placed(const SceneDef& scene, const vdm::SurfaceMesh& organ, std::vector<SceneProblem>& problems);
-  static bool build(const SceneDef& scene, const vdm::TissueModel& model, ReferenceModel& out, std::string& error);
+  static void check_placed(const SceneDef& scene, const OrganDef& def, const vdm::SurfaceMesh& organ,
+                           std::vector<SceneProblem>& problems);
+  static bool build(const SceneDef& scene, const OrganDef& def, const vdm::TissueModel& model, ReferenceModel& out,
+                    std::string& error);
   static std::unique_ptr<vdm::OrganSolver> make_solver(const ReferenceModel& reference);
-  static void write_run_json(const PreparedScene& prepared, std::ostream& js);
+  static void write_run_json(const OrganDef& def, const PreparedOrgan& organ, std::ostream& js);
 };
 
 template <class... Rows>

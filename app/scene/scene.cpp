@@ -6,6 +6,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -293,21 +294,22 @@ void read_ramp(Reader& r, const YAML::Node& n, const std::string& field, const S
 // probe: ratios 1e4, 1e6 and 1e8 give the probe's 14.1 mm dent, 1e10 gives 48 mm, 5e11 gives
 // 163 mm); with none (0) the nodes are not coupled at all.
 constexpr double kMaxBulkToConnectivity = 1e9;
-void check_vdm_conditioning(Reader& r, const YAML::Node& mat, const SceneDef& s) {
+void check_vdm_conditioning(Reader& r, const YAML::Node& mat, const OrganDef& o) {
+  const std::string& f = o.field;
   double bulk = 0;
   for (int d = 0; d < 3; ++d)
-    if (std::isfinite(s.bulk_modulus[d])) bulk = std::max(bulk, s.bulk_modulus[d]);
+    if (std::isfinite(o.bulk_modulus[d])) bulk = std::max(bulk, o.bulk_modulus[d]);
   const YAML::Node at = mat["connectivity_modulus"] ? mat["connectivity_modulus"] : mat;
-  if (s.connectivity_modulus == 0.0) {
-    r.error(at, "organ.material.connectivity_modulus",
+  if (o.connectivity_modulus == 0.0) {
+    r.error(at, f + ".material.connectivity_modulus",
             "must be > 0 for model vdm: without the skin's modulus no node is coupled to its neighbours (a tenth of "
             "bulk_modulus is a usual start)");
-  } else if (bulk / s.connectivity_modulus > kMaxBulkToConnectivity) {
+  } else if (bulk / o.connectivity_modulus > kMaxBulkToConnectivity) {
     std::ostringstream msg;
-    msg << "bulk_modulus / connectivity_modulus = " << bulk / s.connectivity_modulus << " is above "
+    msg << "bulk_modulus / connectivity_modulus = " << bulk / o.connectivity_modulus << " is above "
         << kMaxBulkToConnectivity << ": the system cannot be solved reliably (its pressure coupling cancels in floating "
         << "point); raise connectivity_modulus or lower bulk_modulus";
-    r.error(at, "organ.material.connectivity_modulus", msg.str());
+    r.error(at, f + ".material.connectivity_modulus", msg.str());
   }
 }
 
@@ -323,25 +325,34 @@ YAML::Node node_at(const YAML::Node& at, const std::string& path, size_t from = 
   return node_at(next, path, dot + 1);
 }
 
-// Warns about the keys that organ.model does not use (they would change nothing): the outermost
-// of them present, once (a section, not also each key in it).
-void warn_unused_by_model(Reader& r, const YAML::Node& root, vdm::ModelKind model) {
-  const OrganModel& m = organ_model(model);
+// Warns about the keys that an organ's model does not use (they would change nothing): the
+// outermost of them present, once (a section, not also each key in it). An organ's own keys
+// (organ.*) are looked up in its mapping `organ` (named by its field); the others (a section
+// of the scene's that only some models use) in `root`, warned when no organ's model uses them.
+void warn_unused_by_model(Reader& r, const YAML::Node& root, const YAML::Node& organ, const OrganDef& o,
+                          const SceneDef& s) {
+  const OrganModel& m = organ_model(o.model);
+  const std::string prefix = "organ.";
+  const bool first = &o == &s.organ();
   std::string warned;  // the last key warned about
   for (const std::string& path : model_specific_keys()) {
     if (m.uses(path)) continue;
     if (!warned.empty() && path.compare(0, warned.size() + 1, warned + ".") == 0) continue;
-    const YAML::Node n = node_at(root, path);
+    const bool own = path.compare(0, prefix.size(), prefix) == 0;
+    if (!own && (!first || std::any_of(s.organs.begin(), s.organs.end(),
+                                       [&](const OrganDef& other) { return organ_model(other.model).uses(path); })))
+      continue;
+    const YAML::Node n = own ? node_at(organ, path, prefix.size()) : node_at(root, path);
     if (!n) continue;
-    r.warn(n, path,
-           std::string("ignored by organ.model ") + m.name() + " (docs/scene-reference.md says which models use it)");
+    r.warn(n, own ? o.field + path.substr(prefix.size() - 1) : path,
+           "ignored by " + o.field + ".model " + m.name() + " (docs/scene-reference.md says which models use it)");
     warned = path;
   }
 }
 
 // Without organ.model, a material key only the paper's model uses (its moduli, its capsule's)
 // keeps that model, with a note; every other material (E and nu, or none) gets the default.
-void select_model_by_material(Reader& r, const YAML::Node& organ, SceneDef& s) {
+void select_model_by_material(Reader& r, const YAML::Node& organ, OrganDef& o) {
   const YAML::Node mat = organ["material"];
   if (!mat || !mat.IsMap()) return;
   const auto only_vdm = [](const std::string& path) {
@@ -349,10 +360,10 @@ void select_model_by_material(Reader& r, const YAML::Node& organ, SceneDef& s) {
                         [&](const OrganModel& m) { return m.kind != vdm::ModelKind::vdm && m.uses(path); });
   };
   for (auto it = mat.begin(); it != mat.end(); ++it) {  // the first such key in the file
-    const std::string path = "organ.material." + it->first.as<std::string>("");
-    if (!only_vdm(path)) continue;
-    s.model = vdm::ModelKind::vdm;
-    r.warn(it->second, path,
+    const std::string key = it->first.as<std::string>("");
+    if (!only_vdm("organ.material." + key)) continue;
+    o.model = vdm::ModelKind::vdm;
+    r.warn(it->second, o.field + ".material." + key,
            std::string("selects the paper's model (organ.model: vdm); the default model ") +
                vdm::to_string(kDefaultOrganModel) +
                " takes young_modulus and poisson_ratio (docs/model.md); write organ.model: vdm to keep this one "
@@ -361,110 +372,110 @@ void select_model_by_material(Reader& r, const YAML::Node& organ, SceneDef& s) {
   }
 }
 
-void read_organ(Reader& r, const YAML::Node& organ, SceneDef& s, const std::filesystem::path& base) {
-  const std::string f = "organ";
+void read_organ(Reader& r, const YAML::Node& organ, OrganDef& o, const std::filesystem::path& base) {
+  const std::string& f = o.field;
   if (!r.require_map(organ, f)) return;
-  r.check_keys(organ, f, "organ");
+  r.check_keys(organ, f, "organ", nullptr, f == "organ" ? nullptr : "organs[]");
   if (const YAML::Node m = r.required(organ, "mesh", f, "the organ's surface mesh file (relative to the scene)")) {
     std::string rel;
-    if (r.text(m, "organ.mesh", rel)) {
+    if (r.text(m, f + ".mesh", rel)) {
       const std::filesystem::path p = std::filesystem::path(rel).is_absolute() ? std::filesystem::path(rel) : base / rel;
-      s.mesh_path = p.lexically_normal().string();
+      o.mesh_path = p.lexically_normal().string();
       std::error_code ec;
-      if (!std::filesystem::is_regular_file(s.mesh_path, ec))
-        r.error(m, "organ.mesh", "mesh file not found: " + s.mesh_path);
+      if (!std::filesystem::is_regular_file(o.mesh_path, ec))
+        r.error(m, f + ".mesh", "mesh file not found: " + o.mesh_path);
     }
   }
-  if (const YAML::Node n = organ["scale"]) r.number(n, "organ.scale", s.scale, KEY("organ.scale"));
-  if (const YAML::Node n = organ["rotate_deg"]) r.vec3(n, "organ.rotate_deg", s.rotate_deg, KEY("organ.rotate_deg"));
-  if (const YAML::Node n = organ["translate"]) r.vec3(n, "organ.translate", s.translate, KEY("organ.translate"));
+  if (const YAML::Node n = organ["scale"]) r.number(n, f + ".scale", o.scale, KEY("organ.scale"));
+  if (const YAML::Node n = organ["rotate_deg"]) r.vec3(n, f + ".rotate_deg", o.rotate_deg, KEY("organ.rotate_deg"));
+  if (const YAML::Node n = organ["translate"]) r.vec3(n, f + ".translate", o.translate, KEY("organ.translate"));
   if (const YAML::Node n = organ["model"]) {
     std::string model;
-    if (r.text(n, "organ.model", model) && !vdm::parse_model_kind(model, s.model)) {
+    if (r.text(n, f + ".model", model) && !vdm::parse_model_kind(model, o.model)) {
       const std::string near = closest(model, organ_model_names());
-      r.error(n, "organ.model", "unknown model '" + model + "'" + (near.empty() ? "" : " (did you mean '" + near + "'?)") +
+      r.error(n, f + ".model", "unknown model '" + model + "'" + (near.empty() ? "" : " (did you mean '" + near + "'?)") +
                                     "; expected " + or_list(organ_model_names()));
     }
   }
-  if (!organ["model"]) select_model_by_material(r, organ, s);
-  if (const YAML::Node n = organ["tet_size"]) r.number(n, "organ.tet_size", s.tet_size, KEY("organ.tet_size"));
+  if (!organ["model"]) select_model_by_material(r, organ, o);
+  if (const YAML::Node n = organ["tet_size"]) r.number(n, f + ".tet_size", o.tet_size, KEY("organ.tet_size"));
   if (const YAML::Node n = organ["cell_size"]) {
-    r.number(n, "organ.cell_size", s.cell_size, KEY("organ.cell_size"));
-    s.cell_size_where = r.where(n);
+    r.number(n, f + ".cell_size", o.cell_size, KEY("organ.cell_size"));
+    o.cell_size_where = r.where(n);
   }
   if (const YAML::Node mat = organ["material"]) {
-    if (r.require_map(mat, "organ.material")) {
-      r.check_keys(mat, "organ.material", "organ.material");
+    if (r.require_map(mat, f + ".material")) {
+      r.check_keys(mat, f + ".material", "organ.material");
       if (const YAML::Node n = mat["young_modulus"])
-        r.number(n, "organ.material.young_modulus", s.young_modulus, KEY("organ.material.young_modulus"));
+        r.number(n, f + ".material.young_modulus", o.young_modulus, KEY("organ.material.young_modulus"));
       if (const YAML::Node n = mat["poisson_ratio"]) {
         double nu = 0;
-        if (r.number(n, "organ.material.poisson_ratio", nu, KEY("organ.material.poisson_ratio"))) {
+        if (r.number(n, f + ".material.poisson_ratio", nu, KEY("organ.material.poisson_ratio"))) {
           if (nu >= 0.5)
-            r.error(n, "organ.material.poisson_ratio",
+            r.error(n, f + ".material.poisson_ratio",
                     "value " + n.Scalar() + " is out of range: expected >= 0 and < 0.5 (0.5 is exactly incompressible; use up to 0.49)");
           else
-            s.poisson_ratio = nu;
+            o.poisson_ratio = nu;
         }
       }
-      if (const YAML::Node n = mat["thickness"]) r.number(n, "organ.material.thickness", s.thickness, KEY("organ.material.thickness"));
-      if (const YAML::Node n = mat["volume_modulus"]) r.number(n, "organ.material.volume_modulus", s.volume_modulus, KEY("organ.material.volume_modulus"));
+      if (const YAML::Node n = mat["thickness"]) r.number(n, f + ".material.thickness", o.thickness, KEY("organ.material.thickness"));
+      if (const YAML::Node n = mat["volume_modulus"]) r.number(n, f + ".material.volume_modulus", o.volume_modulus, KEY("organ.material.volume_modulus"));
       if (const YAML::Node b = mat["bulk_modulus"]) {
         if (b.IsSequence()) {
           if (b.size() != 3) {
-            r.error(b, "organ.material.bulk_modulus", "expected one modulus or three [bx, by, bz] (Pa)");
+            r.error(b, f + ".material.bulk_modulus", "expected one modulus or three [bx, by, bz] (Pa)");
           } else {
             for (int d = 0; d < 3; ++d)
-              r.number(b[d], Reader::item("organ.material.bulk_modulus", d), s.bulk_modulus[d], KEY("organ.material.bulk_modulus"));
+              r.number(b[d], Reader::item(f + ".material.bulk_modulus", d), o.bulk_modulus[d], KEY("organ.material.bulk_modulus"));
           }
         } else {
           double v = 0;
-          if (r.number(b, "organ.material.bulk_modulus", v, KEY("organ.material.bulk_modulus"))) s.bulk_modulus.setConstant(v);
+          if (r.number(b, f + ".material.bulk_modulus", v, KEY("organ.material.bulk_modulus"))) o.bulk_modulus.setConstant(v);
         }
       }
       if (const YAML::Node n = mat["connectivity_modulus"])
-        r.number(n, "organ.material.connectivity_modulus", s.connectivity_modulus, KEY("organ.material.connectivity_modulus"));
+        r.number(n, f + ".material.connectivity_modulus", o.connectivity_modulus, KEY("organ.material.connectivity_modulus"));
       if (const YAML::Node n = mat["capsule"]) {
         std::string form;
-        if (r.text(n, "organ.material.capsule", form) && !vdm::parse_capsule_form(form, s.capsule))
-          r.error(n, "organ.material.capsule", "unknown capsule '" + form + "'; expected membrane, corotational or paper");
+        if (r.text(n, f + ".material.capsule", form) && !vdm::parse_capsule_form(form, o.capsule))
+          r.error(n, f + ".material.capsule", "unknown capsule '" + form + "'; expected membrane, corotational or paper");
       }
       if (const YAML::Node n = mat["bending_modulus"]) {
-        if (r.number(n, "organ.material.bending_modulus", s.bending_modulus, KEY("organ.material.bending_modulus")) &&
-            s.bending_modulus > 0 && s.capsule == vdm::CapsuleForm::paper)
-          r.error(n, "organ.material.bending_modulus",
+        if (r.number(n, f + ".material.bending_modulus", o.bending_modulus, KEY("organ.material.bending_modulus")) &&
+            o.bending_modulus > 0 && o.capsule == vdm::CapsuleForm::paper)
+          r.error(n, f + ".material.bending_modulus",
                   "needs a membrane capsule (capsule: membrane or corotational); the paper's capsule has no bending term");
       }
-      if (const YAML::Node n = mat["density"]) r.number(n, "organ.material.density", s.density, KEY("organ.material.density"));
-      if (const YAML::Node n = mat["damping"]) r.number(n, "organ.material.damping", s.damping, KEY("organ.material.damping"));
+      if (const YAML::Node n = mat["density"]) r.number(n, f + ".material.density", o.density, KEY("organ.material.density"));
+      if (const YAML::Node n = mat["damping"]) r.number(n, f + ".material.damping", o.damping, KEY("organ.material.damping"));
       // VDM from E and nu: the documented rule (engine/elastic_moduli.hpp); one form or the other.
-      if (organ_model(s.model).vdm_moduli && (mat["young_modulus"] || mat["poisson_ratio"])) {
+      if (organ_model(o.model).vdm_moduli && (mat["young_modulus"] || mat["poisson_ratio"])) {
         if (mat["bulk_modulus"] || mat["connectivity_modulus"]) {
-          r.error(mat, "organ.material",
+          r.error(mat, f + ".material",
                   "give either young_modulus and poisson_ratio (mapped to VDM's moduli, docs/model.md) or bulk_modulus "
                   "and connectivity_modulus, not both");
         } else if (!mat["young_modulus"]) {
-          r.error(mat, "organ.material", "poisson_ratio needs young_modulus (Pa) beside it");
+          r.error(mat, f + ".material", "poisson_ratio needs young_modulus (Pa) beside it");
         } else {
-          const vdm::VdmModuli moduli = vdm::vdm_moduli_from_elastic(s.young_modulus, s.poisson_ratio);
-          s.bulk_modulus.setConstant(moduli.bulk);
-          s.connectivity_modulus = moduli.connectivity;
-          s.moduli_from_elastic = true;
+          const vdm::VdmModuli moduli = vdm::vdm_moduli_from_elastic(o.young_modulus, o.poisson_ratio);
+          o.bulk_modulus.setConstant(moduli.bulk);
+          o.connectivity_modulus = moduli.connectivity;
+          o.moduli_from_elastic = true;
         }
       }
-      if (organ_model(s.model).vdm_moduli) check_vdm_conditioning(r, mat, s);
+      if (organ_model(o.model).vdm_moduli) check_vdm_conditioning(r, mat, o);
       // The core keeps the organ's volume whatever nu is (its fluid is incompressible).
-      if (s.model == vdm::ModelKind::vdm_core && mat["poisson_ratio"] && s.poisson_ratio < kCoreLeastPoissonRatio)
-        r.warn(mat["poisson_ratio"], "organ.material.poisson_ratio",
+      if (o.model == vdm::ModelKind::vdm_core && mat["poisson_ratio"] && o.poisson_ratio < kCoreLeastPoissonRatio)
+        r.warn(mat["poisson_ratio"], f + ".material.poisson_ratio",
                "model vdm_core keeps the organ's volume (nearly incompressible tissue, nu 0.45-0.49); a compressible "
                "material needs organ.model: fem");
-      s.material_given = true;
+      o.material_given = true;
     }
   }
   if (const YAML::Node list = organ["fixed"]) {
-    if (r.require_sequence(list, "organ.fixed"))
+    if (r.require_sequence(list, f + ".fixed"))
       for (size_t i = 0; i < list.size(); ++i) {
-        const std::string fi = Reader::item("organ.fixed", i);
+        const std::string fi = Reader::item(f + ".fixed", i);
         if (!r.require_map(list[i], fi)) continue;
         FixedDef fd;
         read_region(r, list[i], fi, fd.region, "organ.fixed[]");
@@ -477,26 +488,26 @@ void read_organ(Reader& r, const YAML::Node& organ, SceneDef& s, const std::file
               else r.error(axes[a], Reader::item(Reader::sub(fi, "axes"), a), "expected x, y or z");
             }
         }
-        s.fixed.push_back(fd);
+        o.fixed.push_back(fd);
       }
   }
   if (const YAML::Node list = organ["loads"]) {
-    if (r.require_sequence(list, "organ.loads"))
+    if (r.require_sequence(list, f + ".loads"))
       for (size_t i = 0; i < list.size(); ++i) {
-        const std::string fi = Reader::item("organ.loads", i);
+        const std::string fi = Reader::item(f + ".loads", i);
         if (!r.require_map(list[i], fi)) continue;
         LoadDef ld;
         read_region(r, list[i], fi, ld.region, "organ.loads[]");
         if (const YAML::Node fo = r.required(list[i], "force", fi, "the total force [fx, fy, fz] (N)"))
           r.vec3(fo, Reader::sub(fi, "force"), ld.force, KEY("organ.loads[].force"));
         read_ramp(r, list[i], fi, KEY("organ.loads[].t"), ld.t0, ld.t1);
-        s.loads.push_back(ld);
+        o.loads.push_back(ld);
       }
   }
   if (const YAML::Node list = organ["prescribed"]) {
-    if (r.require_sequence(list, "organ.prescribed"))
+    if (r.require_sequence(list, f + ".prescribed"))
       for (size_t i = 0; i < list.size(); ++i) {
-        const std::string fi = Reader::item("organ.prescribed", i);
+        const std::string fi = Reader::item(f + ".prescribed", i);
         if (!r.require_map(list[i], fi)) continue;
         PrescribedDef pd;
         read_region(r, list[i], fi, pd.region, "organ.prescribed[]");
@@ -509,9 +520,53 @@ void read_organ(Reader& r, const YAML::Node& organ, SceneDef& s, const std::file
         if (!list[i]["translate"] && !list[i]["rotate_deg"])
           r.error(list[i], fi, "a prescribed motion needs translate: [dx, dy, dz] (m) and/or rotate_deg: [ax, ay, az]");
         read_ramp(r, list[i], fi, KEY("organ.prescribed[].t"), pd.t0, pd.t1);
-        s.prescribed.push_back(pd);
+        o.prescribed.push_back(pd);
       }
   }
+}
+
+// `organs:`, a list of organs: each an organ mapping with a `name` of its own.
+void read_organs(Reader& r, const YAML::Node& list, SceneDef& s, const std::filesystem::path& base) {
+  if (!r.require_sequence(list, "organs")) return;
+  if (list.size() == 0) {
+    r.error(list, "organs", "expected at least one organ");
+    return;
+  }
+  s.organs.clear();
+  for (size_t i = 0; i < list.size(); ++i) {
+    OrganDef o;
+    o.field = Reader::item("organs", i);
+    o.name.clear();
+    if (list[i].IsMap())
+      if (const YAML::Node n = r.required(list[i], "name", o.field, "the organ's name, unique in the scene")) {
+        const std::string field = o.field + ".name";
+        if (r.text(n, field, o.name)) {
+          const bool word = !o.name.empty() && std::all_of(o.name.begin(), o.name.end(), [](char c) {
+            return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
+          });
+          const auto same = std::find_if(s.organs.begin(), s.organs.end(), [&](const OrganDef& e) { return e.name == o.name; });
+          if (!word)
+            r.error(n, field, "'" + o.name + "': expected letters, digits, _ and - only (it names the organ's files and columns)");
+          else if (same != s.organs.end())
+            r.error(n, field, "'" + o.name + "' is the name of " + same->field + " already: names are unique");
+        }
+      }
+    read_organ(r, list[i], o, base);
+    s.organs.push_back(o);
+  }
+}
+
+// The first organ whose model lacks `flag` (organ_model_table.hpp), or null.
+const OrganDef* first_without(const SceneDef& s, bool OrganModel::*flag) {
+  for (const OrganDef& o : s.organs)
+    if (!(organ_model(o.model).*flag)) return &o;
+  return nullptr;
+}
+
+// An organ's model in a message: its name, and with several organs which organ has it.
+std::string model_named(const SceneDef& s, const OrganDef& o) {
+  const std::string model = vdm::to_string(o.model);
+  return s.organs.size() > 1 ? o.field + ".model " + model : model;
 }
 
 void read_simulation(Reader& r, const YAML::Node& sim, SceneDef& s) {
@@ -538,9 +593,9 @@ void read_simulation(Reader& r, const YAML::Node& sim, SceneDef& s) {
         }
         const Effect e = static_cast<Effect>(it - known.begin());
         if (std::find(s.effects.begin(), s.effects.end(), e) == s.effects.end()) s.effects.push_back(e);
-        if (e == Effect::inertia && !organ_model(s.model).inertia)
+        if (const OrganDef* o = first_without(s, &OrganModel::inertia); e == Effect::inertia && o)
           r.warn(list[i], fi,
-                 std::string("ignored by organ.model ") + vdm::to_string(s.model) + ": its steps are static (inertia needs organ.model " +
+                 "ignored by " + o->field + ".model " + vdm::to_string(o->model) + ": its steps are static (inertia needs organ.model " +
                      or_list(organ_model_names(&OrganModel::inertia)) + ")");
       }
   }
@@ -567,7 +622,7 @@ void read_simulation(Reader& r, const YAML::Node& sim, SceneDef& s) {
   }
   // The model's own contact method unless the scene names one (organ_model_table.hpp).
   if (!(sim["contact"] && sim["contact"].IsMap() && sim["contact"]["method"]))
-    s.contact.method = organ_model(s.model).contact;
+    s.contact.method = organ_model(s.organ().model).contact;
   if (const YAML::Node con = sim["contact"]) {
     const std::string fc = "simulation.contact";
     if (r.require_map(con, fc)) {
@@ -583,10 +638,10 @@ void read_simulation(Reader& r, const YAML::Node& sim, SceneDef& s) {
             cs.method = vdm::ContactSettings::Method::kinematic;
           } else if (m == "penalty") {
             cs.method = vdm::ContactSettings::Method::penalty;
-            if (!organ_model(s.model).penalty_contact)
+            if (const OrganDef* o = first_without(s, &OrganModel::penalty_contact))
               r.error(n, fc + ".method",
                       "penalty contact needs organ.model " + or_list(organ_model_names(&OrganModel::penalty_contact)) +
-                          " (" + vdm::to_string(s.model) + " takes kinematic or constraint contact)");
+                          " (" + model_named(s, *o) + " takes kinematic or constraint contact)");
           } else {
             const std::string near = closest(m, methods);
             r.error(n, fc + ".method", "unknown contact method '" + m + "'" +
@@ -1167,10 +1222,11 @@ void read_views_and_stress(Reader& r, const YAML::Node& n, SceneDef& s) {
     }
   }
   const bool stress_quantity = render::quantity_needs_stress(d.stress_view.quantity);
-  if (d.has(render::View::stress) && stress_quantity && !organ_model(s.model).surface_stress)
+  if (const OrganDef* o = first_without(s, &OrganModel::surface_stress);
+      d.has(render::View::stress) && stress_quantity && o)
     r.error(n["views"], "render.views",
             std::string("the stress view of '") + render::to_string(d.stress_view.quantity) + "' needs organ.model " +
-                or_list(organ_model_names(&OrganModel::surface_stress)) + " (" + vdm::to_string(s.model) +
+                or_list(organ_model_names(&OrganModel::surface_stress)) + " (" + model_named(s, *o) +
                 " computes no stress at the surface): colour by displacement or contact_pressure");
   if (d.has(render::View::stress) && !s.has(Effect::stress) && stress_quantity)
     r.error(n["views"], "render.views",
@@ -1284,9 +1340,18 @@ SceneLoadResult load_scene(const std::string& path) {
       }
   }
   if (s.name.empty()) s.name = std::filesystem::path(path).stem().string();
-  if (const YAML::Node organ = r.required(root, "organ", "", "the organ: {mesh, material, ...}")) read_organ(r, organ, s, base);
+  const YAML::Node organs = root["organs"];
+  if (organs && root["organ"])
+    r.error(organs, "organs", "give organ (one organ) or organs (a list of organs), not both");
+  else if (organs)
+    read_organs(r, organs, s, base);
+  else if (const YAML::Node organ = r.required(root, "organ", "", "the organ: {mesh, material, ...} (or organs: a list of them)"))
+    read_organ(r, organ, s.organ(), base);
+  if (s.organs.empty()) s.organs.resize(1);  // an empty or refused list: the rest reads on a default organ
   if (const YAML::Node sim = root["simulation"]) read_simulation(r, sim, s);
-  warn_unused_by_model(r, root, s.model);
+  for (size_t i = 0; i < s.organs.size(); ++i)
+    warn_unused_by_model(r, root, !organs ? root["organ"] : organs.IsSequence() && i < organs.size() ? organs[i] : YAML::Node(),
+                         s.organs[i], s);
   if (const YAML::Node ins = root["instruments"]) read_instruments(r, ins, s, base);
   if (const YAML::Node render = root["render"]) {
     s.has_render = true;

@@ -116,21 +116,22 @@ Eigen::Matrix3d rotation_from_degrees(const vdm::Vec3& deg);
 enum class Effect { contact, grasp, gravity, inertia, stress };
 const char* to_string(Effect e);
 
-struct SceneDef {
-  std::string file;            // the scene file as given
-  std::string name;
-  // organ
+// One organ (`organ:`, or an item of `organs:`): its surface mesh and where it is placed, its
+// model and material, and what holds, loads or moves it.
+struct OrganDef {
+  std::string name = "organ";  // organs[].name; "organ" in the one-organ form
+  std::string field = "organ"; // where its keys are, for messages: "organ" or "organs[i]"
   std::string mesh_path;       // resolved against the scene file's folder
   double scale = 1.0;
-  vdm::Vec3 rotate_deg = vdm::Vec3::Zero();  // organ.rotate_deg: about the scaled mesh's bounding-box centre, x then y then z
-  vdm::Vec3 translate = vdm::Vec3::Zero();   // organ.translate (m), after the rotation
+  vdm::Vec3 rotate_deg = vdm::Vec3::Zero();  // rotate_deg: about the scaled mesh's bounding-box centre, x then y then z
+  vdm::Vec3 translate = vdm::Vec3::Zero();   // translate (m), after the rotation
   vdm::Vec3 bulk_modulus = vdm::Vec3::Constant(20000.0);  // Pa per axis; inf allowed
   double connectivity_modulus = 2000.0;
   vdm::CapsuleForm capsule = vdm::CapsuleForm::membrane;  // vdm: membrane | corotational | paper
   double bending_modulus = 0.0;  // vdm, membrane capsules: the skin's bending modulus D (N m); 0 = none
   double density = 1060.0;
   double damping = 0.0;        // 1/s, with the inertia effect
-  vdm::ModelKind model = kDefaultOrganModel;  // organ.model (organ_model_table.hpp)
+  vdm::ModelKind model = kDefaultOrganModel;  // model (organ_model_table.hpp)
   double young_modulus = 3000;  // fem, mass_spring; vdm: mapped to bulk and connectivity (Pa)
   bool moduli_from_elastic = false;  // vdm: bulk_modulus and connectivity_modulus from E and nu
   double poisson_ratio = 0.45;  // fem, in [0, 0.5)
@@ -138,11 +139,19 @@ struct SceneDef {
   double volume_modulus = 0;    // mass_spring: volume spring K_v (Pa), 0 = none
   double tet_size = 0;          // fem: largest tet edge (m) for gmsh, 0 = graded from the surface
   double cell_size = 0;         // vdm_core: the core's cell (m), 0 = the organ's V/A
-  std::string cell_size_where;  // file:line:col of organ.cell_size ("" when not given)
-  bool material_given = false;  // the scene has organ.material (false: every modulus is a default)
+  std::string cell_size_where;  // file:line:col of cell_size ("" when not given)
+  bool material_given = false;  // the organ has material (false: every modulus is a default)
   std::vector<FixedDef> fixed;
   std::vector<LoadDef> loads;
   std::vector<PrescribedDef> prescribed;
+};
+
+struct SceneDef {
+  std::string file;            // the scene file as given
+  std::string name;
+  // The organs: one from `organ:`, or those of `organs:` in file order (names unique). A
+  // SceneDef made in code has one default organ.
+  std::vector<OrganDef> organs = std::vector<OrganDef>(1);
   // simulation
   int frames = 120;
   double dt = 1.0 / 30.0;
@@ -162,6 +171,9 @@ struct SceneDef {
   RenderDef render;
 
   bool has(Effect e) const;
+  // The first organ (the only one in the one-organ form).
+  const OrganDef& organ() const { return organs.front(); }
+  OrganDef& organ() { return organs.front(); }
 };
 
 struct SceneProblem {

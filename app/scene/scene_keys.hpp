@@ -88,8 +88,14 @@ inline constexpr SceneKey kSceneKeys[] = {
   // The top of the file.
   key("name", KT::text, "The scene's name: the HUD shows it and `run` writes to `out/<name>` by default.")
       .by_default("the scene file's name without its extension").eg("name: probe_poke"),
-  key("organ", KT::section, "The organ: its surface mesh, material, and what holds, loads or moves it.").needed()
+  key("organ", KT::section, "The organ: its surface mesh, material, and what holds, loads or moves it. A scene has "
+      "`organ` or, for several organs, `organs`.").typed("mapping; this or `organs` is required")
       .eg("organ: {mesh: ../meshes/liver_L4.obj, fixed: [{all: true, axes: [z]}]}"),
+  key("organs", KT::list, "Several organs in one scene, instead of `organ`: a list of organ mappings, each with a "
+      "`name` and the keys of `organ` (below). Each organ has its own model, material and holds and keeps its own "
+      "volume; the instruments touch and grasp whichever organ they meet.")
+      .eg("organs: [{name: liver, mesh: ../meshes/liver_L4.obj}, {name: gallbladder, mesh: ../meshes/gallbladder.obj, "
+          "translate: [0.3, 0, 0]}]"),
   // A region (documented after the organ; its keys are below).
   key("region", KT::region, "A set of the organ's nodes, chosen on the rest mesh (after `organ.scale`): exactly one of "
       "`box`, `sphere`, `nodes` or `all`."),
@@ -104,13 +110,13 @@ inline constexpr SceneKey kSceneKeys[] = {
   key("organ.mesh", KT::file, "The organ's closed surface mesh: OBJ, PLY, STL, glTF or any format assimp reads.").needed()
       .eg("mesh: ../meshes/liver_L5.obj"),
   key("organ.scale", KT::number, "Multiplies the mesh's coordinates to give metres.").in("mesh units to metres").above(0)
-      .by_default([] { return yaml_number(SceneDef().scale); }).eg("scale: 0.001"),
+      .by_default([] { return yaml_number(OrganDef().scale); }).eg("scale: 0.001"),
   key("organ.rotate_deg", KT::vector3, "Turns the organ, after `scale`, about the centre of its bounding box (as scaled): "
       "about the fixed x axis, then y, then z (extrinsic). Regions, instruments and the camera are in the frame after "
       "`scale`, `rotate_deg` and `translate`.").in("degrees")
-      .by_default([] { return yaml_vector(SceneDef().rotate_deg); }).eg("rotate_deg: [0, 0, 90]"),
+      .by_default([] { return yaml_vector(OrganDef().rotate_deg); }).eg("rotate_deg: [0, 0, 90]"),
   key("organ.translate", KT::vector3, "Moves the organ, after `scale` and `rotate_deg`.").in("m")
-      .by_default([] { return yaml_vector(SceneDef().translate); }).eg("translate: [0.09, -0.16, 1.23]"),
+      .by_default([] { return yaml_vector(OrganDef().translate); }).eg("translate: [0.09, -0.16, 1.23]"),
   key("organ.material", KT::section, "The tissue's material: `young_modulus` and `poisson_ratio` (and `density`). "
       "Without `model`, VDM's own moduli `bulk_modulus` and `connectivity_modulus` select `model: vdm` (with a note); "
       "for `model: vdm` give either those or `young_modulus` and `poisson_ratio` (mapped to them by the rule of "
@@ -122,7 +128,7 @@ inline constexpr SceneKey kSceneKeys[] = {
       "model closest to the FEM; [the model page](model.md)), `vdm` (the paper's Volume Distribution Method, the default "
       "when the material is given by `bulk_modulus` or `connectivity_modulus`), or the reference models `fem` "
       "(corotational linear tetrahedra, meshed by gmsh) and `mass_spring` (springs on the surface edges).")
-      .one_of(organ_model_names).by_default([] { return std::string(vdm::to_string(SceneDef().model)); }).eg("model: fem"),
+      .one_of(organ_model_names).by_default([] { return std::string(vdm::to_string(OrganDef().model)); }).eg("model: fem"),
   key("organ.loads", KT::region_list, "Forces: a total force spread equally over a region's nodes, ramped over a time interval.")
       .eg("loads: [{sphere: {center: [0, 0, 0.06], radius: 0.02}, force: [0, 0, -2], t: [0, 1]}]"),
   key("organ.prescribed", KT::region_list, "Prescribed motion: a region's nodes moved rigidly from rest, ramped over a time interval.")
@@ -134,42 +140,47 @@ inline constexpr SceneKey kSceneKeys[] = {
       "them) and cost more. Refused when a cell does not fit in the organ's box (larger than its smallest side) and when "
       "the box would hold more than 2e7 cells; warned when more than twice as wide as the smallest instrument.")
       .in("m").range(0, std::numeric_limits<double>::infinity())
-      .by_default([] { return yaml_number(SceneDef().cell_size); }).eg("cell_size: 0.005"),
+      .by_default([] { return yaml_number(OrganDef().cell_size); }).eg("cell_size: 0.005"),
   key("organ.tet_size", KT::number, "The largest tetrahedron edge; 0 grades the tetrahedra from the surface. Refused when the organ would need more than 5 million tetrahedra of that edge (its volume over a regular tetrahedron's).")
       .in("m").range(0, std::numeric_limits<double>::infinity())
-      .by_default([] { return yaml_number(SceneDef().tet_size); }).eg("tet_size: 0.01"),
+      .by_default([] { return yaml_number(OrganDef().tet_size); }).eg("tet_size: 0.01"),
+
+  // organs[]: an organ's keys, and its name
+  key("organs[].name", KT::text, "The organ's name: letters, digits, `_` and `-`, unique in the scene. It names the "
+      "organ's columns in metrics.csv, its entry in run.json and its folder of exported meshes.").needed()
+      .eg("name: gallbladder"),
 
   // organ.material
   key("organ.material.bulk_modulus", KT::number, "The fluid's bulk term B (per axis when three values are given; "
       "`inf` holds that axis as a constraint).").typed("number or [bx, by, bz]").in("Pa").above(0).or_inf()
-      .by_default([] { return yaml_number(SceneDef().bulk_modulus.x()); }).eg("bulk_modulus: [20000, inf, 20000]"),
+      .by_default([] { return yaml_number(OrganDef().bulk_modulus.x()); }).eg("bulk_modulus: [20000, inf, 20000]"),
   key("organ.material.connectivity_modulus", KT::number, "The capsule's (skin's) modulus B_ij. It must be above 0 "
       "and at least the largest finite `bulk_modulus` / 1e9 (beyond that the system cannot be solved "
       "reliably).").in("Pa").range(0, 1e12)
-      .by_default([] { return yaml_number(SceneDef().connectivity_modulus); }).eg("connectivity_modulus: 2000"),
+      .by_default([] { return yaml_number(OrganDef().connectivity_modulus); }).eg("connectivity_modulus: 2000"),
   key("organ.material.capsule", KT::choice, "The capsule's form: `membrane` (mesh-consistent), `corotational` "
       "(the membrane in each node's rotated frame) or `paper` (the paper's edge weights).")
       .one_of([] { return Words{"membrane", "corotational", "paper"}; })
-      .by_default([] { return std::string(vdm::to_string(SceneDef().capsule)); }).eg("capsule: corotational"),
+      .by_default([] { return std::string(vdm::to_string(OrganDef().capsule)); }).eg("capsule: corotational"),
   key("organ.material.bending_modulus", KT::number, "The capsule's thin-shell bending modulus D (`membrane` or "
       "`corotational` capsule): energy ½ D ∫ |Δu|² dA over the surface, so the skin resists bending as "
       "well as stretch (docs/model.md, \"Bending\"). 0: no bending term.").in("N m").range(0, 1e6)
-      .by_default([] { return yaml_number(SceneDef().bending_modulus); }).eg("bending_modulus: 0.0005"),
+      .by_default([] { return yaml_number(OrganDef().bending_modulus); }).eg("bending_modulus: 0.0005"),
   key("organ.material.density", KT::number, "Mass density: the weight with the `gravity` effect, the mass with `inertia`.")
-      .in("kg/m^3").above(0, 1e5).by_default([] { return yaml_number(SceneDef().density); }).eg("density: 1060"),
+      .in("kg/m^3").above(0, 1e5).by_default([] { return yaml_number(OrganDef().density); }).eg("density: 1060"),
   key("organ.material.damping", KT::number, "Mass-proportional damping, with the `inertia` effect.").in("1/s").range(0, 1e6)
-      .by_default([] { return yaml_number(SceneDef().damping); }).eg("damping: 5"),
+      .by_default([] { return yaml_number(OrganDef().damping); }).eg("damping: 5"),
   key("organ.material.young_modulus", KT::number, "Young's modulus E: the stiffness of `vdm_core`, `fem` and "
       "`mass_spring`; for `vdm`, with `poisson_ratio`, instead of `bulk_modulus` and `connectivity_modulus`.").in("Pa").above(0, 1e12)
-      .by_default([] { return yaml_number(SceneDef().young_modulus); }).eg("young_modulus: 3000"),
+      .by_default([] { return yaml_number(OrganDef().young_modulus); }).eg("young_modulus: 3000"),
   key("organ.material.poisson_ratio", KT::number, "Poisson's ratio ν (for `vdm`, with `young_modulus`). "
       "0.5 is exactly incompressible: use up to 0.49. `vdm_core` keeps the organ's volume whatever ν is (warned below "
       "0.4).").range(0, 0.5).allowing(">= 0 and < 0.5")
-      .by_default([] { return yaml_number(SceneDef().poisson_ratio); }).eg("young_modulus: 3000, poisson_ratio: 0.45"),
+      .by_default([] { return yaml_number(OrganDef().poisson_ratio); }).eg("young_modulus: 3000, poisson_ratio: 0.45"),
   key("organ.material.thickness", KT::number, "The skin thickness that sets the springs' stiffness.")
-      .in("m").above(0, 10).by_default([] { return yaml_number(SceneDef().thickness); }).eg("thickness: 0.005"),
+      .in("m").above(0, 10).by_default([] { return yaml_number(OrganDef().thickness); }).eg("thickness: 0.005"),
   key("organ.material.volume_modulus", KT::number, "The volume spring's modulus; 0 for none.")
-      .in("Pa").range(0, 1e12).by_default([] { return yaml_number(SceneDef().volume_modulus); }).eg("volume_modulus: 20000"),
+      .in("Pa").range(0, 1e12).by_default([] { return yaml_number(OrganDef().volume_modulus); }).eg("volume_modulus: 20000"),
 
   // The regions of organ.fixed, organ.loads and organ.prescribed.
   key("region.box", KT::section, "The nodes inside an axis-aligned box.").eg("box: {min: [-0.3, -0.2, -0.2], max: [0.3, 0.2, -0.03]}"),

@@ -31,8 +31,8 @@ double smallest_instrument(const SceneDef& s, size_t& which) {
 
 }  // namespace
 
-double core_cell_size(const SceneDef& s, const vdm::SurfaceMesh& organ) {
-  if (s.cell_size > 0) return s.cell_size;
+double core_cell_size(const SceneDef& s, const OrganDef& o, const vdm::SurfaceMesh& organ) {
+  if (o.cell_size > 0) return o.cell_size;
   const vdm::NodeMat& x = organ.positions;
   const double area = vdm::surface_area(x, organ.triangles);
   const double volume = std::abs(vdm::enclosed_volume(x, organ.triangles, x.colwise().mean().transpose()));
@@ -44,15 +44,16 @@ double core_cell_size(const SceneDef& s, const vdm::SurfaceMesh& organ) {
   return std::max(h, std::cbrt(volume / kDefaultCoreCubes));
 }
 
-void check_core_cell(const SceneDef& s, const vdm::SurfaceMesh& organ, std::vector<SceneProblem>& problems) {
+void check_core_cell(const SceneDef& s, const OrganDef& o, const vdm::SurfaceMesh& organ,
+                     std::vector<SceneProblem>& problems) {
   if (organ.node_count() == 0) return;
   const vdm::NodeMat& x = organ.positions;
   const vdm::Vec3 extent = (x.colwise().maxCoeff() - x.colwise().minCoeff()).transpose();
   const double area = vdm::surface_area(x, organ.triangles);
   const double volume = std::abs(vdm::enclosed_volume(x, organ.triangles, x.colwise().mean().transpose()));
-  const bool given = s.cell_size > 0;
-  const double h = core_cell_size(s, organ);
-  const std::string where = s.cell_size_where.empty() ? s.file : s.cell_size_where;
+  const bool given = o.cell_size > 0;
+  const double h = core_cell_size(s, o, organ);
+  const std::string where = o.cell_size_where.empty() ? s.file : o.cell_size_where;
   std::ostringstream m;
   m.precision(3);
   // A cube fits in the organ's box when its edge is at most the box's smallest side.
@@ -60,7 +61,7 @@ void check_core_cell(const SceneDef& s, const vdm::SurfaceMesh& organ, std::vect
     m << "a cell of " << h << " m does not fit in the organ's box (" << extent.x() << " x " << extent.y() << " x "
       << extent.z() << " m): the core would be a cell or two and its forces wrong by orders of magnitude; give at most "
       << extent.minCoeff() << " m, or 0 for the default (at most the organ's volume over its area, " << volume / area << " m)";
-    problems.push_back({where, "organ.cell_size", m.str(), false});
+    problems.push_back({where, o.field + ".cell_size", m.str(), false});
     return;
   }
   double cells = 1;
@@ -69,7 +70,7 @@ void check_core_cell(const SceneDef& s, const vdm::SurfaceMesh& organ, std::vect
     m << "a cell of " << h << " m gives about " << cells << " cells over the organ's box (" << extent.x() << " x "
       << extent.y() << " x " << extent.z() << " m), more than the core's " << kMaxCoreCells << ": give at least "
       << 1.1 * std::cbrt(extent.prod() / kMaxCoreCells) << " m";
-    problems.push_back({where, "organ.cell_size", m.str(), false});
+    problems.push_back({where, o.field + ".cell_size", m.str(), false});
     return;
   }
   size_t which = 0;
@@ -82,7 +83,7 @@ void check_core_cell(const SceneDef& s, const vdm::SurfaceMesh& organ, std::vect
       << " m across): a dent narrower than a few cells is resisted by the ties alone and its force comes out too "
          "small; a cell_size near the instrument's half width ("
       << width / 2 << " m) follows it";
-    problems.push_back({where, "organ.cell_size", m.str(), true});
+    problems.push_back({where, o.field + ".cell_size", m.str(), true});
   }
 }
 

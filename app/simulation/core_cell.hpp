@@ -17,15 +17,16 @@ constexpr double kMaxCoreCells = 2e7;
 // The default cell's bound on the core's size: about this many cubes inside the organ.
 constexpr double kDefaultCoreCubes = 10000;
 
-// The core's cell for `organ` (the surface as placed, m): organ.cell_size when the scene gives
+// The core's cell for `organ` (the surface of `def` as placed, m): its cell_size when the scene gives
 // it; by default the organ's volume over its area (a third of a slab's thickness), no wider
 // than the smallest instrument (a dent under it then spans a cell or more: the flat punch of
 // AgainstTheFem is within 1-5 % of the FEM's force at one punch width per cell), and no finer
 // than gives kDefaultCoreCubes cubes (the step's cost grows with them).
-double core_cell_size(const SceneDef& scene, const vdm::SurfaceMesh& organ);
+double core_cell_size(const SceneDef& scene, const OrganDef& def, const vdm::SurfaceMesh& organ);
 
 // Appends the problems of `scene`'s cell for `organ` (the surface as placed, m) to `problems`
 // (vdm_core's check of the placed organ, organ_model_table.hpp).
-void check_core_cell(const SceneDef& scene, const vdm::SurfaceMesh& organ, std::vector<SceneProblem>& problems);
+void check_core_cell(const SceneDef& scene, const OrganDef& def, const vdm::SurfaceMesh& organ,
+                     std::vector<SceneProblem>& problems);
 
 }  // namespace vdmsim

@@ -9,32 +9,36 @@
 namespace vdmsim {
 
 // vdm: the tissue model is the model; vdm::step solves it.
-void VdmRow::check_placed(const SceneDef&, const vdm::SurfaceMesh&, std::vector<SceneProblem>&) {}
-bool VdmRow::build(const SceneDef&, const vdm::TissueModel&, ReferenceModel&, std::string&) { return true; }
+void VdmRow::check_placed(const SceneDef&, const OrganDef&, const vdm::SurfaceMesh&, std::vector<SceneProblem>&) {}
+bool VdmRow::build(const SceneDef&, const OrganDef&, const vdm::TissueModel&, ReferenceModel&, std::string&) {
+  return true;
+}
 std::unique_ptr<vdm::OrganSolver> VdmRow::make_solver(const ReferenceModel&) { return nullptr; }
 
-void VdmCoreRow::check_placed(const SceneDef& s, const vdm::SurfaceMesh& organ, std::vector<SceneProblem>& problems) {
-  check_core_cell(s, organ, problems);
+void VdmCoreRow::check_placed(const SceneDef& s, const OrganDef& o, const vdm::SurfaceMesh& organ,
+                                std::vector<SceneProblem>& problems) {
+  check_core_cell(s, o, organ, problems);
   // Nothing in the core anchors the organ (unlike vdm's bulk term): static steps under a load
   // have no equilibrium when no region holds it.
-  if (s.fixed.empty() && s.prescribed.empty() && !s.has(Effect::inertia) &&
-      (s.has(Effect::gravity) || !s.loads.empty()))
-    problems.push_back({s.file, "organ.fixed",
+  if (o.fixed.empty() && o.prescribed.empty() && !s.has(Effect::inertia) &&
+      (s.has(Effect::gravity) || !o.loads.empty()))
+    problems.push_back({s.file, o.field + ".fixed",
                         "nothing holds the organ: on organ.model vdm_core a static step under gravity or loads has no "
                         "equilibrium (the organ would fall away); fix a region (organ.fixed: where it rests or hangs) "
                         "or add the inertia effect",
                         false});
 }
-bool VdmCoreRow::build(const SceneDef& s, const vdm::TissueModel& m, ReferenceModel& out, std::string& error) {
+bool VdmCoreRow::build(const SceneDef& s, const OrganDef& o, const vdm::TissueModel& m, ReferenceModel& out,
+                          std::string& error) {
   vdm::core::CoreDef def;
   def.surface = m.rest;
-  def.young_modulus = s.young_modulus;
-  def.cell_size = core_cell_size(s, m.rest);
-  def.density = s.density;
+  def.young_modulus = o.young_modulus;
+  def.cell_size = core_cell_size(s, o, m.rest);
+  def.density = o.density;
   def.gravity = s.gravity;
   def.use_gravity = s.has(Effect::gravity);
   def.use_inertia = s.has(Effect::inertia);
-  def.damping = s.damping;
+  def.damping = o.damping;
   def.dt = s.dt;
   def.compute_stress = s.has(Effect::stress);
   def.fixed = m.held;
@@ -44,16 +48,18 @@ std::unique_ptr<vdm::OrganSolver> VdmCoreRow::make_solver(const ReferenceModel& 
   return vdm::make_core_solver(r.core, r.dt);
 }
 
-void FemRow::check_placed(const SceneDef& s, const vdm::SurfaceMesh& organ, std::vector<SceneProblem>& problems) {
+void FemRow::check_placed(const SceneDef& s, const OrganDef& o, const vdm::SurfaceMesh& organ,
+                                std::vector<SceneProblem>& problems) {
   std::string error;
-  if (!check_tet_budget(organ, s.tet_size, error)) problems.push_back({s.file, "organ.tet_size", error, false});
+  if (!check_tet_budget(organ, o.tet_size, error)) problems.push_back({s.file, o.field + ".tet_size", error, false});
 }
-bool FemRow::build(const SceneDef& s, const vdm::TissueModel& m, ReferenceModel& out, std::string& error) {
+bool FemRow::build(const SceneDef& s, const OrganDef& o, const vdm::TissueModel& m, ReferenceModel& out,
+                          std::string& error) {
   vdm::fem::FemDef def;
-  if (!tetrahedralize(m.rest, s.tet_size, def.mesh, error)) return false;
-  def.young_modulus = s.young_modulus;
-  def.poisson_ratio = s.poisson_ratio;
-  def.density = s.density;
+  if (!tetrahedralize(m.rest, o.tet_size, def.mesh, error)) return false;
+  def.young_modulus = o.young_modulus;
+  def.poisson_ratio = o.poisson_ratio;
+  def.density = o.density;
   def.gravity = s.gravity;
   def.use_gravity = s.has(Effect::gravity);
   def.fixed = m.held;
@@ -63,14 +69,15 @@ std::unique_ptr<vdm::OrganSolver> FemRow::make_solver(const ReferenceModel& r) {
   return vdm::make_fem_solver(r.fem, r.dt);
 }
 
-void MassSpringRow::check_placed(const SceneDef&, const vdm::SurfaceMesh&, std::vector<SceneProblem>&) {}
-bool MassSpringRow::build(const SceneDef& s, const vdm::TissueModel& m, ReferenceModel& out, std::string& error) {
+void MassSpringRow::check_placed(const SceneDef&, const OrganDef&, const vdm::SurfaceMesh&, std::vector<SceneProblem>&) {}
+bool MassSpringRow::build(const SceneDef&, const OrganDef& o, const vdm::TissueModel& m, ReferenceModel& out,
+                          std::string& error) {
   vdm::MassSpringDef def;
   def.positions = m.rest.positions;
   def.triangles = m.rest.triangles;
-  def.young_modulus = s.young_modulus;
-  def.thickness = s.thickness;
-  def.volume_modulus = s.volume_modulus;
+  def.young_modulus = o.young_modulus;
+  def.thickness = o.thickness;
+  def.volume_modulus = o.volume_modulus;
   def.fixed = m.held;
   return vdm::build_mass_spring_model(def, out.mass_spring, error);
 }
@@ -98,11 +105,12 @@ const OrganModelRun& organ_model_run(vdm::ModelKind kind) {
   return it != runs.end() ? *it : runs.front();  // every ModelKind has a row (organ_model_table_test)
 }
 
-bool build_reference_model(const SceneDef& s, const vdm::TissueModel& m, ReferenceModel& out, std::string& error) {
+bool build_reference_model(const SceneDef& s, const OrganDef& o, const vdm::TissueModel& m, ReferenceModel& out,
+                           std::string& error) {
   out = ReferenceModel{};
-  out.kind = s.model;
+  out.kind = o.model;
   out.dt = s.dt;
-  return organ_model_run(s.model).build(s, m, out, error);
+  return organ_model_run(o.model).build(s, o, m, out, error);
 }
 
 std::unique_ptr<vdm::OrganSolver> make_organ_solver(const ReferenceModel& r) {

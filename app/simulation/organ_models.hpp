@@ -29,19 +29,21 @@ struct ReferenceModel {
 // A row's functions (organ_model_table.hpp says what each does).
 struct OrganModelRun {
   vdm::ModelKind kind;
-  void (*check_placed)(const SceneDef& scene, const vdm::SurfaceMesh& organ, std::vector<SceneProblem>& problems);
-  bool (*build)(const SceneDef& scene, const vdm::TissueModel& model, ReferenceModel& out, std::string& error);
+  void (*check_placed)(const SceneDef& scene, const OrganDef& def, const vdm::SurfaceMesh& organ,
+                       std::vector<SceneProblem>& problems);
+  bool (*build)(const SceneDef& scene, const OrganDef& def, const vdm::TissueModel& model, ReferenceModel& out,
+                std::string& error);
   std::unique_ptr<vdm::OrganSolver> (*make_solver)(const ReferenceModel& reference);
-  void (*write_run_json)(const PreparedScene& prepared, std::ostream& js);
+  void (*write_run_json)(const OrganDef& def, const PreparedOrgan& organ, std::ostream& js);
 };
 
 // The functions of `kind`'s row (every ModelKind has one).
 const OrganModelRun& organ_model_run(vdm::ModelKind kind);
 
-// The scene's reference model on `model`'s surface with its fixed entries (nothing for vdm).
-// False with a message on failure.
-bool build_reference_model(const SceneDef& scene, const vdm::TissueModel& model, ReferenceModel& out,
-                           std::string& error);
+// The reference model of the scene's organ `def` on `model`'s surface with its fixed entries
+// (nothing for vdm). False with a message on failure.
+bool build_reference_model(const SceneDef& scene, const OrganDef& def, const vdm::TissueModel& model,
+                           ReferenceModel& out, std::string& error);
 
 // A solver of its own on a copy of the reference model; null for vdm.
 std::unique_ptr<vdm::OrganSolver> make_organ_solver(const ReferenceModel& reference);

@@ -119,6 +119,80 @@ bool load_convex(const ConvexDef& def, std::shared_ptr<const vdm::ConvexHull>& o
 }
 }  // namespace
 
+namespace {
+// One organ of the scene on its placed surface: its tissue model, the nodes of its regions, its
+// reference model. False (with the problems) when any is wrong.
+bool prepare_organ(const SceneDef& s, const OrganDef& od, const vdm::SurfaceMesh& placed, PreparedOrgan& out,
+                   std::vector<SceneProblem>& problems) {
+  const auto failed = [&] {
+    return std::any_of(problems.begin(), problems.end(), [](const SceneProblem& p) { return !p.warning; });
+  };
+  vdm::TissueDef def = vdm::default_tissue(placed);
+  const int n = def.mesh.node_count();
+  def.bulk_modulus = vdm::NodeMat(n, 3);
+  for (int d = 0; d < 3; ++d) def.bulk_modulus.col(d).setConstant(od.bulk_modulus[d]);
+  def.connectivity_modulus = od.connectivity_modulus;
+  def.capsule = od.capsule;
+  // What the model ignores does not reach the surface it shares: the skin's bending, the stress.
+  const OrganModel& row = organ_model(od.model);
+  def.bending_modulus = row.uses("organ.material.bending_modulus") ? od.bending_modulus : 0.0;
+  def.density = od.density;
+  def.dt = s.dt;
+  def.gravity = s.gravity;
+  def.use_gravity = s.has(Effect::gravity);
+  def.use_inertia = s.has(Effect::inertia);
+  def.compute_stress = s.has(Effect::stress) && row.surface_stress;
+  def.damping = od.damping;
+  def.volume_constraint = s.volume_constraint;
+  def.solver = s.solver;
+  def.fixed = vdm::FlagMat::Zero(n, 3);
+  const auto item = [&](const char* list, size_t k) { return od.field + "." + list + "[" + std::to_string(k) + "]"; };
+  for (size_t k = 0; k < od.fixed.size(); ++k)
+    for (int i : select_nodes(od.fixed[k].region, def.mesh.positions, item("fixed", k), problems))
+      for (int d = 0; d < 3; ++d)
+        if (od.fixed[k].axes[d]) def.fixed(i, d) = 1;
+  for (size_t k = 0; k < od.loads.size(); ++k)
+    out.load_nodes.push_back(select_nodes(od.loads[k].region, def.mesh.positions, item("loads", k), problems));
+  for (size_t k = 0; k < od.prescribed.size(); ++k) {
+    const auto nodes = select_nodes(od.prescribed[k].region, def.mesh.positions, item("prescribed", k), problems);
+    vdm::Vec3 c = vdm::Vec3::Zero();
+    for (int i : nodes) c += def.mesh.positions.row(i).transpose() / double(nodes.size());
+    out.prescribed_about.push_back(od.prescribed[k].about.value_or(c));
+    out.prescribed_nodes.push_back(nodes);
+  }
+  if (failed()) return false;
+  std::string error;
+  if (!vdm::build_tissue_model(def, out.model, error)) {
+    problems.push_back({s.file, od.field, error, false});
+    return false;
+  }
+  organ_model_run(od.model).check_placed(s, od, out.model.rest, problems);
+  if (failed()) return false;
+  if (!build_reference_model(s, od, out.model, out.reference, error)) {
+    problems.push_back({s.file, od.field + ".model", error, false});
+    return false;
+  }
+  return true;
+}
+}  // namespace
+
+vdm::SurfaceMesh join_surfaces(const std::vector<vdm::SurfaceMesh>& parts) {
+  vdm::SurfaceMesh all;
+  if (parts.size() == 1) return parts.front();
+  int nodes = 0, triangles = 0;
+  for (const vdm::SurfaceMesh& p : parts) nodes += p.node_count(), triangles += p.triangle_count();
+  all.positions.resize(nodes, 3);
+  all.triangles.resize(triangles, 3);
+  int n0 = 0, t0 = 0;
+  for (const vdm::SurfaceMesh& p : parts) {
+    all.positions.middleRows(n0, p.node_count()) = p.positions;
+    all.triangles.middleRows(t0, p.triangle_count()) = p.triangles.array() + n0;
+    n0 += p.node_count();
+    t0 += p.triangle_count();
+  }
+  return all;
+}
+
 bool prepare_scene_def(const SceneDef& scene, PreparedScene& out, std::vector<SceneProblem>& problems) {
   out.scene = scene;
   const SceneDef& s = out.scene;
@@ -148,64 +222,31 @@ bool prepare_scene_def(const SceneDef& scene, PreparedScene& out, std::vector<Sc
     }
   }
 
-  MeshLoadOptions mopt;
-  mopt.scale = s.scale;
-  const MeshLoadResult mesh = load_surface_mesh(s.mesh_path, mopt);
-  if (!mesh.ok) {
-    problems.push_back({s.file, "organ.mesh", mesh.error, false});
-    return false;
+  // Every organ's surface, placed; and all of them as one surface (organ i's nodes from
+  // node_offset[i]), which keyframes placed on a surface and the picture see.
+  std::vector<vdm::SurfaceMesh> placed(s.organs.size());
+  out.organs.assign(s.organs.size(), PreparedOrgan{});
+  out.node_offset.assign(1, 0);
+  for (size_t o = 0; o < s.organs.size(); ++o) {
+    const OrganDef& od = s.organs[o];
+    MeshLoadOptions mopt;
+    mopt.scale = od.scale;
+    const MeshLoadResult mesh = load_surface_mesh(od.mesh_path, mopt);
+    if (!mesh.ok) {
+      problems.push_back({s.file, od.field + ".mesh", mesh.error, false});
+      return false;
+    }
+    if (mesh.flipped) problems.push_back({s.file, od.field + ".mesh", flipped_surface_note(od.mesh_path), true});
+    placed[o] = mesh.mesh;
+    place_organ(placed[o].positions, od.rotate_deg, od.translate);
+    out.node_offset.push_back(out.node_offset.back() + placed[o].node_count());
   }
-  if (mesh.flipped) problems.push_back({s.file, "organ.mesh", flipped_surface_note(s.mesh_path), true});
-  vdm::SurfaceMesh placed = mesh.mesh;
-  place_organ(placed.positions, s.rotate_deg, s.translate);
-  // Keyframes placed on the organ get their tips before anything reads the scripts.
-  if (!resolve_surface_keyframes(out.scene, placed, out.surface_hits, problems)) return false;
-  if (!check_port_keyframes(out.scene, placed, problems)) return false;
-  vdm::TissueDef def = vdm::default_tissue(placed);
-  const int n = def.mesh.node_count();
-  def.bulk_modulus = vdm::NodeMat(n, 3);
-  for (int d = 0; d < 3; ++d) def.bulk_modulus.col(d).setConstant(s.bulk_modulus[d]);
-  def.connectivity_modulus = s.connectivity_modulus;
-  def.capsule = s.capsule;
-  // What the model ignores does not reach the surface it shares: the skin's bending, the stress.
-  const OrganModel& row = organ_model(s.model);
-  def.bending_modulus = row.uses("organ.material.bending_modulus") ? s.bending_modulus : 0.0;
-  def.density = s.density;
-  def.dt = s.dt;
-  def.gravity = s.gravity;
-  def.use_gravity = s.has(Effect::gravity);
-  def.use_inertia = s.has(Effect::inertia);
-  def.compute_stress = s.has(Effect::stress) && row.surface_stress;
-  def.damping = s.damping;
-  def.volume_constraint = s.volume_constraint;
-  def.solver = s.solver;
-  def.fixed = vdm::FlagMat::Zero(n, 3);
-  for (size_t k = 0; k < s.fixed.size(); ++k)
-    for (int i : select_nodes(s.fixed[k].region, def.mesh.positions, "organ.fixed[" + std::to_string(k) + "]", problems))
-      for (int d = 0; d < 3; ++d)
-        if (s.fixed[k].axes[d]) def.fixed(i, d) = 1;
-  for (size_t k = 0; k < s.loads.size(); ++k)
-    out.load_nodes.push_back(select_nodes(s.loads[k].region, def.mesh.positions, "organ.loads[" + std::to_string(k) + "]", problems));
-  for (size_t k = 0; k < s.prescribed.size(); ++k) {
-    const auto nodes =
-        select_nodes(s.prescribed[k].region, def.mesh.positions, "organ.prescribed[" + std::to_string(k) + "]", problems);
-    vdm::Vec3 c = vdm::Vec3::Zero();
-    for (int i : nodes) c += def.mesh.positions.row(i).transpose() / double(nodes.size());
-    out.prescribed_about.push_back(s.prescribed[k].about.value_or(c));
-    out.prescribed_nodes.push_back(nodes);
-  }
-  if (std::any_of(problems.begin(), problems.end(), [](const SceneProblem& p) { return !p.warning; })) return false;
-  std::string error;
-  if (!vdm::build_tissue_model(def, out.model, error)) {
-    problems.push_back({s.file, "organ", error, false});
-    return false;
-  }
-  organ_model_run(s.model).check_placed(s, out.model.rest, problems);
-  if (std::any_of(problems.begin(), problems.end(), [](const SceneProblem& p) { return !p.warning; })) return false;
-  if (!build_reference_model(s, out.model, out.reference, error)) {
-    problems.push_back({s.file, "organ.model", error, false});
-    return false;
-  }
+  out.surface = join_surfaces(placed);
+  // Keyframes placed on the organs get their tips before anything reads the scripts.
+  if (!resolve_surface_keyframes(out.scene, out.surface, out.surface_hits, problems)) return false;
+  if (!check_port_keyframes(out.scene, out.surface, problems)) return false;
+  for (size_t o = 0; o < s.organs.size(); ++o)
+    if (!prepare_organ(s, s.organs[o], placed[o], out.organs[o], problems)) return false;
   return true;
 }
 

@@ -24,15 +24,29 @@ struct InstrumentSkin {
   std::shared_ptr<render::SkinMesh> body, jaws[2];
 };
 
+// One organ made ready: its tissue model (the surface placed, its holds), the nodes its loads and
+// motions act on, and the reference model of its `model` (none for vdm).
+struct PreparedOrgan {
+  vdm::TissueModel model;
+  std::vector<std::vector<int>> load_nodes;        // per loads entry
+  std::vector<std::vector<int>> prescribed_nodes;  // per prescribed entry
+  std::vector<vdm::Vec3> prescribed_about;         // rotation centre per entry (m)
+  ReferenceModel reference;                        // the organ model's own (vdm: none, vdm::step)
+};
+
 struct PreparedScene {
   SceneDef scene;
-  vdm::TissueModel model;
-  std::vector<std::vector<int>> load_nodes;        // per organ.loads entry
-  std::vector<std::vector<int>> prescribed_nodes;  // per organ.prescribed entry
-  std::vector<vdm::Vec3> prescribed_about;         // rotation centre per entry (m)
+  std::vector<PreparedOrgan> organs = std::vector<PreparedOrgan>(1);  // scene.organs' order
+  // Every organ's rest surface as placed, in one mesh: organ i's nodes are node_offset[i] to
+  // node_offset[i + 1] - 1 (the picture draws it; keyframes are placed on it).
+  vdm::SurfaceMesh surface;
+  std::vector<int> node_offset = {0, 0};
   std::vector<InstrumentSkin> skins;               // per instrument
   std::vector<SurfaceHit> surface_hits;            // per scene.surface_keyframes entry: where each landed
-  ReferenceModel reference;                        // organ.model's own (vdm: none, vdm::step)
+
+  // The first organ (the only one in the one-organ form).
+  const PreparedOrgan& organ() const { return organs.front(); }
+  PreparedOrgan& organ() { return organs.front(); }
 };
 
 // Loads and validates the scene and its mesh and builds the model. On failure returns false
@@ -42,6 +56,8 @@ bool prepare_scene(const std::string& path, PreparedScene& out, std::vector<Scen
 // Places the scaled organ as organ.rotate_deg and organ.translate say: turned about the centre
 // of its bounding box, about x, then y, then z (fixed axes), then moved.
 void place_organ(vdm::NodeMat& x, const vdm::Vec3& rotate_deg, const vdm::Vec3& translate);
+// Surfaces as one mesh: the nodes of each after those of the ones before it.
+vdm::SurfaceMesh join_surfaces(const std::vector<vdm::SurfaceMesh>& parts);
 
 bool prepare_scene_def(const SceneDef& scene, PreparedScene& out, std::vector<SceneProblem>& problems);
 

@@ -1,6 +1,7 @@
 #include "app/simulation/scene_simulation.hpp"
 
 #include "app/simulation/organ_models.hpp"
+#include "app/simulation/organ_overlap.hpp"
 #include "app/simulation/tool_depth.hpp"
 #include "engine/state_snapshot.hpp"
 #include "engine/stopwatch.hpp"
@@ -24,8 +25,7 @@ double ramp(double t, double t0, double t1) {
 
 }  // namespace
 
-SceneSimulation::SceneSimulation(const PreparedScene& ps)
-    : ps_(ps), state_(vdm::make_sim_state(ps.model)), input_(vdm::make_step_input(ps.model)) {
+SceneSimulation::SceneSimulation(const PreparedScene& ps) : ps_(ps) {
   const SceneDef& s = ps.scene;
   // Contact runs only when listed, against probes and graspers' jaws; grasping only when
   // listed, by graspers.
@@ -34,32 +34,103 @@ SceneSimulation::SceneSimulation(const PreparedScene& ps)
     (probe ? probes_ : graspers_).push_back(&s.instruments[k]);
     (probe ? probe_index_ : grasper_index_).push_back(k);
   }
+  contact_ = s.has(Effect::contact) && !s.instruments.empty();
+  grasp_ = s.has(Effect::grasp) && !graspers_.empty();
   instrument_force_.assign(s.instruments.size(), vdm::Vec3::Zero());
-  const vdm::NodeMat& X = ps.model.rest.positions;
-  organ_size_ = (X.colwise().maxCoeff() - X.colwise().minCoeff()).norm();
-  holder_.assign(static_cast<size_t>(ps.model.n), -1);
   peak_force_.assign(s.instruments.size(), 0.0);
-  if (s.has(Effect::grasp)) grasps_.resize(graspers_.size());
-  // External forces only when the scene has loads: an empty force is none (1 MB at 40k nodes).
-  if (s.loads.empty()) input_.force.resize(0, 3);
-  // A reference model keeps its own state: every simulation (a colour-range pass, the run, a
-  // benchmark repeat) builds its own, so that none starts where another ended.
-  organ_ = make_organ_solver(ps.reference);
-  if (s.has(Effect::contact) && !s.instruments.empty()) contact_ = std::make_unique<vdm::ContactSolver>(ps.model, s.contact);
-  if (contact_) contact_->set_solver(organ_.get());  // organ.model's solver (null: vdm)
+  organs_.resize(ps.organs.size());
+  for (size_t i = 0; i < organs_.size(); ++i) {
+    OrganRun& o = organs_[i];
+    const PreparedOrgan& po = ps.organs[i];
+    o.prepared = &po;
+    o.def = &s.organs[i];
+    o.state = vdm::make_sim_state(po.model);
+    o.input = vdm::make_step_input(po.model);
+    const vdm::NodeMat& X = po.model.rest.positions;
+    o.size = (X.colwise().maxCoeff() - X.colwise().minCoeff()).norm();
+    o.holder.assign(static_cast<size_t>(po.model.n), -1);
+    o.force.assign(s.instruments.size(), vdm::Vec3::Zero());
+    if (grasp_) o.grasps.resize(graspers_.size());
+    // External forces only when the organ has loads: an empty force is none (1 MB at 40k nodes).
+    if (o.def->loads.empty()) o.input.force.resize(0, 3);
+    // A reference model keeps its own state: every simulation (a colour-range pass, the run, a
+    // benchmark repeat) builds its own, so that none starts where another ended.
+    o.solver = make_organ_solver(po.reference);
+    if (contact_) {
+      o.contact = std::make_unique<vdm::ContactSolver>(po.model, s.contact);
+      o.contact->set_solver(o.solver.get());  // the organ model's solver (null: vdm)
+    }
+  }
+  if (organs_.size() > 1) positions_ = ps.surface.positions;
   tools_.resize(probes_.size() + 3 * graspers_.size());  // probes, then each grasper's two jaws and shaft
 }
 
+bool SceneSimulation::failed() const {
+  return std::any_of(organs_.begin(), organs_.end(), [](const OrganRun& o) { return o.state.failed; });
+}
+
+std::string SceneSimulation::failure() const {
+  for (const OrganRun& o : organs_)
+    if (o.state.failed) return organ_prefix(o) + o.state.failure;
+  return "";
+}
+
+std::vector<std::string> SceneSimulation::warnings() const {
+  std::vector<std::string> out;
+  for (const OrganRun& o : organs_)
+    for (const std::string& w : o.state.warnings) out.push_back(organ_prefix(o) + w);
+  return out;
+}
+
+std::string SceneSimulation::organ_prefix(const OrganRun& o) const {
+  return organs_.size() > 1 ? o.def->name + ": " : "";
+}
+
+vdm::Vec3 SceneSimulation::total_force(size_t organ) const {
+  vdm::Vec3 sum = vdm::Vec3::Zero();
+  for (const vdm::Vec3& f : organs_[organ].force) sum += f;
+  return sum;
+}
+
 std::string SceneSimulation::unsound() const {
-  const vdm::SimState& st = state_;
+  for (const OrganRun& o : organs_)
+    if (std::string why = unsound(o); !why.empty()) return organ_prefix(o) + why;
+  if (!total_force().allFinite()) return "non-finite instrument force";
+  if (!conflict_.empty()) return conflict_;
+  if (std::string why = organs_overlap(); !why.empty()) return why;
+  return deep_probe();
+}
+
+// Organs passed into each other by more than kOrganOverlap: contact between organs is not
+// simulated, so nothing would push them apart and their pictures and forces would be wrong.
+std::string SceneSimulation::organs_overlap() const {
+  for (size_t i = 0; i < organs_.size(); ++i)
+    for (size_t j = i + 1; j < organs_.size(); ++j) {
+      const OrganRun &a = organs_[i], &b = organs_[j];
+      const OrganOverlap o = find_overlap(a.state.x, a.prepared->model.rest.triangles, b.state.x,
+                                          b.prepared->model.rest.triangles);
+      if (!(o.depth > kOrganOverlap)) continue;
+      const OrganRun& in = o.in_b ? a : b;
+      const OrganRun& into = o.in_b ? b : a;
+      char text[160];
+      std::snprintf(text, sizeof text, "node %d of %s is %.3g mm inside %s at [%.4g, %.4g, %.4g] m", o.node,
+                    in.def->name.c_str(), 1e3 * o.depth, into.def->name.c_str(), o.where.x(), o.where.y(), o.where.z());
+      return "organs " + a.def->name + " and " + b.def->name + " pass into each other (" + text +
+             "): contact between organs is not simulated, so nothing keeps them apart; place them apart or keep the "
+             "instruments from pushing one into the other (docs/several-organs.md)";
+    }
+  return "";
+}
+
+std::string SceneSimulation::unsound(const OrganRun& o) const {
+  const vdm::SimState& st = o.state;
   if (!st.u.allFinite()) return "non-finite displacement";
   if (!std::isfinite(st.volume) || !std::isfinite(st.volume_rel_error)) return "non-finite volume";
   if (!std::isfinite(st.pressure)) return "non-finite pressure";
   if (!std::isfinite(st.stats.residual)) return "non-finite solver residual";
   if (ps_.scene.has(Effect::stress) && !st.stress.allFinite()) return "non-finite stress";
   if (st.reaction.size() > 0 && !st.reaction.allFinite()) return "non-finite reaction forces";
-  if (!total_force().allFinite()) return "non-finite instrument force";
-  const double size = organ_size_;
+  const double size = o.size;
   const double moved = st.u.rowwise().norm().maxCoeff();
   if (moved > 2 * size) {
     char text[200];
@@ -69,25 +140,24 @@ std::string SceneSimulation::unsound() const {
                   moved, size);
     return text;
   }
-  if (!conflict_.empty()) return conflict_;
-  return deep_probe();
+  return "";
 }
 
-void SceneSimulation::note_hold(int node, int holder, const vdm::Vec3& before, const vdm::Vec3& after) {
-  const int earlier = holder_[static_cast<size_t>(node)];
-  holder_[static_cast<size_t>(node)] = holder;
+void SceneSimulation::note_hold(OrganRun& o, int node, int holder, const vdm::Vec3& before, const vdm::Vec3& after) {
+  const int earlier = o.holder[static_cast<size_t>(node)];
+  o.holder[static_cast<size_t>(node)] = holder;
   if (earlier == -1) return;
   // Apart by more than 5 % of the organ's size: not two holds of one piece of tissue moving
   // together, but the tissue torn between them.
   const double gap = (after - before).norm();
-  if (!(gap > 0.05 * organ_size_) || gap <= conflict_gap_) return;
+  if (!(gap > 0.05 * o.size) || gap <= conflict_gap_) return;
   conflict_gap_ = gap;
-  const auto name = [](int h) {
-    return h >= 0 ? "instruments[" + std::to_string(h) + "]" : "organ.prescribed[" + std::to_string(-2 - h) + "]";
+  const auto name = [&](int h) {
+    return h >= 0 ? "instruments[" + std::to_string(h) + "]" : o.def->field + ".prescribed[" + std::to_string(-2 - h) + "]";
   };
   char gap_text[32];
   std::snprintf(gap_text, sizeof gap_text, "%.3g", gap);
-  conflict_ = "node " + std::to_string(node) + " is held by both " + name(earlier) + " and " + name(holder) +
+  conflict_ = organ_prefix(o) + "node " + std::to_string(node) + " is held by both " + name(earlier) + " and " + name(holder) +
               ", which move it to places " + gap_text +
               " m apart: they pull the same tissue against each other (the model cannot tear tissue)";
 }
@@ -95,9 +165,9 @@ void SceneSimulation::note_hold(int node, int holder, const vdm::Vec3& before, c
 // Why contact could not push the organ away from instruments[k], in the terms of the scene: a
 // probe far thinner than the organ's triangles slips between its nodes; a material far softer
 // than any tissue gives no force; else the organ is rigid or held where the probe presses.
-std::string SceneSimulation::deep_probe_cause(size_t probe) const {
-  const SceneDef& s = ps_.scene;
-  const vdm::SurfaceMesh& rest = ps_.model.rest;
+std::string SceneSimulation::deep_probe_cause(const OrganRun& o, size_t probe) const {
+  const OrganDef& s = *o.def;
+  const vdm::SurfaceMesh& rest = o.prepared->model.rest;
   double edges = 0;
   for (Eigen::Index f = 0; f < rest.triangles.rows(); ++f)
     edges += (rest.positions.row(rest.triangles(f, 0)) - rest.positions.row(rest.triangles(f, 1))).norm();
@@ -132,12 +202,14 @@ std::string SceneSimulation::deep_probe() const {
   for (size_t k = 0; k < probes_.size(); ++k) {
     const vdm::Vec3 tip = tools::pose_at(*probes_[k], time_).tip;
     const double limit = std::max(0.01, 2 * tools::instrument_size(*probes_[k]));
-    if (deeper_inside(state_.x, ps_.model.rest.triangles, tip, limit)) {
-      const double depth = depth_inside(state_.x, ps_.model.rest.triangles, tip);
+    for (const OrganRun& o : organs_) {
+      const vdm::TriMat& triangles = o.prepared->model.rest.triangles;
+      if (!deeper_inside(o.state.x, triangles, tip, limit)) continue;
+      const double depth = depth_inside(o.state.x, triangles, tip);
       char text[120];
       std::snprintf(text, sizeof text, "instruments[%zu]'s tip is %.3g m inside the organ (more than %.3g m): ",
                     probe_index_[k], depth, limit);
-      return text + deep_probe_cause(k) + ", and its force would be wrong";
+      return organ_prefix(o) + text + deep_probe_cause(o, k) + ", and its force would be wrong";
     }
   }
   return "";
@@ -151,17 +223,21 @@ vdm::Vec3 SceneSimulation::total_force() const {
 
 void SceneSimulation::measure_forces() {
   if (!forces_simulated()) return;
-  const std::vector<vdm::Vec3>* contact = contact_ ? &contact_->tool_forces() : nullptr;
-  auto tool = [&](size_t k) { return contact && k < contact->size() ? (*contact)[k] : vdm::Vec3::Zero(); };
-  for (size_t k = 0; k < probes_.size(); ++k) instrument_force_[probe_index_[k]] = tool(k);
-  for (size_t k = 0; k < graspers_.size(); ++k) {
-    const size_t jaws = probes_.size() + 3 * k;
-    vdm::Vec3 f = tool(jaws) + tool(jaws + 1) + tool(jaws + 2);
-    // The grasped nodes follow the jaws as prescribed motion: the organ pulls the jaws with
-    // minus their reactions.
-    if (k < grasps_.size())
-      for (int i : grasps_[k].held()) f -= state_.reaction.row(i).transpose();
-    instrument_force_[grasper_index_[k]] = f;
+  for (OrganRun& o : organs_) {
+    const std::vector<vdm::Vec3>* contact = o.contact ? &o.contact->tool_forces() : nullptr;
+    auto tool = [&](size_t k) { return contact && k < contact->size() ? (*contact)[k] : vdm::Vec3::Zero(); };
+    for (size_t k = 0; k < probes_.size(); ++k) o.force[probe_index_[k]] = tool(k);
+    for (size_t k = 0; k < graspers_.size(); ++k) {
+      const size_t jaws = probes_.size() + 3 * k;
+      vdm::Vec3 f = tool(jaws) + tool(jaws + 1) + tool(jaws + 2);
+      // The grasped nodes follow the jaws as prescribed motion: the organ pulls the jaws with
+      // minus their reactions.
+      if (k < o.grasps.size())
+        for (int i : o.grasps[k].held()) f -= o.state.reaction.row(i).transpose();
+      o.force[grasper_index_[k]] = f;
+    }
+    for (size_t k = 0; k < instrument_force_.size(); ++k)
+      instrument_force_[k] = &o == &organs_.front() ? o.force[k] : vdm::Vec3(instrument_force_[k] + o.force[k]);
   }
   for (size_t k = 0; k < instrument_force_.size(); ++k)
     peak_force_[k] = std::max(peak_force_[k], instrument_force_[k].norm());
@@ -173,115 +249,147 @@ std::vector<tools::InstrumentPose> SceneSimulation::poses(double t) const {
   return out;
 }
 
+// A snapshot is, for each organ in turn, its model's own state (vdm_core's; a reference model
+// saves none: false), its engine state and its grasps; then the run's tallies; then each organ's
+// contact carry.
 bool SceneSimulation::save(std::string& out) const {
-  // The organ model's own state first (vdm_core's; a reference model saves none: false).
-  if (organ_ && !organ_->save_state(out)) return false;
-  vdm::save_state(ps_.model, state_, out);
-  const std::int64_t grasps = static_cast<std::int64_t>(grasps_.size());
-  out.append(reinterpret_cast<const char*>(&grasps), sizeof grasps);
-  for (const tools::Grasp& g : grasps_) g.save(out);
+  for (const OrganRun& o : organs_) {
+    if (o.solver && !o.solver->save_state(out)) return false;
+    vdm::save_state(o.prepared->model, o.state, out);
+    const std::int64_t grasps = static_cast<std::int64_t>(o.grasps.size());
+    out.append(reinterpret_cast<const char*>(&grasps), sizeof grasps);
+    for (const tools::Grasp& g : o.grasps) g.save(out);
+  }
   // The run's force and contact tallies, so that a resumed run reports the whole run's.
   out.append(reinterpret_cast<const char*>(peak_force_.data()), sizeof(double) * peak_force_.size());
+  for (const OrganRun& o : organs_)
+    out.append(reinterpret_cast<const char*>(&o.max_volume_error), sizeof o.max_volume_error);
   const std::int64_t counts[2] = {unconverged_steps_, contact_iterations_};
   out.append(reinterpret_cast<const char*>(counts), sizeof counts);
-  if (contact_) contact_->save_state(out);
+  for (const OrganRun& o : organs_)
+    if (o.contact) o.contact->save_state(out);
   return true;
 }
 
 bool SceneSimulation::load(std::string_view in, std::string& error) {
   size_t pos = 0;
-  if (organ_ && !organ_->load_state(in, pos, error)) return false;
-  if (!vdm::load_state(ps_.model, in, pos, state_, error)) return false;
-  std::int64_t grasps = -1;
-  if (in.size() - pos >= sizeof grasps) std::memcpy(&grasps, in.data() + pos, sizeof grasps);
-  pos += sizeof grasps;
-  if (grasps != static_cast<std::int64_t>(grasps_.size())) {
-    error = "state snapshot: of a scene with other graspers";
-    return false;
-  }
-  for (tools::Grasp& g : grasps_)
-    if (!g.load(in, pos, ps_.model.n)) {
-      error = "state snapshot: a grasp is truncated";
+  for (OrganRun& o : organs_) {
+    const vdm::TissueModel& m = o.prepared->model;
+    if (o.solver && !o.solver->load_state(in, pos, error)) return false;
+    if (!vdm::load_state(m, in, pos, o.state, error)) return false;
+    std::int64_t grasps = -1;
+    if (in.size() - pos >= sizeof grasps) std::memcpy(&grasps, in.data() + pos, sizeof grasps);
+    pos += sizeof grasps;
+    if (grasps != static_cast<std::int64_t>(o.grasps.size())) {
+      error = "state snapshot: of a scene with other graspers";
       return false;
     }
+    for (tools::Grasp& g : o.grasps)
+      if (!g.load(in, pos, m.n)) {
+        error = "state snapshot: a grasp is truncated";
+        return false;
+      }
+  }
   std::int64_t counts[2] = {0, 0};
-  const size_t tallies = sizeof(double) * peak_force_.size() + sizeof counts;
+  const size_t tallies = sizeof(double) * (peak_force_.size() + organs_.size()) + sizeof counts;
   if (in.size() - pos < tallies) {
     error = "state snapshot: the force tallies are truncated";
     return false;
   }
   std::memcpy(peak_force_.data(), in.data() + pos, sizeof(double) * peak_force_.size());
   pos += sizeof(double) * peak_force_.size();
+  for (OrganRun& o : organs_) {
+    std::memcpy(&o.max_volume_error, in.data() + pos, sizeof o.max_volume_error);
+    pos += sizeof o.max_volume_error;
+  }
   std::memcpy(counts, in.data() + pos, sizeof counts);
   pos += sizeof counts;
   unconverged_steps_ = counts[0];
   contact_iterations_ = counts[1];
-  if (contact_ && !contact_->load_state(in, pos, ps_.model.n, ps_.model.rest.triangle_count(), error)) return false;
+  for (OrganRun& o : organs_) {
+    const vdm::TissueModel& m = o.prepared->model;
+    if (o.contact && !o.contact->load_state(in, pos, m.n, m.rest.triangle_count(), error)) return false;
+  }
   if (pos != in.size()) {
     error = "state snapshot: bytes after the end";
     return false;
   }
+  gather_positions();
   return true;
+}
+
+void SceneSimulation::gather_positions() {
+  if (organs_.size() == 1) return;
+  for (size_t i = 0; i < organs_.size(); ++i)
+    positions_.middleRows(ps_.node_offset[i], organs_[i].state.x.rows()) = organs_[i].state.x;
+}
+
+void SceneSimulation::apply_script(OrganRun& o, double t) {
+  const OrganDef& s = *o.def;
+  const PreparedOrgan& po = *o.prepared;
+  const vdm::TissueModel& m = po.model;
+  vdm::StepInput& input = o.input;
+  input.force.setZero();
+  input.prescribed.setZero();
+  for (size_t k = 0; k < s.loads.size(); ++k) {
+    const auto& nodes = po.load_nodes[k];
+    const vdm::Vec3 per_node = ramp(t, s.loads[k].t0, s.loads[k].t1) * s.loads[k].force / double(nodes.size());
+    for (int i : nodes) input.force.row(i) += per_node.transpose();
+  }
+  // Every hold of a node (prescribed, a grasp) is noted: two that move one node to places far
+  // apart pull the tissue against each other (unsound()).
+  std::fill(o.holder.begin(), o.holder.end(), -1);
+  for (size_t k = 0; k < s.prescribed.size(); ++k) {
+    const PrescribedDef& p = s.prescribed[k];
+    const double a = ramp(t, p.t0, p.t1);
+    const Eigen::Matrix3d R = rotation_from_degrees(a * p.rotate_deg);
+    const vdm::Vec3 c = po.prescribed_about[k];
+    for (int i : po.prescribed_nodes[k]) {
+      const vdm::Vec3 X = m.rest.positions.row(i);
+      const vdm::Vec3 before = input.prescribed_u.row(i);
+      input.prescribed.row(i).setOnes();
+      input.prescribed_u.row(i) = (R * (X - c) + c + a * p.translate - X).transpose();
+      note_hold(o, i, -2 - static_cast<int>(k), before, input.prescribed_u.row(i).transpose());
+    }
+  }
+  const auto t_grasp = Clock::now();
+  for (size_t k = 0; frame_stepped_ && k < o.grasps.size(); ++k) {
+    const tools::InstrumentPose pose = tools::pose_at(*graspers_[k], t);
+    o.grasps[k].update(*graspers_[k], pose, o.state.x);
+    earlier_hold_.clear();
+    for (int i : o.grasps[k].held()) earlier_hold_.emplace_back(i, input.prescribed_u.row(i).transpose());
+    o.grasps[k].apply(pose, m.rest.positions, input);
+    for (const auto& [i, before] : earlier_hold_)
+      note_hold(o, i, static_cast<int>(grasper_index_[k]), before, input.prescribed_u.row(i).transpose());
+  }
+  if (!o.grasps.empty()) times_.grasp += ms_since(t_grasp);
 }
 
 void SceneSimulation::advance(int f) {
   const SceneDef& s = ps_.scene;
-  const vdm::TissueModel& m = ps_.model;
   const double t = frame_time(f, s.dt);
   // Where the instruments were at the start of this frame's step: frame 0's step (a settle at
   // t = 0) does not move them.
   const double t_start = f == 0 ? t : frame_time(f - 1, s.dt);
   time_ = t;
-  // With inertia the state at t = 0 is the initial condition, the organ at rest: a step here
+  // With inertia the state at t = 0 is the initial condition, the organs at rest: a step here
   // would integrate the motion over a whole dt and label it t = 0.
-  frame_stepped_ = !(f == 0 && m.use_inertia);
+  frame_stepped_ = !(f == 0 && s.has(Effect::inertia));
   // Scripted loads and motions for this frame.
-  const auto t_loads = Clock::now();
-  input_.force.setZero();
-  input_.prescribed.setZero();
-  for (size_t k = 0; k < s.loads.size(); ++k) {
-    const auto& nodes = ps_.load_nodes[k];
-    const vdm::Vec3 per_node = ramp(t, s.loads[k].t0, s.loads[k].t1) * s.loads[k].force / double(nodes.size());
-    for (int i : nodes) input_.force.row(i) += per_node.transpose();
-  }
-  // Every hold of a node (organ.prescribed, a grasp) is noted: two that move one node to
-  // places far apart pull the tissue against each other (unsound()).
-  std::fill(holder_.begin(), holder_.end(), -1);
   conflict_.clear();
   conflict_gap_ = 0;
-  for (size_t k = 0; k < s.prescribed.size(); ++k) {
-    const PrescribedDef& p = s.prescribed[k];
-    const double a = ramp(t, p.t0, p.t1);
-    const Eigen::Matrix3d R = rotation_from_degrees(a * p.rotate_deg);
-    const vdm::Vec3 c = ps_.prescribed_about[k];
-    for (int i : ps_.prescribed_nodes[k]) {
-      const vdm::Vec3 X = m.rest.positions.row(i);
-      const vdm::Vec3 before = input_.prescribed_u.row(i);
-      input_.prescribed.row(i).setOnes();
-      input_.prescribed_u.row(i) = (R * (X - c) + c + a * p.translate - X).transpose();
-      note_hold(i, -2 - static_cast<int>(k), before, input_.prescribed_u.row(i).transpose());
-    }
-  }
+  const auto t_loads = Clock::now();
+  for (OrganRun& o : organs_) apply_script(o, t);
   times_.loads += ms_since(t_loads);
-  const auto t_grasp = Clock::now();
-  for (size_t k = 0; frame_stepped_ && k < grasps_.size(); ++k) {
-    const tools::InstrumentPose pose = tools::pose_at(*graspers_[k], t);
-    grasps_[k].update(*graspers_[k], pose, state_.x);
-    earlier_hold_.clear();
-    for (int i : grasps_[k].held()) earlier_hold_.emplace_back(i, input_.prescribed_u.row(i).transpose());
-    grasps_[k].apply(pose, m.rest.positions, input_);
-    for (const auto& [i, before] : earlier_hold_)
-      note_hold(i, static_cast<int>(grasper_index_[k]), before, input_.prescribed_u.row(i).transpose());
-  }
-  if (!grasps_.empty()) times_.grasp += ms_since(t_grasp);
 
   frame_step_ms_ = 0;
   frame_iterations_ = 0;
   frame_fallbacks_ = 0;
-  if (!frame_stepped_) {  // frame 0 with inertia: the organ at rest, nothing held yet
+  if (!frame_stepped_) {  // frame 0 with inertia: the organs at rest, nothing held yet
     measure_forces();
     return;
   }
+  report_ = vdm::ContactReport{};
   if (contact_) {
     // Sub-step when an instrument moves more than its size in a frame, so it cannot tunnel.
     double substeps = 1;
@@ -290,7 +398,8 @@ void SceneSimulation::advance(int f) {
       substeps = std::max(substeps, std::ceil(move / tools::instrument_size(in)));
     }
     const int n_sub = static_cast<int>(std::min(substeps, 1000.0));
-    for (int j = 1; j <= n_sub; ++j) {
+    bool failed = false;
+    for (int j = 1; j <= n_sub && !failed; ++j) {
       const double tj = j == n_sub ? t : t_start + (t - t_start) * j / n_sub;
       const double tprev = t_start + (t - t_start) * (j - 1) / n_sub;
       for (size_t k = 0; k < probes_.size(); ++k)
@@ -301,28 +410,54 @@ void SceneSimulation::advance(int f) {
           tools_[probes_.size() + 3 * k + side] = tools::jaw_shape(*graspers_[k], now, before, side ? -1 : +1);
         tools_[probes_.size() + 3 * k + 2] = tools::shaft_shape(*graspers_[k], now, before);
       }
-      const auto t_contact = Clock::now();
-      contact_->step(m, input_, tools_, state_, report_);
-      frame_step_ms_ += ms_since(t_contact);
-      frame_iterations_ += report_.iterations;  // every active-set solve, not only the last
-      contact_iterations_ += report_.iterations;
-      if (!report_.converged) ++unconverged_steps_;
-      frame_fallbacks_ += state_.stats.fallbacks;
-      times_.collision += report_.collision_ms;
-      times_.collision_queries += report_.queries;
-      if (state_.failed) break;  // the caller stops the run
+      for (OrganRun& o : organs_) {
+        const auto t_contact = Clock::now();
+        o.contact->step(o.prepared->model, o.input, tools_, o.state, o.report);
+        frame_step_ms_ += ms_since(t_contact);
+        frame_iterations_ += o.report.iterations;  // every active-set solve, not only the last
+        contact_iterations_ += o.report.iterations;
+        if (!o.report.converged) ++unconverged_steps_;
+        frame_fallbacks_ += o.state.stats.fallbacks;
+        times_.collision += o.report.collision_ms;
+        times_.collision_queries += o.report.queries;
+        if (o.state.failed) {  // the caller stops the run
+          failed = true;
+          break;
+        }
+      }
+    }
+    // The frame's report over every organ (the last sub-step's of each).
+    report_ = organs_.front().report;
+    for (size_t i = 1; i < organs_.size(); ++i) {
+      const vdm::ContactReport& r = organs_[i].report;
+      report_.nodes += r.nodes;
+      report_.force += r.force;
+      report_.max_penetration = std::max(report_.max_penetration, r.max_penetration);
+      report_.solves += r.solves;
+      report_.iterations += r.iterations;
+      report_.converged = report_.converged && r.converged;
+      report_.queries += r.queries;
+      report_.refit_boxes += r.refit_boxes;
+      report_.collision_ms += r.collision_ms;
     }
   } else {
-    if (organ_) organ_->step(input_, state_);  // organ.model fem or mass_spring
-    else vdm::step(m, input_, state_);
-    frame_step_ms_ = state_.stats.step_ms;
-    frame_iterations_ = state_.stats.iterations;
-    frame_fallbacks_ = state_.stats.fallbacks;
+    for (OrganRun& o : organs_) {
+      if (o.solver) o.solver->step(o.input, o.state);  // the organ model's own (fem, mass_spring, vdm_core)
+      else vdm::step(o.prepared->model, o.input, o.state);
+      frame_step_ms_ += o.state.stats.step_ms;
+      frame_iterations_ += o.state.stats.iterations;
+      frame_fallbacks_ += o.state.stats.fallbacks;
+      if (o.state.failed) break;
+    }
   }
   measure_forces();
-  times_.assemble += state_.stats.assemble_ms;
-  times_.solve += state_.stats.solve_ms;
-  times_.stress += state_.stats.stress_ms;
+  for (OrganRun& o : organs_) {
+    o.max_volume_error = std::max(o.max_volume_error, std::abs(o.state.volume_rel_error));
+    times_.assemble += o.state.stats.assemble_ms;
+    times_.solve += o.state.stats.solve_ms;
+    times_.stress += o.state.stats.stress_ms;
+  }
+  gather_positions();
 }
 
 }  // namespace vdmsim

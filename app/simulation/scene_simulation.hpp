@@ -21,6 +21,10 @@ struct StageTimes {
   long collision_queries = 0;
 };
 
+// How far one organ may lie inside another before a run stops (m): contact between organs is
+// not simulated; organs placed touching overlap by a little where their triangles cut corners.
+constexpr double kOrganOverlap = 0.001;
+
 class SceneSimulation {
  public:
   explicit SceneSimulation(const PreparedScene& prepared);
@@ -34,26 +38,47 @@ class SceneSimulation {
   // The time of frame f (its time(), known without simulating it).
   static double frame_time(int f, double dt) { return f * dt; }
 
-  const vdm::SimState& state() const { return state_; }
+  // The organs in the scene's order; the first organ's state (the only one in the one-organ
+  // form) and organ i's.
+  size_t organ_count() const { return organs_.size(); }
+  const vdm::SimState& state() const { return organs_.front().state; }
+  const vdm::SimState& state(size_t organ) const { return organs_[organ].state; }
+  // Whether an organ's engine could not do the last frame, and why (the first such organ's, with
+  // its name when there are several).
+  bool failed() const;
+  std::string failure() const;
+  // Every organ's warnings (with its name before each when there are several).
+  std::vector<std::string> warnings() const;
+  // Organ i's largest |volume_rel_error| over the frames so far.
+  double max_volume_error(size_t organ) const { return organs_[organ].max_volume_error; }
+  // Every organ's current positions in one N x 3 matrix, in the order of PreparedScene::surface
+  // (the first organ's own state.x when it is the only one).
+  const vdm::NodeMat& positions() const { return organs_.size() == 1 ? organs_.front().state.x : positions_; }
   double time() const { return time_; }
   // Whether the last frame took a step (all but an inertial scene's frame 0).
   bool frame_stepped() const { return frame_stepped_; }
   double frame_step_ms() const { return frame_step_ms_; }   // engine time of the last frame
   int frame_iterations() const { return frame_iterations_; }
   int frame_fallbacks() const { return frame_fallbacks_; }  // solves redone by the direct solver
-  bool contact_simulated() const { return contact_ != nullptr; }
+  bool contact_simulated() const { return contact_; }
+  // The last frame's contact over every organ (nodes, forces and solves summed, the deepest
+  // penetration, converged when every organ's was), and organ i's own.
   const vdm::ContactReport& contact_report() const { return report_; }
+  const vdm::ContactReport& contact_report(size_t organ) const { return organs_[organ].report; }
   // Whether the instruments can push or hold the organ (contact or grasp listed, and some
   // instrument): the forces below are then measured.
-  bool forces_simulated() const { return contact_ != nullptr || !grasps_.empty(); }
+  bool forces_simulated() const { return contact_ || grasp_; }
   // Per instrument (the scene's order), the force of the organ on it at the end of the last
   // frame (N): its contact (probe, or grasper's jaws and shaft) and its grasped nodes'
   // reactions. total_force() is their sum.
   const std::vector<vdm::Vec3>& instrument_forces() const { return instrument_force_; }
   vdm::Vec3 total_force() const;
+  // The same per organ: organ i's force on each instrument, and their sum.
+  const std::vector<vdm::Vec3>& instrument_forces(size_t organ) const { return organs_[organ].force; }
+  vdm::Vec3 total_force(size_t organ) const;
   // Per instrument, the largest |force| of any frame so far (N).
   const std::vector<double>& peak_forces() const { return peak_force_; }
-  // Contact steps so far (sub-steps included) whose active set was still changing at the cap,
+  // Contact steps so far (sub-steps included, each organ's counted) whose active set was still changing at the cap,
   // and the linear-solver iterations of every contact solve so far.
   long unconverged_contact_steps() const { return unconverged_steps_; }
   long contact_iterations() const { return contact_iterations_; }
@@ -61,7 +86,8 @@ class SceneSimulation {
   // run writes (displacement, volume, pressure, residual, stress, reactions, forces), a
   // displacement larger than twice the organ's size (a material or load far out of range), two
   // holds (graspers, organ.prescribed) moving the same node to places far apart, or a probe's
-  // tip far inside the organ (contact could not push it away: a rigid organ?).
+  // tip far inside the organ (contact could not push it away: a rigid organ?), or two organs
+  // passed into each other by more than kOrganOverlap.
   std::string unsound() const;
   const StageTimes& stage_times() const { return times_; }
   // A snapshot of the simulation between frames (the engine's state with its warm starts,
@@ -75,16 +101,34 @@ class SceneSimulation {
   std::vector<tools::InstrumentPose> poses(double t) const;
 
  private:
+  // One organ's part of the simulation: its solver (organ.model's own, null for vdm), contact
+  // and grasps against the scene's instruments, its state and step input, and the holds noted
+  // on its nodes this frame.
+  struct OrganRun {
+    const PreparedOrgan* prepared = nullptr;
+    const OrganDef* def = nullptr;
+    std::unique_ptr<vdm::OrganSolver> solver;
+    std::unique_ptr<vdm::ContactSolver> contact;
+    vdm::ContactReport report;
+    vdm::SimState state;
+    vdm::StepInput input;
+    std::vector<tools::Grasp> grasps;  // per grasper (when grasping is simulated)
+    std::vector<vdm::Vec3> force;      // per instrument: this organ's force on it (N)
+    double size = 0;                   // the rest surface's bounding-box diagonal (m), for unsound()
+    double max_volume_error = 0;       // the largest |volume_rel_error| so far
+    // Holds of the same node against each other, found by advance(): the node's holders
+    // (per node: -1 none, k >= 0 instruments[k], <= -2 prescribed[-2 - k]).
+    std::vector<int> holder;
+  };
+
   const PreparedScene& ps_;
   std::vector<const tools::InstrumentDef*> probes_, graspers_;
   std::vector<size_t> probe_index_, grasper_index_;  // their places in the scene's instruments
-  std::vector<tools::Grasp> grasps_;
-  std::unique_ptr<vdm::OrganSolver> organ_;  // organ.model vdm_core, fem or mass_spring: this run's own
-  std::unique_ptr<vdm::ContactSolver> contact_;
-  std::vector<vdm::ToolShape> tools_;  // probes' shapes, then two jaw boxes per grasper
+  std::vector<OrganRun> organs_;
+  bool contact_ = false, grasp_ = false;  // contact and grasping simulated
+  std::vector<vdm::ToolShape> tools_;  // probes' shapes, then two jaw boxes and a shaft per grasper
   vdm::ContactReport report_;
-  vdm::SimState state_;
-  vdm::StepInput input_;
+  vdm::NodeMat positions_;  // every organ's positions, with several organs
   StageTimes times_;
   double time_ = 0, frame_step_ms_ = 0;
   bool frame_stepped_ = false;
@@ -92,19 +136,23 @@ class SceneSimulation {
   std::vector<vdm::Vec3> instrument_force_;
   std::vector<double> peak_force_;
   long unconverged_steps_ = 0, contact_iterations_ = 0;
-  double organ_size_ = 0;  // the rest surface's bounding-box diagonal (m), for unsound()
-  // Holds of the same node against each other, found by advance(): the node's holders
-  // (per node: -1 none, k >= 0 instruments[k], <= -2 organ.prescribed[-2 - k]) and the
-  // message of the farthest apart this frame (empty: none).
-  std::vector<int> holder_;
+  // The farthest apart of this frame's conflicting holds (its message; empty: none).
   std::vector<std::pair<int, vdm::Vec3>> earlier_hold_;  // (node, its earlier holder's target)
   double conflict_gap_ = 0;
   std::string conflict_;
-  void note_hold(int node, int holder, const vdm::Vec3& before, const vdm::Vec3& after);
+  void note_hold(OrganRun& o, int node, int holder, const vdm::Vec3& before, const vdm::Vec3& after);
+  // The scripted loads, motions and grasps of organ o at time t.
+  void apply_script(OrganRun& o, double t);
+  std::string unsound(const OrganRun& o) const;
+  // positions_ from the organs' states (with several organs).
+  void gather_positions();
   std::string deep_probe() const;
-  std::string deep_probe_cause(size_t probe) const;
-  // The forces of the frame just simulated (instrument_force_, peak_force_).
+  std::string organs_overlap() const;
+  std::string deep_probe_cause(const OrganRun& o, size_t probe) const;
+  // The forces of the frame just simulated (each organ's, instrument_force_, peak_force_).
   void measure_forces();
+  // Where a message about organ o starts: "" with one organ, else its name and ": ".
+  std::string organ_prefix(const OrganRun& o) const;
 };
 
 }  // namespace vdmsim

@@ -52,10 +52,10 @@ Trajectory simulate_trajectory(const std::string& path, const vdm::NodeMat& poin
     tr.failure = problems.empty() ? "the scene did not load" : problems.front().where + ": " + problems.front().message;
     return tr;
   }
-  tr.nodes = ps.model.n;
-  const SurfaceSamples samples(ps.model.rest, points);
+  tr.nodes = ps.organ().model.n;
+  const SurfaceSamples samples(ps.organ().model.rest, points);
   SceneSimulation sim(ps);
-  const vdm::FlagMat& fixed = ps.model.held;  // fixed (or infinitely stiff): not the instruments' doing
+  const vdm::FlagMat& fixed = ps.organ().model.held;  // fixed (or infinitely stiff): not the instruments' doing
   vdm::NodeMat at;
   for (int f = 0; f < ps.scene.frames; ++f) {
     sim.advance(f);
@@ -69,9 +69,9 @@ Trajectory simulate_trajectory(const std::string& path, const vdm::NodeMat& poin
     tr.u.push_back(at);
     // The instruments' force: the constraint reactions on every node the scene does not fix.
     vdm::Vec3 force = vdm::Vec3::Zero();
-    for (int i = 0; i < ps.model.n; ++i) {
-      const bool held = fixed.rows() == ps.model.n && fixed.row(i).any();
-      if (!held && s.reaction.rows() == ps.model.n) force -= s.reaction.row(i).transpose();
+    for (int i = 0; i < ps.organ().model.n; ++i) {
+      const bool held = fixed.rows() == ps.organ().model.n && fixed.row(i).any();
+      if (!held && s.reaction.rows() == ps.organ().model.n) force -= s.reaction.row(i).transpose();
     }
     tr.force.push_back(force);
     tr.step_ms.push_back(sim.frame_step_ms());

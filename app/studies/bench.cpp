@@ -113,10 +113,10 @@ bool run_isolated(const std::string& label, const std::string& out_dir, bool qui
 // bulk_modulus 20000 Pa, connectivity_modulus 2000 Pa.
 namespace {
 void on_paper_model(SceneDef& s) {
-  s.model = vdm::ModelKind::vdm;
-  s.bulk_modulus = SceneDef().bulk_modulus;
-  s.connectivity_modulus = SceneDef().connectivity_modulus;
-  s.moduli_from_elastic = false;
+  s.organ().model = vdm::ModelKind::vdm;
+  s.organ().bulk_modulus = OrganDef().bulk_modulus;
+  s.organ().connectivity_modulus = OrganDef().connectivity_modulus;
+  s.organ().moduli_from_elastic = false;
 }
 }  // namespace
 
@@ -128,12 +128,12 @@ PreparedScene bench_probe_scene(const std::string& mesh, int frames, bool render
   SceneLoadResult loaded = load_scene(path);
   if (!loaded.ok()) throw std::runtime_error(path + ": cannot load");
   SceneDef s = loaded.scene;
-  s.mesh_path = mesh.find('/') != std::string::npos ? mesh : (fs::path(data_dir()) / "meshes" / mesh).string();
+  s.organ().mesh_path = mesh.find('/') != std::string::npos ? mesh : (fs::path(data_dir()) / "meshes" / mesh).string();
   on_paper_model(s);
   s.frames = frames;
   s.solver.tolerance = tolerance;
   s.solver.volume_tolerance = volume_tolerance;
-  s.capsule = capsule;
+  s.organ().capsule = capsule;
   // The probe holds the tissue it touches (kinematic contact): the case times the organ's
   // step, one solve per contact set, as Bullet's soft body is timed; what sliding contact
   // with friction costs over it is the liver_slide case.
@@ -151,13 +151,13 @@ ToleranceError bench_tolerance_error(const std::string& mesh, double tolerance, 
   const PreparedScene tight = bench_probe_scene(mesh, 60, false, reference_tolerance, vdm::SolverSettings().volume_tolerance);
   SceneSimulation a(loose), b(tight);
   ToleranceError e;
-  e.nodes = loose.model.n;
+  e.nodes = loose.organ().model.n;
   double sum2 = 0;
   long count = 0;
   for (int f = 0; f < 60; ++f) {
     a.advance(f);
     b.advance(f);
-    for (int i = 0; i < loose.model.n; ++i) {
+    for (int i = 0; i < loose.organ().model.n; ++i) {
       const double d2 = (a.state().u.row(i) - b.state().u.row(i)).squaredNorm();
       e.max_m = std::max(e.max_m, std::sqrt(d2));
       sum2 += d2;
@@ -188,7 +188,7 @@ void time_steps(const PreparedScene& ps, int repeats, Timed timed, Row& r) {
       vol = std::max(vol, std::abs(sim.state().volume_rel_error));
     }
   }
-  r.nodes = ps.model.n;
+  r.nodes = ps.organ().model.n;
   r.median_ms = quantile(times, 0.5);
   r.p95_ms = quantile(times, 0.95);
   r.iterations = times.empty() ? 0 : iterations / double(times.size());
@@ -227,9 +227,9 @@ Row bench_fem(const fs::path& dir, int frames) {
   {
     PreparedScene vdm_scene = probe_scene(mesh, frames, false);
     SceneDef s = vdm_scene.scene;
-    s.model = vdm::ModelKind::fem;
-    s.young_modulus = 5000;
-    s.poisson_ratio = 0.45;
+    s.organ().model = vdm::ModelKind::fem;
+    s.organ().young_modulus = 5000;
+    s.organ().poisson_ratio = 0.45;
     if (!prepare_scene_def(s, ps, problems))
       throw std::runtime_error(problems.empty() ? "cannot prepare the FEM probe scene" : problems.back().text());
   }
@@ -308,7 +308,7 @@ SideBySide bench_side_by_side(const std::string& mesh, int pairs) {
     paper_all.insert(paper_all.end(), paper_ms.begin(), paper_ms.end());
   }
   SideBySide r;
-  r.nodes = ps.model.n;
+  r.nodes = ps.organ().model.n;
   r.pairs = int(ratios.size());
   r.vdm_ms = quantile(vdm_all, 0.5);
   r.bullet_ms = quantile(bullet_all, 0.5);
@@ -376,7 +376,7 @@ SlideSideBySide bench_slide_side_by_side(int pairs, int frames) {
     }
     if (median[0] > 0) ratios.push_back(median[1] / median[0]);
   }
-  r.nodes = ps[0].model.n;
+  r.nodes = ps[0].organ().model.n;
   r.pairs = int(ratios.size());
   r.kinematic_ms = quantile(all[0], 0.5);
   r.constraint_ms = quantile(all[1], 0.5);
@@ -419,7 +419,7 @@ ScalingInTurn bench_scaling_in_turn(const std::vector<std::string>& meshes, int 
   for (const std::string& mesh : meshes) scenes.push_back(probe_scene(mesh, 60, false));
   std::vector<std::vector<double>> all(meshes.size());
   ScalingInTurn r;
-  for (const PreparedScene& ps : scenes) r.nodes.push_back(double(ps.model.n));
+  for (const PreparedScene& ps : scenes) r.nodes.push_back(double(ps.organ().model.n));
   for (int round = 0; round < rounds; ++round) {
     std::vector<double> medians;
     for (size_t k = 0; k < scenes.size(); ++k) {
@@ -469,7 +469,7 @@ Row bench_render(const fs::path& dir, int frames, render::Antialias aa, int samp
   render::RenderSettings settings = ps.scene.render.settings;
   settings.antialias = aa;
   settings.samples = samples;
-  auto renderer = render::Renderer::create(settings, ps.model.rest, error);
+  auto renderer = render::Renderer::create(settings, ps.organ().model.rest, error);
   if (!renderer) throw std::runtime_error(error);
   render::RenderScene scene;
   scene.positions = &sim.state().x;
@@ -486,7 +486,7 @@ Row bench_render(const fs::path& dir, int frames, render::Antialias aa, int samp
     if (f >= 2) times.push_back(ms_since(t0));
   }
   fs::remove(dir / "bench_frame.png");
-  r.nodes = ps.model.n;
+  r.nodes = ps.organ().model.n;
   r.median_ms = quantile(times, 0.5);
   r.p95_ms = quantile(times, 0.95);
   return r;
@@ -516,7 +516,7 @@ Row bench_pipeline(const fs::path& dir, const std::string& mesh, int frames, ren
   const size_t warm_up = std::min<size_t>(10, done.size() / 3);
   std::vector<double> intervals;
   for (size_t f = warm_up + 1; f < done.size(); ++f) intervals.push_back(done[f] - done[f - 1]);
-  r.nodes = ps.model.n;
+  r.nodes = ps.organ().model.n;
   r.median_ms = quantile(intervals, 0.5);
   r.p95_ms = quantile(intervals, 0.95);
   out << " (whole run " << std::setprecision(4) << whole << " ms per frame)" << std::flush;
@@ -558,9 +558,9 @@ CoreSideBySide bench_core_side_by_side(const fs::path& dir, const std::string& s
     s.has_render = false;
     s.render.remove(render::View::stress);
     s.effects.erase(std::remove(s.effects.begin(), s.effects.end(), Effect::stress), s.effects.end());
-    s.model = vdm::ModelKind::vdm_core;
-    s.young_modulus = 5000;
-    s.cell_size = 0;
+    s.organ().model = vdm::ModelKind::vdm_core;
+    s.organ().young_modulus = 5000;
+    s.organ().cell_size = 0;
     s.contact.method = k == 0 ? vdm::ContactSettings::Method::kinematic : vdm::ContactSettings::Method::constraint;
     s.contact.friction = friction[k];
     std::vector<SceneProblem> problems;
@@ -571,7 +571,7 @@ CoreSideBySide bench_core_side_by_side(const fs::path& dir, const std::string& s
   long steps[CoreSideBySide::kVariants] = {};
   // What kinematic contact held at each frame (the entries with a reaction that the organ's
   // own fixed set does not hold) and where: the same press prescribed, with no contact.
-  const vdm::core::CoreModel& core = ps[0].reference.core;
+  const vdm::core::CoreModel& core = ps[0].organ().reference.core;
   std::vector<vdm::FlagMat> held(static_cast<size_t>(frames));
   std::vector<vdm::NodeMat> held_u(static_cast<size_t>(frames));
   std::vector<char> sampled(static_cast<size_t>(frames), 0);
@@ -599,8 +599,8 @@ CoreSideBySide bench_core_side_by_side(const fs::path& dir, const std::string& s
     // The prescribed press, frame by frame from rest as the scenes ran.
     const int k = kScenes;
     const std::unique_ptr<vdm::OrganSolver> solver = vdm::make_core_solver(core, ps[0].scene.dt);
-    vdm::SimState st = vdm::make_sim_state(ps[0].model);
-    vdm::StepInput in = vdm::make_step_input(ps[0].model);
+    vdm::SimState st = vdm::make_sim_state(ps[0].organ().model);
+    vdm::StepInput in = vdm::make_step_input(ps[0].organ().model);
     for (int f = 0; f < frames; ++f) {
       in.prescribed = held[static_cast<size_t>(f)];
       in.prescribed_u = held_u[static_cast<size_t>(f)];
@@ -617,8 +617,8 @@ CoreSideBySide bench_core_side_by_side(const fs::path& dir, const std::string& s
     r.p95_ms[k] = quantile(all[k], 0.95);
     if (steps[k] > 0) r.iterations[k] /= double(steps[k]);
   }
-  r.nodes = ps[0].model.n;
-  r.cell_m = ps[0].reference.core.h;
+  r.nodes = ps[0].organ().model.n;
+  r.cell_m = ps[0].organ().reference.core.h;
   r.pairs = rounds;
   r.frame_ms = bench_render(dir, 20, render::Antialias::edge, 1).median_ms;
   return r;

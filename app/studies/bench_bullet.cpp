@@ -96,7 +96,7 @@ struct BulletProbe::Impl {
   bool touching = false;
   double volume_rel_error = 0, max_displacement = 0;
 
-  Impl(const PreparedScene& ps, const BulletSettings& s) : m(ps.model), probe_def(scene_probe(ps.scene)), set(s) {
+  Impl(const PreparedScene& ps, const BulletSettings& s) : m(ps.organ().model), probe_def(scene_probe(ps.scene)), set(s) {
     btSoftBodyWorldInfo& info = world.getWorldInfo();
     info.m_broadphase = &broadphase;
     info.m_dispatcher = &dispatcher;

@@ -33,8 +33,8 @@ EndoscopeFrameCost bench_endoscope_frame(const fs::path& dir, int frames, int si
   framing.auto_camera = true;
   framing.floor = framing.shadows = true;
   std::string error;
-  std::unique_ptr<render::Renderer> renderers[2] = {render::Renderer::create(framing, ps.model.rest, error),
-                                                    render::Renderer::create(scope, ps.model.rest, error)};
+  std::unique_ptr<render::Renderer> renderers[2] = {render::Renderer::create(framing, ps.organ().model.rest, error),
+                                                    render::Renderer::create(scope, ps.organ().model.rest, error)};
   if (!renderers[0] || !renderers[1]) throw std::runtime_error(error);
 
   render::RenderScene scene;
@@ -66,7 +66,7 @@ EndoscopeFrameCost bench_endoscope_frame(const fs::path& dir, int frames, int si
   fs::remove(png);
 
   EndoscopeFrameCost r;
-  r.nodes = ps.model.n;
+  r.nodes = ps.organ().model.n;
   r.frames = frames;
   r.framing_ms = quantile(times[0], 0.5);
   r.endoscope_ms = quantile(times[1], 0.5);

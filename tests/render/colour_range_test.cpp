@@ -32,8 +32,8 @@ TEST(ColourRange, ContactPressureRangeSpansTheContactPatch) {
   for (int f = 0; f < 3; ++f) {
     sim.advance(f);
     const vdm::SimState& s = sim.state();
-    for (int i = 0; i < ps.model.n; ++i) {
-      double& most = ps.model.held.row(i).minCoeff() ? support : patch;
+    for (int i = 0; i < ps.organ().model.n; ++i) {
+      double& most = ps.organ().model.held.row(i).minCoeff() ? support : patch;
       most = std::max(most, s.reaction_pressure[i]);
     }
   }

@@ -43,14 +43,14 @@ TEST(InstrumentFocus, TheWorkingAreaIsAroundTheDentNotTheOrganOrTheApproach) {
   }
   // The approach from 0.3 m is not: the box is the working area, far smaller than the organ.
   EXPECT_LT(hi.z(), 0.15);
-  const vdm::Vec3 organ = ps.model.rest.positions.colwise().maxCoeff() - ps.model.rest.positions.colwise().minCoeff();
+  const vdm::Vec3 organ = ps.organ().model.rest.positions.colwise().maxCoeff() - ps.organ().model.rest.positions.colwise().minCoeff();
   EXPECT_LT((hi - lo).x(), 0.5 * organ.x());
   // Its camera is nearer the dent than the organ framing's: the dent is larger in the picture.
   const render::RenderSettings framed = framed_settings(ps);
   ASSERT_TRUE(framed.has_focus_box);
   const render::Camera near = render::auto_frame(framed.focus_lo, framed.focus_hi, 40, 4.0 / 3.0);
-  const render::Camera whole = render::auto_frame(ps.model.rest.positions.colwise().minCoeff().transpose(),
-                                                  ps.model.rest.positions.colwise().maxCoeff().transpose(), 40, 4.0 / 3.0);
+  const render::Camera whole = render::auto_frame(ps.organ().model.rest.positions.colwise().minCoeff().transpose(),
+                                                  ps.organ().model.rest.positions.colwise().maxCoeff().transpose(), 40, 4.0 / 3.0);
   EXPECT_LT((near.eye - surface).norm(), 0.5 * (whole.eye - surface).norm());
 }
 

@@ -196,7 +196,7 @@ TEST(MeshExport, FilesReadBackWithMeshioAndTwoRunsGiveTheSameBytes) {
   vdmsim::PreparedScene ps;
   std::vector<vdmsim::SceneProblem> problems;
   ASSERT_TRUE(vdmsim::prepare_scene(scene, ps, problems));
-  const vdm::SurfaceMesh& rest = ps.model.rest;
+  const vdm::SurfaceMesh& rest = ps.organ().model.rest;
   {
     std::ofstream pts(dir / "rest.txt"), tris(dir / "tris.txt");
     pts.precision(17);

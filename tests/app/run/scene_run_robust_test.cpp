@@ -71,7 +71,7 @@ TEST(RunRobust, AStepTheEngineCannotDoStopsTheRunWithTheReason) {
   PreparedScene ps;
   std::vector<SceneProblem> problems;
   ASSERT_TRUE(prepare_scene(scene("{method: structured}"), ps, problems));
-  ps.model.bulk(0, 0) = std::nan("");  // every solver now meets NaN
+  ps.organ().model.bulk(0, 0) = std::nan("");  // every solver now meets NaN
   const fs::path out = dir() / "fail_out";
   fs::remove_all(out);
   RunOptions opt;

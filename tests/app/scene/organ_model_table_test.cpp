@@ -52,7 +52,7 @@ TEST(OrganModelTable, EveryModelKindHasOneRowInBothHalvesAndItsNameParsesBack) {
 }
 
 TEST(OrganModelTable, DefaultModelIsTheScenesAndTheReferencesDefault) {
-  EXPECT_EQ(SceneDef().model, kDefaultOrganModel);
+  EXPECT_EQ(OrganDef().model, kDefaultOrganModel);
   for (const SceneKey& k : kSceneKeys)
     if (std::string(k.path) == "organ.model") {
       EXPECT_EQ(k.default_value(), vdm::to_string(kDefaultOrganModel));
@@ -147,7 +147,7 @@ TEST(OrganModelTable, CheckNamesEachModelsOwnDefaultMaterial) {
       {vdm::ModelKind::mass_spring, "young_modulus 3000 Pa, thickness 0.005 m, density 1060 kg/m^3"}};
   for (const auto& [kind, values] : expected) {
     PreparedScene ps;
-    ps.scene.model = kind;
+    ps.scene.organ().model = kind;
     std::string said;
     for (const SceneProblem& p : scene_sanity(ps).problems)
       if (p.field == "organ.material") said = p.message;

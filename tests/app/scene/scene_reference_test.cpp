@@ -131,7 +131,15 @@ std::vector<SceneProblem> problems_with(const std::string& path, const std::stri
     if (path.rfind(std::string("render.camera.") + scope, 0) == 0)
       root["render"]["camera"] =
           YAML::Load("{type: endoscope, port: [0, -0.12, 0.12], look_at: [0, 0, 0.02], script: [{t: 1}]}");
-  YAML::Node into = holder(root, path);
+  // The keys of `organs` go into a scene of several organs: the base organ as the list's first,
+  // named (an example of the whole list replaces it).
+  if (path.rfind("organs", 0) == 0) {
+    YAML::Node organ = root["organ"];
+    organ["name"] = "base";
+    root["organs"].push_back(organ);
+    root.remove("organ");
+  }
+  YAML::Node into = path.rfind("organs[].", 0) == 0 ? YAML::Node(root["organs"][0]) : holder(root, path);
   const YAML::Node add = YAML::Load("{" + entries + "}");
   for (auto it = add.begin(); it != add.end(); ++it) into[it->first.Scalar()] = it->second;
   // A keyframe placed on the surface gives no tip, and one aligned with the surface no axis:

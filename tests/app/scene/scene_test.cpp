@@ -108,7 +108,7 @@ TEST(Scene, TheMaterialsFormPicksTheModelWhenNoneIsNamed) {
     PreparedScene ps;
     std::vector<SceneProblem> problems;
     ASSERT_TRUE(prepare_scene(path, ps, problems)) << cases[k].organ;
-    EXPECT_EQ(ps.scene.model, cases[k].model) << cases[k].organ;
+    EXPECT_EQ(ps.scene.organ().model, cases[k].model) << cases[k].organ;
     std::string all;
     for (const auto& p : problems) all += p.text() + "\n";
     if (cases[k].note.empty())
@@ -491,14 +491,14 @@ vdm::SimState simulate(const std::string& text, const std::string& file) {
   PreparedScene ps;
   std::vector<SceneProblem> problems;
   EXPECT_TRUE(prepare_scene(write_scene(file, text), ps, problems));
-  vdm::SimState s = vdm::make_sim_state(ps.model);
-  vdm::StepInput in = vdm::make_step_input(ps.model);
+  vdm::SimState s = vdm::make_sim_state(ps.organ().model);
+  vdm::StepInput in = vdm::make_step_input(ps.organ().model);
   for (int f = 0; f < 3; ++f) {
     in.clear();
     in.force.setZero();
-    for (int i : ps.load_nodes.empty() ? std::vector<int>{} : ps.load_nodes[0])
-      in.force.row(i) = ps.scene.loads[0].force.transpose() / double(ps.load_nodes[0].size());
-    vdm::step(ps.model, in, s);
+    for (int i : ps.organ().load_nodes.empty() ? std::vector<int>{} : ps.organ().load_nodes[0])
+      in.force.row(i) = ps.scene.organ().loads[0].force.transpose() / double(ps.organ().load_nodes[0].size());
+    vdm::step(ps.organ().model, in, s);
   }
   return s;
 }
@@ -619,7 +619,7 @@ TEST(Grasp, LiftTwentyMillimetresKeepsVolumeAndReleasesToRest) {
   PreparedScene ps;
   std::vector<SceneProblem> problems;
   ASSERT_TRUE(prepare_scene((fs::path(VDMSIM_SOURCE_DIR) / "assets/scenes/grasp_lift.yaml").string(), ps, problems));
-  const vdm::TissueModel& m = ps.model;
+  const vdm::TissueModel& m = ps.organ().model;
   const InstrumentDef& g = ps.scene.instruments.at(0);
   vdm::SimState s = vdm::make_sim_state(m);
   vdm::StepInput in = vdm::make_step_input(m);
@@ -698,11 +698,11 @@ TEST(Scene, CapsuleFormReachesTheModel) {
     std::vector<SceneProblem> problems;
     ASSERT_TRUE(prepare_scene(path, ps, problems)) << form;
     const std::string want = form.empty() ? "membrane" : form;
-    EXPECT_EQ(vdm::to_string(ps.model.capsule), want);
+    EXPECT_EQ(vdm::to_string(ps.organ().model.capsule), want);
     if (want == "paper") {
-      EXPECT_EQ(ps.model.capsule_tension, 0.0);
+      EXPECT_EQ(ps.organ().model.capsule_tension, 0.0);
     } else {
-      EXPECT_NEAR(ps.model.capsule_tension, 2000.0 * ps.model.rest_volume / ps.model.rest_area, 1e-9);
+      EXPECT_NEAR(ps.organ().model.capsule_tension, 2000.0 * ps.organ().model.rest_volume / ps.organ().model.rest_area, 1e-9);
     }
   }
   std::string t = scene_text();
@@ -719,9 +719,9 @@ TEST(Scene, BendingModulusReachesTheModel) {
   std::vector<SceneProblem> problems;
   ASSERT_TRUE(prepare_scene(write_scene("bending.yaml", t), ps, problems));
   ASSERT_TRUE(prepare_scene(write_scene("no_bending.yaml", scene_text()), plain, problems));
-  EXPECT_EQ(ps.model.bending_modulus, 0.0002);
-  EXPECT_EQ(plain.model.bending_modulus, 0.0);
-  EXPECT_GT(ps.model.edges.size(), 2 * plain.model.edges.size());
+  EXPECT_EQ(ps.organ().model.bending_modulus, 0.0002);
+  EXPECT_EQ(plain.organ().model.bending_modulus, 0.0);
+  EXPECT_GT(ps.organ().model.edges.size(), 2 * plain.organ().model.edges.size());
   t = scene_text();
   t.replace(t.find("density: 1060}"), 14, "density: 1060, capsule: paper, bending_modulus: 0.0002}");
   expect_error("bending_paper.yaml", t, "organ.material.bending_modulus: needs a membrane capsule");
@@ -743,10 +743,10 @@ TEST(Scene, YoungModulusMapsToTheVdmModuli) {
   std::vector<SceneProblem> problems;
   ASSERT_TRUE(prepare_scene(path, ps, problems)) << (problems.empty() ? "" : problems[0].text());
   const vdm::VdmModuli want = vdm::vdm_moduli_from_elastic(4000, 0.45);
-  EXPECT_TRUE(ps.scene.moduli_from_elastic);
-  EXPECT_DOUBLE_EQ(ps.scene.connectivity_modulus, want.connectivity);
-  EXPECT_DOUBLE_EQ(ps.model.bulk(0, 0), want.bulk);
-  EXPECT_DOUBLE_EQ(ps.model.connectivity_modulus, want.connectivity);
+  EXPECT_TRUE(ps.scene.organ().moduli_from_elastic);
+  EXPECT_DOUBLE_EQ(ps.scene.organ().connectivity_modulus, want.connectivity);
+  EXPECT_DOUBLE_EQ(ps.organ().model.bulk(0, 0), want.bulk);
+  EXPECT_DOUBLE_EQ(ps.organ().model.connectivity_modulus, want.connectivity);
   std::string both = scene_text();
   both.replace(both.find("density: 1060}"), 14, "density: 1060, young_modulus: 4000}");
   expect_error("young_both.yaml", both, "organ.material: give either young_modulus and poisson_ratio");

@@ -61,7 +61,7 @@ TEST(CoreSceneSnapshot, ConstraintContactWithFrictionContinuesBitForBit) {
   // The default contact (constraint, friction 0.2) solved inside the core's iteration: its
   // contact points' forces and the core's held factors and rotations carry over.
   const PreparedScene ps = prepare(liver_scene("", kPressAndSlide));
-  ASSERT_EQ(ps.scene.model, vdm::ModelKind::vdm_core) << "the default model";
+  ASSERT_EQ(ps.scene.organ().model, vdm::ModelKind::vdm_core) << "the default model";
   SceneSimulation a(ps);
   for (int f = 0; f < 7; ++f) a.advance(f);
   ASSERT_FALSE(a.state().failed) << a.state().failure;

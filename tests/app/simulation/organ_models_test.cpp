@@ -141,7 +141,7 @@ TEST(OrganModels, FemAndMassSpringScenesRunThroughTheSameLoop) {
     PreparedScene ps;
     std::vector<SceneProblem> list;
     ASSERT_TRUE(prepare_scene(path, ps, list)) << (list.empty() ? "" : list[0].text());
-    ASSERT_EQ(vdm::to_string(ps.reference.kind), model);
+    ASSERT_EQ(vdm::to_string(ps.organ().reference.kind), model);
     std::ostringstream out, err;
     RunOptions opt;
     opt.out_dir = (dir() / ("out_" + model)).string();

@@ -26,8 +26,8 @@ PreparedScene prepare(const std::string& organ_extra, const std::string& name) {
 TEST(OrganPlacement, RotateAboutTheBoxCentreThenTranslate) {
   const PreparedScene plain = prepare("", "plain");
   const PreparedScene placed = prepare("  rotate_deg: [90, 0, 90]\n  translate: [1, 2, 3]\n", "placed");
-  const vdm::NodeMat& a = plain.model.rest.positions;
-  const vdm::NodeMat& b = placed.model.rest.positions;
+  const vdm::NodeMat& a = plain.organ().model.rest.positions;
+  const vdm::NodeMat& b = placed.organ().model.rest.positions;
   ASSERT_EQ(a.rows(), b.rows());
   const vdm::Vec3 c = 0.5 * (a.colwise().minCoeff() + a.colwise().maxCoeff()).transpose();
   // x by 90 deg: (x, y, z) -> (x, -z, y); then z by 90 deg: (x, y, z) -> (-y, x, z).
@@ -46,7 +46,7 @@ TEST(OrganPlacement, RegionsSelectOnThePlacedOrgan) {
   // A box around the moved organ's bottom holds nodes; around the unmoved one's it selects none.
   const PreparedScene moved = prepare("  translate: [0, 0, 1000]\n  fixed: [{box: {min: [-1000, -1000, 900], max: [1000, 1000, 970]}}]\n",
                                       "moved");
-  EXPECT_GT(moved.model.n, 0);
+  EXPECT_GT(moved.organ().model.n, 0);
   const std::filesystem::path p = test::scratch_dir("organ_placement") / "miss.yaml";
   std::ofstream(p) << "organ:\n  mesh: " << VDMSIM_SOURCE_DIR << "/assets/meshes/liver_L4.obj\n  scale: 1000\n"
                    << "  translate: [0, 0, 1000]\n  fixed: [{box: {min: [-1000, -1000, -100], max: [1000, 1000, -30]}}]\n"

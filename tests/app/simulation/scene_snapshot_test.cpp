@@ -51,8 +51,8 @@ TEST(SceneSnapshot, ALoadedSimulationWithContactAndAGraspContinuesBitForBit) {
   }
   // The grasp held on: nodes at the jaws were lifted with them (about 14 mm by the last frame).
   double lifted = 0;
-  for (int i = 0; i < ps.model.n; ++i)
-    if ((ps.model.rest.positions.row(i) - vdm::Vec3(-0.08, 0, 0.041).transpose()).norm() < 0.008)
+  for (int i = 0; i < ps.organ().model.n; ++i)
+    if ((ps.organ().model.rest.positions.row(i) - vdm::Vec3(-0.08, 0, 0.041).transpose()).norm() < 0.008)
       lifted = std::max(lifted, b.state().u(i, 2));
   EXPECT_GT(lifted, 0.005);
   // A cut snapshot is refused.

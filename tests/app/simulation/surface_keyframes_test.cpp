@@ -64,7 +64,7 @@ TEST(SurfaceKeyframes, ATipPlacedFiveMillimetresDeepIsFiveMillimetresInsideThePl
   EXPECT_NEAR((*script[1].axis - vdm::Vec3(0, 0, -1)).norm(), 0, 1e-12);  // aligned: pushing straight in
   EXPECT_FALSE(script[0].axis.has_value());  // not aligned: the default axis
   // Measured independently: the tip's depth inside the placed rest surface, and check's pass.
-  const vdm::SurfaceMesh& rest = ps.model.rest;
+  const vdm::SurfaceMesh& rest = ps.organ().model.rest;
   EXPECT_NEAR(depth_inside(rest.positions, rest.triangles, *script[1].tip), 0.005, 1e-12);
   EXPECT_EQ(depth_inside(rest.positions, rest.triangles, *script[0].tip), 0.0);
   // 11 frames of 0.1 s: t = 0 to 1 s, the whole script.
@@ -90,7 +90,7 @@ TEST(SurfaceKeyframes, OnARotatedSphereTheTipGoesAlongTheInwardNormal) {
   EXPECT_GT(h.normal.dot((h.point - c).normalized()), 0.995);
   EXPECT_NEAR((*key.tip - (h.point - 0.005 * h.normal)).norm(), 0, 1e-15);
   EXPECT_NEAR((*key.axis + h.normal).norm(), 0, 1e-15);
-  const double depth = depth_inside(ps.model.rest.positions, ps.model.rest.triangles, *key.tip);
+  const double depth = depth_inside(ps.organ().model.rest.positions, ps.organ().model.rest.triangles, *key.tip);
   EXPECT_LE(depth, 0.005 + 1e-12);
   EXPECT_GT(depth, 0.005 * 0.99);
 }

@@ -15,7 +15,7 @@ TEST(BenchBullet, ProbeCaseTimesContactFramesAndMeasuresVolume) {
   if (!bullet_available()) GTEST_SKIP() << "this build has no Bullet (libbullet-dev)";
   const PreparedScene ps = bench_probe_scene("liver_L4.obj", 60, false);
   const BulletRun run = run_bullet_probe(ps, 60, 20, BulletSettings{});
-  EXPECT_EQ(run.nodes, ps.model.n);
+  EXPECT_EQ(run.nodes, ps.organ().model.n);
   // The probe reaches the surface at t = 0.5 s (frame 15) and leaves it near t = 3 s.
   EXPECT_GT(run.contact_frames, 20);
   ASSERT_FALSE(run.step_ms.empty());

@@ -27,17 +27,17 @@ LevelResult press(const std::string& mesh) {
   const PreparedScene ps = bench_probe_scene(mesh, 46, false, 1e-8, 1e-11);
   SceneSimulation sim(ps);
   LevelResult r;
-  r.nodes = ps.model.n;
+  r.nodes = ps.organ().model.n;
   for (int f = 0; f < ps.scene.frames; ++f) {
     sim.advance(f);
     r.peak_force = std::max(r.peak_force, sim.contact_report().force.norm());
     r.max_volume_error = std::max(r.max_volume_error, std::abs(sim.state().volume_rel_error));
   }
   // The probe's axis is x = 35 mm, y = 0 (probe_poke.yaml); the top of the lobe is above z = 4 cm.
-  const vdm::NodeMat& rest = ps.model.rest.positions;
+  const vdm::NodeMat& rest = ps.organ().model.rest.positions;
   double sum = 0;
   int count = 0;
-  for (int i = 0; i < ps.model.n; ++i) {
+  for (int i = 0; i < ps.organ().model.n; ++i) {
     const double dx = rest(i, 0) - 0.035, dy = rest(i, 1), d = std::hypot(dx, dy);
     if (rest(i, 2) > 0.04 && d > 0.015 && d < 0.025) {
       sum += sim.state().u(i, 2);
