@@ -123,6 +123,49 @@ void surface_from_lattice(const CoreModel& m, const CoreWorkspace& w, const Node
       u(i, d) = w.mask(i, d) ? w.target(i, d) : tied(m, v, i, d) + (w.force(i, d) - lambda * w.area(i, d)) / m.tie_k[i];
 }
 
+// The merit of the Anderson mixing's safeguard at lattice motion v: the energy that this
+// iteration's linear solve minimises, with v's own rotations in place of the held ones,
+//
+//   Psi(v) = sum_t mu f_c V_t |F_t(v) - R_t(v)|^2      the core (core_energy: tet_rotations()'s)
+//          + 1/2 reg |v|^2 + 1/2 v^T (M rate) v - v . (weight + M (rate v_start + velocity_start / dt))
+//          + sum over prescribed entries 1/2 k_i (target_i - (W v)_i)^2
+//          + min over the free entries u of sum 1/2 k_i (u_i - (W v)_i)^2 - f_i u_i,
+//            subject to the volume row at this linearisation, sum A_i u_i = `rhs`,
+//
+// with the surface forces f (the law's included) and the area vectors A of the iteration that
+// set them. The free surface's minimum has a closed form: u_i = (W v)_i + (f_i - lambda A_i) / k_i,
+// lambda = (sum A_i (W v)_i + sum A_i f_i / k_i - rhs) / S, S = sum A_i^2 / k_i, and the value
+// -sum f_i (W v)_i + lambda^2 S / 2 (less sum f_i^2 / 2 k_i, the same for every v, left out).
+// The linear solve minimises Psi's quadratic form with the rotations held (exactly: the
+// surface is eliminated exactly, the held entries' multipliers and the law's force change are
+// exact), and fitting the rotations to the answer lowers the core's term further, so the plain
+// step from v never raises Psi (Peng, Deng, Zhang and Zhang 2018, "Anderson acceleration for
+// geometry optimization and physics simulation"). O(cubes + surface): the core's term comes
+// with the rotation fit the iteration does anyway.
+double merit(const CoreModel& m, const CoreWorkspace& w, const NodeMat& v, double core_energy, double rhs) {
+  double e = core_energy + 0.5 * w.reg * v.squaredNorm();
+  if (m.gravity_load.rows() == m.ng) e -= (m.gravity_load.array() * v.array()).sum();
+  if (m.mass.size() == m.ng)
+    e += (v.array().square().colwise() * (0.5 * m.inertia_rate * m.mass.array())).sum() - (w.inertia_load.array() * v.array()).sum();
+  double prescribed = 0, work = 0, Aw = 0, Af = 0, S = 0;
+  for (int d = 0; d < 3; ++d)
+    for (int i = 0; i < m.ns; ++i) {
+      const double wv = tied(m, v, i, d), k = m.tie_k[i];
+      if (w.mask(i, d)) {
+        const double gap = w.target(i, d) - wv;
+        prescribed += 0.5 * k * gap * gap;
+      } else {
+        const double A = w.area(i, d), f = w.force(i, d);
+        work += f * wv;
+        Aw += A * wv;
+        Af += A * f / k;
+        S += A * A / k;
+      }
+    }
+  const double lambda = S > 0 ? (Aw + Af - rhs) / S : 0.0;
+  return e + prescribed - work + 0.5 * lambda * lambda * S;
+}
+
 // The lagged rotations' load on the lattice, 2 mu f V_t (R_t - I) grad N_a per tet corner
 // (V_t = h^3 / 6), every axis in one pass over the cubes.
 void rotation_load(const CoreModel& m, CoreWorkspace& w) {
@@ -239,9 +282,8 @@ void factorize_slot(const CoreModel& m, int k, CoreWorkspace& w) {
   SpMat& K = w.K[k];
   K = m.K_core;
   // A tiny share of the diagonal keeps an axis with no prescribed entry (free translation)
-  // solvable: it moves the answer by about 1e-10 of itself.
-  const double reg = 1e-10 * m.K_core.diagonal().maxCoeff();
-  for (int j = 0; j < m.ng; ++j) K.coeffRef(j, j) += reg;
+  // solvable: it moves the answer by about 1e-10 of itself (w.reg).
+  for (int j = 0; j < m.ng; ++j) K.coeffRef(j, j) += w.reg;
   // Implicit Euler's mass term, M / dt^2 + damping M / dt.
   if (m.mass.size() == m.ng)
     for (int j = 0; j < m.ng; ++j) K.coeffRef(j, j) += m.inertia_rate * m.mass[j];
@@ -283,6 +325,7 @@ CoreState make_core_state(const CoreModel& m) {
   s.volume = m.rest_volume;
   s.work = std::make_unique<CoreWorkspace>();
   CoreWorkspace& w = *s.work;
+  w.reg = 1e-10 * m.K_core.diagonal().maxCoeff();
   w.rotation.assign(static_cast<size_t>(6 * m.cubes.rows()), Eigen::Matrix3d::Identity());
   w.quaternion.assign(w.rotation.size(), Eigen::Quaterniond::Identity());
   w.area = w.force = w.force_before = w.target = w.x = w.u_new = NodeMat::Zero(m.ns, 3);
@@ -298,22 +341,28 @@ CoreState make_core_state(const CoreModel& m) {
 
 void rewind(CoreState& s) { s.rewound = true; }
 
-void tet_rotations(const CoreModel& m, const NodeMat& v, std::vector<Eigen::Quaterniond>& Q, std::vector<Eigen::Matrix3d>& R) {
+double tet_rotations(const CoreModel& m, const NodeMat& v, std::vector<Eigen::Quaterniond>& Q, std::vector<Eigen::Matrix3d>& R) {
   R.resize(static_cast<size_t>(6 * m.cubes.rows()));
   Q.resize(R.size(), Eigen::Quaterniond::Identity());
   const UnitCube& cube = unit_cube();
   const double inv_h = 1.0 / m.h;
   Eigen::Matrix<double, 8, 3> corner;
+  double energy = 0;
   for (Eigen::Index q = 0; q < m.cubes.rows(); ++q) {
     // The cube's corner displacements over h, gathered once for its six tets.
     for (int k = 0; k < 8; ++k) corner.row(k) = v.row(m.cubes(q, k)) * inv_h;
+    double misfit = 0;  // sum over the cube's tets of |F_t - R_t|^2
     for (int t = 0; t < 6; ++t) {
       // F = I + sum_a v_a (x) grad N_a, the unit cube's gradients over h.
       Eigen::Matrix3d F = Eigen::Matrix3d::Identity();
       for (int a = 0; a < 4; ++a) F.noalias() += corner.row(cube.corner[t][a]).transpose() * cube.grad[t].row(a);
-      R[static_cast<size_t>(6 * q + t)] = nearest_rotation(F, Q[static_cast<size_t>(6 * q + t)]);
+      const Eigen::Matrix3d& Rt = R[static_cast<size_t>(6 * q + t)] = nearest_rotation(F, Q[static_cast<size_t>(6 * q + t)]);
+      misfit += (F - Rt).squaredNorm();
     }
+    energy += m.fill[q] * misfit;
   }
+  // mu f_c V_t |F_t - R_t|^2, V_t = h^3 / 6
+  return m.mu * m.h * m.h * m.h / 6 * energy;
 }
 
 void step(const CoreModel& m, const StepInput& in, CoreState& s, SurfaceForceLaw* law) {
@@ -377,15 +426,50 @@ void step(const CoreModel& m, const StepInput& in, CoreState& s, SurfaceForceLaw
   // the residual has not reached a new low for law_stall_iterations.
   double g_norm_least = std::numeric_limits<double>::infinity();
   int it_least = 0;
+  // The safeguard of the Anderson mixing, in steps with a law's forces: the merit (merit()) at
+  // the last iteration's iterate, with that iteration's forces, area vectors and volume row
+  // (rhs_last), and whether the iterate now in s.v is a mix still to be judged on it.
+  // A law's forces change from one iteration to the next (a contact point that joins, one that
+  // begins to slip), so the fixed-point map is not smooth and the mixing's secants can hold
+  // differences from before such a change: unguarded, the mix then wanders (the ball pressed to
+  // half its depth stalled at one step or another depending on round-off). Without a law the
+  // map is smooth and the mixing is left unguarded: there it converges to the stationary point
+  // near the start, which a descent need not. A soft ball on a small held base under its
+  // weight (ElasticCore.HeldBaseCarriesTheWeight) converges unguarded in 21 iterations to the
+  // upright answer; guarded, the mixes towards it were refused as uphill and the plain steps,
+  // lowering the energy at every step, carried the ball away from it (15 cm on a 4 cm ball
+  // after the 400 iterations, unconverged).
+  // The merit is each iteration's own (its forces, its linearisation of the volume): a taken
+  // iterate is never uphill on the energy of the iteration before it, but with friction the
+  // forces are no potential's and the sequence of merits is not one function's, so this is a
+  // safeguard against the mixing's wandering, not a proof of convergence.
+  const bool safeguard = law != nullptr && depth > 0;
+  double merit_last = 0, rhs_last = 0;
+  bool mixed = false;
   for (int it = 0; it < m.settings.max_iterations && !done; ++it) {
     ++s.stats.iterations;
+    double core_energy = tet_rotations(m, s.v, w.quaternion, w.rotation);
+    if (mixed) {
+      // A mix is taken only where it does not raise the last iteration's merit: the plain step
+      // from there (w.v_new, kept) never raises it. Else the plain step, with the mixing's
+      // history started afresh (its secants led uphill), and the rotations fitted to it.
+      // Compared exactly: a mix refused for round-off near the answer costs one rotation fit
+      // and a plain step.
+      mixed = false;
+      if (!(merit(m, w, s.v, core_energy, rhs_last) <= merit_last)) {
+        s.v = w.v_new;
+        s.u = w.u_new;
+        w.history = w.next = 0;
+        ++s.stats.anderson_rejected;
+        core_energy = tet_rotations(m, s.v, w.quaternion, w.rotation);
+      }
+    }
     w.x = m.surface.positions + s.u;
     distributed_area_vectors(w.x, m.surface.triangles, w.area);
     const double V = enclosed_volume(w.x, m.surface.triangles, Vec3::Zero());
     double c = m.rest_volume - V;
     for (int i = 0; i < ns; ++i)
       for (int d = 0; d < 3; ++d) c += w.area(i, d) * (s.u(i, d) - (w.factored_mask(i, d) ? w.target(i, d) : 0.0));
-    tet_rotations(m, s.v, w.quaternion, w.rotation);
     rotation_load(m, w);
     // What does not depend on the forces: the volume row's compliance (its lattice response y1
     // per axis and den).
@@ -412,6 +496,16 @@ void step(const CoreModel& m, const StepInput& in, CoreState& s, SurfaceForceLaw
         else add_force_change(m, w, lambda);
         ++s.stats.law_solves;
       }
+    }
+    if (safeguard) {
+      // The merit at this iterate with this iteration's forces (the law's as it just set
+      // them): the volume row over the free entries, sum A_i u_i = c less the held entries'
+      // share (the linear solve's row is over every entry the factor does not hold).
+      rhs_last = c;
+      for (int d = 0; d < 3; ++d)
+        for (int i = 0; i < ns; ++i)
+          if (w.mask(i, d) && !w.factored_mask(i, d)) rhs_last -= w.area(i, d) * w.target(i, d);
+      merit_last = merit(m, w, s.v, core_energy, rhs_last);
     }
     // How far the surface and the lattice moved (the lattice too: with every surface entry
     // prescribed the surface does not tell).
@@ -474,6 +568,7 @@ void step(const CoreModel& m, const StepInput& in, CoreState& s, SurfaceForceLaw
         const Vec gamma = M.ldlt().solve(dG.transpose() * w.g);
         w.mixed = v_flat + w.g - (dX + dG) * gamma;
         v_flat = w.mixed;
+        mixed = safeguard;
       } else {
         s.v = w.v_new;
       }

@@ -56,6 +56,7 @@ struct CoreWorkspace {
   FlagMat chol_mask;          // per factor, the entries it was made for
   bool chol_ok[3] = {false, false, false};
   bool analyzed = false;
+  double reg = 0;             // the share of K_core's largest diagonal entry on every factor's diagonal (1e-10)
   LatticeColumns columns[3];
   HeldEntries held;
   std::vector<Eigen::Matrix3d> rotation;

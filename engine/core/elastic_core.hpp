@@ -120,6 +120,7 @@ struct CoreStats {
   int factorizations = 0;
   int law_solves = 0;       // linear solves repeated with a SurfaceForceLaw's new forces
   double change = 0;        // last iteration's largest move / size
+  int anderson_rejected = 0;  // Anderson iterates that did not lower the merit, replaced by the plain step
   bool converged = true;
 };
 
@@ -167,8 +168,9 @@ void surface_compliance(const CoreModel& model, CoreState& state, const std::vec
 // The rotation of each tet (6 per cube, cube-major) at lattice displacements v: the rotation
 // nearest its deformation gradient F (the polar decomposition's, for F with det F > 0), found
 // by the rotation that maximises tr(R^T F), iterated from `quaternions` (the last ones: a warm
-// start; identities at first), which it updates.
-void tet_rotations(const CoreModel& model, const NodeMat& v, std::vector<Eigen::Quaterniond>& quaternions,
+// start; identities at first), which it updates. Returns the core's energy there,
+// sum_t mu f_c V_t |F_t - R_t|^2 with the rotations found.
+double tet_rotations(const CoreModel& model, const NodeMat& v, std::vector<Eigen::Quaterniond>& quaternions,
                    std::vector<Eigen::Matrix3d>& rotations);
 
 }  // namespace vdm::core
