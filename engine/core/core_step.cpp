@@ -365,7 +365,7 @@ double tet_rotations(const CoreModel& m, const NodeMat& v, std::vector<Eigen::Qu
   return m.mu * m.h * m.h * m.h / 6 * energy;
 }
 
-void step(const CoreModel& m, const StepInput& in, CoreState& s, SurfaceForceLaw* law) {
+bool begin_step(const CoreModel& m, const StepInput& in, CoreState& s, SurfaceForceLaw* law) {
   CoreWorkspace& w = *s.work;
   s.stats = CoreStats{};
   const int ns = m.ns, ng = m.ng;
@@ -408,24 +408,20 @@ void step(const CoreModel& m, const StepInput& in, CoreState& s, SurfaceForceLaw
     distributed_area_vectors(w.x, m.surface.triangles, w.area);
     for (int i = 0; i < ns; ++i) w.force.row(i) -= in.pressure[i] * w.area.row(i);
   }
+  CoreWorkspace::Iteration& I = w.iter;
+  I = CoreWorkspace::Iteration{};
+  I.law = law;
   if (!update_factors(m, w, s) || !prepare_held_entries(m, w)) {
     s.stats.converged = false;
     if (s.warnings.size() < kMaxWarnings) s.warnings.emplace_back("elastic core: the lattice's matrix did not factorise");
-    return;
+    I.done = true;
+    return false;
   }
-  const int depth = m.settings.anderson;
   w.history = w.next = 0;
-  double lambda = 0;
-  const double tol = m.settings.tolerance * m.size;
-  Eigen::Map<Vec> v_flat(s.v.data(), 3 * ng), v_new_flat(w.v_new.data(), 3 * ng);
-  double g_norm_prev = 0;
-  constexpr int kRateSpan = 4;
-  double g_norms[kRateSpan] = {0, 0, 0, 0};
-  bool done = false;
+  I.tol = m.settings.tolerance * m.size;
   // With a law's forces (contact), contact that does not settle stops the step sooner: when
   // the residual has not reached a new low for law_stall_iterations.
-  double g_norm_least = std::numeric_limits<double>::infinity();
-  int it_least = 0;
+  I.g_norm_least = std::numeric_limits<double>::infinity();
   // The safeguard of the Anderson mixing, in steps with a law's forces: the merit (merit()) at
   // the last iteration's iterate, with that iteration's forces, area vectors and volume row
   // (rhs_last), and whether the iterate now in s.v is a mix still to be judged on it.
@@ -443,145 +439,187 @@ void step(const CoreModel& m, const StepInput& in, CoreState& s, SurfaceForceLaw
   // iterate is never uphill on the energy of the iteration before it, but with friction the
   // forces are no potential's and the sequence of merits is not one function's, so this is a
   // safeguard against the mixing's wandering, not a proof of convergence.
-  const bool safeguard = law != nullptr && depth > 0;
-  double merit_last = 0, rhs_last = 0;
-  bool mixed = false;
-  for (int it = 0; it < m.settings.max_iterations && !done; ++it) {
-    ++s.stats.iterations;
-    double core_energy = tet_rotations(m, s.v, w.quaternion, w.rotation);
-    if (mixed) {
-      // A mix is taken only where it does not raise the last iteration's merit: the plain step
-      // from there (w.v_new, kept) never raises it. Else the plain step, with the mixing's
-      // history started afresh (its secants led uphill), and the rotations fitted to it.
-      // Compared exactly: a mix refused for round-off near the answer costs one rotation fit
-      // and a plain step.
-      mixed = false;
-      if (!(merit(m, w, s.v, core_energy, rhs_last) <= merit_last)) {
-        s.v = w.v_new;
-        s.u = w.u_new;
-        w.history = w.next = 0;
-        ++s.stats.anderson_rejected;
-        core_energy = tet_rotations(m, s.v, w.quaternion, w.rotation);
-      }
-    }
-    w.x = m.surface.positions + s.u;
-    distributed_area_vectors(w.x, m.surface.triangles, w.area);
-    const double V = enclosed_volume(w.x, m.surface.triangles, Vec3::Zero());
-    double c = m.rest_volume - V;
-    for (int i = 0; i < ns; ++i)
-      for (int d = 0; d < 3; ++d) c += w.area(i, d) * (s.u(i, d) - (w.factored_mask(i, d) ? w.target(i, d) : 0.0));
-    rotation_load(m, w);
-    // What does not depend on the forces: the volume row's compliance (its lattice response y1
-    // per axis and den).
-    double den = 0;
-    w.a.setZero();
-    for (int d = 0; d < 3; ++d)
-      for (int i = 0; i < ns; ++i) {
-        if (w.factored_mask(i, d)) continue;
-        const double A = w.area(i, d);
-        for (int p = 0; p < 4; ++p) w.a(m.tie_node(i, p), d) += m.tie_weight(i, p) * A;
-        den += A * A / m.tie_k[i];
-      }
-    solve_axes(w, w.a, w.response);
-    for (int d = 0; d < 3; ++d) den += w.a.col(d).dot(w.response.col(d));
-    w.den = den;
-    lambda = solve_linear(m, w, c);
-    if (law) {
-      // The law's forces on the linear model at this linearisation, and the solve with them.
-      w.x = m.surface.positions + w.u_new;
-      CoreCompliance compliance(m, w);
-      w.force_before = w.force;
-      if (law->update(w.x, compliance, w.force)) {
-        if (w.held.size() > 0) lambda = solve_linear(m, w, c);
-        else add_force_change(m, w, lambda);
-        ++s.stats.law_solves;
-      }
-    }
-    if (safeguard) {
-      // The merit at this iterate with this iteration's forces (the law's as it just set
-      // them): the volume row over the free entries, sum A_i u_i = c less the held entries'
-      // share (the linear solve's row is over every entry the factor does not hold).
-      rhs_last = c;
-      for (int d = 0; d < 3; ++d)
-        for (int i = 0; i < ns; ++i)
-          if (w.mask(i, d) && !w.factored_mask(i, d)) rhs_last -= w.area(i, d) * w.target(i, d);
-      merit_last = merit(m, w, s.v, core_energy, rhs_last);
-    }
-    // How far the surface and the lattice moved (the lattice too: with every surface entry
-    // prescribed the surface does not tell).
-    const double change = std::max((w.u_new - s.u).cwiseAbs().maxCoeff(), (w.v_new - s.v).cwiseAbs().maxCoeff());
-    s.stats.change = change / m.size;
-    // Anderson mixing on v: x = v, G(x) = v_new, residual g = G(x) - x.
-    w.g = v_new_flat - v_flat;
-    const double g_norm = w.g.norm();
-    // Stop when the distance to the fixed point is within the tolerance: an iteration that
-    // contracts by a factor rho leaves about change rho / (1 - rho), rho from the residuals
-    // of the last four iterations (Anderson's vary from one to the next), at most 0.999, so
-    // that the first iteration stops only when nothing moves. Where the rotations converge
-    // slowly (a bending under a load, inertia) the change per iteration is small long before
-    // the answer is near: the lattice's forces must also balance.
-    double g_old = g_norm_prev;
-    int span = 1;
-    if (it >= kRateSpan) {
-      g_old = g_norms[static_cast<size_t>(it % kRateSpan)];
-      span = kRateSpan;
-    }
-    g_norms[static_cast<size_t>(it % kRateSpan)] = g_norm;
-    const double rate = it > 0 && g_old > 0 ? std::min(std::pow(g_norm / g_old, 1.0 / span), 0.999) : 0.999;
-    bool stop = change * rate / (1 - rate) <= tol;
-    if (stop && change > 1e-3 * tol) {
-      // And the forces balance: the lattice's imbalance at this iterate, K (v_new - v), small
-      // against the core's elastic forces there, K_core v less the rotations' load.
-      for (int d = 0; d < 3; ++d) {
-        w.residual.col(d).noalias() = w.K[w.slot[d]] * w.g.segment(d * ng, ng);  // g = v_new - v, axis d
-        w.elastic.col(d).noalias() = m.K_core * s.v.col(d);
-      }
-      w.elastic -= w.rotation_load;
-      stop = w.residual.cwiseAbs().maxCoeff() <= m.settings.force_tolerance * w.elastic.cwiseAbs().maxCoeff();
-    }
-    if (stop) {
+  I.safeguard = law != nullptr && m.settings.anderson > 0;
+  return true;
+}
+
+void solve_iteration(const CoreModel& m, CoreState& s) {
+  CoreWorkspace& w = *s.work;
+  CoreWorkspace::Iteration& I = w.iter;
+  const int ns = m.ns;
+  ++I.it;
+  ++s.stats.iterations;
+  I.core_energy = tet_rotations(m, s.v, w.quaternion, w.rotation);
+  if (I.mixed) {
+    // A mix is taken only where it does not raise the last iteration's merit: the plain step
+    // from there (w.v_new, kept) never raises it. Else the plain step, with the mixing's
+    // history started afresh (its secants led uphill), and the rotations fitted to it.
+    // Compared exactly: a mix refused for round-off near the answer costs one rotation fit
+    // and a plain step.
+    I.mixed = false;
+    if (!(merit(m, w, s.v, I.core_energy, I.rhs_last) <= I.merit_last)) {
       s.v = w.v_new;
       s.u = w.u_new;
-      done = true;
-      break;
+      w.history = w.next = 0;
+      ++s.stats.anderson_rejected;
+      I.core_energy = tet_rotations(m, s.v, w.quaternion, w.rotation);
     }
-    if (depth <= 0) {
-      s.v = w.v_new;
-    } else {
-      if (it > 0) {
-        if (g_norm > 2 * g_norm_prev) {  // the mix diverges: start its history afresh
-          w.history = w.next = 0;
-        } else {
-          w.dX.col(w.next) = v_flat - w.x_prev;
-          w.dG.col(w.next) = w.g - w.g_prev;
-          w.next = (w.next + 1) % depth;
-          w.history = std::min(w.history + 1, depth);
-        }
-      }
-      w.x_prev = v_flat;
-      w.g_prev = w.g;
-      if (w.history > 0) {
-        const auto dG = w.dG.leftCols(w.history);
-        const auto dX = w.dX.leftCols(w.history);
-        Eigen::MatrixXd M = dG.transpose() * dG;
-        M.diagonal().array() += 1e-12 * M.diagonal().maxCoeff() + 1e-300;
-        const Vec gamma = M.ldlt().solve(dG.transpose() * w.g);
-        w.mixed = v_flat + w.g - (dX + dG) * gamma;
-        v_flat = w.mixed;
-        mixed = safeguard;
-      } else {
-        s.v = w.v_new;
-      }
-    }
-    g_norm_prev = g_norm;
-    if (g_norm < g_norm_least) g_norm_least = g_norm, it_least = it;
-    if (law && it - it_least >= m.settings.law_stall_iterations) break;
-    // The surface follows the mixed lattice for the next linearisation.
-    surface_from_lattice(m, w, s.v, lambda, s.u);
   }
-  if (!done) {
+  w.x = m.surface.positions + s.u;
+  distributed_area_vectors(w.x, m.surface.triangles, w.area);
+  const double V = enclosed_volume(w.x, m.surface.triangles, Vec3::Zero());
+  double c = m.rest_volume - V;
+  for (int i = 0; i < ns; ++i)
+    for (int d = 0; d < 3; ++d) c += w.area(i, d) * (s.u(i, d) - (w.factored_mask(i, d) ? w.target(i, d) : 0.0));
+  I.c = c;
+  rotation_load(m, w);
+  // What does not depend on the forces: the volume row's compliance (its lattice response y1
+  // per axis and den).
+  double den = 0;
+  w.a.setZero();
+  for (int d = 0; d < 3; ++d)
+    for (int i = 0; i < ns; ++i) {
+      if (w.factored_mask(i, d)) continue;
+      const double A = w.area(i, d);
+      for (int p = 0; p < 4; ++p) w.a(m.tie_node(i, p), d) += m.tie_weight(i, p) * A;
+      den += A * A / m.tie_k[i];
+    }
+  solve_axes(w, w.a, w.response);
+  for (int d = 0; d < 3; ++d) den += w.a.col(d).dot(w.response.col(d));
+  w.den = den;
+  I.lambda = solve_linear(m, w, c);
+  w.x = m.surface.positions + w.u_new;
+  w.force_before = w.force;
+  if (I.law) {
+    // The law's forces on the linear model at this linearisation, and the solve with them.
+    CoreCompliance compliance(m, w);
+    if (I.law->update(w.x, compliance, w.force)) forces_changed(m, s);
+  }
+}
+
+const NodeMat& iteration_surface(const CoreState& s) { return s.work->x; }
+NodeMat& iteration_forces(CoreState& s) { return s.work->force; }
+
+void forces_changed(const CoreModel& m, CoreState& s) {
+  CoreWorkspace& w = *s.work;
+  CoreWorkspace::Iteration& I = w.iter;
+  if (w.force == w.force_before) return;
+  if (w.held.size() > 0) I.lambda = solve_linear(m, w, I.c);
+  else add_force_change(m, w, I.lambda);
+  ++s.stats.law_solves;
+  w.x = m.surface.positions + w.u_new;
+  w.force_before = w.force;
+}
+
+bool iteration_converged(const CoreModel& m, CoreState& s) {
+  CoreWorkspace& w = *s.work;
+  CoreWorkspace::Iteration& I = w.iter;
+  const int ns = m.ns, ng = m.ng;
+  if (I.safeguard) {
+    // The merit at this iterate with this iteration's forces (the law's as it just set
+    // them): the volume row over the free entries, sum A_i u_i = c less the held entries'
+    // share (the linear solve's row is over every entry the factor does not hold).
+    I.rhs_last = I.c;
+    for (int d = 0; d < 3; ++d)
+      for (int i = 0; i < ns; ++i)
+        if (w.mask(i, d) && !w.factored_mask(i, d)) I.rhs_last -= w.area(i, d) * w.target(i, d);
+    I.merit_last = merit(m, w, s.v, I.core_energy, I.rhs_last);
+  }
+  // How far the surface and the lattice moved (the lattice too: with every surface entry
+  // prescribed the surface does not tell).
+  const double change = std::max((w.u_new - s.u).cwiseAbs().maxCoeff(), (w.v_new - s.v).cwiseAbs().maxCoeff());
+  s.stats.change = change / m.size;
+  // Anderson mixing on v: x = v, G(x) = v_new, residual g = G(x) - x.
+  Eigen::Map<Vec> v_flat(s.v.data(), 3 * ng), v_new_flat(w.v_new.data(), 3 * ng);
+  w.g = v_new_flat - v_flat;
+  I.g_norm = w.g.norm();
+  // Stop when the distance to the fixed point is within the tolerance: an iteration that
+  // contracts by a factor rho leaves about change rho / (1 - rho), rho from the residuals
+  // of the last four iterations (Anderson's vary from one to the next), at most 0.999, so
+  // that the first iteration stops only when nothing moves. Where the rotations converge
+  // slowly (a bending under a load, inertia) the change per iteration is small long before
+  // the answer is near: the lattice's forces must also balance.
+  constexpr int kRateSpan = 4;
+  const int it = I.it;
+  double g_old = I.g_norm_prev;
+  int span = 1;
+  if (it >= kRateSpan) {
+    g_old = I.g_norms[static_cast<size_t>(it % kRateSpan)];
+    span = kRateSpan;
+  }
+  I.g_norms[static_cast<size_t>(it % kRateSpan)] = I.g_norm;
+  const double rate = it > 0 && g_old > 0 ? std::min(std::pow(I.g_norm / g_old, 1.0 / span), 0.999) : 0.999;
+  bool stop = change * rate / (1 - rate) <= I.tol;
+  if (stop && change > 1e-3 * I.tol) {
+    // And the forces balance: the lattice's imbalance at this iterate, K (v_new - v), small
+    // against the core's elastic forces there, K_core v less the rotations' load.
+    for (int d = 0; d < 3; ++d) {
+      w.residual.col(d).noalias() = w.K[w.slot[d]] * w.g.segment(d * ng, ng);  // g = v_new - v, axis d
+      w.elastic.col(d).noalias() = m.K_core * s.v.col(d);
+    }
+    w.elastic -= w.rotation_load;
+    stop = w.residual.cwiseAbs().maxCoeff() <= m.settings.force_tolerance * w.elastic.cwiseAbs().maxCoeff();
+  }
+  return stop;
+}
+
+bool advance_iteration(const CoreModel& m, CoreState& s, bool stop) {
+  CoreWorkspace& w = *s.work;
+  CoreWorkspace::Iteration& I = w.iter;
+  const int ng = m.ng, depth = m.settings.anderson;
+  if (stop) {
     s.v = w.v_new;
     s.u = w.u_new;
+    I.done = true;
+    return false;
+  }
+  Eigen::Map<Vec> v_flat(s.v.data(), 3 * ng);
+  if (depth <= 0) {
+    s.v = w.v_new;
+  } else {
+    if (I.it > 0) {
+      if (I.g_norm > 2 * I.g_norm_prev) {  // the mix diverges: start its history afresh
+        w.history = w.next = 0;
+      } else {
+        w.dX.col(w.next) = v_flat - w.x_prev;
+        w.dG.col(w.next) = w.g - w.g_prev;
+        w.next = (w.next + 1) % depth;
+        w.history = std::min(w.history + 1, depth);
+      }
+    }
+    w.x_prev = v_flat;
+    w.g_prev = w.g;
+    if (w.history > 0) {
+      const auto dG = w.dG.leftCols(w.history);
+      const auto dX = w.dX.leftCols(w.history);
+      Eigen::MatrixXd M = dG.transpose() * dG;
+      M.diagonal().array() += 1e-12 * M.diagonal().maxCoeff() + 1e-300;
+      const Vec gamma = M.ldlt().solve(dG.transpose() * w.g);
+      w.mixed = v_flat + w.g - (dX + dG) * gamma;
+      v_flat = w.mixed;
+      I.mixed = I.safeguard;
+    } else {
+      s.v = w.v_new;
+    }
+  }
+  I.g_norm_prev = I.g_norm;
+  if (I.g_norm < I.g_norm_least) I.g_norm_least = I.g_norm, I.it_least = I.it;
+  if (I.law && I.it - I.it_least >= m.settings.law_stall_iterations) return false;
+  if (I.it + 1 >= m.settings.max_iterations) return false;
+  // The surface follows the mixed lattice for the next linearisation.
+  surface_from_lattice(m, w, s.v, I.lambda, s.u);
+  return true;
+}
+
+void end_step(const CoreModel& m, CoreState& s) {
+  CoreWorkspace& w = *s.work;
+  const CoreWorkspace::Iteration& I = w.iter;
+  const int ns = m.ns;
+  if (!I.done) {
+    if (I.it >= 0) {
+      s.v = w.v_new;
+      s.u = w.u_new;
+    }
     s.stats.converged = false;
     if (s.warnings.size() < kMaxWarnings) s.warnings.emplace_back("elastic core: a step did not converge");
   }
@@ -607,10 +645,10 @@ void step(const CoreModel& m, const StepInput& in, CoreState& s, SurfaceForceLaw
   for (int i = 0; i < ns; ++i)
     for (int d = 0; d < 3; ++d) {
       if (!w.mask(i, d)) continue;
-      s.reaction(i, d) = m.tie_k[i] * (s.u(i, d) - tied(m, s.v, i, d)) - w.force(i, d) + lambda * w.area(i, d);
+      s.reaction(i, d) = m.tie_k[i] * (s.u(i, d) - tied(m, s.v, i, d)) - w.force(i, d) + I.lambda * w.area(i, d);
     }
-  s.pressure = -lambda;
-  if (inertia) {
+  s.pressure = -I.lambda;
+  if (m.mass.size() == m.ng) {
     s.velocity = (s.v - s.v_start) / m.dt;
   } else {
     s.u_motion = s.u - s.u_start;
@@ -619,6 +657,13 @@ void step(const CoreModel& m, const StepInput& in, CoreState& s, SurfaceForceLaw
   w.x = m.surface.positions + s.u;
   s.volume = enclosed_volume(w.x, m.surface.triangles, Vec3::Zero());
   s.volume_rel_error = (s.volume - m.rest_volume) / m.rest_volume;
+}
+
+void step(const CoreModel& m, const StepInput& in, CoreState& s, SurfaceForceLaw* law) {
+  if (!begin_step(m, in, s, law)) return;
+  do solve_iteration(m, s);
+  while (advance_iteration(m, s, iteration_converged(m, s)));
+  end_step(m, s);
 }
 
 }  // namespace vdm::core

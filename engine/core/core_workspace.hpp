@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "engine/core/elastic_core.hpp"
+#include "engine/surface_force_law.hpp"
 
 namespace vdm::core {
 
@@ -77,6 +78,18 @@ struct CoreWorkspace {
   double den = 0;  // the volume row's a^T K^-1 a + sum A^2 / k, at the last iteration
   Vec x_prev, g_prev, g, mixed;
   int history = 0, next = 0;
+  // The step's iteration between its parts (begin_step ... end_step, core_step.cpp).
+  struct Iteration {
+    SurfaceForceLaw* law = nullptr;
+    int it = -1;                 // the iteration in progress
+    double lambda = 0, c = 0;    // the volume row's multiplier and residual at its linearisation
+    double tol = 0, core_energy = 0;
+    double g_norm_prev = 0, g_norms[4] = {0, 0, 0, 0}, g_norm = 0, change = 0;
+    double g_norm_least = 0;
+    int it_least = 0;
+    bool safeguard = false, mixed = false, done = false;
+    double merit_last = 0, rhs_last = 0;
+  } iter;
 };
 
 // Builds factor slot k's matrix, K_core with the ties of the entries w.chol_mask.col(k) holds

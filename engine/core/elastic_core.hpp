@@ -48,8 +48,9 @@ struct CoreSettings {
   // iterations stops, reported as unconverged: contact that does not settle (jaws closing
   // inside the tissue, a tool deep in it) wanders without converging, and would otherwise run
   // to max_iterations at each of the contact's re-solves. A press settles in 3-6 iterations, a
-  // slide with friction in 10-30; where points begin to slip the residual falls slowly but falls
-  // (375 iterations on a ball pressed 15 mm, CoreHard.ProbePressedToHalfTheBallsDepth).
+  // slide with friction in 10-30; where many points begin to slip at once the residual falls
+  // slowly but falls (up to 70 iterations on a ball pressed to half its depth,
+  // CoreHard.ProbePressedToHalfTheBallsDepth).
   int law_stall_iterations = 100;
   int anderson = 6;         // history of the Anderson mixing of the lattice's displacements (0: plain fixed point)
   // Prescribed entries that are not the organ's own fixed ones (a contact's, a grasp's) are
@@ -158,6 +159,26 @@ void rewind(CoreState& state);
 // taken). With `law`, the law's forces are set after every linear solve of the iteration
 // (engine/surface_force_law.hpp) and the solve repeated with them.
 void step(const CoreModel& model, const StepInput& input, CoreState& state, SurfaceForceLaw* law = nullptr);
+
+// step() in its parts, for organs whose steps are iterated together (contact between organs,
+// engine/organ_joint_step.hpp): begin_step(); then per iteration solve_iteration() (the
+// rotations fitted, the linearisation, the linear solve and `law`'s forces), where the
+// caller may change iteration_forces() (forces on the surface, as a law would) and call
+// forces_changed() to move the iteration's answer by their change; iteration_converged(),
+// whether this organ's iteration has reached its fixed point; advance_iteration(stop), which
+// takes the answer when `stop` (the caller's decision, e.g. every organ converged) or mixes
+// the next iterate, and returns whether the iteration goes on (false: stopped, stalled, or
+// out of iterations); at last end_step(). begin_step() false: the lattice could not be
+// factorised (the step is over, reported in the state's warnings; no end_step()).
+bool begin_step(const CoreModel& model, const StepInput& input, CoreState& state, SurfaceForceLaw* law);
+void solve_iteration(const CoreModel& model, CoreState& state);
+// The surface's positions (ns x 3) the iteration's linear solve found, with the forces as last changed.
+const NodeMat& iteration_surface(const CoreState& state);
+NodeMat& iteration_forces(CoreState& state);
+void forces_changed(const CoreModel& model, CoreState& state);
+bool iteration_converged(const CoreModel& model, CoreState& state);
+bool advance_iteration(const CoreModel& model, CoreState& state, bool stop);
+void end_step(const CoreModel& model, CoreState& state);
 
 // The organ's compliance at surface nodes `nodes` (3n x 3n; row 3a + d, column 3b + e: how far
 // node a moves along d under a unit force on node b along e) at the last step's linearisation
