@@ -81,6 +81,15 @@ class ContactSolver final : private SurfaceForceLaw {
   // VDM engine on the model it was made with; null: that engine again. Contact reaches the
   // organ only through its OrganSolver (solve, rewind, the step's start).
   void set_solver(OrganSolver* solver);
+  // Constraint contact on a model whose step a caller iterates together with other organs'
+  // (OrganSolver::joint_begin): begin_joint() gives the input to begin the model's step with
+  // and joint_law() the law to give it; the caller drives the iteration, then end_joint().
+  // One solve: points that the solved surface meets where none was join the next step.
+  const StepInput& begin_joint(const TissueModel& model, const StepInput& base, const std::vector<ToolShape>& tools,
+                               SimState& state, ContactReport& report);
+  SurfaceForceLaw& joint_law() { return *this; }
+  void end_joint(const TissueModel& model, const StepInput& base, const std::vector<ToolShape>& tools, SimState& state,
+                 ContactReport& report);
   // Per-node flag: held by an instrument after the last step.
   const std::vector<char>& active() const { return active_; }
   // What the next step carries over from the last (constraint contact: its contact points'

@@ -74,6 +74,31 @@ void ContactSolver::step_constraint_within(const TissueModel& m, const StepInput
   if (!s.failed) end_constraint_step(m, base, tools, s, rep);
 }
 
+const StepInput& ContactSolver::begin_joint(const TissueModel& m, const StepInput& base, const std::vector<ToolShape>& tools,
+                                            SimState& s, ContactReport& rep) {
+  begin_constraint_step(m, base, tools, s, rep, true);
+  within_ = WithinStep{&m, &base, &tools, &s, &rep};
+  rep.converged = false;
+  input_.tolerance = 0.0;
+  for (const ContactPoint& c : contacts_)
+    for (int v = 0; v < c.count; ++v) contact_force_.row(c.node[v]).setZero();
+  for (const ContactPoint& c : contacts_)
+    for (int v = 0; v < c.count; ++v) contact_force_.row(c.node[v]) += c.weight[v] * c.force.transpose();
+  collect_contact_nodes();
+  if (base.force.rows() == m.n) input_.force = base.force + contact_force_;
+  else input_.force = contact_force_;
+  return input_;
+}
+
+void ContactSolver::end_joint(const TissueModel& m, const StepInput& base, const std::vector<ToolShape>& tools,
+                              SimState& s, ContactReport& rep) {
+  ++rep.solves;
+  rep.iterations += s.stats.iterations;
+  rep.converged = !s.failed && s.stats.converged;
+  within_ = WithinStep{};
+  if (!s.failed) end_constraint_step(m, base, tools, s, rep);
+}
+
 bool ContactSolver::update(const NodeMat& x, ComplianceSource& source, NodeMat& force) {
   const auto t0 = Clock::now();
   const WithinStep& w = within_;

@@ -198,6 +198,25 @@ class CoreSolver final : public ReferenceSolver {
     solve(in, s, &law);
     return true;
   }
+  bool joint_begin(const StepInput& in, SimState& s, SurfaceForceLaw* law) override {
+    joint_t0_ = Clock::now();
+    remember_start(s);
+    joint_warned_ = s_.warnings.size();
+    if (core::begin_step(m_, in, s_, law)) return true;
+    end_solve(s, joint_t0_, joint_warned_);
+    return false;
+  }
+  void joint_solve() override { core::solve_iteration(m_, s_); }
+  const NodeMat& joint_surface() const override { return core::iteration_surface(s_); }
+  NodeMat& joint_forces() override { return core::iteration_forces(s_); }
+  void joint_forces_changed() override { core::forces_changed(m_, s_); }
+  bool joint_converged() override { return core::iteration_converged(m_, s_); }
+  bool joint_advance(bool stop) override { return core::advance_iteration(m_, s_, stop); }
+  double joint_tolerance() const override { return m_.settings.tolerance * m_.size; }
+  void joint_end(SimState& s) override {
+    core::end_step(m_, s_);
+    end_solve(s, joint_t0_, joint_warned_);
+  }
   // The step's results at its surface, as VDM's: the area vectors A_i at the current
   // geometry, the contact pressure |reaction_i| / |A_i| on nodes with a constrained entry
   // (constraint contact then writes its own nodes' over the same A_i), and with
@@ -234,6 +253,10 @@ class CoreSolver final : public ReferenceSolver {
     remember_start(s);
     const size_t warned = s_.warnings.size();
     core::step(m_, in, s_, law);
+    end_solve(s, t0, warned);
+  }
+  // The core's step into the common state.
+  void end_solve(SimState& s, Clock::time_point t0, size_t warned) {
     publish(m_.surface.positions, s_.u, s_.reaction, dt_, s);
     ReferenceStep r;
     r.volume = s_.volume;
@@ -251,6 +274,8 @@ class CoreSolver final : public ReferenceSolver {
   core::CoreState s_;
   core::CoreStrain strain_;
   double dt_;
+  Clock::time_point joint_t0_;
+  size_t joint_warned_ = 0;
 };
 
 }  // namespace

@@ -86,6 +86,31 @@ class OrganSolver {
     (void)law;
     return false;
   }
+  // A trial_step_with() whose iteration the caller drives, so that several organs' steps are
+  // iterated together (contact between organs, engine/organ_pair_contact.hpp): joint_begin()
+  // (false: the model cannot, or the step failed at its start, reported in the state); then per
+  // iteration joint_solve() (one linear solve, with `law`'s forces), where joint_forces() may be
+  // changed and joint_forces_changed() moves the iteration's answer (joint_surface()) by their
+  // change; joint_converged() (call every organ's); joint_advance(stop) (false: the iteration
+  // is over); joint_end(). vdm_core: the core's step in its parts (engine/core/elastic_core.hpp).
+  virtual bool joint_begin(const StepInput& input, SimState& state, SurfaceForceLaw* law) {
+    (void)input;
+    (void)state;
+    (void)law;
+    return false;
+  }
+  virtual void joint_solve() {}
+  virtual const NodeMat& joint_surface() const { return empty_; }
+  virtual NodeMat& joint_forces() { return empty_; }
+  virtual void joint_forces_changed() {}
+  virtual bool joint_converged() { return true; }
+  virtual bool joint_advance(bool stop) {
+    (void)stop;
+    return false;
+  }
+  virtual void joint_end(SimState& state) { (void)state; }
+  // The motion below which the iteration counts as converged (m).
+  virtual double joint_tolerance() const { return 0; }
   // A snapshot of what the model carries from one step to the next, between steps, appended to
   // `out`: with the SimState's own snapshot (engine/state_snapshot.hpp) a solver loaded from it
   // continues bit for bit. False, appending nothing, when the model does not save its state
@@ -103,6 +128,8 @@ class OrganSolver {
     error = "state snapshot: a reference model's state is not saved";
     return false;
   }
+ private:
+  NodeMat empty_;
 };
 
 // The VDM engine (vdm::step on `model`, which must outlive the solver).

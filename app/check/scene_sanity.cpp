@@ -7,6 +7,7 @@
 
 #include "app/scene/scene_keys.hpp"
 #include "app/simulation/organ_overlap.hpp"
+#include "app/simulation/organ_ties.hpp"
 #include "app/simulation/scene_simulation.hpp"
 
 namespace vdmsim {
@@ -64,11 +65,28 @@ void check_overlaps(const PreparedScene& ps, std::vector<SceneProblem>& out) {
                      s.organs[i].name + " and " + s.organs[j].name + " overlap at rest: node " + std::to_string(o.node) +
                          " of " + in.name + " is " + num(o.depth * 1000) + " mm inside " + into.name + " at [" +
                          num(o.where.x()) + ", " + num(o.where.y()) + ", " + num(o.where.z()) + "] m" +
-                         (deep ? "; contact between organs is not simulated: a run stops when organs are more than " +
-                                     num(kOrganOverlap * 1000) + " mm inside each other; move them apart"
+                         (deep ? "; a run stops when organs are more than " + num(kOrganOverlap * 1000) +
+                                     " mm inside each other (contact between organs cannot push apart organs placed "
+                                     "inside each other); move them apart"
                                : " (their surfaces touch)"),
                      !deep});
     }
+}
+
+// Attachments that tie no node: no node of the first organ is within `within` of the second's
+// surface at rest.
+void check_attachments(const PreparedScene& ps, std::vector<SceneProblem>& out) {
+  std::vector<int> ties;
+  organ_ties(ps, &ties);
+  for (size_t k = 0; k < ties.size() && k < ps.scene.attachments.size(); ++k) {
+    if (ties[k] > 0) continue;
+    const AttachmentDef& a = ps.scene.attachments[k];
+    out.push_back({ps.scene.file, a.field,
+                   "ties nothing: no node of " + ps.scene.organs[static_cast<size_t>(a.first)].name + " is within " +
+                       num(a.within * 1000) + " mm of " + ps.scene.organs[static_cast<size_t>(a.second)].name +
+                       "'s surface at rest; place the organs nearer or raise within",
+                   true});
+  }
 }
 
 void check_instruments(const SceneDef& s, const std::vector<InstrumentReach>& reach, double organ_size, double end,
@@ -167,6 +185,7 @@ SanityReport scene_sanity(const PreparedScene& ps) {
     check_fixed(s, s.organs[o], r.fixed.back(), ps.organs[o].model.size, r.problems);
   }
   check_overlaps(ps, r.problems);
+  check_attachments(ps, r.problems);
   for (const InstrumentDef& def : s.instruments)
     r.reach.push_back(instrument_reach(def, ps.surface, reach_times(def, s.frames, s.dt)));
   check_instruments(s, r.reach, ps.organ().model.size, r.end_time, r.problems);

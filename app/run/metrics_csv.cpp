@@ -36,8 +36,9 @@ int MetricsCsv::open(const fs::path& dir, int start, bool resume, bool stress, s
   for (size_t i = 0; i < organ_columns_; ++i) {
     const std::string& n = organs[i];
     file_ << ',' << n << "_volume," << n << "_volume_rel_error," << n << "_pressure_pa," << n << "_contact_nodes," << n
-          << "_contact_force_n," << n << "_max_displacement_m";
+          << "_contact_force_n," << n << "_max_displacement_m," << n << "_organ_force_n";
   }
+  if (organ_columns_ > 0) file_ << ",ties_torn";
   file_ << '\n';
   for (const std::string& row : kept_rows) file_ << row << '\n';
   file_ << std::setprecision(9);
@@ -90,7 +91,12 @@ bool MetricsCsv::write(int f, const SceneSimulation& sim, std::string& reason) {
     if (sim.contact_simulated()) file_ << sim.contact_report(i).nodes;
     file_ << ',';
     if (sim.forces_simulated()) file_ << sim.total_force(i).norm();
-    file_ << ',' << st.u.rowwise().norm().maxCoeff();
+    file_ << ',' << st.u.rowwise().norm().maxCoeff() << ',';
+    if (sim.organ_contact_simulated()) file_ << sim.organ_contact_force(i).norm();
+  }
+  if (organ_columns_ > 0) {
+    file_ << ',';
+    if (sim.organ_contact_simulated()) file_ << sim.organ_ties_torn();
   }
   file_ << '\n';
   file_.flush();

@@ -556,6 +556,60 @@ void read_organs(Reader& r, const YAML::Node& list, SceneDef& s, const std::file
   }
 }
 
+// `attachments:`, ties between the organs named.
+void read_attachments(Reader& r, const YAML::Node& list, SceneDef& s) {
+  if (!r.require_sequence(list, "attachments")) return;
+  for (size_t i = 0; i < list.size(); ++i) {
+    AttachmentDef a;
+    a.field = Reader::item("attachments", i);
+    const YAML::Node n = list[i];
+    if (!r.require_map(n, a.field)) continue;
+    r.check_keys(n, a.field, "attachments[]");
+    bool ok = true;
+    if (const YAML::Node b = r.required(n, "between", a.field, "[organ name, organ name]")) {
+      const std::string fb = Reader::sub(a.field, "between");
+      if (!b.IsSequence() || b.size() != 2) {
+        r.error(b, fb, "expected two organ names: [first, second] (the first's nodes are tied to the second's surface)");
+        ok = false;
+      } else {
+        std::vector<std::string> names;
+        for (const OrganDef& o : s.organs) names.push_back(o.name);
+        for (size_t k = 0; k < 2; ++k) {
+          std::string name;
+          if (!r.text(b[k], Reader::item(fb, k), name)) {
+            ok = false;
+            continue;
+          }
+          const auto at = std::find(names.begin(), names.end(), name);
+          if (at == names.end()) {
+            const std::string near = closest_name(name, names);
+            r.error(b[k], Reader::item(fb, k), "no organ is named '" + name + "'" +
+                                                   (near.empty() ? "" : " (did you mean '" + near + "'?)"));
+            ok = false;
+          } else {
+            (k == 0 ? a.first : a.second) = static_cast<int>(at - names.begin());
+          }
+        }
+        if (ok && a.first == a.second) {
+          r.error(b, fb, "an organ is not attached to itself: name two different organs");
+          ok = false;
+        }
+      }
+    } else {
+      ok = false;
+    }
+    if (const YAML::Node w = r.required(n, "within", a.field, "how near (m)"))
+      ok = r.number(w, Reader::sub(a.field, "within"), a.within, KEY("attachments[].within")) && ok;
+    else
+      ok = false;
+    if (const YAML::Node k = n["stiffness"])
+      ok = r.number(k, Reader::sub(a.field, "stiffness"), a.stiffness, KEY("attachments[].stiffness")) && ok;
+    if (const YAML::Node t = n["tear_force"])
+      ok = r.number(t, Reader::sub(a.field, "tear_force"), a.tear_force, KEY("attachments[].tear_force")) && ok;
+    if (ok) s.attachments.push_back(a);
+  }
+}
+
 // The first organ whose model lacks `flag` (organ_model_table.hpp), or null.
 const OrganDef* first_without(const SceneDef& s, bool OrganModel::*flag) {
   for (const OrganDef& o : s.organs)
@@ -1353,6 +1407,22 @@ SceneLoadResult load_scene(const std::string& path) {
     warn_unused_by_model(r, root, !organs ? root["organ"] : organs.IsSequence() && i < organs.size() ? organs[i] : YAML::Node(),
                          s.organs[i], s);
   if (const YAML::Node ins = root["instruments"]) read_instruments(r, ins, s, base);
+  if (const YAML::Node att = root["attachments"]) {
+    if (!organs) {
+      r.error(att, "attachments", "attachments tie organs together: give the organs as a list, organs: [...]");
+    } else {
+      read_attachments(r, att, s);
+      // Ties are forces between organs solved with their contact: every organ on the core,
+      // with constraint contact.
+      const auto off_core = std::find_if(s.organs.begin(), s.organs.end(),
+                                         [](const OrganDef& o) { return o.model != vdm::ModelKind::vdm_core; });
+      if (!s.attachments.empty() && off_core != s.organs.end())
+        r.error(att, "attachments", "attachments need every organ on model: vdm_core (" + off_core->field + " is not)");
+      else if (!s.attachments.empty() && (!s.has(Effect::contact) || s.contact.method != vdm::ContactSettings::Method::constraint))
+        r.error(att, "attachments", "attachments are solved with the contact between organs: add contact to "
+                                    "simulation.effects (with the default constraint contact)");
+    }
+  }
   if (const YAML::Node render = root["render"]) {
     s.has_render = true;
     read_render(r, render, s);

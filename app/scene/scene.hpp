@@ -4,6 +4,7 @@
 #include <array>
 #include <cstdint>
 #include <optional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -146,12 +147,23 @@ struct OrganDef {
   std::vector<PrescribedDef> prescribed;
 };
 
+// An attachment (`attachments:`): organ `first`'s nodes within `within` of organ `second`'s
+// surface at rest tied to it (organ indices into SceneDef::organs).
+struct AttachmentDef {
+  std::string field;        // "attachments[i]", for messages
+  int first = 0, second = 0;
+  double within = 0;        // m
+  double stiffness = 0;     // per area (Pa/m); 0: the softer organ's E / within
+  double tear_force = std::numeric_limits<double>::infinity();  // N
+};
+
 struct SceneDef {
   std::string file;            // the scene file as given
   std::string name;
   // The organs: one from `organ:`, or those of `organs:` in file order (names unique). A
   // SceneDef made in code has one default organ.
   std::vector<OrganDef> organs = std::vector<OrganDef>(1);
+  std::vector<AttachmentDef> attachments;
   // simulation
   int frames = 120;
   double dt = 1.0 / 30.0;

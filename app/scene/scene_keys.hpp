@@ -96,6 +96,11 @@ inline constexpr SceneKey kSceneKeys[] = {
       "volume; the instruments touch and grasp whichever organ they meet.")
       .eg("organs: [{name: liver, mesh: ../meshes/liver_L4.obj}, {name: gallbladder, mesh: ../meshes/gallbladder.obj, "
           "translate: [0.3, 0, 0]}]"),
+  key("attachments", KT::list, "Ties between organs (with `organs`): each node of the first organ within `within` of "
+      "the second's surface at rest is held to the point of that surface nearest it, by a spring in every direction; "
+      "a tie lets go when its force passes `tear_force`. Simulated when every organ is on `vdm_core` with the "
+      "`contact` effect (the contact between organs is then simulated too).")
+      .eg("attachments: [{between: [gallbladder, liver], within: 0.004}]"),
   // A region (documented after the organ; its keys are below).
   key("region", KT::region, "A set of the organ's nodes, chosen on the rest mesh (after `organ.scale`): exactly one of "
       "`box`, `sphere`, `nodes` or `all`."),
@@ -149,6 +154,18 @@ inline constexpr SceneKey kSceneKeys[] = {
   key("organs[].name", KT::text, "The organ's name: letters, digits, `_` and `-`, unique in the scene. It names the "
       "organ's columns in metrics.csv, its entry in run.json and its folder of exported meshes.").needed()
       .eg("name: gallbladder"),
+
+  // attachments[]
+  key("attachments[].between", KT::text, "The two organs tied: the first's nodes near the second's surface are held "
+      "to it.").typed("[organ name, organ name]").needed().eg("between: [gallbladder, liver]"),
+  key("attachments[].within", KT::number, "How near the second organ's surface (at rest) a node of the first is tied.")
+      .in("m").above(0, 1).needed().eg("within: 0.004"),
+  key("attachments[].stiffness", KT::number, "The ties' stiffness per area of the tied surface: a tie holds its node's "
+      "share of the first organ's surface area times this. By default a layer of connective tissue as thick as "
+      "`within` and as stiff as the softer organ: E / within.").in("Pa/m").above(0)
+      .by_default("the softer organ's young_modulus / within").eg("stiffness: 1000000"),
+  key("attachments[].tear_force", KT::number, "The force at which a tie lets go (`inf`: never); metrics.csv counts "
+      "the torn ties.").in("N").above(0).or_inf().by_default([] { return std::string("inf"); }).eg("tear_force: 0.05"),
 
   // organ.material
   key("organ.material.bulk_modulus", KT::number, "The fluid's bulk term B (per axis when three values are given; "

@@ -2,6 +2,7 @@
 
 #include "app/simulation/organ_models.hpp"
 #include "app/simulation/organ_overlap.hpp"
+#include "app/simulation/organ_ties.hpp"
 #include "app/simulation/tool_depth.hpp"
 #include "engine/state_snapshot.hpp"
 #include "engine/stopwatch.hpp"
@@ -62,6 +63,38 @@ SceneSimulation::SceneSimulation(const PreparedScene& ps) : ps_(ps) {
     }
   }
   if (organs_.size() > 1) positions_ = ps.surface.positions;
+  // Contact between organs: with the contact effect, constraint contact, and every organ on
+  // the core (its iteration can be driven from here and gives its exact compliance).
+  bool joint = organs_.size() > 1 && s.has(Effect::contact) && s.contact.method == vdm::ContactSettings::Method::constraint;
+  for (const OrganRun& o : organs_) joint = joint && o.solver && o.solver->kind() == vdm::ModelKind::vdm_core;
+  if (joint) {
+    std::vector<int> nodes;
+    std::vector<double> edges;
+    for (const OrganRun& o : organs_) {
+      const vdm::NodeMat& x = o.prepared->model.rest.positions;
+      const vdm::TriMat& t = o.prepared->model.rest.triangles;
+      double sum = 0;
+      for (Eigen::Index f = 0; f < t.rows(); ++f)
+        for (int k = 0; k < 3; ++k) sum += (x.row(t(f, (k + 1) % 3)) - x.row(t(f, k))).norm();
+      nodes.push_back(o.prepared->model.n);
+      edges.push_back(t.rows() > 0 ? sum / (3.0 * double(t.rows())) : 0.0);
+    }
+    pair_ = std::make_unique<vdm::OrganPairContact>(nodes, edges, s.contact.friction, vdmsim::organ_ties(ps));
+    organ_force_.assign(organs_.size(), vdm::Vec3::Zero());
+    joint_x_.resize(organs_.size());
+    joint_triangles_.resize(organs_.size());
+    joint_solvers_.resize(organs_.size());
+    joint_active_.resize(organs_.size());
+    joint_member_.resize(organs_.size());
+    joint_settled_.resize(organs_.size());
+    joint_converged_.resize(organs_.size());
+    joint_solved_.resize(organs_.size());
+    joint_before_.resize(organs_.size());
+    for (size_t i = 0; i < organs_.size(); ++i) {
+      joint_triangles_[i] = &organs_[i].prepared->model.rest.triangles;
+      joint_solvers_[i] = organs_[i].solver.get();
+    }
+  }
   tools_.resize(probes_.size() + 3 * graspers_.size());  // probes, then each grasper's two jaws and shaft
 }
 
@@ -97,13 +130,15 @@ std::string SceneSimulation::unsound() const {
     if (std::string why = unsound(o); !why.empty()) return organ_prefix(o) + why;
   if (!total_force().allFinite()) return "non-finite instrument force";
   if (!conflict_.empty()) return conflict_;
+  if (!rest_overlap_.empty()) return rest_overlap_;
   if (std::string why = organs_overlap(); !why.empty()) return why;
   return deep_probe();
 }
 
-// Organs passed into each other by more than kOrganOverlap: contact between organs is not
-// simulated, so nothing would push them apart and their pictures and forces would be wrong.
-std::string SceneSimulation::organs_overlap() const {
+// Organs passed into each other by more than kOrganOverlap: where contact between organs is not
+// simulated nothing would push them apart, and where it is, it failed; their pictures and
+// forces would be wrong. `placed`: the organs as placed, before the first step.
+std::string SceneSimulation::organs_overlap(bool placed) const {
   for (size_t i = 0; i < organs_.size(); ++i)
     for (size_t j = i + 1; j < organs_.size(); ++j) {
       const OrganRun &a = organs_[i], &b = organs_[j];
@@ -115,6 +150,10 @@ std::string SceneSimulation::organs_overlap() const {
       char text[160];
       std::snprintf(text, sizeof text, "node %d of %s is %.3g mm inside %s at [%.4g, %.4g, %.4g] m", o.node,
                     in.def->name.c_str(), 1e3 * o.depth, into.def->name.c_str(), o.where.x(), o.where.y(), o.where.z());
+      if (pair_)
+        return "organs " + a.def->name + " and " + b.def->name + " pass into each other (" + text +
+               (placed ? "): contact between organs cannot push apart organs placed inside each other; place them apart"
+                                          : "): contact between organs did not keep them apart (docs/several-organs.md)");
       return "organs " + a.def->name + " and " + b.def->name + " pass into each other (" + text +
              "): contact between organs is not simulated, so nothing keeps them apart; place them apart or keep the "
              "instruments from pushing one into the other (docs/several-organs.md)";
@@ -251,7 +290,7 @@ std::vector<tools::InstrumentPose> SceneSimulation::poses(double t) const {
 
 // A snapshot is, for each organ in turn, its model's own state (vdm_core's; a reference model
 // saves none: false), its engine state and its grasps; then the run's tallies; then each organ's
-// contact carry.
+// contact carry; then the contact between organs and the attachments' ties.
 bool SceneSimulation::save(std::string& out) const {
   for (const OrganRun& o : organs_) {
     if (o.solver && !o.solver->save_state(out)) return false;
@@ -268,6 +307,7 @@ bool SceneSimulation::save(std::string& out) const {
   out.append(reinterpret_cast<const char*>(counts), sizeof counts);
   for (const OrganRun& o : organs_)
     if (o.contact) o.contact->save_state(out);
+  if (pair_) pair_->save_state(out);
   return true;
 }
 
@@ -310,6 +350,7 @@ bool SceneSimulation::load(std::string_view in, std::string& error) {
     const vdm::TissueModel& m = o.prepared->model;
     if (o.contact && !o.contact->load_state(in, pos, m.n, m.rest.triangle_count(), error)) return false;
   }
+  if (pair_ && !pair_->load_state(in, pos, error)) return false;
   if (pos != in.size()) {
     error = "state snapshot: bytes after the end";
     return false;
@@ -375,6 +416,10 @@ void SceneSimulation::advance(int f) {
   // With inertia the state at t = 0 is the initial condition, the organs at rest: a step here
   // would integrate the motion over a whole dt and label it t = 0.
   frame_stepped_ = !(f == 0 && s.has(Effect::inertia));
+  // Organs placed inside each other: contact between them cannot tell which way is out, and the
+  // run stops before its first step (unsound() says where).
+  if (pair_ && f == 0) rest_overlap_ = organs_overlap(true);
+  if (!rest_overlap_.empty()) return;
   // Scripted loads and motions for this frame.
   conflict_.clear();
   conflict_gap_ = 0;
@@ -410,10 +455,18 @@ void SceneSimulation::advance(int f) {
           tools_[probes_.size() + 3 * k + side] = tools::jaw_shape(*graspers_[k], now, before, side ? -1 : +1);
         tools_[probes_.size() + 3 * k + 2] = tools::shaft_shape(*graspers_[k], now, before);
       }
-      for (OrganRun& o : organs_) {
+      if (pair_) {
         const auto t_contact = Clock::now();
-        o.contact->step(o.prepared->model, o.input, tools_, o.state, o.report);
+        step_joint();
         frame_step_ms_ += ms_since(t_contact);
+      }
+      for (size_t i = 0; i < organs_.size(); ++i) {
+        OrganRun& o = organs_[i];
+        if (!joint(i)) {
+          const auto t_contact = Clock::now();
+          o.contact->step(o.prepared->model, o.input, tools_, o.state, o.report);
+          frame_step_ms_ += ms_since(t_contact);
+        }
         frame_iterations_ += o.report.iterations;  // every active-set solve, not only the last
         contact_iterations_ += o.report.iterations;
         if (!o.report.converged) ++unconverged_steps_;
@@ -441,8 +494,11 @@ void SceneSimulation::advance(int f) {
       report_.collision_ms += r.collision_ms;
     }
   } else {
-    for (OrganRun& o : organs_) {
-      if (o.solver) o.solver->step(o.input, o.state);  // the organ model's own (fem, mass_spring, vdm_core)
+    if (pair_) step_joint();
+    for (size_t i = 0; i < organs_.size(); ++i) {
+      OrganRun& o = organs_[i];
+      if (joint(i)) {}  // stepped with the organs it touches
+      else if (o.solver) o.solver->step(o.input, o.state);  // the organ model's own (fem, mass_spring, vdm_core)
       else vdm::step(o.prepared->model, o.input, o.state);
       frame_step_ms_ += o.state.stats.step_ms;
       frame_iterations_ += o.state.stats.iterations;
@@ -458,6 +514,96 @@ void SceneSimulation::advance(int f) {
     times_.stress += o.state.stats.stress_ms;
   }
   gather_positions();
+}
+
+void SceneSimulation::find_joint_organs() {
+  // Each organ's box at the step's start, grown by the contact's reach and twice the most any of
+  // its nodes moves in a frame at its last speed (with a millimetre to spare): organs whose boxes meet, or
+  // tied by a tie that holds, step together.
+  const size_t n = organs_.size();
+  std::vector<vdm::Vec3> lo(n), hi(n);
+  for (size_t i = 0; i < n; ++i) {
+    const vdm::NodeMat& x = organs_[i].state.x;
+    const vdm::NodeMat& v = organs_[i].state.velocity;
+    const double moved = v.rows() == x.rows() && v.rows() > 0 ? v.rowwise().norm().maxCoeff() * ps_.scene.dt : 0.0;
+    const double grow = kOrganContactReach + 2 * moved + 0.001;
+    lo[i] = x.colwise().minCoeff().transpose().array() - grow;
+    hi[i] = x.colwise().maxCoeff().transpose().array() + grow;
+  }
+  std::fill(joint_member_.begin(), joint_member_.end(), 0);
+  for (size_t i = 0; i < n; ++i)
+    for (size_t j = i + 1; j < n; ++j)
+      if (((lo[i].array() <= hi[j].array()).all() && (lo[j].array() <= hi[i].array()).all()) ||
+          pair_->tied(static_cast<int>(i), static_cast<int>(j)))
+        joint_member_[i] = joint_member_[j] = 1;
+}
+
+void SceneSimulation::step_joint() {
+  const size_t n = organs_.size();
+  find_joint_organs();
+  std::fill(organ_force_.begin(), organ_force_.end(), vdm::Vec3::Zero());
+  if (std::find(joint_member_.begin(), joint_member_.end(), 1) == joint_member_.end()) return;
+  for (size_t i = 0; i < n; ++i) {
+    joint_active_[i] = 0;
+    if (!joint_member_[i]) continue;
+    OrganRun& o = organs_[i];
+    o.report = vdm::ContactReport{};
+    const vdm::StepInput& in =
+        o.contact ? o.contact->begin_joint(o.prepared->model, o.input, tools_, o.state, o.report) : o.input;
+    joint_active_[i] = o.solver->joint_begin(in, o.state, o.contact ? &o.contact->joint_law() : nullptr);
+  }
+  for (size_t i = 0; i < n; ++i) joint_x_[i] = &organs_[i].state.x;
+  pair_->begin_step(joint_x_);
+  // An organ whose iteration has converged while another's has not is settled: it is not
+  // solved again (its answer follows the forces the others put on it through its linear
+  // response, joint_forces_changed()) unless those forces move it by more than ten times its
+  // tolerance in one iteration. An expensive organ (a large liver) then does not iterate for a
+  // small one (a gallbladder pulled by a grasper) that is still finding its way.
+  std::fill(joint_settled_.begin(), joint_settled_.end(), 0);
+  for (;;) {
+    for (size_t i = 0; i < n; ++i) {
+      if (joint_active_[i] && !joint_settled_[i]) organs_[i].solver->joint_solve();
+      joint_x_[i] = joint_active_[i] ? &organs_[i].solver->joint_surface() : &organs_[i].state.x;
+    }
+    pair_->find_points(joint_x_, joint_triangles_, kOrganContactReach);
+    double violation = 0, change = 0;
+    pair_->correct(joint_solvers_, violation, change);
+    bool all = true;
+    for (size_t i = 0; i < n; ++i) {
+      if (!joint_active_[i]) continue;
+      vdm::OrganSolver& solver = *organs_[i].solver;
+      const bool solved = !joint_settled_[i];
+      joint_before_[i] = solver.joint_surface();
+      pair_->apply(static_cast<int>(i), solver.joint_forces());
+      solver.joint_forces_changed();
+      if (!solved && (solver.joint_surface() - joint_before_[i]).cwiseAbs().maxCoeff() > 10 * solver.joint_tolerance())
+        joint_settled_[i] = 0;  // moved too far by the others: solved again at the next iteration
+      joint_converged_[i] = solved ? solver.joint_converged() : joint_settled_[i];
+      joint_solved_[i] = solved;
+      all = all && joint_converged_[i];
+    }
+    if (all) {
+      for (size_t i = 0; i < n; ++i)
+        if (joint_active_[i]) organs_[i].solver->joint_advance(true);
+      break;
+    }
+    bool more = true;
+    for (size_t i = 0; i < n; ++i) {
+      if (!joint_active_[i] || !joint_solved_[i]) continue;
+      if (joint_converged_[i]) joint_settled_[i] = 1;
+      else if (!organs_[i].solver->joint_advance(false)) more = false;  // out of iterations: the step ends unconverged
+    }
+    if (!more) break;
+  }
+  pair_->end_step();
+  for (size_t i = 0; i < n; ++i) {
+    OrganRun& o = organs_[i];
+    if (!joint_member_[i]) continue;
+    if (joint_active_[i]) o.solver->joint_end(o.state);
+    if (o.contact) o.contact->end_joint(o.prepared->model, o.input, tools_, o.state, o.report);
+    else o.report.converged = o.state.stats.converged;
+    organ_force_[i] = pair_->contact_force(static_cast<int>(i)) + pair_->tie_force(static_cast<int>(i));
+  }
 }
 
 }  // namespace vdmsim

@@ -9,6 +9,7 @@
 
 #include "app/simulation/prepared_scene.hpp"
 #include "engine/contact.hpp"
+#include "engine/organ_pair_contact.hpp"
 #include "engine/organ_solver.hpp"
 #include "engine/sim_state.hpp"
 #include "tools_scripted/grasp.hpp"
@@ -24,6 +25,10 @@ struct StageTimes {
 // How far one organ may lie inside another before a run stops (m): contact between organs is
 // not simulated; organs placed touching overlap by a little where their triangles cut corners.
 constexpr double kOrganOverlap = 0.001;
+
+// Contact between organs (vdm_core organs with constraint contact): nodes this close to
+// another organ's surface are its contact points (m).
+constexpr double kOrganContactReach = 0.002;
 
 class SceneSimulation {
  public:
@@ -61,6 +66,12 @@ class SceneSimulation {
   int frame_iterations() const { return frame_iterations_; }
   int frame_fallbacks() const { return frame_fallbacks_; }  // solves redone by the direct solver
   bool contact_simulated() const { return contact_; }
+  // Whether contact between organs is simulated, and the other organs' force on organ i (N).
+  bool organ_contact_simulated() const { return pair_ != nullptr; }
+  vdm::Vec3 organ_contact_force(size_t organ) const { return pair_ ? organ_force_[organ] : vdm::Vec3::Zero(); }
+  // The attachments' ties: how many, and how many have torn.
+  int organ_ties() const { return pair_ ? pair_->ties() : 0; }
+  int organ_ties_torn() const { return pair_ ? pair_->torn() : 0; }
   // The last frame's contact over every organ (nodes, forces and solves summed, the deepest
   // penetration, converged when every organ's was), and organ i's own.
   const vdm::ContactReport& contact_report() const { return report_; }
@@ -140,6 +151,26 @@ class SceneSimulation {
   std::vector<std::pair<int, vdm::Vec3>> earlier_hold_;  // (node, its earlier holder's target)
   double conflict_gap_ = 0;
   std::string conflict_;
+  // Contact between the organs (null: not simulated) and the other organs' force on each.
+  std::unique_ptr<vdm::OrganPairContact> pair_;
+  std::vector<vdm::Vec3> organ_force_;
+  std::vector<const vdm::NodeMat*> joint_x_;
+  std::vector<const vdm::TriMat*> joint_triangles_;
+  std::vector<vdm::OrganSolver*> joint_solvers_;
+  std::vector<char> joint_active_;
+  std::vector<char> joint_member_;
+  std::vector<char> joint_settled_, joint_converged_, joint_solved_;  // per organ, in the step's iteration
+  std::vector<vdm::NodeMat> joint_before_;
+  std::string rest_overlap_;  // organs inside each other at the first frame (with contact between organs)  // this step: stepped with other organs (near them, or tied)
+  // Which organs step together this step (joint_member_).
+  void find_joint_organs();
+  // Whether organ i was stepped with others this step.
+  bool joint(size_t i) const { return pair_ && joint_member_[i]; }
+  // One step of every organ with their iterations in lockstep: after each linear solve of
+  // every organ (each with its instruments' contact law), the contact between the organs is
+  // solved on their compliances at that linearisation and its forces put on both; the step
+  // ends when every organ's iteration has converged.
+  void step_joint();
   void note_hold(OrganRun& o, int node, int holder, const vdm::Vec3& before, const vdm::Vec3& after);
   // The scripted loads, motions and grasps of organ o at time t.
   void apply_script(OrganRun& o, double t);
@@ -147,7 +178,7 @@ class SceneSimulation {
   // positions_ from the organs' states (with several organs).
   void gather_positions();
   std::string deep_probe() const;
-  std::string organs_overlap() const;
+  std::string organs_overlap(bool placed = false) const;
   std::string deep_probe_cause(const OrganRun& o, size_t probe) const;
   // The forces of the frame just simulated (each organ's, instrument_force_, peak_force_).
   void measure_forces();

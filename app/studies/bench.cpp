@@ -1,5 +1,6 @@
 #include "app/studies/bench.hpp"
 #include "app/studies/bench_endoscope.hpp"
+#include "app/studies/bench_organs.hpp"
 
 #include <sys/wait.h>
 #include <unistd.h>
@@ -795,6 +796,28 @@ int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::os
       err << "vdmsim: error: " << (dir / file).string() << ": write failed\n";
       return 1;
     }
+  }
+  // Two organs against each alone on the same script, in turn.
+  if (only.empty() || std::string("organs side by side").find(only) != std::string::npos) {
+    out << "bench: organs side by side ..." << std::flush;
+    const OrgansSideBySide r = bench_organs_side_by_side(quick ? 40 : 61, quick ? 1 : 3);
+    std::ofstream sc(dir / "bench_organs.csv");
+    sc << "frames,rounds,nodes_both,nodes_liver,nodes_gallbladder,both_ms,liver_ms,gallbladder_ms,both_iterations,"
+          "liver_iterations,gallbladder_iterations,ratio,ratio_min,ratio_max\n"
+       << r.frames << ',' << r.rounds << ',' << r.nodes[0] << ',' << r.nodes[1] << ',' << r.nodes[2] << ','
+       << std::setprecision(6) << r.total_ms[0] << ',' << r.total_ms[1] << ',' << r.total_ms[2] << ',' << r.iterations[0]
+       << ',' << r.iterations[1] << ',' << r.iterations[2] << ',' << r.ratio << ',' << r.ratio_min << ',' << r.ratio_max
+       << '\n';
+    sc.flush();
+    if (!sc) {
+      err << "vdmsim: error: " << (dir / "bench_organs.csv").string() << ": write failed\n";
+      return 1;
+    }
+    out << " " << r.frames << " frames, " << r.rounds << " rounds in turn: both organs " << std::setprecision(3)
+        << r.total_ms[0] / 1000 << " s (" << r.iterations[0] << " iterations), the liver alone " << r.total_ms[1] / 1000
+        << " s (" << r.iterations[1] << "), the gallbladder alone " << r.total_ms[2] / 1000 << " s (" << r.iterations[2]
+        << "): " << r.ratio << "x the sum of the organs alone (round by round " << r.ratio_min << "x to " << r.ratio_max
+        << "x)\n";
   }
   // The endoscope's frame against the framing camera's, in turn, and its ground-truth views.
   if (only.empty() || std::string("endoscope_720p side by side").find(only) != std::string::npos) {

@@ -139,7 +139,22 @@ std::vector<SceneProblem> problems_with(const std::string& path, const std::stri
     root["organs"].push_back(organ);
     root.remove("organ");
   }
-  YAML::Node into = path.rfind("organs[].", 0) == 0 ? YAML::Node(root["organs"][0]) : holder(root, path);
+  // The keys of `attachments` go into a scene of two organs (gallbladder and liver) with
+  // constraint contact, which ties need; those of its items into an attachment between them.
+  if (path.rfind("attachments", 0) == 0) {
+    YAML::Node first = YAML::Clone(root["organ"]), second = YAML::Clone(root["organ"]);
+    first["name"] = "gallbladder";
+    second["name"] = "liver";
+    second["translate"] = YAML::Load("[0.5, 0, 0]");
+    root["organs"].push_back(first);
+    root["organs"].push_back(second);
+    root.remove("organ");
+    root["simulation"].remove("contact");
+    root["attachments"] = YAML::Load("[{between: [gallbladder, liver], within: 0.004}]");
+  }
+  YAML::Node into = path.rfind("organs[].", 0) == 0        ? YAML::Node(root["organs"][0])
+                    : path.rfind("attachments[].", 0) == 0 ? YAML::Node(root["attachments"][0])
+                                                           : holder(root, path);
   const YAML::Node add = YAML::Load("{" + entries + "}");
   for (auto it = add.begin(); it != add.end(); ++it) into[it->first.Scalar()] = it->second;
   // A keyframe placed on the surface gives no tip, and one aligned with the surface no axis:

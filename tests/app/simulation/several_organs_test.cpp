@@ -2,7 +2,9 @@
 // named by the organ's place in the list), prepared and simulated with its own model, state and
 // contact against every instrument, and written out organ by organ (metrics.csv columns,
 // run.json's organs, --export-mesh's folders). An organ that no instrument and no other organ
-// reaches moves exactly as it does alone: the scene's other organs change nothing of it.
+// reaches moves exactly as it does alone: the scene's other organs change nothing of it. Organs
+// on the core push each other (contact between organs, with friction) and pull each other
+// through attachments' ties, which tear above their force.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -10,6 +12,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iostream>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -17,6 +20,9 @@
 #include "app/check/scene_sanity.hpp"
 #include "app/run/scene_run.hpp"
 #include "app/simulation/scene_simulation.hpp"
+#include "engine/shapes.hpp"
+#include "app/simulation/tool_depth.hpp"
+#include "app/scene/mesh_io.hpp"
 #include "support/run_outputs.hpp"
 #include "support/scene_text.hpp"
 
@@ -120,6 +126,30 @@ TEST(SeveralOrgans, ProblemsNameTheOrganInTheList) {
   EXPECT_TRUE(has_problem(p, "organs[1].tet_size", "ignored by organs[1].model vdm_core", true)) << text_of(p);
 }
 
+TEST(SeveralOrgans, AttachmentsAreReadAndTheirProblemsNamed) {
+  const std::string head = "name: x\norgans:\n" + organ_item("a", 0) + organ_item("b", kApart);
+  const auto with = [&](const std::string& attachments, const std::string& rest = kRest) {
+    return problems_of(head + "attachments: " + attachments + "\n" + rest);
+  };
+  EXPECT_TRUE(with("[{between: [a, b], within: 0.004}]").empty()) << text_of(with("[{between: [a, b], within: 0.004}]"));
+  EXPECT_TRUE(has_problem(with("[{between: [a, c], within: 0.004}]"), "attachments[0].between[1]", "no organ is named 'c'"));
+  EXPECT_TRUE(has_problem(with("[{between: [a, a], within: 0.004}]"), "attachments[0].between", "not attached to itself"));
+  EXPECT_TRUE(has_problem(with("[{between: [a], within: 0.004}]"), "attachments[0].between", "expected two organ names"));
+  EXPECT_TRUE(has_problem(with("[{between: [a, b]}]"), "attachments[0].within", "missing"));
+  EXPECT_TRUE(has_problem(with("[{between: [a, b], within: -1}]"), "attachments[0].within", "out of range"));
+  EXPECT_TRUE(has_problem(with("[{between: [a, b], within: 0.004, tear_force: 0}]"), "attachments[0].tear_force", "out of range"));
+  EXPECT_TRUE(has_problem(with("[{between: [a, b], within: 0.004, glue: 1}]"), "attachments[0].glue", "unknown key", true));
+  // Ties are solved with the contact between organs: the contact effect is needed.
+  EXPECT_TRUE(has_problem(with("[{between: [a, b], within: 0.004}]", "simulation: {frames: 2, effects: [stress]}\n"),
+                          "attachments", "add contact to simulation.effects"));
+  // One organ: nothing to tie.
+  EXPECT_TRUE(has_problem(problems_of("name: x\n" + organ_alone(0) + "attachments: [{between: [a, b], within: 0.004}]\n" + kRest),
+                          "attachments", "give the organs as a list"));
+  // `check`: livers half a metre apart tie nothing.
+  const PreparedScene ps = test::prepare_scene_text("several_organs", head + "attachments: [{between: [a, b], within: 0.004}]\n" + kRest);
+  EXPECT_TRUE(has_problem(scene_sanity(ps).problems, "attachments[0]", "ties nothing", true)) << text_of(scene_sanity(ps).problems);
+}
+
 TEST(SeveralOrgans, AnOrganNoOtherReachesMovesExactlyAsItDoesAlone) {
   const PreparedScene both = test::prepare_scene_text("several_organs", two_livers());
   const PreparedScene left = test::prepare_scene_text("several_organs", "name: left\n" + organ_alone(0) + kRest);
@@ -193,8 +223,8 @@ TEST(SeveralOrgans, RunsWriteEachOrgansColumnsEntryAndMeshes) {
   EXPECT_FALSE(fs::exists(dir / "mesh.pvd"));
 }
 
-// Contact between organs is not simulated: organs placed into each other are an error of
-// `check`, and a run of them stops at its first frame, naming both and how deep.
+// Organs placed into each other are an error of `check`, and a run of them stops at its first
+// frame, naming both and how deep (contact between organs cannot tell which way is out).
 TEST(SeveralOrgans, OrgansInsideEachOtherAreReportedAndStopTheRun) {
   const PreparedScene ps = test::prepare_scene_text(
       "several_organs", "name: x\norgans:\n" + organ_item("left", 0) + organ_item("right", 0.1) + kRest);
@@ -211,6 +241,142 @@ TEST(SeveralOrgans, OrgansInsideEachOtherAreReportedAndStopTheRun) {
   // Apart, nothing is reported.
   const PreparedScene apart = test::prepare_scene_text("several_organs", two_livers());
   for (const SceneProblem& p : scene_sanity(apart).problems) EXPECT_EQ(p.message.find("overlap"), std::string::npos);
+}
+
+// Two balls 1 mm apart, on the default model: the left one's left cap pushed 15 mm to the
+// right, the right one's right cap held. The left ball presses the right one: no node of either
+// goes into the other, the right one is pushed (it dents and bulges, its pressure rises), the
+// two feel equal and opposite forces, and each keeps its volume.
+std::string pushed_balls(const fs::path& dir) {
+  std::string error;
+  EXPECT_TRUE(save_obj(vdm::make_icosphere(0.03, 3), (dir / "ball.obj").string(), "ball", error)) << error;
+  const std::string ball = (dir / "ball.obj").string();
+  return "name: balls\norgans:\n"
+         "  - {name: pusher, mesh: " + ball + ", prescribed: [{box: {min: [-1, -1, -1], max: [-0.025, 1, 1]}, "
+         "translate: [0.015, 0, 0], t: [0, 1]}]}\n"
+         "  - {name: pushed, mesh: " + ball + ", translate: [0.061, 0, 0], "
+         "fixed: [{box: {min: [0.086, -1, -1], max: [1, 1, 1]}}]}\n"
+         "simulation: {frames: 11, dt: 0.1, effects: [contact]}\n";
+}
+
+TEST(SeveralOrgans, AnOrganPushedIntoAnotherPushesItAndDoesNotEnterIt) {
+  const PreparedScene ps = test::prepare_scene_text("several_organs", pushed_balls(test::test_output_dir("several_organs")));
+  SceneSimulation sim(ps);
+  ASSERT_TRUE(sim.organ_contact_simulated());
+  for (int f = 0; f < ps.scene.frames; ++f) {
+    sim.advance(f);
+    ASSERT_EQ(sim.unsound(), "") << "frame " << f;
+    for (size_t i = 0; i < 2; ++i) EXPECT_LT(std::abs(sim.state(i).volume_rel_error), 1e-9) << "frame " << f;
+  }
+  EXPECT_EQ(sim.unconverged_contact_steps(), 0);
+  const vdm::SimState &a = sim.state(0), &b = sim.state(1);
+  const vdm::TriMat& triangles = ps.organs[0].model.rest.triangles;
+  // No node inside the other ball (beyond the contact's tolerance).
+  int inside = 0;
+  double deepest = 0;
+  for (int side = 0; side < 2; ++side) {
+    const vdm::SimState &own = side ? b : a, &other = side ? a : b;
+    for (Eigen::Index i = 0; i < own.x.rows(); ++i) {
+      const double d = depth_inside(other.x, triangles, own.x.row(i).transpose());
+      deepest = std::max(deepest, d);
+      if (d > 1e-4) ++inside;
+    }
+  }
+  EXPECT_LE(inside, int(0.005 * (a.x.rows() + b.x.rows()))) << "deepest " << deepest;
+  // The pushed ball is pushed: its near side moved toward +x by most of the 14 mm overlap the
+  // push would have made, and it holds the pusher's force.
+  const double pushed = b.u.col(0).maxCoeff();
+  EXPECT_GT(pushed, 0.004);
+  const vdm::Vec3 on_pushed = sim.organ_contact_force(1), on_pusher = sim.organ_contact_force(0);
+  EXPECT_GT(on_pushed.x(), 0.0);
+  EXPECT_NEAR((on_pushed + on_pusher).norm(), 0.0, 1e-9 * on_pushed.norm());
+  EXPECT_GT(b.pressure, 0.0);
+  std::cout << "pushed " << pushed * 1e3 << " mm, force " << on_pushed.transpose() << " N, inside " << inside
+            << ", deepest " << deepest * 1e3 << " mm, pressures " << a.pressure << " " << b.pressure << "\n";
+}
+
+// Two balls 1 mm apart, the left one's nodes tied to the right one's surface where they face
+// (within 2 mm); the left one's left cap pulled 8 mm away, the right one's right cap held.
+std::string tied_balls(const fs::path& dir, const std::string& tear) {
+  std::string error;
+  EXPECT_TRUE(save_obj(vdm::make_icosphere(0.03, 3), (dir / "ball.obj").string(), "ball", error)) << error;
+  const std::string ball = (dir / "ball.obj").string();
+  return "name: tied\norgans:\n"
+         "  - {name: pulled, mesh: " + ball + ", prescribed: [{box: {min: [-1, -1, -1], max: [-0.025, 1, 1]}, "
+         "translate: [-0.008, 0, 0], t: [0, 1]}]}\n"
+         "  - {name: held, mesh: " + ball + ", translate: [0.061, 0, 0], "
+         "fixed: [{box: {min: [0.086, -1, -1], max: [1, 1, 1]}}]}\n"
+         "attachments: [{between: [pulled, held], within: 0.002" + tear + "}]\n"
+         "simulation: {frames: 9, dt: 0.125, effects: [contact]}\n";
+}
+
+// The tied ball drags its neighbour: the held ball's near side follows the pulled one (its
+// ties hold it), the two feel equal and opposite forces, and each keeps its volume.
+TEST(SeveralOrgans, AnOrganTiedToAnotherDragsIt) {
+  const PreparedScene ps = test::prepare_scene_text("several_organs", tied_balls(test::test_output_dir("several_organs"), ""));
+  SceneSimulation sim(ps);
+  ASSERT_TRUE(sim.organ_contact_simulated());
+  EXPECT_GT(sim.organ_ties(), 3);
+  for (int f = 0; f < ps.scene.frames; ++f) {
+    sim.advance(f);
+    ASSERT_EQ(sim.unsound(), "") << "frame " << f;
+    for (size_t i = 0; i < 2; ++i) EXPECT_LT(std::abs(sim.state(i).volume_rel_error), 1e-9) << "frame " << f;
+  }
+  EXPECT_EQ(sim.unconverged_contact_steps(), 0);
+  EXPECT_EQ(sim.organ_ties_torn(), 0);
+  const vdm::SimState& held = sim.state(1);
+  // The held ball's nearest node to the pulled one: dragged toward -x by a good part of the pull.
+  Eigen::Index near = 0;
+  ps.organs[1].model.rest.positions.col(0).minCoeff(&near);
+  const double dragged = -held.u(near, 0);
+  EXPECT_GT(dragged, 0.002);
+  EXPECT_LT(dragged, 0.008);
+  const vdm::Vec3 on_held = sim.organ_contact_force(1), on_pulled = sim.organ_contact_force(0);
+  EXPECT_LT(on_held.x(), 0.0);
+  EXPECT_NEAR((on_held + on_pulled).norm(), 0.0, 1e-9 * on_held.norm());
+  std::cout << "dragged " << dragged * 1e3 << " mm by " << sim.organ_ties() << " ties, force " << on_held.transpose()
+            << " N\n";
+}
+
+// With a small tear force the ties let go as the pull grows: every one tears, and the held ball
+// then springs back to its rest shape.
+TEST(SeveralOrgans, TiesTearAboveTheirTearForceAndLetGo) {
+  const PreparedScene ps =
+      test::prepare_scene_text("several_organs", tied_balls(test::test_output_dir("several_organs"), ", tear_force: 0.002"));
+  SceneSimulation sim(ps);
+  int torn_before_end = -1;
+  for (int f = 0; f < ps.scene.frames; ++f) {
+    sim.advance(f);
+    ASSERT_EQ(sim.unsound(), "") << "frame " << f;
+    if (f == 1) torn_before_end = sim.organ_ties_torn();
+  }
+  EXPECT_LT(torn_before_end, sim.organ_ties());
+  EXPECT_EQ(sim.organ_ties_torn(), sim.organ_ties());
+  EXPECT_LT(sim.state(1).u.cwiseAbs().maxCoeff(), 1e-6);
+  EXPECT_EQ(sim.organ_contact_force(1).norm(), 0.0);
+}
+
+// A run of organs in contact (with friction, which carries the points pressed from one step to
+// the next) saved halfway and loaded into a new simulation ends bit for bit as the whole run.
+TEST(SeveralOrgans, ARunOfOrgansInContactResumedFromASnapshotEqualsTheWholeRun) {
+  const PreparedScene ps = test::prepare_scene_text("several_organs", pushed_balls(test::test_output_dir("several_organs")));
+  SceneSimulation whole(ps), first(ps), resumed(ps);
+  std::string snapshot, error;
+  for (int f = 0; f < ps.scene.frames; ++f) {
+    whole.advance(f);
+    if (f < 6) first.advance(f);
+  }
+  ASSERT_TRUE(first.save(snapshot));
+  ASSERT_TRUE(resumed.load(snapshot, error)) << error;
+  for (int f = 6; f < ps.scene.frames; ++f) resumed.advance(f);
+  for (size_t i = 0; i < 2; ++i) {
+    EXPECT_TRUE(whole.state(i).u == resumed.state(i).u) << "organ " << i;
+    EXPECT_EQ(whole.organ_contact_force(i), resumed.organ_contact_force(i)) << "organ " << i;
+  }
+  // A snapshot of other organs is refused.
+  const PreparedScene tied = test::prepare_scene_text("several_organs", tied_balls(test::test_output_dir("several_organs"), ""));
+  SceneSimulation other(tied);
+  EXPECT_FALSE(other.load(snapshot, error));
 }
 
 }  // namespace
