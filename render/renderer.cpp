@@ -4,6 +4,7 @@
 #include <GL/glext.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <chrono>
 #include <cstring>
 #include <cstdio>
@@ -914,16 +915,32 @@ void Renderer::Impl::draw_frame(const RenderScene& scene, const StressView* view
     glActiveTexture(GL_TEXTURE0);
     glBindTexture(GL_TEXTURE_2D, colormap_texture(view->colormap));
     glUniform2f(organ.uniform("u_range"), float(view->lo), float(view->hi));
-  } else if (endoscope) {
-    set_tissue(organ, Eigen::Vector3f(0.47f, 0.15f, 0.11f), Eigen::Vector3f(0.37f, 0.10f, 0.08f), 0.12f,
-               kTissueTexturePeriod, false);
-  } else {
-    glUniform3f(organ.uniform("u_base_srgb"), 0.55f, 0.20f, 0.16f);
   }
   glEnable(GL_CULL_FACE);
   glCullFace(GL_BACK);
   glBindVertexArray(organ_vao);
-  glDrawElements(GL_TRIANGLES, organ_count, GL_UNSIGNED_INT, nullptr);
+  // Organ by organ, each in its own tissue's colours (the stress view: all in one call).
+  const std::vector<OrganPart> whole = {OrganPart{organ_count / 3, TissueLook::liver}};
+  const std::vector<OrganPart>& parts = view || settings.organ_parts.empty() ? whole : settings.organ_parts;
+  long first = 0;
+  for (const OrganPart& part : parts) {
+    if (!view) {
+      const bool liver = part.look == TissueLook::liver;
+      if (endoscope)  // the gallbladder: olive green, bluish where its wall is thin
+        set_tissue(organ, liver ? Eigen::Vector3f(0.47f, 0.15f, 0.11f) : Eigen::Vector3f(0.36f, 0.42f, 0.22f),
+                   liver ? Eigen::Vector3f(0.37f, 0.10f, 0.08f) : Eigen::Vector3f(0.26f, 0.34f, 0.30f), 0.12f,
+                   kTissueTexturePeriod, false);
+      else if (liver)
+        glUniform3f(organ.uniform("u_base_srgb"), 0.55f, 0.20f, 0.16f);
+      else
+        glUniform3f(organ.uniform("u_base_srgb"), 0.38f, 0.46f, 0.24f);
+    }
+    const long count = std::min<long>(part.triangles, organ_count / 3 - first);
+    if (count > 0)
+      glDrawElements(GL_TRIANGLES, GLsizei(3 * count), GL_UNSIGNED_INT,
+                     reinterpret_cast<const void*>(static_cast<uintptr_t>(3 * first) * sizeof(unsigned)));
+    first += count;
+  }
   glDisable(GL_CULL_FACE);
   timer.mark("organ");
   // Instruments.

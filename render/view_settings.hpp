@@ -2,6 +2,8 @@
 // What a scene asks of its pictures: the image size, anti-aliasing, camera, floor and shadows
 // (RenderSettings), and how the stress view colours the organ (StressView). Plain settings,
 // so that the scene's reader and the HUD need not include the renderer.
+#include <vector>
+
 #include "render/camera.hpp"
 #include "render/colormap.hpp"
 #include "render/render_scene.hpp"
@@ -28,6 +30,17 @@ const char* to_string(CameraFocus f);  // "organ", "instruments"
 enum class CameraType { framing, endoscope };
 const char* to_string(CameraType t);  // "framing", "endoscope"
 
+// How an organ's tissue looks in the shaded views (the stress view colours every organ by its
+// quantity).
+enum class TissueLook { liver, gallbladder };
+
+// A part of the drawn surface: `triangles` triangles (the surface's next ones, in order) that
+// look as `look`.
+struct OrganPart {
+  long triangles = 0;
+  TissueLook look = TissueLook::liver;
+};
+
 struct RenderSettings {
   int width = 1280, height = 720;
   Antialias antialias = Antialias::edge;
@@ -47,6 +60,8 @@ struct RenderSettings {
   bool gizmo = false;        // small x, y, z axes in the bottom-left corner
   bool floor = true;         // a floor under the organ, with the key light's shadow
   bool shadows = true;
+  // The surface's organs in order (several organs); empty: all of it one organ, liver.
+  std::vector<OrganPart> organ_parts;
 };
 
 struct StressView {

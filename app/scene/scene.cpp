@@ -386,6 +386,13 @@ void read_organ(Reader& r, const YAML::Node& organ, OrganDef& o, const std::file
         r.error(m, f + ".mesh", "mesh file not found: " + o.mesh_path);
     }
   }
+  if (const YAML::Node n = organ["look"]) {
+    std::string look;
+    if (r.text(n, f + ".look", look)) {
+      if (look == "liver" || look == "gallbladder") o.gallbladder_look = look == "gallbladder";
+      else r.error(n, f + ".look", "unknown look '" + look + "'; expected liver or gallbladder");
+    }
+  }
   if (const YAML::Node n = organ["scale"]) r.number(n, f + ".scale", o.scale, KEY("organ.scale"));
   if (const YAML::Node n = organ["rotate_deg"]) r.vec3(n, f + ".rotate_deg", o.rotate_deg, KEY("organ.rotate_deg"));
   if (const YAML::Node n = organ["translate"]) r.vec3(n, f + ".translate", o.translate, KEY("organ.translate"));

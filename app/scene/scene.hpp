@@ -123,6 +123,7 @@ struct OrganDef {
   std::string name = "organ";  // organs[].name; "organ" in the one-organ form
   std::string field = "organ"; // where its keys are, for messages: "organ" or "organs[i]"
   std::string mesh_path;       // resolved against the scene file's folder
+  bool gallbladder_look = false;  // look: gallbladder (else liver)
   double scale = 1.0;
   vdm::Vec3 rotate_deg = vdm::Vec3::Zero();  // rotate_deg: about the scaled mesh's bounding-box centre, x then y then z
   vdm::Vec3 translate = vdm::Vec3::Zero();   // translate (m), after the rotation

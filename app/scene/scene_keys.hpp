@@ -114,6 +114,9 @@ inline constexpr SceneKey kSceneKeys[] = {
   // organ
   key("organ.mesh", KT::file, "The organ's closed surface mesh: OBJ, PLY, STL, glTF or any format assimp reads.").needed()
       .eg("mesh: ../meshes/liver_L5.obj"),
+  key("organ.look", KT::choice, "How the organ's tissue looks in the shaded views: `liver` (red-brown) or "
+      "`gallbladder` (olive green).").one_of([] { return Words{"liver", "gallbladder"}; })
+      .by_default([] { return std::string("liver"); }).eg("look: gallbladder"),
   key("organ.scale", KT::number, "Multiplies the mesh's coordinates to give metres.").in("mesh units to metres").above(0)
       .by_default([] { return yaml_number(OrganDef().scale); }).eg("scale: 0.001"),
   key("organ.rotate_deg", KT::vector3, "Turns the organ, after `scale`, about the centre of its bounding box (as scaled): "
