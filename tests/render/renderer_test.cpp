@@ -115,3 +115,67 @@ TEST(Renderer, AFocusBoxIsFramedInsteadOfTheOrgan) {
 }
 
 }  // namespace
+
+namespace {
+
+// Two balls in one surface, the second 12 cm to the right of the first.
+vdm::SurfaceMesh two_balls() {
+  const vdm::SurfaceMesh ball = vdm::make_icosphere(0.05, 3);
+  vdm::SurfaceMesh both;
+  const Eigen::Index n = ball.positions.rows(), t = ball.triangles.rows();
+  both.positions.resize(2 * n, 3);
+  both.triangles.resize(2 * t, 3);
+  both.positions.topRows(n) = ball.positions;
+  both.positions.bottomRows(n) = ball.positions;
+  both.positions.bottomRows(n).col(0).array() += 0.12;
+  both.triangles.topRows(t) = ball.triangles;
+  both.triangles.bottomRows(t) = ball.triangles.array() + static_cast<int>(n);
+  return both;
+}
+
+// Reddish (tissue of the liver's look) and greenish pixels in the left and right halves.
+struct Tints {
+  int red[2] = {0, 0}, green[2] = {0, 0};
+};
+Tints tints(const Image& im) {
+  Tints t;
+  for (int y = 0; y < im.height; ++y)
+    for (int x = 0; x < im.width; ++x) {
+      const size_t i = 4 * (size_t(y) * size_t(im.width) + size_t(x));
+      const int r = im.rgba[i], g = im.rgba[i + 1], half = x >= im.width / 2;
+      if (r > g + 40) ++t.red[half];
+      if (g > r + 10) ++t.green[half];
+    }
+  return t;
+}
+
+// Each organ of the surface is drawn in its own look: the second ball, a gallbladder, green,
+// the first red; without parts both are the liver's red.
+TEST(Renderer, EachOrganIsDrawnInItsOwnLook) {
+  const vdm::SurfaceMesh both = two_balls();
+  render::RenderSettings settings;
+  settings.width = 160;
+  settings.height = 80;
+  settings.floor = false;
+  std::string error;
+  auto plain = render::Renderer::create(settings, both, error);
+  ASSERT_TRUE(plain) << error;
+  const long t = both.triangles.rows() / 2;
+  settings.organ_parts = {{t, render::TissueLook::liver}, {t, render::TissueLook::gallbladder}};
+  auto looks = render::Renderer::create(settings, both, error);
+  ASSERT_TRUE(looks) << error;
+  render::RenderScene scene;
+  scene.positions = &both.positions;
+  Image a, b;
+  ASSERT_TRUE(plain->draw_shaded(scene, false, a)) << plain->error();
+  ASSERT_TRUE(looks->draw_shaded(scene, false, b)) << looks->error();
+  const Tints ta = tints(a), tb = tints(b);
+  EXPECT_GT(ta.red[0], 500);
+  EXPECT_GT(ta.red[1], 500);
+  EXPECT_EQ(ta.green[0] + ta.green[1], 0);
+  EXPECT_EQ(tb.red[0], ta.red[0]);
+  EXPECT_GT(tb.green[1], 500);
+  EXPECT_LT(tb.red[1], tb.green[1] / 20);
+}
+
+}  // namespace
