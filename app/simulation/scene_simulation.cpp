@@ -517,9 +517,9 @@ void SceneSimulation::advance(int f) {
 }
 
 void SceneSimulation::find_joint_organs() {
-  // Each organ's box at the step's start, grown by the contact's reach and twice the most any of
-  // its nodes moves in a frame at its last speed (with a millimetre to spare): organs whose boxes meet, or
-  // tied by a tie that holds, step together.
+  // Each organ's box at the step's start, grown by the contact's reach and twice the most any
+  // of its nodes moves in a frame at its last speed (with a millimetre to spare): organs whose
+  // boxes meet, or that a tie holds together, step together.
   const size_t n = organs_.size();
   std::vector<vdm::Vec3> lo(n), hi(n);
   for (size_t i = 0; i < n; ++i) {
