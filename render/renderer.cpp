@@ -647,7 +647,8 @@ void Renderer::Impl::draw_instruments(const RenderScene& scene, GlProgram& prog,
   };
   for (size_t k = 0; k < scene.instruments.size(); ++k) {
     const InstrumentView& v = scene.instruments[k];
-    if (id_uniform >= 0) glUniform1ui(id_uniform, GLuint(kFirstInstrumentId + int(k)));
+    if (id_uniform >= 0)
+      glUniform1ui(id_uniform, GLuint(instrument_id(int(k), std::max<int>(1, int(settings.organ_parts.size())))));
     const Eigen::Isometry3f frame = v.frame.cast<float>();
     InstrumentMeshes& param = instrument_meshes(v);
     // A plain probe is bare metal; a grasper's or a hook's shaft insulated.
@@ -1023,11 +1024,23 @@ void Renderer::Impl::draw_ground_truth_pass(const RenderScene& scene) {
   const Eigen::Matrix3f identity3 = Eigen::Matrix3f::Identity();
   glUniformMatrix4fv(program.uniform("u_model"), 1, GL_FALSE, identity.data());
   glUniformMatrix3fv(program.uniform("u_normal_matrix"), 1, GL_FALSE, identity3.data());
-  ground_truth->set_id(unsigned(kOrganId));
   glEnable(GL_CULL_FACE);
   glCullFace(GL_BACK);
   glBindVertexArray(organ_vao);
-  glDrawElements(GL_TRIANGLES, organ_count, GL_UNSIGNED_INT, nullptr);
+  if (settings.organ_parts.empty()) {
+    ground_truth->set_id(unsigned(kOrganId));
+    glDrawElements(GL_TRIANGLES, organ_count, GL_UNSIGNED_INT, nullptr);
+  } else {  // each organ its own id
+    long first = 0;
+    for (size_t i = 0; i < settings.organ_parts.size(); ++i) {
+      const long count = std::min<long>(settings.organ_parts[i].triangles, organ_count / 3 - first);
+      ground_truth->set_id(unsigned(organ_id(int(i))));
+      if (count > 0)
+        glDrawElements(GL_TRIANGLES, GLsizei(3 * count), GL_UNSIGNED_INT,
+                       reinterpret_cast<const void*>(static_cast<uintptr_t>(3 * first) * sizeof(unsigned)));
+      first += count;
+    }
+  }
   glDisable(GL_CULL_FACE);
   draw_instruments(scene, program, false, program.uniform("u_id"));
   glBindVertexArray(0);

@@ -60,7 +60,8 @@ struct RenderSettings {
   bool gizmo = false;        // small x, y, z axes in the bottom-left corner
   bool floor = true;         // a floor under the organ, with the key light's shadow
   bool shadows = true;
-  // The surface's organs in order (several organs); empty: all of it one organ, liver.
+  // The surface's organs in order (several organs: each in its look, with its own
+  // segmentation id); empty: all of it one organ, liver.
   std::vector<OrganPart> organ_parts;
 };
 

@@ -51,9 +51,12 @@ std::string view_file_name(const ViewRow& row, int f);
 // ground-truth view.
 std::string video_file_name(const std::vector<View>& views, View v);
 
-// The segmentation view's ids: 0 the background, 1 the organ, 2 + i instruments[i].
+// The segmentation view's ids: 0 the background, 1 the organ, 2 + i instruments[i]; with
+// several organs 1 + i organs[i], then 1 + organs + k instruments[k].
 constexpr int kOrganId = 1;
 constexpr int kFirstInstrumentId = 2;
-constexpr int kMaxInstrumentsWithIds = 255 - kFirstInstrumentId + 1;  // ids fit 8 bits
+constexpr int kMaxInstrumentsWithIds = 255 - kFirstInstrumentId + 1;  // ids fit 8 bits (one organ)
+constexpr int organ_id(int organ) { return kOrganId + organ; }
+constexpr int instrument_id(int instrument, int organs) { return kFirstInstrumentId + (organs > 1 ? organs - 1 : 0) + instrument; }
 
 }  // namespace render

@@ -48,10 +48,11 @@ render::RenderSettings framed_settings(const PreparedScene& ps) {
     settings.focus_lo = lo;
     settings.focus_hi = hi;
   }
-  // Each organ's triangles in its own look, when one is not the liver's.
+  // Each organ's triangles in its own look and segmentation id (several organs, or one with a
+  // look other than the liver's).
   const bool looks = std::any_of(ps.scene.organs.begin(), ps.scene.organs.end(),
                                  [](const OrganDef& o) { return o.gallbladder_look; });
-  if (looks)
+  if (looks || ps.organs.size() > 1)
     for (size_t i = 0; i < ps.organs.size() && i < ps.scene.organs.size(); ++i)
       settings.organ_parts.push_back({static_cast<long>(ps.organs[i].model.rest.triangles.rows()),
                                       ps.scene.organs[i].gallbladder_look ? render::TissueLook::gallbladder

@@ -74,9 +74,14 @@ void write_render(const RunRecord& r, std::ostream& js) {
        << view.hi << "], \"stress_range_source\": \"" << (rd.range_auto ? "first pass" : "scene") << "\"";
   // The segmentation view's ids (render/views.hpp): the organ's, then each instrument's.
   if (rd.has(render::View::segmentation)) {
-    js << ", \"segmentation_ids\": {\"organ\": " << render::kOrganId;
+    const std::vector<OrganDef>& organs = r.prepared.scene.organs;
+    const int n = static_cast<int>(organs.size());
+    js << ", \"segmentation_ids\": {";
+    if (n == 1) js << "\"organ\": " << render::kOrganId;
+    for (int i = 0; n > 1 && i < n; ++i)
+      js << (i ? ", " : "") << '"' << json_escape(organs[static_cast<size_t>(i)].name) << "\": " << render::organ_id(i);
     for (size_t k = 0; k < r.prepared.scene.instruments.size(); ++k)
-      js << ", \"instruments[" << k << "]\": " << render::kFirstInstrumentId + int(k);
+      js << ", \"instruments[" << k << "]\": " << render::instrument_id(int(k), n);
     js << '}';
   }
   js << ", \"video\": \"" << json_escape(r.video_status) << "\"},\n";

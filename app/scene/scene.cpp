@@ -1294,10 +1294,12 @@ void read_views_and_stress(Reader& r, const YAML::Node& n, SceneDef& s) {
             std::string("the stress view of '") + render::to_string(d.stress_view.quantity) +
                 "' needs the stress effect: add stress to simulation.effects (or colour by displacement or "
                 "contact_pressure)");
-  if (d.has(render::View::segmentation) && s.instruments.size() > size_t(render::kMaxInstrumentsWithIds))
+  const int most = render::kMaxInstrumentsWithIds - (static_cast<int>(s.organs.size()) - 1);
+  if (d.has(render::View::segmentation) && s.instruments.size() > size_t(std::max(most, 0)))
     r.error(n["views"], "render.views",
-            "the segmentation view's 8-bit ids name at most " + std::to_string(render::kMaxInstrumentsWithIds) +
-                " instruments; the scene has " + std::to_string(s.instruments.size()));
+            "the segmentation view's 8-bit ids name at most " + std::to_string(most) + " instruments" +
+                (s.organs.size() > 1 ? " beside " + std::to_string(s.organs.size()) + " organs" : std::string()) +
+                "; the scene has " + std::to_string(s.instruments.size()));
 }
 
 }  // namespace

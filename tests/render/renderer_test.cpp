@@ -150,8 +150,8 @@ Tints tints(const Image& im) {
 }
 
 // Each organ of the surface is drawn in its own look: the second ball, a gallbladder, green,
-// the first red; without parts both are the liver's red.
-TEST(Renderer, EachOrganIsDrawnInItsOwnLook) {
+// the first red; without parts both are the liver's red. Each has its own segmentation id.
+TEST(Renderer, EachOrganIsDrawnInItsOwnLookWithItsOwnId) {
   const vdm::SurfaceMesh both = two_balls();
   render::RenderSettings settings;
   settings.width = 160;
@@ -176,6 +176,28 @@ TEST(Renderer, EachOrganIsDrawnInItsOwnLook) {
   EXPECT_EQ(tb.red[0], ta.red[0]);
   EXPECT_GT(tb.green[1], 500);
   EXPECT_LT(tb.red[1], tb.green[1] / 20);
+  // And each its own segmentation id: 1 the first (left), 2 the second (right); one organ: 1.
+  const auto ids = [&](render::Renderer& r) {
+    std::array<int, 3> left{0, 0, 0}, right{0, 0, 0};
+    render::ViewOptions options;
+    options.hud = false;
+    EXPECT_TRUE(r.draw_views(scene, {render::View::segmentation}, options, [&](render::View, render::ViewImage& im) {
+      for (int y = 0; y < im.image.height; ++y)
+        for (int x = 0; x < im.image.width; ++x) {
+          const int id = im.image.rgba[4 * (size_t(y) * size_t(im.image.width) + size_t(x))];
+          if (id <= 2) ++(x < im.image.width / 2 ? left : right)[size_t(id)];
+        }
+      return true;
+    })) << r.error();
+    return std::array<std::array<int, 3>, 2>{left, right};
+  };
+  const auto one = ids(*plain), two = ids(*looks);
+  EXPECT_GT(one[0][1], 500);
+  EXPECT_GT(one[1][1], 500);
+  EXPECT_EQ(one[0][2] + one[1][2], 0);
+  EXPECT_EQ(two[0][1], one[0][1]);
+  EXPECT_EQ(two[1][2], one[1][1]);
+  EXPECT_EQ(two[1][1] + two[0][2], 0);
 }
 
 }  // namespace
