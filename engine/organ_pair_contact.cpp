@@ -106,7 +106,7 @@ void OrganPairContact::find_points(const std::vector<const NodeMat*>& x, const s
     // cells around it.
     double cell = std::max(3 * edges / double(tj.rows()), 2 * reach);
     const Vec3 span = hi - lo;
-    while ((span / cell).array().floor().prod() + 1 > kMostCells) cell *= 1.5;
+    while (((span / cell).array().floor() + 1).prod() > kMostCells) cell *= 1.5;
     const Eigen::Array3i dims = ((span / cell).array().floor() + 1).cast<int>();
     cells_.resize(static_cast<size_t>(dims.prod()));
     for (auto& c : cells_) c.clear();
