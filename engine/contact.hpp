@@ -122,6 +122,11 @@ class ContactSolver final : private SurfaceForceLaw {
   // model's SurfaceForceLaw.
   void step_constraint_within(const TissueModel& model, const StepInput& base, const std::vector<ToolShape>& tools,
                               SimState& state, ContactReport& report);
+  // Constraint contact inside the model's iteration: the step's start (begin_within), and the
+  // input of a solve from the base's forces and the contact points' as they stand.
+  void begin_within(const TissueModel& model, const StepInput& base, const std::vector<ToolShape>& tools, SimState& state,
+                    ContactReport& report);
+  const StepInput& within_input(const TissueModel& model, const StepInput& base);
   bool update(const NodeMat& x, ComplianceSource& compliance, NodeMat& force) override;
   // The parts of a constraint step: the contact points at the step's start (and the
   // tolerance); measured at positions x; in their fixed order; the nodes they use; the forces

@@ -22,24 +22,11 @@ namespace vdm {
 
 void ContactSolver::step_constraint_within(const TissueModel& m, const StepInput& base,
                                            const std::vector<ToolShape>& tools, SimState& s, ContactReport& rep) {
-  begin_constraint_step(m, base, tools, s, rep, true);
-  within_ = WithinStep{&m, &base, &tools, &s, &rep};
-  const bool has_force = base.force.rows() == m.n;
+  begin_within(m, base, tools, s, rep);
   const int max_it = std::max(1, settings_.max_constraint_iterations);
-  rep.converged = false;
-  input_.tolerance = 0.0;
   for (int it = 0; it < max_it; ++it) {
     if (it > 0) solver_->rewind(s);
-    // The solve starts from the contact points' forces (the last step's, or the last solve's;
-    // the points only grow within a step, so these nodes cover every force set before).
-    for (const ContactPoint& c : contacts_)
-      for (int v = 0; v < c.count; ++v) contact_force_.row(c.node[v]).setZero();
-    for (const ContactPoint& c : contacts_)
-      for (int v = 0; v < c.count; ++v) contact_force_.row(c.node[v]) += c.weight[v] * c.force.transpose();
-    collect_contact_nodes();
-    if (has_force) input_.force = base.force + contact_force_;
-    else input_.force = contact_force_;
-    solver_->trial_step_with(input_, s, *this);
+    solver_->trial_step_with(within_input(m, base), s, *this);
     ++rep.solves;
     rep.iterations += s.stats.iterations;
     if (s.failed) break;  // the caller stops; the state is the step's start
@@ -74,12 +61,17 @@ void ContactSolver::step_constraint_within(const TissueModel& m, const StepInput
   if (!s.failed) end_constraint_step(m, base, tools, s, rep);
 }
 
-const StepInput& ContactSolver::begin_joint(const TissueModel& m, const StepInput& base, const std::vector<ToolShape>& tools,
-                                            SimState& s, ContactReport& rep) {
+void ContactSolver::begin_within(const TissueModel& m, const StepInput& base, const std::vector<ToolShape>& tools,
+                                 SimState& s, ContactReport& rep) {
   begin_constraint_step(m, base, tools, s, rep, true);
   within_ = WithinStep{&m, &base, &tools, &s, &rep};
   rep.converged = false;
   input_.tolerance = 0.0;
+}
+
+const StepInput& ContactSolver::within_input(const TissueModel& m, const StepInput& base) {
+  // The solve starts from the contact points' forces (the last step's, or the last solve's;
+  // the points only grow within a step, so these nodes cover every force set before).
   for (const ContactPoint& c : contacts_)
     for (int v = 0; v < c.count; ++v) contact_force_.row(c.node[v]).setZero();
   for (const ContactPoint& c : contacts_)
@@ -88,6 +80,12 @@ const StepInput& ContactSolver::begin_joint(const TissueModel& m, const StepInpu
   if (base.force.rows() == m.n) input_.force = base.force + contact_force_;
   else input_.force = contact_force_;
   return input_;
+}
+
+const StepInput& ContactSolver::begin_joint(const TissueModel& m, const StepInput& base, const std::vector<ToolShape>& tools,
+                                            SimState& s, ContactReport& rep) {
+  begin_within(m, base, tools, s, rep);
+  return within_input(m, base);
 }
 
 void ContactSolver::end_joint(const TissueModel& m, const StepInput& base, const std::vector<ToolShape>& tools,

@@ -24,12 +24,8 @@ constexpr int kSweeps = 50;
 constexpr double kSweepMotion = 1e-7;
 // Area-weighted vertex normals of a closed surface (unit length).
 void vertex_normals(const NodeMat& x, const TriMat& t, NodeMat& n) {
-  n.setZero(x.rows(), 3);
-  for (Eigen::Index f = 0; f < t.rows(); ++f) {
-    const Vec3 a = x.row(t(f, 0)), b = x.row(t(f, 1)), c = x.row(t(f, 2));
-    const Vec3 area = (b - a).cross(c - a);
-    for (int v = 0; v < 3; ++v) n.row(t(f, v)) += area.transpose();
-  }
+  n.resize(x.rows(), 3);
+  distributed_area_vectors(x, t, n);
   for (Eigen::Index i = 0; i < n.rows(); ++i) {
     const double l = n.row(i).norm();
     if (l > 0) n.row(i) /= l;
@@ -74,8 +70,11 @@ OrganPairContact::OrganPairContact(const std::vector<int>& nodes, const std::vec
 }
 
 bool OrganPairContact::slave(int i, int j) const {
+  // Surfaces whose mean edges differ by round-off only (the same mesh placed twice) are equal:
+  // the earlier organ's nodes are then held out of the later one.
   const double a = edge_[static_cast<size_t>(i)], b = edge_[static_cast<size_t>(j)];
-  return i != j && (a < b || (a == b && i < j));
+  const bool same = std::abs(a - b) <= 1e-9 * std::max(a, b);
+  return i != j && (same ? i < j : a < b);
 }
 
 void OrganPairContact::begin_step(const std::vector<const NodeMat*>& start) {

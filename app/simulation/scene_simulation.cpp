@@ -1,5 +1,6 @@
 #include "app/simulation/scene_simulation.hpp"
 
+#include "app/mesh_prep/mesh_quality.hpp"
 #include "app/simulation/organ_models.hpp"
 #include "app/simulation/organ_overlap.hpp"
 #include "app/simulation/organ_ties.hpp"
@@ -71,13 +72,8 @@ SceneSimulation::SceneSimulation(const PreparedScene& ps) : ps_(ps) {
     std::vector<int> nodes;
     std::vector<double> edges;
     for (const OrganRun& o : organs_) {
-      const vdm::NodeMat& x = o.prepared->model.rest.positions;
-      const vdm::TriMat& t = o.prepared->model.rest.triangles;
-      double sum = 0;
-      for (Eigen::Index f = 0; f < t.rows(); ++f)
-        for (int k = 0; k < 3; ++k) sum += (x.row(t(f, (k + 1) % 3)) - x.row(t(f, k))).norm();
       nodes.push_back(o.prepared->model.n);
-      edges.push_back(t.rows() > 0 ? sum / (3.0 * double(t.rows())) : 0.0);
+      edges.push_back(measure_mesh(o.prepared->model.rest).mean_edge);
     }
     pair_ = std::make_unique<vdm::OrganPairContact>(nodes, edges, s.contact.friction, vdmsim::organ_ties(ps));
     organ_force_.assign(organs_.size(), vdm::Vec3::Zero());
@@ -90,6 +86,8 @@ SceneSimulation::SceneSimulation(const PreparedScene& ps) : ps_(ps) {
     joint_converged_.resize(organs_.size());
     joint_solved_.resize(organs_.size());
     joint_before_.resize(organs_.size());
+    joint_lo_.resize(organs_.size());
+    joint_hi_.resize(organs_.size());
     for (size_t i = 0; i < organs_.size(); ++i) {
       joint_triangles_[i] = &organs_[i].prepared->model.rest.triangles;
       joint_solvers_[i] = organs_[i].solver.get();
@@ -521,7 +519,8 @@ void SceneSimulation::find_joint_organs() {
   // of its nodes moves in a frame at its last speed (with a millimetre to spare): organs whose
   // boxes meet, or that a tie holds together, step together.
   const size_t n = organs_.size();
-  std::vector<vdm::Vec3> lo(n), hi(n);
+  std::vector<vdm::Vec3>& lo = joint_lo_;
+  std::vector<vdm::Vec3>& hi = joint_hi_;
   for (size_t i = 0; i < n; ++i) {
     const vdm::NodeMat& x = organs_[i].state.x;
     const vdm::NodeMat& v = organs_[i].state.velocity;

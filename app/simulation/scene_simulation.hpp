@@ -161,6 +161,7 @@ class SceneSimulation {
   std::vector<char> joint_member_;
   std::vector<char> joint_settled_, joint_converged_, joint_solved_;  // per organ, in the step's iteration
   std::vector<vdm::NodeMat> joint_before_;
+  std::vector<vdm::Vec3> joint_lo_, joint_hi_;  // per organ, its grown box this step
   std::string rest_overlap_;  // organs inside each other at the first frame (with contact between organs)  // this step: stepped with other organs (near them, or tied)
   // Which organs step together this step (joint_member_).
   void find_joint_organs();

@@ -243,14 +243,19 @@ TEST(SeveralOrgans, OrgansInsideEachOtherAreReportedAndStopTheRun) {
   for (const SceneProblem& p : scene_sanity(apart).problems) EXPECT_EQ(p.message.find("overlap"), std::string::npos);
 }
 
+// A ball of 3 cm radius (642 nodes) written to DIR/ball.obj: its path.
+std::string ball_obj(const fs::path& dir) {
+  std::string error;
+  EXPECT_TRUE(save_obj(vdm::make_icosphere(0.03, 3), (dir / "ball.obj").string(), "ball", error)) << error;
+  return (dir / "ball.obj").string();
+}
+
 // Two balls 1 mm apart, on the default model: the left one's left cap pushed 15 mm to the
 // right, the right one's right cap held. The left ball presses the right one: no node of either
 // goes into the other, the right one is pushed (it dents and bulges, its pressure rises), the
 // two feel equal and opposite forces, and each keeps its volume.
 std::string pushed_balls(const fs::path& dir) {
-  std::string error;
-  EXPECT_TRUE(save_obj(vdm::make_icosphere(0.03, 3), (dir / "ball.obj").string(), "ball", error)) << error;
-  const std::string ball = (dir / "ball.obj").string();
+  const std::string ball = ball_obj(dir);
   return "name: balls\norgans:\n"
          "  - {name: pusher, mesh: " + ball + ", prescribed: [{box: {min: [-1, -1, -1], max: [-0.025, 1, 1]}, "
          "translate: [0.015, 0, 0], t: [0, 1]}]}\n"
@@ -298,9 +303,7 @@ TEST(SeveralOrgans, AnOrganPushedIntoAnotherPushesItAndDoesNotEnterIt) {
 // Two balls 1 mm apart, the left one's nodes tied to the right one's surface where they face
 // (within 2 mm); the left one's left cap pulled 8 mm away, the right one's right cap held.
 std::string tied_balls(const fs::path& dir, const std::string& tear) {
-  std::string error;
-  EXPECT_TRUE(save_obj(vdm::make_icosphere(0.03, 3), (dir / "ball.obj").string(), "ball", error)) << error;
-  const std::string ball = (dir / "ball.obj").string();
+  const std::string ball = ball_obj(dir);
   return "name: tied\norgans:\n"
          "  - {name: pulled, mesh: " + ball + ", prescribed: [{box: {min: [-1, -1, -1], max: [-0.025, 1, 1]}, "
          "translate: [-0.008, 0, 0], t: [0, 1]}]}\n"
