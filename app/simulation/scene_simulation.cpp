@@ -334,7 +334,8 @@ bool SceneSimulation::load(std::string_view in, std::string& error) {
     error = "state snapshot: the force tallies are truncated";
     return false;
   }
-  std::memcpy(peak_force_.data(), in.data() + pos, sizeof(double) * peak_force_.size());
+  if (!peak_force_.empty())  // (a scene without instruments: data() may be null)
+    std::memcpy(peak_force_.data(), in.data() + pos, sizeof(double) * peak_force_.size());
   pos += sizeof(double) * peak_force_.size();
   for (OrganRun& o : organs_) {
     std::memcpy(&o.max_volume_error, in.data() + pos, sizeof o.max_volume_error);
