@@ -59,6 +59,9 @@ OrganPairContact::OrganPairContact(const std::vector<int>& nodes, const std::vec
   node_slot_.resize(n);
   node_list_.resize(n);
   compliance_.resize(n);
+  compliance_nodes_.resize(n);
+  compliance_valid_.assign(n, 0);
+  predicted_.resize(n);
   normals_.resize(n);
   for (size_t o = 0; o < n; ++o) {
     lambda_[o].assign(static_cast<size_t>(nodes[o]), Vec3::Zero());
@@ -81,6 +84,7 @@ void OrganPairContact::begin_step(const std::vector<const NodeMat*>& start) {
   points_.clear();
   for (size_t o = 0; o < start.size() && o < start_.size(); ++o) start_[o] = *start[o];
   for (NodeMat& a : applied_) a.setZero();
+  std::fill(compliance_valid_.begin(), compliance_valid_.end(), 0);
 }
 
 void OrganPairContact::find_points(const std::vector<const NodeMat*>& x, const std::vector<const TriMat*>& triangles,
@@ -236,8 +240,13 @@ bool OrganPairContact::correct(const std::vector<OrganSolver*>& solvers, double&
     for (int v = 0; v < 3; ++v) entries[p][v + 1] = {q.other, slot(q.other, q.corner[v]), -q.weight[v]};
   }
   bool ok = true;
-  for (size_t o = 0; o < node_list_.size() && ok; ++o)
-    if (!node_list_[o].empty()) ok = solvers[o] && solvers[o]->surface_compliance(node_list_[o], compliance_[o]);
+  // An organ not solved since its last compliance, at the same nodes, keeps it.
+  for (size_t o = 0; o < node_list_.size() && ok; ++o) {
+    if (node_list_[o].empty() || (compliance_valid_[o] && compliance_nodes_[o] == node_list_[o])) continue;
+    ok = solvers[o] && solvers[o]->surface_compliance(node_list_[o], compliance_[o]);
+    compliance_nodes_[o] = node_list_[o];
+    compliance_valid_[o] = ok;
+  }
   for (size_t o = 0; o < node_list_.size(); ++o)
     for (int node : node_list_[o]) node_slot_[o][static_cast<size_t>(node)] = -1;
   if (!ok) return false;
@@ -384,6 +393,25 @@ void OrganPairContact::apply(int organ, NodeMat& force) {
   applied.setZero();
   add_forces(organ, applied);
   force += applied;
+}
+
+const NodeMat& OrganPairContact::predict(int organ, const NodeMat& answer) {
+  const size_t o = static_cast<size_t>(organ);
+  NodeMat& x = predicted_[o];
+  x = answer;
+  const NodeMat& applied = applied_[o];
+  if (applied.rows() != answer.rows() || !compliance_valid_[o]) return x;
+  pending_.setZero(answer.rows(), 3);
+  add_forces(organ, pending_);
+  // The forces change only at the points' nodes, which are the compliance's.
+  const std::vector<int>& nodes = compliance_nodes_[o];
+  const Eigen::Index k = static_cast<Eigen::Index>(nodes.size());
+  force_change_.resize(3 * k);
+  for (Eigen::Index a = 0; a < k; ++a)
+    force_change_.segment<3>(3 * a) = (pending_.row(nodes[static_cast<size_t>(a)]) - applied.row(nodes[static_cast<size_t>(a)])).transpose();
+  for (Eigen::Index a = 0; a < k; ++a)
+    x.row(nodes[static_cast<size_t>(a)]) += (compliance_[o].middleRows<3>(3 * a) * force_change_).transpose();
+  return x;
 }
 
 void OrganPairContact::end_step() {

@@ -78,6 +78,13 @@ class OrganPairContact {
   // Organ i's forces from the others put into `force` in place of those this put there last
   // in this step.
   void apply(int organ, NodeMat& force);
+  // Organ i was solved again (at a new linearisation): its compliance is asked for afresh.
+  void relinearised(int organ) { compliance_valid_[static_cast<size_t>(organ)] = 0; }
+  // Organ i waits (is not solved, and its solver's answer does not take the forces): its
+  // positions as the contact sees them, `answer` (its solver's, with the forces as apply() last
+  // put them) moved at the points' nodes by its compliance times the change of its forces
+  // since then. Call after correct(); pass the result to the next find_points().
+  const NodeMat& predict(int organ, const NodeMat& answer);
   // The step is over: ties whose force passed their tear force let go (from the next step on),
   // and the points pressed now are those that carry friction into the next step.
   void end_step();
@@ -124,6 +131,11 @@ class OrganPairContact {
   // The uniform grid of one surface's triangles (rebuilt for each surface in find_points).
   std::vector<std::vector<int>> cells_;
   std::vector<Eigen::MatrixXd> compliance_;  // per organ, at node_list_[organ]
+  std::vector<std::vector<int>> compliance_nodes_;  // per organ, the nodes compliance_ is at
+  std::vector<char> compliance_valid_;       // per organ: compliance_ is at its linearisation
+  std::vector<NodeMat> predicted_;           // per organ, predict()'s positions
+  NodeMat pending_;                          // predict()'s forces on an organ
+  Eigen::VectorXd force_change_;             // predict()'s change of those at its compliance's nodes
   std::vector<std::vector<int>> node_list_, node_slot_;
 };
 

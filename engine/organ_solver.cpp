@@ -209,7 +209,10 @@ class CoreSolver final : public ReferenceSolver {
   void joint_solve() override { core::solve_iteration(m_, s_); }
   const NodeMat& joint_surface() const override { return core::iteration_surface(s_); }
   NodeMat& joint_forces() override { return core::iteration_forces(s_); }
-  void joint_forces_changed() override { core::forces_changed(m_, s_); }
+  void joint_forces_changed() override {
+    core::forces_changed(m_, s_);
+    core::mixing_residual(m_, s_);
+  }
   bool joint_converged() override { return core::iteration_converged(m_, s_); }
   bool joint_advance(bool stop) override { return core::advance_iteration(m_, s_, stop); }
   double joint_tolerance() const override { return m_.settings.tolerance * m_.size; }

@@ -89,10 +89,11 @@ class OrganSolver {
   // A trial_step_with() whose iteration the caller drives, so that several organs' steps are
   // iterated together (contact between organs, engine/organ_pair_contact.hpp): joint_begin()
   // (false: the model cannot, or the step failed at its start, reported in the state); then per
-  // iteration joint_solve() (one linear solve, with `law`'s forces), where joint_forces() may be
+  // iteration joint_solve() (one linear solve, with `law`'s forces) and joint_converged()
+  // (whether that solve reached the iteration's fixed point), where joint_forces() may then be
   // changed and joint_forces_changed() moves the iteration's answer (joint_surface()) by their
-  // change; joint_converged() (call every organ's); joint_advance(stop) (false: the iteration
-  // is over); joint_end(). vdm_core: the core's step in its parts (engine/core/elastic_core.hpp).
+  // change (the next iterate mixed from it); joint_advance(stop) (false: the iteration is
+  // over); joint_end(). vdm_core: the core's step in its parts (engine/core/elastic_core.hpp).
   virtual bool joint_begin(const StepInput& input, SimState& state, SurfaceForceLaw* law) {
     (void)input;
     (void)state;

@@ -82,10 +82,16 @@ SceneSimulation::SceneSimulation(const PreparedScene& ps) : ps_(ps) {
     joint_solvers_.resize(organs_.size());
     joint_active_.resize(organs_.size());
     joint_member_.resize(organs_.size());
-    joint_settled_.resize(organs_.size());
+    joint_waiting_.resize(organs_.size());
     joint_converged_.resize(organs_.size());
-    joint_solved_.resize(organs_.size());
-    joint_before_.resize(organs_.size());
+    joint_ready_.resize(organs_.size());
+    joint_linear_.resize(organs_.size());
+    joint_fixed_.resize(organs_.size());
+    joint_solved_x_.resize(organs_.size());
+    // The organs from the fewest nodes to the most (by the list where equal).
+    for (size_t i = 0; i < organs_.size(); ++i) joint_order_.push_back(i);
+    std::stable_sort(joint_order_.begin(), joint_order_.end(),
+                     [&](size_t a, size_t b) { return organs_[a].prepared->model.n < organs_[b].prepared->model.n; });
     joint_lo_.resize(organs_.size());
     joint_hi_.resize(organs_.size());
     for (size_t i = 0; i < organs_.size(); ++i) {
@@ -538,6 +544,13 @@ void SceneSimulation::find_joint_organs() {
         joint_member_[i] = joint_member_[j] = 1;
 }
 
+namespace {
+// An organ at its fixed point whose answer the others' forces have since moved, linearly, by
+// at most this many times its tolerance has converged: a linear answer's error is about its
+// motion times the tissue's strain there.
+constexpr double kLinearTrust = 10;
+}  // namespace
+
 void SceneSimulation::step_joint() {
   const size_t n = organs_.size();
   find_joint_organs();
@@ -554,32 +567,52 @@ void SceneSimulation::step_joint() {
   }
   for (size_t i = 0; i < n; ++i) joint_x_[i] = &organs_[i].state.x;
   pair_->begin_step(joint_x_);
-  // An organ whose iteration has converged while another's has not is settled: it is not
-  // solved again (its answer follows the forces the others put on it through its linear
-  // response, joint_forces_changed()) unless those forces move it by more than ten times its
-  // tolerance in one iteration. An expensive organ (a large liver) then does not iterate for a
-  // small one (a gallbladder pulled by a grasper) that is still finding its way.
-  std::fill(joint_settled_.begin(), joint_settled_.end(), 0);
+  // The organs iterate cheapest first: an organ waits (is not solved) while an organ with
+  // fewer nodes has not converged, and when it has converged itself. A large liver then does
+  // not iterate for a small gallbladder, pulled by a grasper, that is still finding its way.
+  // While it waits for a cheaper organ its answer is not moved by the others' forces (a
+  // liver's linear update costs more than a gallbladder's solve): the contact sees it moved by
+  // its compliance at the points' nodes (OrganPairContact::predict), and it takes the forces
+  // when it is checked again, once every cheaper organ has converged. It is solved again when
+  // its answer under those forces is not its own fixed point (its rotations have not followed).
+  std::fill(joint_waiting_.begin(), joint_waiting_.end(), 0);
+  std::fill(joint_linear_.begin(), joint_linear_.end(), 0);
+  std::fill(joint_fixed_.begin(), joint_fixed_.end(), 0);
   for (;;) {
     for (size_t i = 0; i < n; ++i) {
-      if (joint_active_[i] && !joint_settled_[i]) organs_[i].solver->joint_solve();
-      joint_x_[i] = joint_active_[i] ? &organs_[i].solver->joint_surface() : &organs_[i].state.x;
+      if (joint_active_[i] && !joint_waiting_[i]) {
+        organs_[i].solver->joint_solve();
+        pair_->relinearised(static_cast<int>(i));
+      }
+      if (!joint_linear_[i]) joint_x_[i] = joint_active_[i] ? &organs_[i].solver->joint_surface() : &organs_[i].state.x;
     }
     pair_->find_points(joint_x_, joint_triangles_, kOrganContactReach);
     double violation = 0, change = 0;
     pair_->correct(joint_solvers_, violation, change);
-    bool all = true;
-    for (size_t i = 0; i < n; ++i) {
+    // Each organ solved in this round, or waiting while every cheaper one has converged,
+    // takes the forces and checks its iteration; one waiting for a cheaper organ is predicted.
+    bool all = true, cheaper = true;
+    for (size_t i : joint_order_) {
       if (!joint_active_[i]) continue;
       vdm::OrganSolver& solver = *organs_[i].solver;
-      const bool solved = !joint_settled_[i];
-      joint_before_[i] = solver.joint_surface();
-      pair_->apply(static_cast<int>(i), solver.joint_forces());
-      solver.joint_forces_changed();
-      if (!solved && (solver.joint_surface() - joint_before_[i]).cwiseAbs().maxCoeff() > 10 * solver.joint_tolerance())
-        joint_settled_[i] = 0;  // moved too far by the others: solved again at the next iteration
-      joint_converged_[i] = solved ? solver.joint_converged() : joint_settled_[i];
-      joint_solved_[i] = solved;
+      joint_linear_[i] = joint_waiting_[i] && !cheaper;
+      if (joint_linear_[i]) {
+        joint_x_[i] = &pair_->predict(static_cast<int>(i), solver.joint_surface());
+      } else {
+        // Solved in this round: at its fixed point under the forces it was solved with?
+        if (!joint_waiting_[i]) {
+          joint_fixed_[i] = solver.joint_converged();
+          joint_solved_x_[i] = solver.joint_surface();
+        }
+        pair_->apply(static_cast<int>(i), solver.joint_forces());
+        solver.joint_forces_changed();
+        // Converged when it was, and the forces' change since its solve has moved its answer
+        // (linearly) by no more than a few tolerances.
+        joint_converged_[i] = joint_fixed_[i] && (solver.joint_surface() - joint_solved_x_[i]).cwiseAbs().maxCoeff() <=
+                                                     kLinearTrust * solver.joint_tolerance();
+      }
+      joint_ready_[i] = cheaper;
+      cheaper = cheaper && joint_converged_[i];
       all = all && joint_converged_[i];
     }
     if (all) {
@@ -589,11 +622,18 @@ void SceneSimulation::step_joint() {
     }
     bool more = true;
     for (size_t i = 0; i < n; ++i) {
-      if (!joint_active_[i] || !joint_solved_[i]) continue;
-      if (joint_converged_[i]) joint_settled_[i] = 1;
-      else if (!organs_[i].solver->joint_advance(false)) more = false;  // out of iterations: the step ends unconverged
+      if (!joint_active_[i]) continue;
+      joint_waiting_[i] = joint_converged_[i] || !joint_ready_[i];
+      if (!joint_waiting_[i] && !organs_[i].solver->joint_advance(false)) more = false;  // out of iterations: the step ends unconverged
     }
-    if (!more) break;
+    if (!more) {
+      for (size_t i = 0; i < n; ++i)
+        if (joint_active_[i] && joint_linear_[i]) {  // the forces the contact found for it, taken
+          pair_->apply(static_cast<int>(i), organs_[i].solver->joint_forces());
+          organs_[i].solver->joint_forces_changed();
+        }
+      break;
+    }
   }
   pair_->end_step();
   for (size_t i = 0; i < n; ++i) {

@@ -159,8 +159,9 @@ class SceneSimulation {
   std::vector<vdm::OrganSolver*> joint_solvers_;
   std::vector<char> joint_active_;
   std::vector<char> joint_member_;
-  std::vector<char> joint_settled_, joint_converged_, joint_solved_;  // per organ, in the step's iteration
-  std::vector<vdm::NodeMat> joint_before_;
+  std::vector<char> joint_waiting_, joint_converged_, joint_ready_, joint_linear_, joint_fixed_;
+  std::vector<vdm::NodeMat> joint_solved_x_;  // per organ, its answer at its last solve  // per organ, in the step's iteration
+  std::vector<size_t> joint_order_;  // the organs, cheapest (fewest nodes) first
   std::vector<vdm::Vec3> joint_lo_, joint_hi_;  // per organ, its grown box this step
   std::string rest_overlap_;  // organs inside each other at the first frame (with contact between organs)  // this step: stepped with other organs (near them, or tied)
   // Which organs step together this step (joint_member_).

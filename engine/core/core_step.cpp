@@ -245,13 +245,26 @@ void add_force_change(const CoreModel& m, CoreWorkspace& w, double& lambda) {
   for (int d = 0; d < 3; ++d) {
     ensure_columns(m, d, w.changed, w);
     const LatticeColumns& c = w.columns[w.slot[d]];
+    // Each lattice column's weight summed over the changed nodes first (neighbouring nodes
+    // share lattice nodes), then one pass over each column.
+    if (w.column_weight.size() < static_cast<size_t>(c.cols.cols())) w.column_weight.resize(static_cast<size_t>(c.cols.cols()), 0.0);
+    w.column_used.clear();
     for (int i : w.changed) {
       if (w.factored_mask(i, d)) continue;
       const double df = w.force(i, d) - w.force_before(i, d);
       if (df == 0) continue;
       dnum += df * (tied_at(m, w.response.col(d), i) + w.area(i, d) / m.tie_k[i]);
-      for (int p = 0; p < 4; ++p)
-        w.v_new.col(d) += (df * m.tie_weight(i, p)) * c.cols.col(c.slot[static_cast<size_t>(m.tie_node(i, p))]);
+      for (int p = 0; p < 4; ++p) {
+        const int k = c.slot[static_cast<size_t>(m.tie_node(i, p))];
+        double& weight = w.column_weight[static_cast<size_t>(k)];
+        if (weight == 0.0) w.column_used.push_back(k);
+        weight += df * m.tie_weight(i, p);
+      }
+    }
+    for (int k : w.column_used) {
+      double& weight = w.column_weight[static_cast<size_t>(k)];
+      w.v_new.col(d) += weight * c.cols.col(k);
+      weight = 0.0;
     }
   }
   const double dlambda = w.den > 0 ? dnum / w.den : 0.0;
@@ -509,6 +522,13 @@ void forces_changed(const CoreModel& m, CoreState& s) {
   ++s.stats.law_solves;
   w.x = m.surface.positions + w.u_new;
   w.force_before = w.force;
+}
+
+void mixing_residual(const CoreModel& m, CoreState& s) {
+  CoreWorkspace& w = *s.work;
+  Eigen::Map<const Vec> v_flat(s.v.data(), 3 * m.ng), v_new_flat(w.v_new.data(), 3 * m.ng);
+  w.g = v_new_flat - v_flat;
+  w.iter.g_norm = w.g.norm();
 }
 
 bool iteration_converged(const CoreModel& m, CoreState& s) {

@@ -65,6 +65,8 @@ struct CoreWorkspace {
   NodeMat area, force, target, x;
   NodeMat force_before;      // the forces before a SurfaceForceLaw's update
   std::vector<int> changed;  // the nodes whose forces it changed
+  std::vector<double> column_weight;  // per column of an axis: its weight in a force change (zero between uses)
+  std::vector<int> column_used;       // the columns with a weight
   FlagMat mask;               // every prescribed entry (the factor's and the held ones)
   NodeMat b;              // per axis, the lattice's load
   NodeMat a;              // per axis, the volume row's lattice entries: sum over free entries A_i W_i^T
