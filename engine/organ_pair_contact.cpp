@@ -94,7 +94,8 @@ void OrganPairContact::find_points(const std::vector<const NodeMat*>& x, const s
   // The step's points so far stay (measured again on their triangle): a node pushed out of
   // reach by one correction keeps its place in the next, where its force can fall to zero.
   const size_t kept = points_.size();
-  std::vector<char> measured(kept, 0);
+  measured_.assign(kept, 0);
+  std::vector<char>& measured = measured_;
   for (const Point& p : points_) node_slot_[static_cast<size_t>(p.owner)][static_cast<size_t>(p.node)] = static_cast<int>(&p - points_.data());
   const int organs = static_cast<int>(x.size());
   normals_.resize(x.size());
@@ -111,13 +112,15 @@ void OrganPairContact::find_points(const std::vector<const NodeMat*>& x, const s
     const Vec3 span = hi - lo;
     while (((span / cell).array().floor() + 1).prod() > kMostCells) cell *= 1.5;
     const Eigen::Array3i dims = ((span / cell).array().floor() + 1).cast<int>();
-    cells_.resize(static_cast<size_t>(dims.prod()));
-    for (auto& c : cells_) c.clear();
     const auto cell_of = [&](const Vec3& p) {
       return ((p - lo) / cell).array().floor().cast<int>().max(0).min(dims - 1).eval();
     };
     const auto index = [&](const Eigen::Array3i& c) { return static_cast<size_t>((c.z() * dims.y() + c.y()) * dims.x() + c.x()); };
-    for (Eigen::Index f = 0; f < tj.rows(); ++f) {
+    // Each triangle in every cell its box meets, the cells' lists one after another in
+    // cell_items_ (counted, then filled): two flat arrays, grown with a quarter to spare and
+    // never shrunk, so that a warm step allocates nothing.
+    const size_t cell_count = static_cast<size_t>(dims.prod());
+    const auto for_each_cell = [&](Eigen::Index f, auto&& visit) {
       Vec3 flo = xj.row(tj(f, 0)).transpose(), fhi = flo;
       for (int k = 1; k < 3; ++k) {
         flo = flo.cwiseMin(xj.row(tj(f, k)).transpose());
@@ -126,8 +129,19 @@ void OrganPairContact::find_points(const std::vector<const NodeMat*>& x, const s
       const Eigen::Array3i a = cell_of(flo), b = cell_of(fhi);
       for (int cz = a.z(); cz <= b.z(); ++cz)
         for (int cy = a.y(); cy <= b.y(); ++cy)
-          for (int cx = a.x(); cx <= b.x(); ++cx) cells_[index({cx, cy, cz})].push_back(static_cast<int>(f));
-    }
+          for (int cx = a.x(); cx <= b.x(); ++cx) visit(index({cx, cy, cz}));
+    };
+    if (cell_start_.capacity() < cell_count + 1) cell_start_.reserve(cell_count + 1 + cell_count / 4);
+    cell_start_.assign(cell_count + 1, 0);
+    for (Eigen::Index f = 0; f < tj.rows(); ++f) for_each_cell(f, [&](size_t c) { ++cell_start_[c + 1]; });
+    for (size_t c = 0; c < cell_count; ++c) cell_start_[c + 1] += cell_start_[c];
+    const size_t items = static_cast<size_t>(cell_start_[cell_count]);
+    if (cell_items_.capacity() < items) cell_items_.reserve(items + items / 4);
+    cell_items_.resize(items);
+    if (cell_fill_.capacity() < cell_count) cell_fill_.reserve(cell_count + cell_count / 4);
+    cell_fill_.assign(cell_start_.begin(), cell_start_.end() - 1);
+    for (Eigen::Index f = 0; f < tj.rows(); ++f)
+      for_each_cell(f, [&](size_t c) { cell_items_[static_cast<size_t>(cell_fill_[c]++)] = static_cast<int>(f); });
     vertex_normals(xj, tj, normals_[static_cast<size_t>(j)]);
     for (int i = 0; i < organs; ++i) {
       if (!(slave(i, j))) continue;
@@ -143,7 +157,9 @@ void OrganPairContact::find_points(const std::vector<const NodeMat*>& x, const s
             for (int dx = -1; dx <= 1; ++dx) {
               const Eigen::Array3i n = c + Eigen::Array3i(dx, dy, dz);
               if ((n < 0).any() || (n >= dims).any()) continue;
-              for (int f : cells_[index(n)]) {
+              const size_t cn = index(n);
+              for (int e = cell_start_[cn]; e < cell_start_[cn + 1]; ++e) {
+                const int f = cell_items_[static_cast<size_t>(e)];
                 const Vec3 a = xj.row(tj(f, 0)), b = xj.row(tj(f, 1)), cc = xj.row(tj(f, 2));
                 const Vec3 w = closest_barycentric(p, a, b, cc);
                 const Vec3 q = w.x() * a + w.y() * b + w.z() * cc;
@@ -212,11 +228,35 @@ void OrganPairContact::find_points(const std::vector<const NodeMat*>& x, const s
 
 
 
+void OrganPairContact::reserve_scratch(size_t points, size_t ties) {
+  // Grown with a quarter to spare (a slowly growing contact is not reallocated at every new
+  // point; W, dense, is the most memory: 3n x 3n), never shrunk.
+  const auto spare = [](auto n) { return n + n / 4; };
+  if (entries_.size() < points) {
+    entries_.resize(spare(points));
+    residual_.resize(spare(points));
+    frame_.resize(spare(points));
+    normal_inverse_.resize(spare(points));
+    tangent_inverse_.resize(spare(points));
+  }
+  const Eigen::Index N = static_cast<Eigen::Index>(3 * points), T = static_cast<Eigen::Index>(3 * ties);
+  if (W_.rows() < N) W_.resize(spare(N), spare(N));
+  if (tie_block_.rows() < T) tie_block_.resize(spare(T), spare(T));
+  for (Eigen::VectorXd* v : {&lambda_scratch_, &moved_, &tie_moved_})
+    if (v->size() < N) v->resize(spare(N));
+  for (Eigen::VectorXd* v : {&tie_rhs_, &tie_next_, &tie_residual_})
+    if (v->size() < T) v->resize(spare(T));
+}
+
 bool OrganPairContact::correct(const std::vector<OrganSolver*>& solvers, double& violation, double& change) {
   violation = 0;
   change = 0;
   const size_t n = points_.size();
   if (n == 0) return true;
+  // The contact points come first, the ties after them (find_points()).
+  size_t contacts = 0;
+  while (contacts < n && points_[contacts].tie < 0) ++contacts;
+  reserve_scratch(n, n - contacts);
   // The nodes each organ's compliance is needed at: the points' own nodes and their triangles'.
   const auto slot = [&](int organ, int node) {
     int& s = node_slot_[static_cast<size_t>(organ)][static_cast<size_t>(node)];
@@ -229,15 +269,10 @@ bool OrganPairContact::correct(const std::vector<OrganSolver*>& solvers, double&
   for (auto& l : node_list_) l.clear();
   // Each point's entries: (organ, slot, coefficient) of its node's motion relative to its point
   // on the other surface.
-  struct Entry {
-    int organ, slot;
-    double c;
-  };
-  std::vector<std::array<Entry, 4>> entries(n);
   for (size_t p = 0; p < n; ++p) {
     const Point& q = points_[p];
-    entries[p][0] = {q.owner, slot(q.owner, q.node), 1.0};
-    for (int v = 0; v < 3; ++v) entries[p][v + 1] = {q.other, slot(q.other, q.corner[v]), -q.weight[v]};
+    entries_[p][0] = {q.owner, slot(q.owner, q.node), 1.0};
+    for (int v = 0; v < 3; ++v) entries_[p][v + 1] = {q.other, slot(q.other, q.corner[v]), -q.weight[v]};
   }
   bool ok = true;
   // An organ not solved since its last compliance, at the same nodes, keeps it.
@@ -253,12 +288,12 @@ bool OrganPairContact::correct(const std::vector<OrganSolver*>& solvers, double&
   // W (3n x 3n): how far point p's node moves relative to its point on the other surface under
   // a unit force at point q (on q's node, and the opposite on q's triangle).
   const Eigen::Index N = static_cast<Eigen::Index>(3 * n);
-  Eigen::MatrixXd W = Eigen::MatrixXd::Zero(N, N);
+  auto W = W_.topLeftCorner(N, N);
   for (size_t p = 0; p < n; ++p)
     for (size_t q = 0; q <= p; ++q) {
       Eigen::Matrix3d w = Eigen::Matrix3d::Zero();
-      for (const Entry& a : entries[p])
-        for (const Entry& b : entries[q]) {
+      for (const Entry& a : entries_[p])
+        for (const Entry& b : entries_[q]) {
           if (a.organ != b.organ || a.c == 0.0 || b.c == 0.0) continue;
           w += (a.c * b.c) * compliance_[static_cast<size_t>(a.organ)].block<3, 3>(3 * a.slot, 3 * b.slot);
         }
@@ -267,8 +302,9 @@ bool OrganPairContact::correct(const std::vector<OrganSolver*>& solvers, double&
     }
   // Each point's residual motion at the forces it was solved with: contact, (gap, slip over
   // the step relative to the other surface); tie, its stretch from its rest offset.
-  Eigen::VectorXd lambda(N), lambda0(N), moved = Eigen::VectorXd::Zero(N);
-  std::vector<Vec3> residual(n);
+  auto lambda = lambda_scratch_.head(N);
+  auto moved = moved_.head(N);
+  moved.setZero();
   for (size_t p = 0; p < n; ++p) {
     const Point& q = points_[p];
     lambda.segment<3>(3 * static_cast<Eigen::Index>(p)) = force_of(q);
@@ -280,53 +316,44 @@ bool OrganPairContact::correct(const std::vector<OrganSolver*>& solvers, double&
       motion -= q.weight[v] * (xt.row(q.corner[v]) - st.row(q.corner[v])).transpose();
     }
     if (q.tie >= 0) {
-      residual[p] = at - ties_[static_cast<size_t>(q.tie)].offset;
+      residual_[p] = at - ties_[static_cast<size_t>(q.tie)].offset;
     } else {
-      residual[p] = motion - q.normal.dot(motion) * q.normal;  // the slip (tangential)
-      residual[p] += q.gap * q.normal;
+      residual_[p] = motion - q.normal.dot(motion) * q.normal;  // the slip (tangential)
+      residual_[p] += q.gap * q.normal;
       violation = std::max(violation, -q.gap);
     }
   }
-  lambda0 = lambda;
   // The tangent basis at each contact point, and its friction: only points pressed at the
   // step's start hold by friction.
-  std::vector<Eigen::Matrix3d> frame(n);
   for (size_t p = 0; p < n; ++p) {
     const Vec3 nrm = points_[p].normal;
     const Vec3 t1 = (std::abs(nrm.x()) < 0.9 ? Vec3::UnitX() : Vec3::UnitY()).cross(nrm).normalized();
-    frame[p].col(0) = nrm;
-    frame[p].col(1) = t1;
-    frame[p].col(2) = nrm.cross(t1);
+    frame_[p].col(0) = nrm;
+    frame_[p].col(1) = t1;
+    frame_[p].col(2) = nrm.cross(t1);
   }
-  // The contact points come first, the ties after them (find_points()).
-  size_t contacts = 0;
-  while (contacts < n && points_[contacts].tie < 0) ++contacts;
   const Eigen::Index C3 = static_cast<Eigen::Index>(3 * contacts), T3 = N - C3;
   // The diagonal blocks' inverses in each contact point's frame (normal, then tangential).
-  std::vector<double> normal_inverse(contacts, 0.0);
-  std::vector<Eigen::Matrix2d> tangent_inverse(contacts);
   for (size_t p = 0; p < contacts; ++p) {
     const Eigen::Index b = 3 * static_cast<Eigen::Index>(p);
-    const Eigen::Matrix3d F = frame[p].transpose() * W.block<3, 3>(b, b) * frame[p];
-    normal_inverse[p] = F(0, 0) > 0 ? 1.0 / F(0, 0) : 0.0;
+    const Eigen::Matrix3d F = frame_[p].transpose() * W.block<3, 3>(b, b) * frame_[p];
+    normal_inverse_[p] = F(0, 0) > 0 ? 1.0 / F(0, 0) : 0.0;
     const Eigen::Matrix2d T = F.block<2, 2>(1, 1);
-    tangent_inverse[p] = T.determinant() > 0 ? Eigen::Matrix2d(T.inverse()) : Eigen::Matrix2d::Zero();
+    tangent_inverse_[p] = T.determinant() > 0 ? Eigen::Matrix2d(T.inverse()) : Eigen::Matrix2d::Zero();
   }
-  // The ties' block, W_tt + K^-1 (their springs' compliances), factorised: the ties are solved
-  // together, exactly, in each sweep (one at a time, stiff ties that share a triangle would
-  // take thousands of sweeps).
-  Eigen::LLT<Eigen::MatrixXd> tie_factor;
-  Eigen::VectorXd tie_rhs, tie_next, tie_moved;
-  if (T3 > 0) {
-    Eigen::MatrixXd A = W.bottomRightCorner(T3, T3);
-    for (size_t p = contacts; p < n; ++p)
-      A.diagonal().segment<3>(3 * static_cast<Eigen::Index>(p) - C3).array() +=
-          1.0 / ties_[static_cast<size_t>(points_[p].tie)].stiffness;
-    tie_factor.compute(A);
-    if (tie_factor.info() != Eigen::Success) return false;
-  }
-  Eigen::VectorXd tie_residual(T3);
-  for (size_t p = contacts; p < n; ++p) tie_residual.segment<3>(3 * static_cast<Eigen::Index>(p) - C3) = residual[p];
+  // The ties' block, W_tt + K^-1 (their springs' compliances), factorised in place: the ties
+  // are solved together, exactly, in each sweep (one at a time, stiff ties that share a
+  // triangle would take thousands of sweeps).
+  auto tie_block = tie_block_.topLeftCorner(T3, T3);
+  tie_block = W.bottomRightCorner(T3, T3);
+  for (size_t p = contacts; p < n; ++p)
+    tie_block.diagonal().segment<3>(3 * static_cast<Eigen::Index>(p) - C3).array() +=
+        1.0 / ties_[static_cast<size_t>(points_[p].tie)].stiffness;
+  Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> tie_factor(tie_block);
+  if (T3 > 0 && tie_factor.info() != Eigen::Success) return false;
+  auto tie_residual = tie_residual_.head(T3), tie_rhs = tie_rhs_.head(T3), tie_next = tie_next_.head(T3),
+       tie_moved = tie_moved_.head(N);  // every point's motion under the ties' change
+  for (size_t p = contacts; p < n; ++p) tie_residual.segment<3>(3 * static_cast<Eigen::Index>(p) - C3) = residual_[p];
   // Block Gauss-Seidel: the ties' stretch + moved + force / k zero (solved as one block), then
   // projected over the contact points: each gap + n.moved >= 0 with a pushing normal force
   // (complementary), each pressed point's slip + moved zero within the friction cone (else on
@@ -340,7 +367,8 @@ bool OrganPairContact::correct(const std::vector<OrganSolver*>& solvers, double&
       // contact forces as they are.
       tie_rhs.noalias() = W.bottomRightCorner(T3, T3) * lambda.tail(T3);
       tie_rhs -= tie_residual + moved.tail(T3);
-      tie_next = tie_factor.solve(tie_rhs);
+      tie_next = tie_rhs;
+      tie_factor.solveInPlace(tie_next);
       tie_next -= lambda.tail(T3);
       lambda.tail(T3) += tie_next;
       tie_moved.noalias() = W.rightCols(T3) * tie_next;
@@ -351,14 +379,14 @@ bool OrganPairContact::correct(const std::vector<OrganSolver*>& solvers, double&
       const Eigen::Index b = 3 * static_cast<Eigen::Index>(p);
       const Point& q = points_[p];
       const Vec3 l = lambda.segment<3>(b);
-      const Vec3 r = residual[p] + moved.segment<3>(b);
-      const Eigen::Matrix3d& F = frame[p];
+      const Vec3 r = residual_[p] + moved.segment<3>(b);
+      const Eigen::Matrix3d& F = frame_[p];
       const Vec3 lf = F.transpose() * l, rf = F.transpose() * r;
-      const double ln = std::max(0.0, lf[0] - rf[0] * normal_inverse[p]);
+      const double ln = std::max(0.0, lf[0] - rf[0] * normal_inverse_[p]);
       Eigen::Vector2d lt = Eigen::Vector2d::Zero();
       const double mu = pressed_[static_cast<size_t>(q.owner)][static_cast<size_t>(q.node)] ? friction_ : 0.0;
       if (mu > 0 && ln > 0) {
-        lt = lf.tail<2>() - tangent_inverse[p] * rf.tail<2>();
+        lt = lf.tail<2>() - tangent_inverse_[p] * rf.tail<2>();
         const double cap = mu * ln, size = lt.norm();
         if (size > cap) lt *= cap / size;
       }
@@ -406,11 +434,12 @@ const NodeMat& OrganPairContact::predict(int organ, const NodeMat& answer) {
   // The forces change only at the points' nodes, which are the compliance's.
   const std::vector<int>& nodes = compliance_nodes_[o];
   const Eigen::Index k = static_cast<Eigen::Index>(nodes.size());
-  force_change_.resize(3 * k);
+  if (force_change_.size() < 3 * k) force_change_.resize(3 * k + 3 * k / 4);
+  auto force_change = force_change_.head(3 * k);
   for (Eigen::Index a = 0; a < k; ++a)
-    force_change_.segment<3>(3 * a) = (pending_.row(nodes[static_cast<size_t>(a)]) - applied.row(nodes[static_cast<size_t>(a)])).transpose();
+    force_change.segment<3>(3 * a) = (pending_.row(nodes[static_cast<size_t>(a)]) - applied.row(nodes[static_cast<size_t>(a)])).transpose();
   for (Eigen::Index a = 0; a < k; ++a)
-    x.row(nodes[static_cast<size_t>(a)]) += (compliance_[o].middleRows<3>(3 * a) * force_change_).transpose();
+    x.row(nodes[static_cast<size_t>(a)]) += (compliance_[o].middleRows<3>(3 * a) * force_change).transpose();
   return x;
 }
 

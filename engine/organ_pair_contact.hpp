@@ -20,6 +20,7 @@
 // the points at the solved positions, correct the forces, until the organs' iterations have
 // converged (the same scheme as one organ's constraint contact around its solves). Each node
 // keeps its force from one correction to the next and from step to step (the warm start).
+#include <array>
 #include <limits>
 #include <string>
 #include <string_view>
@@ -128,14 +129,30 @@ class OrganPairContact {
   std::vector<std::vector<Vec3>> lambda_;    // per organ, per node: its contact force (N)
   std::vector<std::vector<char>> pressed_;   // per organ, per node: pressed at the step's start
   std::vector<NodeMat> normals_;             // per organ, its surface's vertex normals
-  // The uniform grid of one surface's triangles (rebuilt for each surface in find_points).
-  std::vector<std::vector<int>> cells_;
+  // The uniform grid of one surface's triangles (rebuilt for each surface in find_points):
+  // cell c's triangles are cell_items_[cell_start_[c] .. cell_start_[c + 1]).
+  std::vector<int> cell_start_, cell_fill_, cell_items_;
   std::vector<Eigen::MatrixXd> compliance_;  // per organ, at node_list_[organ]
   std::vector<std::vector<int>> compliance_nodes_;  // per organ, the nodes compliance_ is at
   std::vector<char> compliance_valid_;       // per organ: compliance_ is at its linearisation
   std::vector<NodeMat> predicted_;           // per organ, predict()'s positions
   NodeMat pending_;                          // predict()'s forces on an organ
-  Eigen::VectorXd force_change_;             // predict()'s change of those at its compliance's nodes
+  // Scratch of find_points(), correct() and predict(), grown to the most points seen and never
+  // shrunk, so that a step allocates nothing once warm (the matrices are used through their
+  // top-left corners).
+  struct Entry {
+    int organ, slot;
+    double c;
+  };
+  std::vector<char> measured_;
+  std::vector<std::array<Entry, 4>> entries_;
+  std::vector<Vec3> residual_;
+  std::vector<Eigen::Matrix3d> frame_;
+  std::vector<double> normal_inverse_;
+  std::vector<Eigen::Matrix2d> tangent_inverse_;
+  Eigen::MatrixXd W_, tie_block_;
+  Eigen::VectorXd lambda_scratch_, moved_, tie_rhs_, tie_next_, tie_moved_, tie_residual_, force_change_;
+  void reserve_scratch(size_t points, size_t ties);
   std::vector<std::vector<int>> node_list_, node_slot_;
 };
 

@@ -6,6 +6,9 @@
 #include <cstdlib>
 
 #include "engine/contact.hpp"
+#include "engine/organ_pair_contact.hpp"
+#include "engine/organ_solver.hpp"
+#include "engine/shapes.hpp"
 #include "support/scenarios.hpp"
 
 extern "C" {
@@ -236,6 +239,86 @@ TEST(NoAllocation, PenaltyContactStepAfterWarmUp) {
   penalty.method = ContactSettings::Method::penalty;
   EXPECT_EQ(allocations_in_contact_steps(ToolShape::Kind::capsule, penalty), 0);
   EXPECT_EQ(allocations_in_contact_steps(ToolShape::Kind::box, penalty), 0);
+}
+
+// An organ whose every node moves alone, by `c` metres per newton: the compliance the
+// contact between organs asks for, without a model behind it.
+class UniformCompliance final : public OrganSolver {
+ public:
+  explicit UniformCompliance(double c) : c_(c) {}
+  ModelKind kind() const override { return ModelKind::vdm_core; }
+  void step(const StepInput&, SimState&) override {}
+  void trial_step(const StepInput&, SimState&, StepResults) override {}
+  void finish_step(SimState&) override {}
+  void rewind(SimState&) override {}
+  const NodeMat& start_u(const SimState& s) const override { return s.u; }
+  bool takes_springs() const override { return false; }
+  bool takes_tolerance() const override { return false; }
+  const AxisStiffness& contact_stiffness(const TissueModel&, const SimState&) override { return stiffness_; }
+  long contact_stiffness_version(const SimState&) const override { return 0; }
+  // (The matrix is resized when the nodes' count changes: those allocations are the model's,
+  // counted apart in `own`.)
+  bool surface_compliance(const std::vector<int>& nodes, Eigen::MatrixXd& C) override {
+    const Eigen::Index n = 3 * static_cast<Eigen::Index>(nodes.size());
+    const long before = g_allocations;
+    C.setIdentity(n, n);
+    own += g_allocations - before;
+    C *= c_;
+    return true;
+  }
+  long own = 0;
+
+ private:
+  double c_;
+  AxisStiffness stiffness_;
+};
+
+// Contact and ties between two organs, one pressed further into the other each step and
+// drawn back (the points change): nothing allocated once the deepest press has been seen.
+TEST(NoAllocation, ContactBetweenOrgansAfterWarmUp) {
+  const SurfaceMesh a = make_icosphere(0.03, 2), b = make_icosphere(0.03, 2);
+  std::vector<OrganTie> ties;
+  for (int k = 0; k < 4; ++k) {  // a's nodes nearest b, tied to b's triangle 0
+    OrganTie t;
+    t.owner = 0;
+    t.other = 1;
+    t.node = k;
+    for (int v = 0; v < 3; ++v) t.corner[v] = b.triangles(0, v);
+    t.stiffness = 50;
+    ties.push_back(t);
+  }
+  OrganPairContact pair({static_cast<int>(a.positions.rows()), static_cast<int>(b.positions.rows())}, {0.01, 0.0101},
+                        0.3, ties);
+  UniformCompliance ca(1e-3), cb(2e-3);
+  const std::vector<OrganSolver*> solvers = {&ca, &cb};
+  NodeMat xa = a.positions, xb = b.positions, fa = NodeMat::Zero(xa.rows(), 3), fb = NodeMat::Zero(xb.rows(), 3);
+  const std::vector<const TriMat*> triangles = {&a.triangles, &b.triangles};
+  std::vector<const NodeMat*> x = {&xa, &xb};
+  auto step = [&](int depth) {  // b's centre 6 cm - depth mm from a's
+    xb = b.positions.rowwise() + Vec3(0.06 - 0.001 * depth, 0, 0).transpose();
+    x[1] = &xb;
+    pair.begin_step(x);
+    for (int round = 0; round < 3; ++round) {
+      pair.find_points(x, triangles, 0.002);
+      double violation = 0, change = 0;
+      EXPECT_TRUE(pair.correct(solvers, violation, change));
+      pair.apply(0, fa);
+      if (round == 0) pair.relinearised(1);
+      x[1] = &pair.predict(1, xb);
+    }
+    pair.apply(1, fb);
+    pair.end_step();
+  };
+  const std::vector<int> path = {1, 2, 3, 4, 5, 4, 3, 2, 1, 2, 3, 4, 5};
+  for (int d : path) step(d);  // the warm-up
+  ca.own = cb.own = 0;
+  g_allocations = 0;
+  g_counting = true;
+  for (int d : path) step(d);
+  g_counting = false;
+  EXPECT_GT(pair.points().size(), ties.size());  // contact points besides the ties
+  EXPECT_GT(ca.own + cb.own, 0);                 // the count sees the models' resizes
+  EXPECT_EQ(g_allocations.load() - ca.own - cb.own, 0);
 }
 
 }  // namespace
