@@ -23,6 +23,8 @@
 #include "engine/shapes.hpp"
 #include "app/simulation/tool_depth.hpp"
 #include "app/scene/mesh_io.hpp"
+#include "render/image.hpp"
+#include "render/png_io.hpp"
 #include "support/run_outputs.hpp"
 #include "support/scene_text.hpp"
 
@@ -221,6 +223,43 @@ TEST(SeveralOrgans, RunsWriteEachOrgansColumnsEntryAndMeshes) {
     }
   }
   EXPECT_FALSE(fs::exists(dir / "mesh.pvd"));
+}
+
+// The segmentation view gives each organ its own id, named in run.json (the organs by their
+// names, 1 and 2 here, the instruments after them), and both organs' ids are in its image.
+TEST(SeveralOrgans, EachOrganHasItsOwnSegmentationIdNamedInRunJson) {
+  const fs::path dir = test::test_output_dir("several_organs") / "segmentation";
+  fs::remove_all(dir);
+  PreparedScene ps = test::prepare_scene_text(
+      "several_organs", two_livers() +
+                            "render:\n  width: 160\n  height: 60\n  camera: {eye: [0.25, -1.2, 0.3], target: [0.25, 0, 0]}\n"
+                            "  views: [segmentation]\n  hud: false\n");
+  RunOptions opt;
+  opt.out_dir = dir.string();
+  opt.frames = 1;
+  std::ostringstream out, err;
+  ASSERT_EQ(run_scene(ps, opt, out, err, false), 0) << err.str();
+  const std::string js = test::read_file(dir / "run.json");
+  EXPECT_NE(js.find("\"segmentation_ids\": {\"left\": 1, \"right\": 2, \"instruments[0]\": 3, \"instruments[1]\": 4}"),
+            std::string::npos)
+      << js;
+  render::Image ids;
+  std::string error;
+  ASSERT_TRUE(render::read_png((dir / "segmentation" / "segmentation_00000.png").string(), ids, error)) << error;
+  // Each organ's pixels, and on which side of the picture (left's at x = 0, right's at 0.5 m).
+  long count[3] = {0, 0, 0};
+  double mean_x[3] = {0, 0, 0};
+  for (int v = 0; v < ids.height; ++v)
+    for (int u = 0; u < ids.width; ++u) {
+      const int id = ids.rgba[static_cast<size_t>(4 * (v * ids.width + u))];
+      if (id < 1 || id > 2) continue;
+      ++count[id];
+      mean_x[id] += u;
+    }
+  ASSERT_GT(count[1], 50);
+  ASSERT_GT(count[2], 50);
+  EXPECT_LT(mean_x[1] / count[1], ids.width / 2.0);
+  EXPECT_GT(mean_x[2] / count[2], ids.width / 2.0);
 }
 
 // Organs placed into each other are an error of `check`, and a run of them stops at its first
