@@ -134,7 +134,7 @@ int main(int argc, char** argv) {
   std::string bench_only;
   auto* bench = app.add_subcommand("bench", "Performance cases: writes bench.csv and scaling.png");
   bench->add_option("--out", bench_out, "Output folder (default: out/bench)")->check(cli::named_path());
-  bench->add_flag("--quick", bench_quick, "Fewer cases and repeats (under 2 minutes)");
+  bench->add_flag("--quick", bench_quick, "Fewer cases, frames and repeats (about 3 minutes)");
   bench->add_option("--only", bench_only, "Only the cases whose label contains this text (e.g. 'liver_probe 10k')");
   int bench_case_fd = -1;  // internal: the process of one case writes its row there
   bench->add_option("--case-fd", bench_case_fd)->group("");

@@ -573,8 +573,9 @@ void SceneSimulation::step_joint() {
   // While it waits for a cheaper organ its answer is not moved by the others' forces (a
   // liver's linear update costs more than a gallbladder's solve): the contact sees it moved by
   // its compliance at the points' nodes (OrganPairContact::predict), and it takes the forces
-  // when it is checked again, once every cheaper organ has converged. It is solved again when
-  // its answer under those forces is not its own fixed point (its rotations have not followed).
+  // when it is checked again, once every cheaper organ has converged. It has converged when
+  // its last solve reached its own iteration's fixed point and the forces since have moved its
+  // answer by at most kLinearTrust tolerances; else it is solved again.
   std::fill(joint_waiting_.begin(), joint_waiting_.end(), 0);
   std::fill(joint_linear_.begin(), joint_linear_.end(), 0);
   std::fill(joint_fixed_.begin(), joint_fixed_.end(), 0);

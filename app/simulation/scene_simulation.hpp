@@ -158,12 +158,14 @@ class SceneSimulation {
   std::vector<const vdm::TriMat*> joint_triangles_;
   std::vector<vdm::OrganSolver*> joint_solvers_;
   std::vector<char> joint_active_;
-  std::vector<char> joint_member_;
+  std::vector<char> joint_member_;  // this step: stepped with other organs (near them, or tied)
+  // Per organ, in the step's iteration (step_joint): not solved this round; converged; every
+  // cheaper organ converged; seen through its compliance; at its fixed point at its last solve.
   std::vector<char> joint_waiting_, joint_converged_, joint_ready_, joint_linear_, joint_fixed_;
-  std::vector<vdm::NodeMat> joint_solved_x_;  // per organ, its answer at its last solve  // per organ, in the step's iteration
+  std::vector<vdm::NodeMat> joint_solved_x_;  // per organ, its answer at its last solve
   std::vector<size_t> joint_order_;  // the organs, cheapest (fewest nodes) first
   std::vector<vdm::Vec3> joint_lo_, joint_hi_;  // per organ, its grown box this step
-  std::string rest_overlap_;  // organs inside each other at the first frame (with contact between organs)  // this step: stepped with other organs (near them, or tied)
+  std::string rest_overlap_;  // organs inside each other at the first frame (with contact between organs)
   // Which organs step together this step (joint_member_).
   void find_joint_organs();
   // Whether organ i was stepped with others this step.

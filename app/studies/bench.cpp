@@ -797,10 +797,11 @@ int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::os
       return 1;
     }
   }
-  // Two organs against each alone on the same script, in turn.
+  // Two organs against each alone on the same script, in turn (quick: up to the first frames
+  // of the grasp, which starts at frame 15).
   if (only.empty() || std::string("organs side by side").find(only) != std::string::npos) {
     out << "bench: organs side by side ..." << std::flush;
-    const OrgansSideBySide r = bench_organs_side_by_side(quick ? 40 : 61, quick ? 1 : 3);
+    const OrgansSideBySide r = bench_organs_side_by_side(quick ? 24 : 61, quick ? 1 : 3);
     std::ofstream sc(dir / "bench_organs.csv");
     sc << "frames,rounds,nodes_both,nodes_liver,nodes_gallbladder,both_ms,liver_ms,gallbladder_ms,both_iterations,"
           "liver_iterations,gallbladder_iterations,ratio,ratio_min,ratio_max\n"
