@@ -628,11 +628,15 @@ void SceneSimulation::step_joint() {
       if (!joint_waiting_[i] && !organs_[i].solver->joint_advance(false)) more = false;  // out of iterations: the step ends unconverged
     }
     if (!more) {
-      for (size_t i = 0; i < n; ++i)
-        if (joint_active_[i] && joint_linear_[i]) {  // the forces the contact found for it, taken
+      for (size_t i = 0; i < n; ++i) {
+        if (!joint_active_[i]) continue;
+        if (joint_linear_[i]) {  // the forces the contact found for it, taken
           pair_->apply(static_cast<int>(i), organs_[i].solver->joint_forces());
           organs_[i].solver->joint_forces_changed();
+        } else if (joint_converged_[i]) {
+          organs_[i].solver->joint_advance(true);  // converged itself: another ran out of iterations
         }
+      }
       break;
     }
   }
