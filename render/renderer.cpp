@@ -241,6 +241,10 @@ struct Renderer::Impl {
   bool draw(const RenderScene& scene, const StressView* view, bool hud, Image& out);
   bool draw_ground_truth(const RenderScene& scene);
   void draw_ground_truth_pass(const RenderScene& scene);
+  // Draws the bound organ surface part by part (settings.organ_parts; none: the whole surface
+  // as one liver), calling before_part(i, look) ahead of part i's draw call.
+  template <typename BeforePart>
+  void draw_organ_parts(const BeforePart& before_part);
   template <typename DrawFrame>
   bool guarded(const DrawFrame& draw_frame);
   float* map_organ_buffer();
@@ -882,6 +886,25 @@ bool Renderer::Impl::guarded(const DrawFrame& draw_frame) {
   return frame_error.empty();
 }
 
+template <typename BeforePart>
+void Renderer::Impl::draw_organ_parts(const BeforePart& before_part) {
+  if (settings.organ_parts.empty()) {
+    before_part(size_t(0), TissueLook::liver);
+    glDrawElements(GL_TRIANGLES, organ_count, GL_UNSIGNED_INT, nullptr);
+    return;
+  }
+  const long total = organ_count / 3;
+  long first = 0;
+  for (size_t i = 0; i < settings.organ_parts.size(); ++i) {
+    const long count = std::min<long>(settings.organ_parts[i].triangles, total - first);
+    before_part(i, settings.organ_parts[i].look);
+    if (count > 0)
+      glDrawElements(GL_TRIANGLES, GLsizei(3 * count), GL_UNSIGNED_INT,
+                     reinterpret_cast<const void*>(static_cast<uintptr_t>(3 * first) * sizeof(unsigned)));
+    first += count;
+  }
+}
+
 void Renderer::Impl::draw_frame(const RenderScene& scene, const StressView* view, bool hud, Image& out) {
   PassTimer timer;
   set_camera(scene);
@@ -921,12 +944,11 @@ void Renderer::Impl::draw_frame(const RenderScene& scene, const StressView* view
   glCullFace(GL_BACK);
   glBindVertexArray(organ_vao);
   // Organ by organ, each in its own tissue's colours (the stress view: all in one call).
-  const std::vector<OrganPart> whole = {OrganPart{organ_count / 3, TissueLook::liver}};
-  const std::vector<OrganPart>& parts = view || settings.organ_parts.empty() ? whole : settings.organ_parts;
-  long first = 0;
-  for (const OrganPart& part : parts) {
-    if (!view) {
-      const bool liver = part.look == TissueLook::liver;
+  if (view) {
+    glDrawElements(GL_TRIANGLES, organ_count, GL_UNSIGNED_INT, nullptr);
+  } else {
+    draw_organ_parts([&](size_t, TissueLook look) {
+      const bool liver = look == TissueLook::liver;
       if (endoscope)  // the gallbladder: olive green, bluish where its wall is thin
         set_tissue(organ, liver ? Eigen::Vector3f(0.47f, 0.15f, 0.11f) : Eigen::Vector3f(0.36f, 0.42f, 0.22f),
                    liver ? Eigen::Vector3f(0.37f, 0.10f, 0.08f) : Eigen::Vector3f(0.26f, 0.34f, 0.30f), 0.12f,
@@ -935,12 +957,7 @@ void Renderer::Impl::draw_frame(const RenderScene& scene, const StressView* view
         glUniform3f(organ.uniform("u_base_srgb"), 0.55f, 0.20f, 0.16f);
       else
         glUniform3f(organ.uniform("u_base_srgb"), 0.38f, 0.46f, 0.24f);
-    }
-    const long count = std::min<long>(part.triangles, organ_count / 3 - first);
-    if (count > 0)
-      glDrawElements(GL_TRIANGLES, GLsizei(3 * count), GL_UNSIGNED_INT,
-                     reinterpret_cast<const void*>(static_cast<uintptr_t>(3 * first) * sizeof(unsigned)));
-    first += count;
+    });
   }
   glDisable(GL_CULL_FACE);
   timer.mark("organ");
@@ -1027,20 +1044,7 @@ void Renderer::Impl::draw_ground_truth_pass(const RenderScene& scene) {
   glEnable(GL_CULL_FACE);
   glCullFace(GL_BACK);
   glBindVertexArray(organ_vao);
-  if (settings.organ_parts.empty()) {
-    ground_truth->set_id(unsigned(kOrganId));
-    glDrawElements(GL_TRIANGLES, organ_count, GL_UNSIGNED_INT, nullptr);
-  } else {  // each organ its own id
-    long first = 0;
-    for (size_t i = 0; i < settings.organ_parts.size(); ++i) {
-      const long count = std::min<long>(settings.organ_parts[i].triangles, organ_count / 3 - first);
-      ground_truth->set_id(unsigned(organ_id(int(i))));
-      if (count > 0)
-        glDrawElements(GL_TRIANGLES, GLsizei(3 * count), GL_UNSIGNED_INT,
-                       reinterpret_cast<const void*>(static_cast<uintptr_t>(3 * first) * sizeof(unsigned)));
-      first += count;
-    }
-  }
+  draw_organ_parts([&](size_t i, TissueLook) { ground_truth->set_id(unsigned(organ_id(int(i)))); });  // each organ its id
   glDisable(GL_CULL_FACE);
   draw_instruments(scene, program, false, program.uniform("u_id"));
   glBindVertexArray(0);
