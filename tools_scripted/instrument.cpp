@@ -186,7 +186,7 @@ vdm::ToolShape shaft_shape(const InstrumentDef& def, const InstrumentPose& pose,
   return t;
 }
 
-double instrument_motion(const InstrumentDef& def, const InstrumentPose& a, const InstrumentPose& b) {
+double instrument_motion(const InstrumentDef& def, const InstrumentPose& a, const InstrumentPose& b, double reach_limit) {
   // The tip's motion plus the turn of the axis and the jaws times the reach of the shapes.
   // (A roll moves no point farther than the reach times its angle either.)
   const double turn = std::acos(std::clamp(a.axis.normalized().dot(b.axis.normalized()), -1.0, 1.0)) +
@@ -198,7 +198,8 @@ double instrument_motion(const InstrumentDef& def, const InstrumentPose& a, cons
     probe_local(def, t, local);
     reach = local.translation().norm() + t.bound();
   } else {
-    reach = std::max(def.length, def.jaw_length + 3 * def.radius);  // the shaft's far end
+    const double jaws_reach = def.jaw_length + 3 * def.radius;
+    reach = std::max(std::min(def.length, reach_limit), jaws_reach);  // the shaft's far end, or as far as it can touch
   }
   double jaws = 0;
   if (def.type == InstrumentDef::Type::grasper)

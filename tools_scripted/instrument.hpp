@@ -5,6 +5,7 @@
 // the first and last keyframe and wherever a coordinate turns or holds); axes by slerp. A
 // keyframe that omits a field keeps the previous one. Before the first keyframe the instrument waits at it; after
 // the last it stays there.
+#include <limits>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -97,7 +98,10 @@ vdm::ToolShape shaft_shape(const InstrumentDef& def, const InstrumentPose& pose,
 
 // How far any point of the instrument's collision shapes moves between two poses (m), and
 // the smallest size of those shapes (m): more motion than size in a step could tunnel.
-double instrument_motion(const InstrumentDef& def, const InstrumentPose& a, const InstrumentPose& b);
+// reach: how far back from the tip the shapes can meet anything (the caller knows where the
+// organs are; see SceneSimulation); infinity: the whole shaft. The jaws always count.
+double instrument_motion(const InstrumentDef& def, const InstrumentPose& a, const InstrumentPose& b,
+                         double reach = std::numeric_limits<double>::infinity());
 double instrument_size(const InstrumentDef& def);
 
 }  // namespace tools

@@ -441,11 +441,14 @@ void SceneSimulation::advance(int f) {
   }
   report_ = vdm::ContactReport{};
   if (contact_) {
-    // Sub-step when an instrument moves more than its size in a frame, so it cannot tunnel.
+    // Sub-step when an instrument moves more than its size in a frame, so it cannot tunnel:
+    // counting the part of it that can reach an organ.
     double substeps = 1;
     for (const tools::InstrumentDef& in : s.instruments) {
-      const double move = tools::instrument_motion(in, tools::pose_at(in, t), tools::pose_at(in, t_start));
-      substeps = std::max(substeps, std::ceil(move / tools::instrument_size(in)));
+      const tools::InstrumentPose now = tools::pose_at(in, t), before = tools::pose_at(in, t_start);
+      const double move = tools::instrument_motion(in, now, before);
+      const double reach = reach_into_organs(in, now, before, move);
+      substeps = std::max(substeps, std::ceil(tools::instrument_motion(in, now, before, reach) / tools::instrument_size(in)));
     }
     const int n_sub = static_cast<int>(std::min(substeps, 1000.0));
     bool failed = false;
@@ -519,6 +522,41 @@ void SceneSimulation::advance(int f) {
     times_.stress += o.state.stats.stress_ms;
   }
   gather_positions();
+}
+
+double SceneSimulation::reach_into_organs(const tools::InstrumentDef& in, const tools::InstrumentPose& now,
+                                          const tools::InstrumentPose& before, double move) const {
+  // The farthest point of the axis, at either pose, inside an organ's box grown by the
+  // instrument's radius, its whole motion over the frame and the organ's own (twice its last
+  // velocity's, and a centimetre): a point of the shaft farther back moves by less than the
+  // growth over the frame, so it meets no organ however far it moves.
+  double reach = 0;
+  for (const OrganRun& o : organs_) {
+    const vdm::NodeMat& x = o.state.x;
+    if (x.rows() == 0) continue;
+    const vdm::NodeMat& v = o.state.velocity;
+    const double moved = v.rows() == x.rows() ? v.rowwise().norm().maxCoeff() * ps_.scene.dt : 0.0;
+    const double grow = in.radius + move + 2 * moved + 0.01;
+    const vdm::Vec3 lo = x.colwise().minCoeff().transpose().array() - grow;
+    const vdm::Vec3 hi = x.colwise().maxCoeff().transpose().array() + grow;
+    for (const tools::InstrumentPose* p : {&now, &before}) {
+      // The axis from the tip back, tip - s axis for s in [0, length], clipped to the box.
+      const vdm::Vec3 d = -p->axis.normalized();
+      double s0 = 0, s1 = in.length;
+      for (int k = 0; k < 3 && s0 <= s1; ++k) {
+        if (std::abs(d[k]) < 1e-12) {
+          if (p->tip[k] < lo[k] || p->tip[k] > hi[k]) s1 = -1;
+          continue;
+        }
+        double a = (lo[k] - p->tip[k]) / d[k], b = (hi[k] - p->tip[k]) / d[k];
+        if (a > b) std::swap(a, b);
+        s0 = std::max(s0, a);
+        s1 = std::min(s1, b);
+      }
+      if (s0 <= s1) reach = std::max(reach, s1);
+    }
+  }
+  return reach;
 }
 
 void SceneSimulation::find_joint_organs() {

@@ -168,6 +168,10 @@ class SceneSimulation {
   std::string rest_overlap_;  // organs inside each other at the first frame (with contact between organs)
   // Which organs step together this step (joint_member_).
   void find_joint_organs();
+  // How far back from an instrument's tip along its axis it can meet an organ in a frame that
+  // moves it from `before` to `now` (its collision shapes moving by at most `move`).
+  double reach_into_organs(const tools::InstrumentDef& in, const tools::InstrumentPose& now,
+                           const tools::InstrumentPose& before, double move) const;
   // Whether organ i was stepped with others this step.
   bool joint(size_t i) const { return pair_ && joint_member_[i]; }
   // One step of every organ with their iterations in lockstep: after each linear solve of

@@ -46,6 +46,27 @@ TEST(Instrument, MissingFieldsCarryOver) {
   EXPECT_TRUE(p.jaw_closed);
 }
 
+// A grasper's shaft turning about its tip: its far end moves by the angle times the length;
+// told how far back from the tip it can meet anything, by the angle times that reach, and
+// never by less than its jaws' (they always count).
+TEST(Instrument, GraspersMotionCountsTheShaftAsFarAsItCanReach) {
+  InstrumentDef g;
+  g.type = InstrumentDef::Type::grasper;
+  g.radius = 0.0025;
+  g.length = 0.32;
+  g.jaw_length = 0.016;
+  InstrumentPose a, b;
+  a.tip = b.tip = vdm::Vec3(0.01, 0.02, 0.03);
+  a.axis = vdm::Vec3(0, 0, -1);
+  const double angle = 0.1;
+  b.axis = vdm::Vec3(std::sin(angle), 0, -std::cos(angle));
+  a.jaw_opening = b.jaw_opening = 1;
+  EXPECT_NEAR(instrument_motion(g, a, b), angle * 0.32, 1e-12);
+  EXPECT_NEAR(instrument_motion(g, a, b, 0.05), angle * 0.05, 1e-12);
+  EXPECT_NEAR(instrument_motion(g, a, b, 0.0), angle * (0.016 + 3 * 0.0025), 1e-12);
+  EXPECT_NEAR(instrument_motion(g, a, b, 1.0), angle * 0.32, 1e-12);  // never beyond the shaft's end
+}
+
 TEST(Instrument, ProbeCapsuleEndsAtTheTip) {
   const InstrumentDef d = two_keys();
   const vdm::Capsule c = probe_capsule(d, pose_at(d, 0.0));
