@@ -190,7 +190,8 @@ void rotation_load(const CoreModel& m, CoreWorkspace& w) {
 // The linear system at the current linearisation (rotations, surface, the volume row's a,
 // response and den) under the current forces and targets: the lattice's motion w.v_new, the
 // surface's w.u_new and the volume row's multiplier (returned). `c`: the volume row's residual.
-double solve_linear(const CoreModel& m, CoreWorkspace& w, double c) {
+// The linear solve's lattice load (w.b) and the volume row's multiplier's numerator so far.
+double linear_load(const CoreModel& m, CoreWorkspace& w, double c) {
   const int ns = m.ns, ng = m.ng;
   double num = -c;
   if (m.gravity_load.rows() == ng) w.b = m.gravity_load + w.rotation_load;
@@ -202,7 +203,12 @@ double solve_linear(const CoreModel& m, CoreWorkspace& w, double c) {
       for (int p = 0; p < 4; ++p) w.b(m.tie_node(i, p), d) += m.tie_weight(i, p) * load;
       if (!w.factored_mask(i, d)) num += w.area(i, d) * w.force(i, d) / m.tie_k[i];
     }
-  solve_axes(w, w.b, w.v_new);
+  return num;
+}
+
+// With w.v_new = K^-1 w.b and w.response = K^-1 w.a: the volume row's multiplier and the held
+// entries' (through their factor), and the lattice's and the surface's answers with them.
+double finish_linear(const CoreModel& m, CoreWorkspace& w, double num) {
   for (int d = 0; d < 3; ++d) num += w.a.col(d).dot(w.v_new.col(d));
   const double den = w.den;
   double lambda = den > 0 ? num / den : 0.0;
@@ -230,6 +236,12 @@ double solve_linear(const CoreModel& m, CoreWorkspace& w, double c) {
   w.v_new -= lambda * w.response;
   surface_from_lattice(m, w, w.v_new, lambda, w.u_new);
   return lambda;
+}
+
+double solve_linear(const CoreModel& m, CoreWorkspace& w, double c) {
+  const double num = linear_load(m, w, c);
+  solve_axes(w, w.b, w.v_new);
+  return finish_linear(m, w, num);
 }
 
 // The linear solve's answer moved by the change of the forces since w.force_before (on a few
@@ -325,6 +337,28 @@ void solve_axes(CoreWorkspace& w, const NodeMat& rhs, NodeMat& out) {
     return;
   }
   for (int d = 0; d < 3; ++d) out.col(d) = w.chol[w.slot[d]].solve(rhs.col(d));
+}
+
+void solve_axes(CoreWorkspace& w, const NodeMat& rhs1, NodeMat& out1, const NodeMat& rhs2, NodeMat& out2) {
+  // One solve of both: the factor is read once (a triangular solve's cost is mostly that).
+  const Eigen::Index ng = rhs1.rows();
+  if (w.slot[1] == w.slot[0] && w.slot[2] == w.slot[0]) {
+    w.two_rhs.resize(ng, 6);
+    w.two_rhs.leftCols<3>() = rhs1;
+    w.two_rhs.rightCols<3>() = rhs2;
+    w.two_out = w.chol[w.slot[0]].solve(w.two_rhs);
+    out1 = w.two_out.leftCols<3>();
+    out2 = w.two_out.rightCols<3>();
+    return;
+  }
+  w.two_rhs.resize(ng, 2);
+  for (int d = 0; d < 3; ++d) {
+    w.two_rhs.col(0) = rhs1.col(d);
+    w.two_rhs.col(1) = rhs2.col(d);
+    w.two_out = w.chol[w.slot[d]].solve(w.two_rhs);
+    out1.col(d) = w.two_out.col(0);
+    out2.col(d) = w.two_out.col(1);
+  }
 }
 
 CoreState make_core_state(const CoreModel& m) {
@@ -497,10 +531,12 @@ void solve_iteration(const CoreModel& m, CoreState& s) {
       for (int p = 0; p < 4; ++p) w.a(m.tie_node(i, p), d) += m.tie_weight(i, p) * A;
       den += A * A / m.tie_k[i];
     }
-  solve_axes(w, w.a, w.response);
+  // The volume row's response and the linear solve's answer in one solve.
+  const double num = linear_load(m, w, c);
+  solve_axes(w, w.a, w.response, w.b, w.v_new);
   for (int d = 0; d < 3; ++d) den += w.a.col(d).dot(w.response.col(d));
   w.den = den;
-  I.lambda = solve_linear(m, w, c);
+  I.lambda = finish_linear(m, w, num);
   w.x = m.surface.positions + w.u_new;
   w.force_before = w.force;
   if (I.law) {

@@ -77,6 +77,7 @@ struct CoreWorkspace {
   // Anderson mixing of the lattice's displacements: differences of iterates and of residuals.
   Eigen::MatrixXd dX, dG;
   NodeMat response;  // per axis K_d^-1 a_d, at the last iteration
+  Eigen::MatrixXd two_rhs, two_out;  // two loads solved at once (solve_axes) and their answers
   double den = 0;  // the volume row's a^T K^-1 a + sum A^2 / k, at the last iteration
   Vec x_prev, g_prev, g, mixed;
   int history = 0, next = 0;
@@ -104,6 +105,8 @@ void factorize_slot(const CoreModel& m, int k, CoreWorkspace& w);
 // Solves K_d out.col(d) = rhs.col(d) on every axis: one solve of three columns when the axes
 // share a factor.
 void solve_axes(CoreWorkspace& w, const NodeMat& rhs, NodeMat& out);
+// Both loads' answers, in one solve per factor.
+void solve_axes(CoreWorkspace& w, const NodeMat& rhs1, NodeMat& out1, const NodeMat& rhs2, NodeMat& out2);
 
 // The lattice's motion at surface node i's rest position for a lattice field `v` (one axis).
 template <class V>
