@@ -187,9 +187,6 @@ void rotation_load(const CoreModel& m, CoreWorkspace& w) {
   }
 }
 
-// The linear system at the current linearisation (rotations, surface, the volume row's a,
-// response and den) under the current forces and targets: the lattice's motion w.v_new, the
-// surface's w.u_new and the volume row's multiplier (returned). `c`: the volume row's residual.
 // The linear solve's lattice load (w.b) and the volume row's multiplier's numerator so far.
 double linear_load(const CoreModel& m, CoreWorkspace& w, double c) {
   const int ns = m.ns, ng = m.ng;
@@ -238,6 +235,9 @@ double finish_linear(const CoreModel& m, CoreWorkspace& w, double num) {
   return lambda;
 }
 
+// The linear system at the current linearisation (rotations, surface, the volume row's a,
+// response and den) under the current forces and targets: the lattice's motion w.v_new, the
+// surface's w.u_new and the volume row's multiplier (returned). `c`: the volume row's residual.
 double solve_linear(const CoreModel& m, CoreWorkspace& w, double c) {
   const double num = linear_load(m, w, c);
   solve_axes(w, w.b, w.v_new);

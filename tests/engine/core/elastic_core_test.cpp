@@ -231,8 +231,8 @@ TEST(ElasticCore, LoadedBendingStopsNearItsFixedPoint) {
   // the iteration stagnates (its rate creeps to 0.997, 0.01 tolerance a step, where the
   // estimate of the distance left swings from 0.1 to 5 tolerances), and where it stops
   // between about 2 and 3 tolerances short (0.9-1.2 % of the sag) is a matter of round-off.
-  // A stop that trusted the forces' balance less (relative to the displacement) stopped 10
-  // tolerances short (4 %).
+  // Five tolerances still tell a worse stop: one that trusts the forces' balance less
+  // (relative to the displacement) ends 10 tolerances short (4 %).
   const double L = 0.1;
   const SurfaceMesh beam = test::cantilever_surface(L, 0.01, 40, 4);
   const FlagMat fixed = test::cantilever_root(beam);
