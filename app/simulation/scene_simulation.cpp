@@ -25,6 +25,16 @@ double ramp(double t, double t0, double t1) {
   return std::clamp((t - t0) / (t1 - t0), 0.0, 1.0);
 }
 
+// An organ's box at its state, grown by `margin` and twice the most any of its nodes moves in
+// a frame of dt at its last speed.
+void grown_box(const vdm::SimState& st, double dt, double margin, vdm::Vec3& lo, vdm::Vec3& hi) {
+  const vdm::NodeMat& x = st.x;
+  const vdm::NodeMat& v = st.velocity;
+  const double moved = v.rows() == x.rows() && v.rows() > 0 ? v.rowwise().norm().maxCoeff() * dt : 0.0;
+  lo = x.colwise().minCoeff().transpose().array() - (margin + 2 * moved);
+  hi = x.colwise().maxCoeff().transpose().array() + (margin + 2 * moved);
+}
+
 }  // namespace
 
 SceneSimulation::SceneSimulation(const PreparedScene& ps) : ps_(ps) {
@@ -532,13 +542,9 @@ double SceneSimulation::reach_into_organs(const tools::InstrumentDef& in, const 
   // growth over the frame, so it meets no organ however far it moves.
   double reach = 0;
   for (const OrganRun& o : organs_) {
-    const vdm::NodeMat& x = o.state.x;
-    if (x.rows() == 0) continue;
-    const vdm::NodeMat& v = o.state.velocity;
-    const double moved = v.rows() == x.rows() ? v.rowwise().norm().maxCoeff() * ps_.scene.dt : 0.0;
-    const double grow = in.radius + move + 2 * moved + 0.01;
-    const vdm::Vec3 lo = x.colwise().minCoeff().transpose().array() - grow;
-    const vdm::Vec3 hi = x.colwise().maxCoeff().transpose().array() + grow;
+    if (o.state.x.rows() == 0) continue;
+    vdm::Vec3 lo, hi;
+    grown_box(o.state, ps_.scene.dt, in.radius + move + 0.01, lo, hi);
     for (const tools::InstrumentPose* p : {&now, &before}) {
       // The axis from the tip back, tip - s axis for s in [0, length], clipped to the box.
       const vdm::Vec3 d = -p->axis.normalized();
@@ -566,14 +572,7 @@ void SceneSimulation::find_joint_organs() {
   const size_t n = organs_.size();
   std::vector<vdm::Vec3>& lo = joint_lo_;
   std::vector<vdm::Vec3>& hi = joint_hi_;
-  for (size_t i = 0; i < n; ++i) {
-    const vdm::NodeMat& x = organs_[i].state.x;
-    const vdm::NodeMat& v = organs_[i].state.velocity;
-    const double moved = v.rows() == x.rows() && v.rows() > 0 ? v.rowwise().norm().maxCoeff() * ps_.scene.dt : 0.0;
-    const double grow = kOrganContactReach + 2 * moved + 0.001;
-    lo[i] = x.colwise().minCoeff().transpose().array() - grow;
-    hi[i] = x.colwise().maxCoeff().transpose().array() + grow;
-  }
+  for (size_t i = 0; i < n; ++i) grown_box(organs_[i].state, ps_.scene.dt, kOrganContactReach + 0.001, lo[i], hi[i]);
   std::fill(joint_member_.begin(), joint_member_.end(), 0);
   for (size_t i = 0; i < n; ++i)
     for (size_t j = i + 1; j < n; ++j)
