@@ -46,13 +46,21 @@ Eigen::Matrix3d nearest_rotation(const Eigen::Matrix3d& F, Eigen::Quaterniond& q
     const Eigen::Matrix3d M = F * R.transpose();
     const Vec3 torque(M(2, 1) - M(1, 2), M(0, 2) - M(2, 0), M(1, 0) - M(0, 1));
     const double trace = M.trace();
-    Eigen::Matrix3d H = -0.5 * (M + M.transpose());
-    H.diagonal().array() += trace;
-    const double minor = H(0, 0) * H(1, 1) - H(0, 1) * H(1, 0), det = H.determinant();
+    // H (symmetric) by its six entries, its cofactors and determinant: the turn H^-1 tau is
+    // the cofactors' product over the determinant.
+    const double h00 = trace - M(0, 0), h11 = trace - M(1, 1), h22 = trace - M(2, 2);
+    const double h01 = -0.5 * (M(0, 1) + M(1, 0)), h02 = -0.5 * (M(0, 2) + M(2, 0)), h12 = -0.5 * (M(1, 2) + M(2, 1));
+    const double c00 = h11 * h22 - h12 * h12, c01 = h02 * h12 - h01 * h22, c02 = h01 * h12 - h02 * h11;
+    const double c11 = h00 * h22 - h02 * h02, c12 = h01 * h02 - h00 * h12, minor = h00 * h11 - h01 * h01;
+    const double det = h00 * c00 + h01 * c01 + h02 * c02;
     Vec3 omega;
-    const bool newton = H(0, 0) > 0 && minor > 0 && det > 1e-12 * std::abs(trace * trace * trace);
-    if (newton) omega = H.inverse() * torque;
-    else omega = torque / (std::abs(trace) + 1e-12);
+    const bool newton = h00 > 0 && minor > 0 && det > 1e-12 * std::abs(trace * trace * trace);
+    if (newton)
+      omega = Vec3(c00 * torque.x() + c01 * torque.y() + c02 * torque.z(), c01 * torque.x() + c11 * torque.y() + c12 * torque.z(),
+                   c02 * torque.x() + c12 * torque.y() + minor * torque.z()) /
+              det;
+    else
+      omega = torque / (std::abs(trace) + 1e-12);
     const double angle = omega.norm();
     if (angle < 1e-10) break;  // the rotation to 1e-10 rad: its load is then exact to far below the tolerance
     // (below 1e-3 rad the turn's quaternion to first order, normalised: off by angle^3 / 24,
@@ -403,9 +411,11 @@ double tet_rotations(const CoreModel& m, const NodeMat& v, std::vector<Eigen::Qu
     for (int k = 0; k < 8; ++k) corner.row(k) = v.row(m.cubes(q, k)) * inv_h;
     double misfit = 0;  // sum over the cube's tets of |F_t - R_t|^2
     for (int t = 0; t < 6; ++t) {
-      // F = I + sum_a v_a (x) grad N_a, the unit cube's gradients over h.
+      // F = I + sum_a v_a (x) grad N_a, the unit cube's gradients over h: along each of the
+      // tet's edges, the motion's difference over h.
       Eigen::Matrix3d F = Eigen::Matrix3d::Identity();
-      for (int a = 0; a < 4; ++a) F.noalias() += corner.row(cube.corner[t][a]).transpose() * cube.grad[t].row(a);
+      for (int k = 0; k < 3; ++k)
+        F.col(cube.edge_axis[t][k]) += (corner.row(cube.corner[t][k + 1]) - corner.row(cube.corner[t][k])).transpose();
       const Eigen::Matrix3d& Rt = R[static_cast<size_t>(6 * q + t)] = nearest_rotation(F, Q[static_cast<size_t>(6 * q + t)]);
       misfit += (F - Rt).squaredNorm();
     }

@@ -53,6 +53,7 @@ UnitCube make_unit_cube() {
     G.row(0) = -Dinv.colwise().sum();
     const double V = std::abs(Dm.determinant()) / 6;
     for (int a = 0; a < 4; ++a) u.corner[tet][a] = t[static_cast<size_t>(a)];
+    for (int k = 0; k < 3; ++k) u.edge_axis[tet][k] = order[static_cast<size_t>(k)];
     u.grad[tet++] = G;
     for (int a = 0; a < 4; ++a) {
       for (int b = 0; b < 4; ++b) K(t[static_cast<size_t>(a)], t[static_cast<size_t>(b)]) += V * G.row(a).dot(G.row(b));

@@ -111,6 +111,10 @@ bool build_core_model(const CoreDef& def, CoreModel& model, std::string& error);
 // corners (k = 4x + 2y + z), shape-function gradients (rows) and the sum of V_t G_t G_t^T.
 struct UnitCube {
   int corner[6][4];
+  // The axis of each of a tet's three edges from corner a to corner a + 1 (its gradients are
+  // -e0, e0 - e1, e1 - e2, e2 for those axes e0, e1, e2, so that F - I's column along the edge's
+  // axis is the motion's difference along the edge over h).
+  int edge_axis[6][3];
   Eigen::Matrix<double, 4, 3> grad[6];
   Eigen::Matrix<double, 8, 8> K;
 };

@@ -58,6 +58,21 @@ TEST(ElasticCore, LatticeFillsTheOrgan) {
   }
 }
 
+TEST(ElasticCore, UnitCubeEdgesGiveTheDeformationGradient) {
+  // The rotation fit reads F - I along each tet's edges (the motion's differences); that is the
+  // gradients' sum, sum_a v_a (x) grad N_a, for any corner motion.
+  const UnitCube& cube = unit_cube();
+  Eigen::Matrix<double, 8, 3> v;
+  for (int k = 0; k < 8; ++k) v.row(k) = Vec3(std::sin(1.0 + k), std::cos(2.0 * k), 0.1 * k * k - 0.3);
+  for (int t = 0; t < 6; ++t) {
+    Eigen::Matrix3d by_gradients = Eigen::Matrix3d::Zero(), by_edges = Eigen::Matrix3d::Zero();
+    for (int a = 0; a < 4; ++a) by_gradients += v.row(cube.corner[t][a]).transpose() * cube.grad[t].row(a);
+    for (int k = 0; k < 3; ++k)
+      by_edges.col(cube.edge_axis[t][k]) = (v.row(cube.corner[t][k + 1]) - v.row(cube.corner[t][k])).transpose();
+    EXPECT_LT((by_gradients - by_edges).cwiseAbs().maxCoeff(), 1e-14) << "tet " << t;
+  }
+}
+
 TEST(ElasticCore, RigidMotionCostsNothing) {
   // Every surface node prescribed to a large rigid rotation and translation: the lattice
   // follows, and no node needs a force.
