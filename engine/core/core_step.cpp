@@ -91,6 +91,37 @@ void factorize(const CoreModel& m, int k, CoreWorkspace& w, CoreState& s) {
 // The lattice's motion at surface node i's rest position, axis d: (W v)_i^d.
 double tied(const CoreModel& m, const NodeMat& v, int i, int d) { return tied_at(m, v.col(d), i); }
 
+// The lattice's motion at every surface node's rest position, W v (each node's ties read once
+// for the three axes; each entry summed as tied_at sums it).
+void tied_motion(const CoreModel& m, const NodeMat& v, NodeMat& Wv) {
+  for (int i = 0; i < m.ns; ++i) {
+    double x = 0, y = 0, z = 0;
+    for (int p = 0; p < 4; ++p) {
+      const Eigen::Index n = m.tie_node(i, p);
+      const double c = m.tie_weight(i, p);
+      x += c * v(n, 0);
+      y += c * v(n, 1);
+      z += c * v(n, 2);
+    }
+    Wv(i, 0) = x;
+    Wv(i, 1) = y;
+    Wv(i, 2) = z;
+  }
+}
+
+// Adds W^T L to the lattice's `b` (each node's ties read once for the three axes; each lattice
+// entry takes the surface nodes' shares in their order, as a pass per axis adds them).
+void add_tied_load(const CoreModel& m, const NodeMat& L, NodeMat& b) {
+  for (int i = 0; i < m.ns; ++i)
+    for (int p = 0; p < 4; ++p) {
+      const Eigen::Index n = m.tie_node(i, p);
+      const double c = m.tie_weight(i, p);
+      b(n, 0) += c * L(i, 0);
+      b(n, 1) += c * L(i, 1);
+      b(n, 2) += c * L(i, 2);
+    }
+}
+
 // Which prescribed entries the factor holds (w.factored_mask), factorising again only where
 // it must: an axis whose factor holds an entry no longer prescribed (released), or more
 // held entries than CoreSettings::max_held (the held set's dense compliance grows with its
@@ -125,10 +156,11 @@ bool update_factors(const CoreModel& m, CoreWorkspace& w, CoreState& s) {
 
 // The surface from the lattice: prescribed entries at their targets, free ones eliminated,
 // u_i = (W v)_i + (f_i - lambda A_i) / k_i.
-void surface_from_lattice(const CoreModel& m, const CoreWorkspace& w, const NodeMat& v, double lambda, NodeMat& u) {
+void surface_from_lattice(const CoreModel& m, CoreWorkspace& w, const NodeMat& v, double lambda, NodeMat& u) {
+  tied_motion(m, v, w.tied_v);
   for (int i = 0; i < m.ns; ++i)
     for (int d = 0; d < 3; ++d)
-      u(i, d) = w.mask(i, d) ? w.target(i, d) : tied(m, v, i, d) + (w.force(i, d) - lambda * w.area(i, d)) / m.tie_k[i];
+      u(i, d) = w.mask(i, d) ? w.target(i, d) : w.tied_v(i, d) + (w.force(i, d) - lambda * w.area(i, d)) / m.tie_k[i];
 }
 
 // The merit of the Anderson mixing's safeguard at lattice motion v: the energy that this
@@ -150,7 +182,8 @@ void surface_from_lattice(const CoreModel& m, const CoreWorkspace& w, const Node
 // step from v never raises Psi (Peng, Deng, Zhang and Zhang 2018, "Anderson acceleration for
 // geometry optimization and physics simulation"). O(cubes + surface): the core's term comes
 // with the rotation fit the iteration does anyway.
-double merit(const CoreModel& m, const CoreWorkspace& w, const NodeMat& v, double core_energy, double rhs) {
+double merit(const CoreModel& m, CoreWorkspace& w, const NodeMat& v, double core_energy, double rhs) {
+  tied_motion(m, v, w.tied_v);
   double e = core_energy + 0.5 * w.reg * v.squaredNorm();
   if (m.gravity_load.rows() == m.ng) e -= (m.gravity_load.array() * v.array()).sum();
   if (m.mass.size() == m.ng)
@@ -158,7 +191,7 @@ double merit(const CoreModel& m, const CoreWorkspace& w, const NodeMat& v, doubl
   double prescribed = 0, work = 0, Aw = 0, Af = 0, S = 0;
   for (int d = 0; d < 3; ++d)
     for (int i = 0; i < m.ns; ++i) {
-      const double wv = tied(m, v, i, d), k = m.tie_k[i];
+      const double wv = w.tied_v(i, d), k = m.tie_k[i];
       if (w.mask(i, d)) {
         const double gap = w.target(i, d) - wv;
         prescribed += 0.5 * k * gap * gap;
@@ -204,12 +237,12 @@ double linear_load(const CoreModel& m, CoreWorkspace& w, double c) {
   if (m.mass.size() == ng) w.b += w.inertia_load;
   // The share of the pressure's load that the kept response y1 does not carry (solve_iteration).
   if (w.response_lag != 0) w.b -= w.response_lag * (w.a - w.response_a);
+  for (int i = 0; i < ns; ++i)
+    for (int d = 0; d < 3; ++d) w.tied_load(i, d) = w.factored_mask(i, d) ? m.tie_k[i] * w.target(i, d) : w.force(i, d);
+  add_tied_load(m, w.tied_load, w.b);
   for (int d = 0; d < 3; ++d)
-    for (int i = 0; i < ns; ++i) {
-      const double load = w.factored_mask(i, d) ? m.tie_k[i] * w.target(i, d) : w.force(i, d);
-      for (int p = 0; p < 4; ++p) w.b(m.tie_node(i, p), d) += m.tie_weight(i, p) * load;
+    for (int i = 0; i < ns; ++i)
       if (!w.factored_mask(i, d)) num += w.area(i, d) * w.force(i, d) / m.tie_k[i];
-    }
   return num;
 }
 
@@ -386,7 +419,7 @@ CoreState make_core_state(const CoreModel& m) {
   w.reg = 1e-10 * m.K_core.diagonal().maxCoeff();
   w.rotation.assign(static_cast<size_t>(6 * m.cubes.rows()), Eigen::Matrix3d::Identity());
   w.quaternion.assign(w.rotation.size(), Eigen::Quaterniond::Identity());
-  w.area = w.force = w.force_before = w.target = w.x = w.u_new = NodeMat::Zero(m.ns, 3);
+  w.area = w.force = w.force_before = w.target = w.x = w.u_new = w.tied_v = w.tied_load = NodeMat::Zero(m.ns, 3);
   w.mask = FlagMat::Zero(m.ns, 3);
   w.factored_mask = m.fixed;
   w.chol_mask = FlagMat::Zero(m.ns, 3);
@@ -540,13 +573,12 @@ void solve_iteration(const CoreModel& m, CoreState& s) {
   // per axis and den).
   double den = 0;
   w.a.setZero();
+  for (int i = 0; i < ns; ++i)
+    for (int d = 0; d < 3; ++d) w.tied_load(i, d) = w.factored_mask(i, d) ? 0.0 : w.area(i, d);
+  add_tied_load(m, w.tied_load, w.a);
   for (int d = 0; d < 3; ++d)
-    for (int i = 0; i < ns; ++i) {
-      if (w.factored_mask(i, d)) continue;
-      const double A = w.area(i, d);
-      for (int p = 0; p < 4; ++p) w.a(m.tie_node(i, p), d) += m.tie_weight(i, p) * A;
-      den += A * A / m.tie_k[i];
-    }
+    for (int i = 0; i < ns; ++i)
+      if (!w.factored_mask(i, d)) den += w.area(i, d) * w.area(i, d) / m.tie_k[i];
   // The volume row's response y1 = K^-1 a0 is solved at the step's first iteration (with the
   // linear solve's answer, in one solve) and kept for its other iterations: the pressure's
   // load -lambda a is split into -lambda a0, which the multiplier's correction along y1 carries,

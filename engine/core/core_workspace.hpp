@@ -74,6 +74,7 @@ struct CoreWorkspace {
   NodeMat inertia_load;   // per axis, M (rate v_start + velocity_start / dt): implicit Euler's (with inertia)
   NodeMat v_new, u_new;
   NodeMat residual, elastic;  // per axis, the lattice's force imbalance and elastic forces (convergence)
+  NodeMat tied_v, tied_load;  // per surface node: the lattice's motion there (W v), a load to spread (W^T L)
   // Anderson mixing of the lattice's displacements: differences of iterates and of residuals.
   Eigen::MatrixXd dX, dG;
   NodeMat response;    // per axis K_d^-1 a0_d, a0 = a at the step's first iteration
