@@ -231,10 +231,11 @@ class CoreSolver final : public ReferenceSolver {
       const double a = s.area_vectors.row(i).norm(), f = s.reaction.row(i).norm();
       s.reaction_pressure[i] = a > 0 && f > 0 ? f / a : 0.0;
     }
-    if (m_.compute_stress) core::core_surface_stress(m_, s_, strain_, s.stress, s.strain);
+    if (m_.compute_stress && surface_stress_) core::core_surface_stress(m_, s_, strain_, s.stress, s.strain);
     s.stats.stress_ms = ms_since(t0);
     s.stats.step_ms += s.stats.stress_ms;
   }
+  void set_surface_stress(bool on) override { surface_stress_ = on; }
   bool surface_compliance(const std::vector<int>& nodes, Eigen::MatrixXd& C) override {
     core::surface_compliance(m_, s_, nodes, C);
     return true;
@@ -276,6 +277,7 @@ class CoreSolver final : public ReferenceSolver {
   core::CoreModel m_;
   core::CoreState s_;
   core::CoreStrain strain_;
+  bool surface_stress_ = true;
   double dt_;
   Clock::time_point joint_t0_;
   size_t joint_warned_ = 0;

@@ -46,6 +46,10 @@ class OrganSolver {
   virtual void trial_step(const StepInput& input, SimState& state, StepResults results) = 0;
   // The results the last trial_step() left out (vdm: finish_step_results()).
   virtual void finish_step(SimState& state) = 0;
+  // Whether the steps from now on compute the surface's strain and stress, where the model
+  // computes them at all (vdm_core with the stress effect): a scene turns it off for a frame's
+  // sub-steps before its last, whose stress nothing reads.
+  virtual void set_surface_stress(bool on) { (void)on; }
   // Puts `state` back at the start of its last step (u, x, velocity, step count and time;
   // vdm: also the engine's geometry and matrices, rewind_step()), to solve that step again.
   // The static reference models' next solve starts from their last solution, and reaches the

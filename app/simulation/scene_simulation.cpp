@@ -464,6 +464,9 @@ void SceneSimulation::advance(int f) {
     bool failed = false;
     for (int j = 1; j <= n_sub && !failed; ++j) {
       const double tj = j == n_sub ? t : t_start + (t - t_start) * j / n_sub;
+      // (the stress of the frame's last sub-step only: it is the one drawn and measured)
+      for (OrganRun& o : organs_)
+        if (o.solver) o.solver->set_surface_stress(j == n_sub);
       const double tprev = t_start + (t - t_start) * (j - 1) / n_sub;
       for (size_t k = 0; k < probes_.size(); ++k)
         tools_[k] = tools::probe_shape(*probes_[k], tools::pose_at(*probes_[k], tj), tools::pose_at(*probes_[k], tprev));

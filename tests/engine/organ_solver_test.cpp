@@ -207,6 +207,37 @@ void expect_constraint_like_kinematic(ModelKind kind) {
   std::printf("%s: kinematic %.4f N, constraint %.4f N\n", to_string(kind), k, c);
 }
 
+TEST(OrganSolverStress, CoreComputesTheStressOnlyWhenAsked) {
+  // A scene turns the surface stress off for a frame's sub-steps before its last: a step
+  // without it leaves the state's stress as it was, and the next step with it gives the
+  // stress a solver that computed it at every step gives.
+  const TissueModel m = block_surface();
+  core::CoreDef def;
+  def.surface = m.rest;
+  def.young_modulus = kYoung;
+  def.cell_size = 0.01;
+  def.fixed = m.held;
+  def.compute_stress = true;
+  core::CoreModel model;
+  std::string error;
+  ASSERT_TRUE(core::build_core_model(def, model, error)) << error;
+  const std::unique_ptr<OrganSolver> every = make_core_solver(model, 1.0), last = make_core_solver(model, 1.0);
+  SimState a = make_sim_state(m), b = make_sim_state(m);
+  every->step(press(m, 0.002), a);
+  last->set_surface_stress(false);
+  last->step(press(m, 0.002), b);
+  ASSERT_FALSE(a.failed || b.failed);
+  EXPECT_GT(a.stress.cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ(b.stress.cwiseAbs().maxCoeff(), 0.0) << "not computed";
+  EXPECT_EQ(a.u, b.u) << "the step itself is the same";
+  every->step(press(m, 0.004), a);
+  last->set_surface_stress(true);
+  last->step(press(m, 0.004), b);
+  EXPECT_EQ(a.u, b.u);
+  EXPECT_EQ(a.stress, b.stress);
+  EXPECT_EQ(a.strain, b.strain);
+}
+
 TEST(OrganSolverContact, ConstraintContactPressesTheFemBlockLikeKinematicContact) {
   expect_constraint_like_kinematic(ModelKind::fem);
 }
