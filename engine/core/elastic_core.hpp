@@ -32,8 +32,9 @@ class SurfaceForceLaw;
 namespace vdm::core {
 
 struct CoreSettings {
-  // The nonlinear iteration stops when the distance left to its fixed point (the last change
-  // over one less its contraction rate) is at most this x the organ's size (34 um on a 34 cm
+  // The nonlinear iteration stops when the distance left to its fixed point, as estimated (the
+  // last change over one less its contraction rate; a slide's slow modes hide from it, see
+  // docs/model.md), is at most this x the organ's size (34 um on a 34 cm
   // liver: a tenth of a pixel of a 1280-wide frame of it). The FEM cases (the model ladder)
   // do not change from 1e-5 to 1e-4; a friction press on the liver ends 0.2 mm and 1 % of its
   // force apart (friction's answer depends on the path). A pressing step takes 3 to 6
