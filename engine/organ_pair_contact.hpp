@@ -99,6 +99,8 @@ class OrganPairContact {
   // Whether organs i and j are tied by a tie that holds.
   bool tied(int i, int j) const;
   double largest_tie_force() const;
+  // Adds, per node, the forces the other organs put on organ i now (contact and ties) to `force`.
+  void add_forces(int organ, NodeMat& force) const;
 
   // What a step carries to the next (forces, pressed points, torn ties), appended to `out`;
   // load_state() reads it back (false with `error` when it does not fit these organs).
@@ -108,7 +110,6 @@ class OrganPairContact {
  private:
   // A point's normal and gap at node position p, its closest point's weights set.
   void measure(Point& point, const Vec3& p, const NodeMat& x_other) const;
-  void add_forces(int organ, NodeMat& force) const;
   Vec3& force_of(const Point& p) { return p.tie >= 0 ? tie_lambda_[static_cast<size_t>(p.tie)] : lambda_[static_cast<size_t>(p.owner)][static_cast<size_t>(p.node)]; }
   const Vec3& force_of(const Point& p) const {
     return p.tie >= 0 ? tie_lambda_[static_cast<size_t>(p.tie)] : lambda_[static_cast<size_t>(p.owner)][static_cast<size_t>(p.node)];

@@ -374,6 +374,16 @@ bool SceneSimulation::load(std::string_view in, std::string& error) {
   return true;
 }
 
+vdm::NodeMat SceneSimulation::organ_contact_forces(size_t organ) const {
+  vdm::NodeMat force = vdm::NodeMat::Zero(organs_[organ].state.x.rows(), 3);
+  if (pair_) pair_->add_forces(static_cast<int>(organ), force);
+  return force;
+}
+
+void SceneSimulation::replay_forces(size_t organ, const std::vector<vdm::NodeMat>* per_frame) {
+  organs_[organ].replayed = per_frame;
+}
+
 void SceneSimulation::gather_positions() {
   if (organs_.size() == 1) return;
   for (size_t i = 0; i < organs_.size(); ++i)
@@ -439,7 +449,14 @@ void SceneSimulation::advance(int f) {
   conflict_.clear();
   conflict_gap_ = 0;
   const auto t_loads = Clock::now();
-  for (OrganRun& o : organs_) apply_script(o, t);
+  for (OrganRun& o : organs_) {
+    apply_script(o, t);
+    if (o.replayed && static_cast<size_t>(f) < o.replayed->size()) {
+      const vdm::NodeMat& extra = (*o.replayed)[static_cast<size_t>(f)];
+      if (o.input.force.rows() != extra.rows()) o.input.force = vdm::NodeMat::Zero(extra.rows(), 3);
+      o.input.force += extra;
+    }
+  }
   times_.loads += ms_since(t_loads);
 
   frame_step_ms_ = 0;

@@ -69,6 +69,14 @@ class SceneSimulation {
   // Whether contact between organs is simulated, and the other organs' force on organ i (N).
   bool organ_contact_simulated() const { return pair_ != nullptr; }
   vdm::Vec3 organ_contact_force(size_t organ) const { return pair_ ? organ_force_[organ] : vdm::Vec3::Zero(); }
+  // The same per node: the forces the other organs put on organ i at the end of the last frame
+  // (contact and ties; zero without organ contact).
+  vdm::NodeMat organ_contact_forces(size_t organ) const;
+  // Forces to add on organ i at every frame, by frame (each frame's to all its sub-steps), as
+  // external loads: a study replays on one organ alone the forces the others put on it in a
+  // run of the whole scene (the frames past the list's end take none; the list must outlive
+  // the advance() calls, and is not part of save()'s snapshot). Null: none.
+  void replay_forces(size_t organ, const std::vector<vdm::NodeMat>* per_frame);
   // The attachments' ties: how many, and how many have torn.
   int organ_ties() const { return pair_ ? pair_->ties() : 0; }
   int organ_ties_torn() const { return pair_ ? pair_->torn() : 0; }
@@ -130,6 +138,7 @@ class SceneSimulation {
     // Holds of the same node against each other, found by advance(): the node's holders
     // (per node: -1 none, k >= 0 instruments[k], <= -2 prescribed[-2 - k]).
     std::vector<int> holder;
+    const std::vector<vdm::NodeMat>* replayed = nullptr;  // replay_forces(): per frame
   };
 
   const PreparedScene& ps_;

@@ -380,6 +380,45 @@ TEST(SeveralOrgans, AnOrganTiedToAnotherDragsIt) {
             << " N\n";
 }
 
+// The forces the others put on an organ, per node (organ_contact_forces), sum to its total,
+// and replayed on the organ alone as external loads frame by frame (replay_forces: what the
+// organs' cost benchmark does) they deform it as it deformed in the whole scene: a static
+// organ's answer depends only on what acts on it.
+TEST(SeveralOrgans, AnOrganAloneUnderTheOthersRecordedForcesDeformsAsInTheScene) {
+  const fs::path dir = test::test_output_dir("several_organs");
+  const PreparedScene both = test::prepare_scene_text("several_organs", tied_balls(dir, ""));
+  const PreparedScene alone = test::prepare_scene_text(
+      "several_organs", "name: held_alone\norgan: {mesh: " + ball_obj(dir) +
+                            ", translate: [0.061, 0, 0], fixed: [{box: {min: [0.086, -1, -1], max: [1, 1, 1]}}]}\n"
+                            "simulation: {frames: 9, dt: 0.125, effects: [contact]}\n");
+  SceneSimulation sim(both);
+  std::vector<vdm::NodeMat> on_held;
+  for (int f = 0; f < both.scene.frames; ++f) {
+    sim.advance(f);
+    ASSERT_EQ(sim.unsound(), "") << "frame " << f;
+    on_held.push_back(sim.organ_contact_forces(1));
+    const vdm::Vec3 sum = on_held.back().colwise().sum().transpose();
+    EXPECT_LT((sum - sim.organ_contact_force(1)).norm(), 1e-12 + 1e-9 * sum.norm()) << "frame " << f;
+  }
+  ASSERT_GT(on_held.back().norm(), 0.0);
+  SceneSimulation replay(alone);
+  replay.replay_forces(0, &on_held);
+  for (int f = 0; f < alone.scene.frames; ++f) replay.advance(f);
+  const vdm::NodeMat& u_scene = sim.state(1).u;
+  const vdm::NodeMat& u_alone = replay.state().u;
+  const double moved = u_scene.cwiseAbs().maxCoeff(), apart = (u_alone - u_scene).cwiseAbs().maxCoeff();
+  EXPECT_GT(moved, 0.002);
+  // Within a few of the core's tolerances (1e-4 of the 5 cm ball's size): the two runs stop
+  // their iterations at different points.
+  EXPECT_LT(apart, 0.01 * moved);
+  std::cout << "the held ball moved " << moved * 1e3 << " mm in the scene; alone under its recorded forces "
+            << apart * 1e6 << " um apart\n";
+  // Without them, alone, it does not move.
+  SceneSimulation free_ball(alone);
+  for (int f = 0; f < alone.scene.frames; ++f) free_ball.advance(f);
+  EXPECT_LT(free_ball.state().u.cwiseAbs().maxCoeff(), 1e-6);
+}
+
 // With a small tear force the ties let go as the pull grows: every one tears, and the held ball
 // then springs back to its rest shape.
 TEST(SeveralOrgans, TiesTearAboveTheirTearForceAndLetGo) {
