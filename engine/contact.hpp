@@ -140,7 +140,10 @@ class ContactSolver final : private SurfaceForceLaw {
   void measure_contacts(const std::vector<ToolShape>& tools, const NodeMat& x);
   void sort_contacts();
   void collect_contact_nodes();
-  void project_forces(const std::vector<ToolShape>& tools, bool exact, double scale, double& violation, double& change);
+  void project_forces(const std::vector<ToolShape>& tools, bool exact, double scale, double& violation, double& change,
+                      int rounds = 1);
+  // The rounds project_forces() takes inside the model's iteration at a step's first solve.
+  static int geometry_rounds();
   void store_forces();
   void end_constraint_step(const TissueModel& model, const StepInput& base, const std::vector<ToolShape>& tools,
                            SimState& state, ContactReport& report);
@@ -202,9 +205,11 @@ class ContactSolver final : private SurfaceForceLaw {
   Eigen::MatrixXd exact_compliance_;
   bool exact_compliance_used_ = false;
   // The Gauss-Seidel's arrays, in vectors that keep their capacity (Eigen's resize would
-  // allocate whenever the number of contacts changes): the compliance in the contacts' frames
-  // (3C x 3C, the Delassus operator), residuals, forces, predicted residuals, forces solved with.
-  std::vector<double> delassus_, residual_c_, lambda_c_, change_c_, lambda_solved_;
+  // allocate whenever the number of contacts changes): the compliance between the contact
+  // points in world axes and in their frames (3C x 3C, the Delassus operator); per round the
+  // residuals, forces and predicted residuals in the frames; the forces found and the motion
+  // they predict in world axes; each point's frame (n, t1, t2) in the last round.
+  std::vector<double> compliance_c_, delassus_, residual_c_, lambda_c_, change_c_, force_c_, motion_c_;
   std::vector<Eigen::Matrix3d> frames_;
   double compliance_scale_ = 1.0;               // fitted: the organ's compliance over the patch's
   double contact_tolerance_ = 0.0;              // this step's, m (ContactSettings::constraint_tolerance x the smallest tool)
@@ -217,6 +222,7 @@ class ContactSolver final : private SurfaceForceLaw {
     ContactReport* report = nullptr;
   } within_;
   std::vector<Eigen::RowVector3d> old_force_;  // update(): the contact nodes' forces before it
+  int rounds_ = 1;                               // update(): project_forces()'s rounds this step
   NodeMat contact_force_;                        // N x 3
 };
 

@@ -30,6 +30,15 @@ void ContactSolver::step_constraint_within(const TissueModel& m, const StepInput
     ++rep.solves;
     rep.iterations += s.stats.iterations;
     if (s.failed) break;  // the caller stops; the state is the step's start
+    if (!s.stats.converged && rounds_ > 1) {
+      // Solved again with the laws on the points' tangent planes (see geometry_rounds()).
+      rounds_ = 1;
+      solver_->rewind(s);
+      solver_->trial_step_with(within_input(m, base), s, *this);
+      ++rep.solves;
+      rep.iterations += s.stats.iterations;
+      if (s.failed) break;
+    }
     // A solve that did not converge is not judged or repeated: the next would meet the same.
     if (!s.stats.converged) break;
 
@@ -48,7 +57,7 @@ void ContactSolver::step_constraint_within(const TissueModel& m, const StepInput
     collect_contact_nodes();
     solver_->surface_compliance(contact_nodes_, exact_compliance_);
     double violation = 0.0, change = 0.0;
-    project_forces(tools, true, 1.0, violation, change);
+    project_forces(tools, true, 1.0, violation, change, rounds_);
     rep.collision_ms += ms_since(t0);
     if (!added && violation <= contact_tolerance_ && change <= contact_tolerance_) {
       rep.converged = true;
@@ -65,6 +74,7 @@ void ContactSolver::begin_within(const TissueModel& m, const StepInput& base, co
                                  SimState& s, ContactReport& rep) {
   begin_constraint_step(m, base, tools, s, rep, true);
   within_ = WithinStep{&m, &base, &tools, &s, &rep};
+  rounds_ = geometry_rounds();
   rep.converged = false;
   input_.tolerance = 0.0;
 }
@@ -112,7 +122,7 @@ bool ContactSolver::update(const NodeMat& x, ComplianceSource& source, NodeMat& 
   collect_contact_nodes();
   source.compliance(contact_nodes_, exact_compliance_);
   double violation = 0.0, change = 0.0;
-  project_forces(*w.tools, true, 1.0, violation, change);
+  project_forces(*w.tools, true, 1.0, violation, change, rounds_);
   store_forces();
   // The law's share of the forces: out with the old, in with the new.
   resize_with_headroom(old_force_, contact_nodes_.size());

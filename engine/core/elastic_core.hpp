@@ -49,7 +49,7 @@ struct CoreSettings {
   // iterations stops, reported as unconverged: contact that does not settle (jaws closing
   // inside the tissue, a tool deep in it) wanders without converging, and would otherwise run
   // to max_iterations at each of the contact's re-solves. A press settles in 3-6 iterations, a
-  // slide with friction in 10-30; where many points begin to slip at once the residual falls
+  // slide in 6-15; where many points begin to slip at once the residual falls
   // slowly but falls (up to 70 iterations on a ball pressed to half its depth,
   // CoreHard.ProbePressedToHalfTheBallsDepth).
   int law_stall_iterations = 100;
