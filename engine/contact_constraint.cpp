@@ -580,15 +580,17 @@ void ContactSolver::project_forces(const std::vector<ToolShape>& tools, bool exa
   }
   motion.setZero();
   for (int round = 0; round < rounds; ++round) {
-    // Each point's frame, gap and slip where the forces so far put it; a point deep in its
-    // tool (contact_gap's push-out along the relative motion) along its measured normal.
+    // Each point's frame, gap and slip where the forces so far put it; on a tool other than a
+    // capsule, and deep in a tool (contact_gap's push-out along the relative motion), along
+    // its measured normal: a box's or a hull's faces are flat, and their normal jumps at the
+    // edges, where measuring again would turn the point's force from face to face.
     for (int a = 0; a < C; ++a) {
       const ContactPoint& c = contacts_[static_cast<size_t>(a)];
       const ToolShape& t = tools[static_cast<size_t>(c.tool)];
       const Vec3 q = c.point + motion.segment<3>(3 * a);
       Vec3 surface, n = c.normal;
       double gap = c.gap + c.normal.dot(q - c.point);
-      if (c.gap >= -0.25 * t.size()) {
+      if (t.kind == ToolShape::Kind::capsule && c.gap >= -0.25 * t.size()) {
         const double d = tool_distance(t, q, surface, n);
         if (d >= -0.25 * t.size()) gap = d;
         else n = c.normal;
