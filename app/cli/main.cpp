@@ -136,6 +136,10 @@ int main(int argc, char** argv) {
   bench->add_option("--out", bench_out, "Output folder (default: out/bench)")->check(cli::named_path());
   bench->add_flag("--quick", bench_quick, "Fewer cases, frames and repeats (about 3 minutes)");
   bench->add_option("--only", bench_only, "Only the cases whose label contains this text (e.g. 'liver_probe 10k')");
+  std::string bench_shared = "../shared/assets";
+  bench->add_option("--shared-assets", bench_shared,
+                    "Third-party data for the CT-like case (SOFA's scanned liver, organs/liver-smooth.obj; default "
+                    "../shared/assets; the case is skipped without it)");
   int bench_case_fd = -1;  // internal: the process of one case writes its row there
   bench->add_option("--case-fd", bench_case_fd)->group("");
   vdmsim::AccuracyOptions accuracy_opt;
@@ -238,7 +242,8 @@ int main(int argc, char** argv) {
       run_opt.render = !no_render;
       return vdmsim::cmd_run(scene_path, run_opt, std::cout, std::cerr, isatty(2) != 0);
     }
-    if (bench->parsed()) return vdmsim::cmd_bench(bench_out, bench_quick, std::cout, std::cerr, bench_only, bench_case_fd);
+    if (bench->parsed()) return vdmsim::cmd_bench(bench_out, bench_quick, std::cout, std::cerr, bench_only, bench_case_fd,
+                                                  bench_shared);
     if (accuracy->parsed()) return vdmsim::run_accuracy(accuracy_opt, std::cout, std::cerr, isatty(2) != 0);
     if (sweep->parsed()) {
       sweep_opt.render = !sweep_no_render;

@@ -1,6 +1,7 @@
 #include "app/studies/bench.hpp"
 #include "app/studies/bench_endoscope.hpp"
 #include "app/studies/bench_organs.hpp"
+#include "app/studies/bench_scanned_liver.hpp"
 
 #include <sys/wait.h>
 #include <unistd.h>
@@ -546,7 +547,8 @@ struct CoreSideBySide {
 };
 
 CoreSideBySide bench_core_side_by_side(const fs::path& dir, const std::string& scene, int frames, int first, int rounds) {
-  const std::string path = (fs::path(data_dir()) / "scenes" / scene).string();
+  // (a scene the bench wrote itself is given by its whole path)
+  const std::string path = fs::path(scene).is_absolute() ? scene : (fs::path(data_dir()) / "scenes" / scene).string();
   SceneLoadResult loaded = load_scene(path);
   if (!loaded.ok()) throw std::runtime_error(path + ": cannot load");
   CoreSideBySide r;
@@ -628,7 +630,7 @@ CoreSideBySide bench_core_side_by_side(const fs::path& dir, const std::string& s
 }  // namespace
 
 int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::ostream& err, const std::string& only,
-              int case_fd) {
+              int case_fd, const std::string& shared_assets) {
   std::string error;
   if (!prepare_output_dir(out_dir, error)) {
     err << "vdmsim: error: " << error << "\n";
@@ -762,17 +764,28 @@ int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::os
   }
   // The elastic core's press and slide, its contact methods in turn, against one frame drawn
   // and encoded.
+  // The CT-like press: on SOFA's scanned liver when the shared assets are there.
   struct CorePath {
     const char* label;
-    const char* scene;
+    std::string scene;
     int frames, first;
+    const char* file;
   };
-  for (const CorePath& p : {CorePath{"core_probe side by side", "probe_poke.yaml", 60, 16},
-                            CorePath{"core_slide side by side", "palpation_slide.yaml", 121, 0}}) {
+  for (CorePath p : {CorePath{"core_probe side by side", "probe_poke.yaml", 60, 16, "bench_core_probe.csv"},
+                     CorePath{"core_slide side by side", "palpation_slide.yaml", 121, 0, "bench_core_slide.csv"},
+                     CorePath{"core_scanned_probe side by side", "", 40, 6, "bench_core_scanned_probe.csv"}}) {
     if (!only.empty() && std::string(p.label).find(only) == std::string::npos) continue;
     out << "bench: " << p.label << " ..." << std::flush;
+    if (p.scene.empty()) {
+      std::string why_not;
+      p.scene = scanned_liver_press_scene(shared_assets, dir, why_not);
+      if (p.scene.empty()) {
+        out << " skipped: " << why_not << "\n";
+        continue;
+      }
+    }
     const CoreSideBySide r = bench_core_side_by_side(dir, p.scene, p.frames, p.first, quick ? 1 : 3);
-    const std::string file = std::string("bench_") + (std::string(p.label).substr(0, 10)) + ".csv";
+    const std::string file = p.file;
     std::ofstream sc(dir / file);
     sc << "nodes,cell_m,rounds,contact,median_ms,p95_ms,iterations,unconverged_steps,frame_720p_ms,median_over_frame,"
           "median_over_kinematic,p95_over_kinematic,median_over_prescribed,p95_over_prescribed\n";

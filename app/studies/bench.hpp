@@ -41,8 +41,9 @@ ToleranceError bench_tolerance_error(const std::string& mesh, double tolerance, 
 
 // `only` (may be empty): run only the cases whose label contains it. Each case runs in a
 // process of its own: this program again with `case_fd` >= 0 and `only` the case's label,
-// which writes the case's CSV row to that descriptor.
+// which writes the case's CSV row to that descriptor. `shared_assets`: the third-party data
+// the CT-like case uses (skipped, said so, when it is not there).
 int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::ostream& err,
-              const std::string& only = "", int case_fd = -1);
+              const std::string& only = "", int case_fd = -1, const std::string& shared_assets = "../shared/assets");
 
 }  // namespace vdmsim
