@@ -142,8 +142,6 @@ class ContactSolver final : private SurfaceForceLaw {
   void collect_contact_nodes();
   void project_forces(const std::vector<ToolShape>& tools, bool exact, double scale, double& violation, double& change,
                       int rounds = 1);
-  // The rounds project_forces() takes inside the model's iteration at a step's first solve.
-  static int geometry_rounds();
   void store_forces();
   void end_constraint_step(const TissueModel& model, const StepInput& base, const std::vector<ToolShape>& tools,
                            SimState& state, ContactReport& report);
@@ -222,7 +220,11 @@ class ContactSolver final : private SurfaceForceLaw {
     ContactReport* report = nullptr;
   } within_;
   std::vector<Eigen::RowVector3d> old_force_;  // update(): the contact nodes' forces before it
-  int rounds_ = 1;                               // update(): project_forces()'s rounds this step
+  // The most rounds project_forces() takes inside the model's iteration (relinearising the laws
+  // at the points' predicted positions), and this step's: one after a solve that did not
+  // converge with more (step_constraint_within).
+  static constexpr int kGeometryRounds = 4;
+  int rounds_ = 1;
   NodeMat contact_force_;                        // N x 3
 };
 

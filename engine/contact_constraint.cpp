@@ -48,10 +48,6 @@ constexpr double kLooseShare = 0.05;
 // percent a sweep (most passes used to end at their 200 sweeps).
 constexpr double kSweepMotionShare = 0.01;
 
-// The most rounds of the Gauss-Seidel that project_forces() linearises the laws for at the
-// points' predicted positions.
-constexpr int kGeometryRounds = 4;
-
 // An orthonormal frame whose first column is n.
 Eigen::Matrix3d contact_frame(const Vec3& n) {
   Vec3 t1 = std::abs(n.x()) < 0.6 ? n.cross(Vec3::UnitX()) : n.cross(Vec3::UnitY());
@@ -672,16 +668,6 @@ void ContactSolver::project_forces(const std::vector<ToolShape>& tools, bool exa
     }
   }
 }
-
-// A step solved with several rounds that does not converge is solved again with one
-// (step_constraint_within): with friction 0.2, a probe pressed into a ball to half its depth
-// (CoreHard.ProbePressedToHalfTheBallsDepth) had a step where 24 of its 25 points slip and the
-// core's iteration crept at 0.999 an iteration (every Anderson mix refused by the safeguard)
-// until it stalled; solved with one round it converges. (Three radii by three step sizes of
-// that press: with one round throughout, 2 of the 9 runs end a step unconverged, 6 with four
-// rounds and no second solve, 4 with the second solve: the rounds' answer, nearly every point
-// slipping, leaves the core's iteration a slow mode that one round's plane holds more often.)
-int ContactSolver::geometry_rounds() { return kGeometryRounds; }
 
 // The forces project_forces() found become the contact points' forces, with the motion they
 // predict.
