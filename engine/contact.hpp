@@ -128,6 +128,9 @@ class ContactSolver final : private SurfaceForceLaw {
                     ContactReport& report);
   const StepInput& within_input(const TissueModel& model, const StepInput& base);
   bool update(const NodeMat& x, ComplianceSource& compliance, NodeMat& force) override;
+  // Frictionless, and not in a joint step (where the other organs' forces change between the
+  // model's iterations beside the law's).
+  bool conservative() const override { return settings_.friction == 0 && !within_.joint; }
   // The parts of a constraint step: the contact points at the step's start (and the
   // tolerance); measured at positions x; in their fixed order; the nodes they use; the forces
   // on the linear model (project_forces: see there); those forces kept; the step's results.
@@ -218,6 +221,7 @@ class ContactSolver final : private SurfaceForceLaw {
     const std::vector<ToolShape>* tools = nullptr;
     const SimState* state = nullptr;
     ContactReport* report = nullptr;
+    bool joint = false;  // begin_joint ... end_joint
   } within_;
   std::vector<Eigen::RowVector3d> old_force_;  // update(): the contact nodes' forces before it
   // The most rounds project_forces() takes inside the model's iteration (relinearising the laws

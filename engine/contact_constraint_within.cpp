@@ -101,6 +101,7 @@ const StepInput& ContactSolver::within_input(const TissueModel& m, const StepInp
 const StepInput& ContactSolver::begin_joint(const TissueModel& m, const StepInput& base, const std::vector<ToolShape>& tools,
                                             SimState& s, ContactReport& rep) {
   begin_within(m, base, tools, s, rep);
+  within_.joint = true;
   return within_input(m, base);
 }
 

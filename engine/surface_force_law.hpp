@@ -29,6 +29,10 @@ class SurfaceForceLaw {
   // (N x 3, the law's own share included). Replaces the law's share in `force` by the forces
   // the law asks for; returns whether it changed them.
   virtual bool update(const NodeMat& x, ComplianceSource& compliance, NodeMat& force) = 0;
+  // Whether the law's forces are those of constraints on the surface's positions alone (no
+  // friction): the model's iteration then minimises one energy on the constrained set, and
+  // needs no guard against forces that are no potential's (elastic_core: the mixing's safeguard).
+  virtual bool conservative() const { return false; }
 };
 
 }  // namespace vdm

@@ -532,7 +532,15 @@ bool begin_step(const CoreModel& m, const StepInput& in, CoreState& s, SurfaceFo
   // iterate is never uphill on the energy of the iteration before it, but with friction the
   // forces are no potential's and the sequence of merits is not one function's, so this is a
   // safeguard against the mixing's wandering, not a proof of convergence.
-  I.safeguard = law != nullptr && m.settings.anderson > 0;
+  // A frictionless law (SurfaceForceLaw::conservative) is left unguarded: its forces are a
+  // constraint's, and a merit with this iteration's forces as dead loads calls uphill the mixes
+  // that move the surface along the tool as the contact force turns. A 4 mm probe pressed
+  // frictionless into a CT-like liver had steps where the safeguard refused 54 of 64 mixes (73
+  // of 84); unguarded, those steps take 31 and 51 iterations (the press 8 % fewer). Frictionless
+  // presses into the ball of CoreHard.ProbePressedToHalfTheBallsDepth (probe radius 7, 8, 9 mm
+  // by steps of 0.8, 1, 1.25 mm): 44 % fewer iterations, 5 steps unconverged in the 9 runs
+  // instead of 9.
+  I.safeguard = law != nullptr && !law->conservative() && m.settings.anderson > 0;
   return true;
 }
 
