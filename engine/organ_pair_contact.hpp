@@ -109,7 +109,7 @@ class OrganPairContact {
 
  private:
   // A point's normal and gap at node position p, its closest point's weights set.
-  void measure(Point& point, const Vec3& p, const NodeMat& x_other) const;
+  void measure(Point& point, const Vec3& p, const NodeMat& x_other, const TriMat& t_other);
   Vec3& force_of(const Point& p) { return p.tie >= 0 ? tie_lambda_[static_cast<size_t>(p.tie)] : lambda_[static_cast<size_t>(p.owner)][static_cast<size_t>(p.node)]; }
   const Vec3& force_of(const Point& p) const {
     return p.tie >= 0 ? tie_lambda_[static_cast<size_t>(p.tie)] : lambda_[static_cast<size_t>(p.owner)][static_cast<size_t>(p.node)];
@@ -129,10 +129,27 @@ class OrganPairContact {
   std::vector<NodeMat> applied_;             // per organ, its forces as apply() last put them
   std::vector<std::vector<Vec3>> lambda_;    // per organ, per node: its contact force (N)
   std::vector<std::vector<char>> pressed_;   // per organ, per node: pressed at the step's start
-  std::vector<NodeMat> normals_;             // per organ, its surface's vertex normals
-  // The uniform grid of one surface's triangles (rebuilt for each surface in find_points):
-  // cell c's triangles are cell_items_[cell_start_[c] .. cell_start_[c + 1]).
-  std::vector<int> cell_start_, cell_fill_, cell_items_;
+  // Per organ, its surface's vertex normals where a point needs them (normal_at): the vertex's
+  // triangles (ring_start_, ring_), and the find_points call each normal was computed in.
+  std::vector<NodeMat> normals_;
+  std::vector<std::vector<int>> ring_start_, ring_, normal_call_;
+  int call_ = 0;
+  // Per organ that other organs are held out of, the uniform grid of its triangles: cell c's
+  // triangles are items[start[c] .. start[c + 1]), each binned by its box grown by
+  // kGridSlack; kept while no node has moved more than that since `built` (begin_step
+  // drops it).
+  struct Grid {
+    bool valid = false;
+    Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();
+    double cell = 0;
+    Eigen::Array3i dims = Eigen::Array3i::Zero();
+    std::vector<int> start, fill, items;
+    NodeMat built;
+  };
+  std::vector<Grid> grids_;
+  void build_grid(const NodeMat& x, const TriMat& t, double reach, Grid& g);
+  // Organ j's unit vertex normal at node v, at positions x (as distributed_area_vectors sums it).
+  Vec3 normal_at(int j, int v, const NodeMat& x, const TriMat& t);
   std::vector<Eigen::MatrixXd> compliance_;  // per organ, at node_list_[organ]
   std::vector<std::vector<int>> compliance_nodes_;  // per organ, the nodes compliance_ is at
   std::vector<char> compliance_valid_;       // per organ: compliance_ is at its linearisation
