@@ -79,8 +79,6 @@ class OrganPairContact {
   // Organ i's forces from the others put into `force` in place of those this put there last
   // in this step.
   void apply(int organ, NodeMat& force);
-  // Organ i was solved again (at a new linearisation): its compliance is asked for afresh.
-  void relinearised(int organ) { compliance_valid_[static_cast<size_t>(organ)] = 0; }
   // Organ i waits (is not solved, and its solver's answer does not take the forces): its
   // positions as the contact sees them, `answer` (its solver's, with the forces as apply() last
   // put them) moved at the points' nodes by its compliance times the change of its forces
@@ -152,7 +150,7 @@ class OrganPairContact {
   Vec3 normal_at(int j, int v, const NodeMat& x, const TriMat& t);
   std::vector<Eigen::MatrixXd> compliance_;  // per organ, at node_list_[organ]
   std::vector<std::vector<int>> compliance_nodes_;  // per organ, the nodes compliance_ is at
-  std::vector<char> compliance_valid_;       // per organ: compliance_ is at its linearisation
+  std::vector<char> compliance_valid_;       // per organ: compliance_ is this step's
   std::vector<NodeMat> predicted_;           // per organ, predict()'s positions
   NodeMat pending_;                          // predict()'s forces on an organ
   // Scratch of find_points(), correct() and predict(), grown to the most points seen and never

@@ -640,7 +640,6 @@ void SceneSimulation::step_joint() {
     for (size_t i = 0; i < n; ++i) {
       if (joint_active_[i] && !joint_waiting_[i]) {
         organs_[i].solver->joint_solve();
-        pair_->relinearised(static_cast<int>(i));
       }
       if (!joint_linear_[i]) joint_x_[i] = joint_active_[i] ? &organs_[i].solver->joint_surface() : &organs_[i].state.x;
     }

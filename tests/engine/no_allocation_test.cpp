@@ -303,7 +303,6 @@ TEST(NoAllocation, ContactBetweenOrgansAfterWarmUp) {
       double violation = 0, change = 0;
       EXPECT_TRUE(pair.correct(solvers, violation, change));
       pair.apply(0, fa);
-      if (round == 0) pair.relinearised(1);
       x[1] = &pair.predict(1, xb);
     }
     pair.apply(1, fb);
