@@ -97,8 +97,8 @@ TEST(CoreHard, ProbePressedToHalfTheBallsDepth) {
   EXPECT_GT(last_force, 0.0);
 }
 
-// The same press without friction: every point slides, and the tissue turns freely about the
-// tip. Its mixing is unguarded (the law's forces are a constraint's); at most one step of the 51
+// The same press without friction: every contact point slides along the tip. Its mixing is
+// unguarded (the law's forces are a constraint's); at most one step of the 51
 // ends unconverged (a step where nearly every point slides and the iteration creeps until its
 // residual stalls), and every step stays sound: finite, the volume to round-off, nothing
 // inside the probe, the force growing with the depth.
