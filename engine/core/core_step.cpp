@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "engine/core/core_workspace.hpp"
+#include "engine/core/rotation_fit.hpp"
 #include "engine/geometry.hpp"
 #include "engine/surface_force_law.hpp"
 #include "engine/warnings.hpp"
@@ -32,54 +33,6 @@
 namespace vdm::core {
 
 namespace {
-
-// The rotation R maximising tr(R^T F), by turning q about the torque
-// tau = sum_k R e_k x F e_k (Mueller, Chentanez, Kim and Macklin 2016) with Newton's step:
-// with M = F R^T, tr(R^T F) near R is tr M + tau . w - w^T H w / 2 for a turn w, where
-// H = tr(M) I - sym(M), so the turn is H^-1 tau. Where H is not positive (far from the
-// answer) the step is Mueller et al.'s, tau / tr(M), which converges from anywhere, but
-// only linearly (about tenfold per iteration near the answer, where Newton's step doubles the
-// digits: from a warm start two or three iterations).
-Eigen::Matrix3d nearest_rotation(const Eigen::Matrix3d& F, Eigen::Quaterniond& q) {
-  Eigen::Matrix3d R = q.toRotationMatrix();
-  for (int it = 0; it < 40; ++it) {
-    const Eigen::Matrix3d M = F * R.transpose();
-    const Vec3 torque(M(2, 1) - M(1, 2), M(0, 2) - M(2, 0), M(1, 0) - M(0, 1));
-    const double trace = M.trace();
-    // H (symmetric) by its six entries, its cofactors and determinant: the turn H^-1 tau is
-    // the cofactors' product over the determinant.
-    const double h00 = trace - M(0, 0), h11 = trace - M(1, 1), h22 = trace - M(2, 2);
-    const double h01 = -0.5 * (M(0, 1) + M(1, 0)), h02 = -0.5 * (M(0, 2) + M(2, 0)), h12 = -0.5 * (M(1, 2) + M(2, 1));
-    const double c00 = h11 * h22 - h12 * h12, c01 = h02 * h12 - h01 * h22, c02 = h01 * h12 - h02 * h11;
-    const double c11 = h00 * h22 - h02 * h02, c12 = h01 * h02 - h00 * h12, minor = h00 * h11 - h01 * h01;
-    const double det = h00 * c00 + h01 * c01 + h02 * c02;
-    Vec3 omega;
-    const bool newton = h00 > 0 && minor > 0 && det > 1e-12 * std::abs(trace * trace * trace);
-    if (newton)
-      omega = Vec3(c00 * torque.x() + c01 * torque.y() + c02 * torque.z(), c01 * torque.x() + c11 * torque.y() + c12 * torque.z(),
-                   c02 * torque.x() + c12 * torque.y() + minor * torque.z()) /
-              det;
-    else
-      omega = torque / (std::abs(trace) + 1e-12);
-    const double angle = omega.norm();
-    if (angle < 1e-10) break;  // the rotation to 1e-10 rad: its load is then exact to far below the tolerance
-    // (below 1e-3 rad the turn's quaternion to first order, normalised: off by angle^3 / 24,
-    // which the next iteration takes up; it spares a sine and a cosine)
-    const Eigen::Quaterniond turn = angle < 1e-3 ? Eigen::Quaterniond(1.0, 0.5 * omega.x(), 0.5 * omega.y(), 0.5 * omega.z())
-                                                 : Eigen::Quaterniond(Eigen::AngleAxisd(angle, omega / angle));
-    q = turn * q;
-    q.normalize();
-    R = q.toRotationMatrix();
-    // Newton's step leaves an error of the order of its square: below 3e-4 rad, 1e-7 rad or
-    // less, which the core's next iteration takes up (it fits again from here, with turns that
-    // shrink as it converges, so its last fits are exact to 1e-10). A second pass to confirm
-    // each such fit would be a third more passes on a press and two thirds more on a slide,
-    // for the same iterations and forces. A looser bound lets a slowly converging bend stop
-    // short (ElasticCore.LoadedBendingStopsNearItsFixedPoint, by 1.2 % at 1e-3 rad).
-    if (newton && angle < 3e-4) break;
-  }
-  return R;
-}
 
 // Factor slot k for the entries axis k's factored_mask holds.
 void factorize(const CoreModel& m, int k, CoreWorkspace& w, CoreState& s) {
@@ -438,22 +391,44 @@ double tet_rotations(const CoreModel& m, const NodeMat& v, std::vector<Eigen::Qu
   const UnitCube& cube = unit_cube();
   const double inv_h = 1.0 / m.h;
   Eigen::Matrix<double, 8, 3> corner;
-  double energy = 0;
+  // The tets' gradients gathered four at a time for the fit (nearest_rotations4), in order:
+  // each cube's misfit, the sum over its tets of |F_t - R_t|^2, is summed as they are fitted.
+  Eigen::Matrix3d F[4], fitted[4];
+  Eigen::Quaterniond* start[4];
+  size_t index[4];
+  int pending = 0;
+  double energy = 0, misfit = 0;
+  auto fit_pending = [&] {
+    if (pending == 4) {
+      nearest_rotations4(F, start, fitted);
+    } else {
+      for (int k = 0; k < pending; ++k) fitted[k] = nearest_rotation(F[k], *start[k]);
+    }
+    for (int k = 0; k < pending; ++k) {
+      const size_t i = index[k];
+      R[i] = fitted[k];
+      if (i % 6 == 0) misfit = 0;
+      misfit += (F[k] - fitted[k]).squaredNorm();
+      if (i % 6 == 5) energy += m.fill[static_cast<Eigen::Index>(i / 6)] * misfit;
+    }
+    pending = 0;
+  };
   for (Eigen::Index q = 0; q < m.cubes.rows(); ++q) {
     // The cube's corner displacements over h, gathered once for its six tets.
     for (int k = 0; k < 8; ++k) corner.row(k) = v.row(m.cubes(q, k)) * inv_h;
-    double misfit = 0;  // sum over the cube's tets of |F_t - R_t|^2
     for (int t = 0; t < 6; ++t) {
       // F = I + sum_a v_a (x) grad N_a, the unit cube's gradients over h: along each of the
       // tet's edges, the motion's difference over h.
-      Eigen::Matrix3d F = Eigen::Matrix3d::Identity();
+      Eigen::Matrix3d& Ft = F[pending];
+      Ft.setIdentity();
       for (int k = 0; k < 3; ++k)
-        F.col(cube.edge_axis[t][k]) += (corner.row(cube.corner[t][k + 1]) - corner.row(cube.corner[t][k])).transpose();
-      const Eigen::Matrix3d& Rt = R[static_cast<size_t>(6 * q + t)] = nearest_rotation(F, Q[static_cast<size_t>(6 * q + t)]);
-      misfit += (F - Rt).squaredNorm();
+        Ft.col(cube.edge_axis[t][k]) += (corner.row(cube.corner[t][k + 1]) - corner.row(cube.corner[t][k])).transpose();
+      index[pending] = static_cast<size_t>(6 * q + t);
+      start[pending] = &Q[index[pending]];
+      if (++pending == 4) fit_pending();
     }
-    energy += m.fill[q] * misfit;
   }
+  fit_pending();
   // mu f_c V_t |F_t - R_t|^2, V_t = h^3 / 6
   return m.mu * m.h * m.h * m.h / 6 * energy;
 }
