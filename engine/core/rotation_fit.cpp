@@ -40,7 +40,7 @@ constexpr int kLanes = static_cast<int>(sizeof(L) / sizeof(double));
 
 // Eigen's rotation matrix of a unit quaternion (w, x, y, z); R row-major.
 template <class L>
-[[gnu::always_inline]] inline void to_matrix(L w, L x, L y, L z, L* R) {
+[[gnu::always_inline]] inline void to_matrix(const L& w, const L& x, const L& y, const L& z, L* R) {
   const L tx = 2.0 * x, ty = 2.0 * y, tz = 2.0 * z;
   const L twx = tx * w, twy = ty * w, twz = tz * w;
   const L txx = tx * x, txy = ty * x, txz = tz * x;
