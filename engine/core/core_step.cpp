@@ -319,7 +319,20 @@ void factorize_slot(const CoreModel& m, int k, CoreWorkspace& w) {
   w.chol[k].cholmod().print = 0;
 #endif
   if (!w.analyzed) {
-    for (int e = 0; e < 3; ++e) w.chol[e].analyzePattern(K);  // the ties' entries are Kuhn-tet edges: same pattern
+    for (int e = 0; e < 3; ++e) {
+#ifdef VDMSIM_HAVE_CHOLMOD
+      // The fill-reducing ordering: AMD's and nested dissection's (METIS) both tried, the one
+      // with the smaller factor kept. On the core's lattices nested dissection usually wins:
+      // the gallbladder scene's 13.9k-node liver lattice 1.25M entries against AMD's 1.87M
+      // (2.4 times fewer flops to factor), the 10k liver's 3.3k-node one 13 % fewer; each
+      // iteration's triangular solves are bound by reading the factor (a quarter less time).
+      cholmod_common& c = w.chol[e].cholmod();
+      c.nmethods = 2;
+      c.method[0].ordering = CHOLMOD_AMD;
+      c.method[1].ordering = CHOLMOD_METIS;
+#endif
+      w.chol[e].analyzePattern(K);  // the ties' entries are Kuhn-tet edges: same pattern
+    }
     w.analyzed = true;
   }
   w.chol[k].factorize(K);
