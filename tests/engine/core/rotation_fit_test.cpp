@@ -53,6 +53,7 @@ TEST(RotationFit, FindsThePolarFactorFromNearAndFarStarts) {
 }
 
 TEST(RotationFit, FourAtATimeGiveTheSameBitsAsOneAtATime) {
+  if (!simd::avx2_supported()) GTEST_SKIP() << "this CPU lacks AVX2: only the one-at-a-time fit runs here";
   std::mt19937 rng(11);
   // Lanes that need different numbers of passes side by side: warm starts, cold starts across
   // large turns (the sine and cosine lanes), strong stretches, an inverted gradient and F = 0.
