@@ -216,6 +216,13 @@ void OrganPairContact::find_points(const std::vector<const NodeMat*>& x, const s
               for (int e = g.start[cn]; e < g.start[cn + 1]; ++e) {
                 const int f = g.items[static_cast<size_t>(e)];
                 const Vec3 a = xj.row(tj(f, 0)), b = xj.row(tj(f, 1)), cc = xj.row(tj(f, 2));
+                // No nearer than the triangle's box: a triangle whose box is farther than the
+                // nearest found so far is passed over (by a margin beyond round-off, so that
+                // the triangle chosen is the one the full search chooses).
+                const Eigen::Array3d below = a.array().min(b.array()).min(cc.array()) - p.array();
+                const Eigen::Array3d above = p.array() - a.array().max(b.array()).max(cc.array());
+                const double box = below.max(above).max(0.0).square().sum();
+                if (box > best * (1 + 1e-9) + 1e-18) continue;
                 const Vec3 w = closest_barycentric(p, a, b, cc);
                 const Vec3 q = w.x() * a + w.y() * b + w.z() * cc;
                 const double d = (p - q).squaredNorm();
