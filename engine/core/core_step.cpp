@@ -626,10 +626,11 @@ void mixing_residual(const CoreModel& m, CoreState& s) {
   Eigen::Map<const Vec> v_flat(s.v.data(), 3 * m.ng), v_new_flat(w.v_new.data(), 3 * m.ng);
   w.g = v_new_flat - v_flat;
   I.g_norm = w.g.norm();
-  // And the safeguard's merit at this iterate with the forces as they now stand: the next
-  // mix is judged against the energy it is mixed on. (Judged against the merit with the
-  // forces before the change, a liver under a gallbladder whose contact forces changed at
-  // every round had every mix refused, and crept at the plain iteration's 0.92 a round.)
+  // And the safeguard's merit at this iterate with the forces as they now stand, so that the
+  // next mix is judged on the energy it is mixed on. (Against the merit with the earlier
+  // forces, a push that eases off makes every mix look uphill: a liver under a gallbladder
+  // whose contact forces change at every round would have each mix refused and creep at the
+  // plain iteration's rate.)
   if (I.safeguard) I.merit_last = merit(m, w, s.v, I.core_energy, I.rhs_last);
 }
 

@@ -183,7 +183,8 @@ NodeMat& iteration_forces(CoreState& state);
 void forces_changed(const CoreModel& model, CoreState& state);
 bool iteration_converged(const CoreModel& model, CoreState& state);
 // After iteration_converged() and a change of the forces since: the next mix starts from the
-// answer with them (its residual taken again, its convergence rate not).
+// answer with them (its residual taken again, its convergence rate not) and is judged on the
+// merit with them.
 void mixing_residual(const CoreModel& model, CoreState& state);
 bool advance_iteration(const CoreModel& model, CoreState& state, bool stop);
 void end_step(const CoreModel& model, CoreState& state);
