@@ -42,7 +42,8 @@ struct CoreSettings {
   double tolerance = 1e-4;
   // And the lattice's forces balance to this share of the core's elastic forces: where the
   // rotations converge slowly (a bending under a load, inertia) the change per iteration is
-  // small long before the answer is near.
+  // small long before the answer is near. (Not counted at the lattice nodes tied to surface
+  // nodes whose forces changed within the step: a contact's, which its own test judges.)
   double force_tolerance = 1e-3;
   int max_iterations = 400; // per step
   // With forces from a law (contact), a step whose residual has reached no new low in this many
