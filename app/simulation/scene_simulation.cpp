@@ -380,8 +380,23 @@ vdm::NodeMat SceneSimulation::organ_contact_forces(size_t organ) const {
   return force;
 }
 
-void SceneSimulation::replay_forces(size_t organ, const std::vector<vdm::NodeMat>* per_frame) {
+void SceneSimulation::record_organ_forces(size_t organ, SubstepForces* out) { organs_[organ].recorded = out; }
+
+void SceneSimulation::replay_forces(size_t organ, const SubstepForces* per_frame) {
   organs_[organ].replayed = per_frame;
+}
+
+void SceneSimulation::set_replayed_forces(OrganRun& o, int f, int j, int n) {
+  if (!o.replayed || static_cast<size_t>(f) >= o.replayed->size()) return;
+  const std::vector<vdm::NodeMat>& frame = (*o.replayed)[static_cast<size_t>(f)];
+  if (frame.empty()) return;
+  // Sub-step j of n (1-based) takes the recorded sub-step k of m with k / m the first at or
+  // past j / n.
+  const size_t m = frame.size();
+  const size_t k = std::min(m, (static_cast<size_t>(j) * m + static_cast<size_t>(n) - 1) / static_cast<size_t>(n));
+  const vdm::NodeMat& extra = frame[std::max<size_t>(k, 1) - 1];
+  if (o.scripted_force.rows() != extra.rows()) o.scripted_force = vdm::NodeMat::Zero(extra.rows(), 3);
+  o.input.force = o.scripted_force + extra;
 }
 
 void SceneSimulation::gather_positions() {
@@ -451,11 +466,8 @@ void SceneSimulation::advance(int f) {
   const auto t_loads = Clock::now();
   for (OrganRun& o : organs_) {
     apply_script(o, t);
-    if (o.replayed && static_cast<size_t>(f) < o.replayed->size()) {
-      const vdm::NodeMat& extra = (*o.replayed)[static_cast<size_t>(f)];
-      if (o.input.force.rows() != extra.rows()) o.input.force = vdm::NodeMat::Zero(extra.rows(), 3);
-      o.input.force += extra;
-    }
+    if (o.replayed) o.scripted_force = o.input.force;
+    if (o.recorded) o.recorded->emplace_back();
   }
   times_.loads += ms_since(t_loads);
 
@@ -493,6 +505,7 @@ void SceneSimulation::advance(int f) {
           tools_[probes_.size() + 3 * k + side] = tools::jaw_shape(*graspers_[k], now, before, side ? -1 : +1);
         tools_[probes_.size() + 3 * k + 2] = tools::shaft_shape(*graspers_[k], now, before);
       }
+      for (OrganRun& o : organs_) set_replayed_forces(o, f, j, n_sub);
       if (pair_) {
         const auto t_contact = Clock::now();
         step_joint();
@@ -516,6 +529,8 @@ void SceneSimulation::advance(int f) {
           break;
         }
       }
+      for (size_t i = 0; i < organs_.size(); ++i)
+        if (organs_[i].recorded) organs_[i].recorded->back().push_back(organ_contact_forces(i));
     }
     // The frame's report over every organ (the last sub-step's of each).
     report_ = organs_.front().report;
@@ -532,6 +547,7 @@ void SceneSimulation::advance(int f) {
       report_.collision_ms += r.collision_ms;
     }
   } else {
+    for (OrganRun& o : organs_) set_replayed_forces(o, f, 1, 1);
     if (pair_) step_joint();
     for (size_t i = 0; i < organs_.size(); ++i) {
       OrganRun& o = organs_[i];
@@ -544,6 +560,9 @@ void SceneSimulation::advance(int f) {
       if (o.state.failed) break;
     }
   }
+  if (!contact_)
+    for (size_t i = 0; i < organs_.size(); ++i)
+      if (organs_[i].recorded) organs_[i].recorded->back().push_back(organ_contact_forces(i));
   measure_forces();
   for (OrganRun& o : organs_) {
     o.max_volume_error = std::max(o.max_volume_error, std::abs(o.state.volume_rel_error));

@@ -72,11 +72,18 @@ class SceneSimulation {
   // The same per node: the forces the other organs put on organ i at the end of the last frame
   // (contact and ties; zero without organ contact).
   vdm::NodeMat organ_contact_forces(size_t organ) const;
-  // Forces to add on organ i at every frame, by frame (each frame's to all its sub-steps), as
-  // external loads: a study replays on one organ alone the forces the others put on it in a
-  // run of the whole scene (the frames past the list's end take none; the list must outlive
-  // the advance() calls, and is not part of save()'s snapshot). Null: none.
-  void replay_forces(size_t organ, const std::vector<vdm::NodeMat>* per_frame);
+  // The forces the other organs put on organ i, per frame and per sub-step (as
+  // organ_contact_forces() after each sub-step), appended to `out` by every advance() from now
+  // on (`out` must outlive those calls). Null: none.
+  using SubstepForces = std::vector<std::vector<vdm::NodeMat>>;
+  void record_organ_forces(size_t organ, SubstepForces* out);
+  // Forces to add on organ i, per frame and per sub-step (as record_organ_forces() gives
+  // them), as external loads: a study replays on one organ alone the forces the others put on
+  // it in a run of the whole scene. A frame stepped in another number of sub-steps than was
+  // recorded takes, at each sub-step, the recorded one as far through the frame; the frames
+  // past the list's end take none. The list must outlive the advance() calls and is not part
+  // of save()'s snapshot. Null: none.
+  void replay_forces(size_t organ, const SubstepForces* per_frame);
   // The attachments' ties: how many, and how many have torn.
   int organ_ties() const { return pair_ ? pair_->ties() : 0; }
   int organ_ties_torn() const { return pair_ ? pair_->torn() : 0; }
@@ -138,8 +145,13 @@ class SceneSimulation {
     // Holds of the same node against each other, found by advance(): the node's holders
     // (per node: -1 none, k >= 0 instruments[k], <= -2 prescribed[-2 - k]).
     std::vector<int> holder;
-    const std::vector<vdm::NodeMat>* replayed = nullptr;  // replay_forces(): per frame
+    const SubstepForces* replayed = nullptr;  // replay_forces()
+    vdm::NodeMat scripted_force;              // with replayed forces: the frame's scripted loads
+    SubstepForces* recorded = nullptr;        // record_organ_forces()
   };
+  // Organ o's external forces for sub-step j of n of frame f: its scripted loads and, when
+  // replayed, the recorded forces of that part of the frame.
+  void set_replayed_forces(OrganRun& o, int f, int j, int n);
 
   const PreparedScene& ps_;
   std::vector<const tools::InstrumentDef*> probes_, graspers_;

@@ -38,23 +38,23 @@ OrgansSideBySide bench_organs_side_by_side(int frames, int rounds) {
     r.nodes[k] = static_cast<long>(ps[k].surface.positions.rows());
   }
   constexpr int kRuns = OrgansSideBySide::kRuns;
-  // Per organ of the two-organ run, per frame: the forces the other organ put on it (recorded
-  // in the first round; the runs are deterministic).
-  std::vector<vdm::NodeMat> other_forces[2];
+  // Per organ of the two-organ run, per frame and sub-step: the forces the other organ put on
+  // it (recorded in the first round; the runs are deterministic).
+  SceneSimulation::SubstepForces other_forces[2];
   std::vector<double> total[kRuns], ratios, replayed_ratios;
   for (int round = 0; round < rounds; ++round) {
     double t[kRuns] = {};
     for (int k = 0; k < kRuns; ++k) {
       SceneSimulation sim(ps[k < 3 ? k : k - 2]);
       if (k >= 3) sim.replay_forces(0, &other_forces[k - 3]);
+      if (k == 0 && round == 0)
+        for (size_t i = 0; i < 2; ++i) sim.record_organ_forces(i, &other_forces[i]);
       long iterations = 0;
       for (int f = 0; f < r.frames; ++f) {
         sim.advance(f);
         if (!sim.unsound().empty()) throw std::runtime_error("organs side by side: " + sim.unsound());
         t[k] += sim.frame_step_ms();
         iterations += sim.frame_iterations();
-        if (k == 0 && round == 0)
-          for (size_t i = 0; i < 2; ++i) other_forces[i].push_back(sim.organ_contact_forces(i));
       }
       total[k].push_back(t[k]);
       r.iterations[k] = iterations;

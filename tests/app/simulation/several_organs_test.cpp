@@ -381,9 +381,9 @@ TEST(SeveralOrgans, AnOrganTiedToAnotherDragsIt) {
 }
 
 // The forces the others put on an organ, per node (organ_contact_forces), sum to its total,
-// and replayed on the organ alone as external loads frame by frame (replay_forces: what the
-// organs' cost benchmark does) they deform it as it deformed in the whole scene: a static
-// organ's answer depends only on what acts on it.
+// and replayed on the organ alone as external loads sub-step by sub-step (record_organ_forces,
+// replay_forces: what the organs' cost benchmark does) they deform it as it deformed in the
+// whole scene: a static organ's answer depends only on what acts on it.
 TEST(SeveralOrgans, AnOrganAloneUnderTheOthersRecordedForcesDeformsAsInTheScene) {
   const fs::path dir = test::test_output_dir("several_organs");
   const PreparedScene both = test::prepare_scene_text("several_organs", tied_balls(dir, ""));
@@ -392,15 +392,18 @@ TEST(SeveralOrgans, AnOrganAloneUnderTheOthersRecordedForcesDeformsAsInTheScene)
                             ", translate: [0.061, 0, 0], fixed: [{box: {min: [0.086, -1, -1], max: [1, 1, 1]}}]}\n"
                             "simulation: {frames: 9, dt: 0.125, effects: [contact]}\n");
   SceneSimulation sim(both);
-  std::vector<vdm::NodeMat> on_held;
+  SceneSimulation::SubstepForces on_held;
+  sim.record_organ_forces(1, &on_held);
   for (int f = 0; f < both.scene.frames; ++f) {
     sim.advance(f);
     ASSERT_EQ(sim.unsound(), "") << "frame " << f;
-    on_held.push_back(sim.organ_contact_forces(1));
-    const vdm::Vec3 sum = on_held.back().colwise().sum().transpose();
+    ASSERT_EQ(on_held.size(), static_cast<size_t>(f + 1));
+    ASSERT_FALSE(on_held.back().empty()) << "frame " << f;
+    EXPECT_EQ(on_held.back().back(), sim.organ_contact_forces(1)) << "frame " << f;  // the frame's last sub-step's
+    const vdm::Vec3 sum = on_held.back().back().colwise().sum().transpose();
     EXPECT_LT((sum - sim.organ_contact_force(1)).norm(), 1e-12 + 1e-9 * sum.norm()) << "frame " << f;
   }
-  ASSERT_GT(on_held.back().norm(), 0.0);
+  ASSERT_GT(on_held.back().back().norm(), 0.0);
   SceneSimulation replay(alone);
   replay.replay_forces(0, &on_held);
   for (int f = 0; f < alone.scene.frames; ++f) replay.advance(f);
