@@ -343,6 +343,42 @@ TEST(ElasticCore, ALawsChatterAtItsOwnNodesDoesNotHoldTheIterationBack) {
   EXPECT_LE(chattering_iterations, 20) << "steady press: " << steady_iterations << " iterations";
 }
 
+// The 10 cm cantilever of the bending tests (1 cm square, held at its root).
+constexpr double kBeamLength = 0.1;
+SurfaceMesh bending_beam() { return test::cantilever_surface(kBeamLength, 0.01, 40, 4); }
+
+// Its tip's sag (m), solved in one static step (E 5 MPa, 2.5 mm cells) at these tolerances,
+// under its weight (no law) or under `law`'s forces.
+double beam_sag(const SurfaceMesh& beam, double tolerance, double force_tolerance, SurfaceForceLaw* law) {
+  CoreDef def;
+  def.surface = beam;
+  def.young_modulus = 5e6;
+  def.cell_size = 0.0025;
+  def.fixed = test::cantilever_root(beam);
+  def.use_gravity = law == nullptr;
+  def.settings.tolerance = tolerance;
+  def.settings.force_tolerance = force_tolerance;
+  def.settings.max_iterations = 2000;
+  CoreModel m;
+  std::string error;
+  EXPECT_TRUE(build_core_model(def, m, error)) << error;
+  CoreState s = make_core_state(m);
+  step(m, test::free_input(m.ns), s, law);
+  EXPECT_TRUE(s.stats.converged);
+  return -test::cantilever_tip_z(beam, s.u, kBeamLength);
+}
+
+// At the default tolerances the sag is within five tolerances (of the beam's size) of the same
+// step solved a thousand times tighter.
+void expect_sag_near_fixed_point(const SurfaceMesh& beam, SurfaceForceLaw* law) {
+  const CoreSettings defaults;
+  const double loose = beam_sag(beam, defaults.tolerance, defaults.force_tolerance, law);
+  const double tight = beam_sag(beam, 1e-3 * defaults.tolerance, 1e-3 * defaults.force_tolerance, law);
+  ASSERT_GT(tight, 1e-3);
+  const double tolerance_m = defaults.tolerance * std::sqrt(kBeamLength * kBeamLength + 2 * 0.01 * 0.01);
+  EXPECT_LT(std::abs(loose - tight), 5 * tolerance_m) << "sag " << loose << " m, converged " << tight << " m";
+}
+
 TEST(ElasticCore, LoadedBendingStopsNearItsFixedPoint) {
   // A cantilever bent by its weight: the rotations' fixed point converges slowly (the change
   // per iteration is small long before the answer is near). At the default tolerances the
@@ -352,35 +388,8 @@ TEST(ElasticCore, LoadedBendingStopsNearItsFixedPoint) {
   // between about 2 and 3 tolerances short (0.9-1.2 % of the sag) is a matter of round-off.
   // Five tolerances still tell a worse stop: one that trusts the forces' balance less
   // (relative to the displacement) ends 10 tolerances short (4 %).
-  const double L = 0.1;
-  const SurfaceMesh beam = test::cantilever_surface(L, 0.01, 40, 4);
-  const FlagMat fixed = test::cantilever_root(beam);
-  auto sag = [&](double tolerance, double force_tolerance) {
-    CoreDef def;
-    def.surface = beam;
-    def.young_modulus = 5e6;
-    def.cell_size = 0.0025;
-    def.fixed = fixed;
-    def.use_gravity = true;
-    def.settings.tolerance = tolerance;
-    def.settings.force_tolerance = force_tolerance;
-    def.settings.max_iterations = 2000;
-    CoreModel m;
-    std::string error;
-    EXPECT_TRUE(build_core_model(def, m, error)) << error;
-    CoreState s = make_core_state(m);
-    step(m, test::free_input(m.ns), s);
-    EXPECT_TRUE(s.stats.converged);
-    return -test::cantilever_tip_z(beam, s.u, L);
-  };
-  const CoreSettings defaults;
-  const double loose = sag(defaults.tolerance, defaults.force_tolerance);
-  const double tight = sag(1e-3 * defaults.tolerance, 1e-3 * defaults.force_tolerance);
-  ASSERT_GT(tight, 1e-3);
-  const double tolerance_m = defaults.tolerance * std::sqrt(L * L + 2 * 0.01 * 0.01);  // of the beam's size
-  EXPECT_LT(std::abs(loose - tight), 5 * tolerance_m) << "sag " << loose << " m, converged " << tight << " m";
+  expect_sag_near_fixed_point(bending_beam(), nullptr);
 }
-
 
 // A law that holds `force` (N, in all) on `nodes`, spread evenly: a load the law sets once.
 class HeldLoadLaw final : public SurfaceForceLaw {
@@ -408,37 +417,13 @@ TEST(ElasticCore, BendingByALawsLoadStopsNearItsFixedPoint) {
   // iteration until the tip is within a few tolerances of the same step solved a thousand
   // times tighter. (With no force balance at all the step stops where it starts: 0.01 mm of
   // the 2.5 mm sag.)
-  const double L = 0.1;
-  const SurfaceMesh beam = test::cantilever_surface(L, 0.01, 40, 4);
-  const FlagMat fixed = test::cantilever_root(beam);
+  const SurfaceMesh beam = bending_beam();
   std::vector<int> tip;
   for (Eigen::Index i = 0; i < beam.positions.rows(); ++i)
-    if (beam.positions(i, 0) > L - 1e-9) tip.push_back(static_cast<int>(i));
+    if (beam.positions(i, 0) > kBeamLength - 1e-9) tip.push_back(static_cast<int>(i));
   ASSERT_GT(tip.size(), 3u);
-  auto sag = [&](double tolerance, double force_tolerance) {
-    CoreDef def;
-    def.surface = beam;
-    def.young_modulus = 5e6;
-    def.cell_size = 0.0025;
-    def.fixed = fixed;
-    def.settings.tolerance = tolerance;
-    def.settings.force_tolerance = force_tolerance;
-    def.settings.max_iterations = 2000;
-    CoreModel m;
-    std::string error;
-    EXPECT_TRUE(build_core_model(def, m, error)) << error;
-    CoreState s = make_core_state(m);
-    HeldLoadLaw law(tip, Vec3(0, 0, -0.04));
-    step(m, test::free_input(m.ns), s, &law);
-    EXPECT_TRUE(s.stats.converged);
-    return -test::cantilever_tip_z(beam, s.u, L);
-  };
-  const CoreSettings defaults;
-  const double loose = sag(defaults.tolerance, defaults.force_tolerance);
-  const double tight = sag(1e-3 * defaults.tolerance, 1e-3 * defaults.force_tolerance);
-  ASSERT_GT(tight, 1e-3);
-  const double tolerance_m = defaults.tolerance * std::sqrt(L * L + 2 * 0.01 * 0.01);
-  EXPECT_LT(std::abs(loose - tight), 5 * tolerance_m) << "sag " << loose << " m, converged " << tight << " m";
+  HeldLoadLaw law(tip, Vec3(0, 0, -0.04));
+  expect_sag_near_fixed_point(beam, &law);
 }
 
 }  // namespace
