@@ -386,6 +386,11 @@ void SceneSimulation::replay_forces(size_t organ, const SubstepForces* per_frame
   organs_[organ].replayed = per_frame;
 }
 
+void SceneSimulation::record_step_forces() {
+  for (size_t i = 0; i < organs_.size(); ++i)
+    if (organs_[i].recorded) organs_[i].recorded->back().push_back(organ_contact_forces(i));
+}
+
 void SceneSimulation::set_replayed_forces(OrganRun& o, int f, int j, int n) {
   if (!o.replayed || static_cast<size_t>(f) >= o.replayed->size()) return;
   const std::vector<vdm::NodeMat>& frame = (*o.replayed)[static_cast<size_t>(f)];
@@ -529,8 +534,7 @@ void SceneSimulation::advance(int f) {
           break;
         }
       }
-      for (size_t i = 0; i < organs_.size(); ++i)
-        if (organs_[i].recorded) organs_[i].recorded->back().push_back(organ_contact_forces(i));
+      record_step_forces();
     }
     // The frame's report over every organ (the last sub-step's of each).
     report_ = organs_.front().report;
@@ -560,9 +564,7 @@ void SceneSimulation::advance(int f) {
       if (o.state.failed) break;
     }
   }
-  if (!contact_)
-    for (size_t i = 0; i < organs_.size(); ++i)
-      if (organs_[i].recorded) organs_[i].recorded->back().push_back(organ_contact_forces(i));
+  if (!contact_) record_step_forces();
   measure_forces();
   for (OrganRun& o : organs_) {
     o.max_volume_error = std::max(o.max_volume_error, std::abs(o.state.volume_rel_error));

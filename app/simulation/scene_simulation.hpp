@@ -69,8 +69,8 @@ class SceneSimulation {
   // Whether contact between organs is simulated, and the other organs' force on organ i (N).
   bool organ_contact_simulated() const { return pair_ != nullptr; }
   vdm::Vec3 organ_contact_force(size_t organ) const { return pair_ ? organ_force_[organ] : vdm::Vec3::Zero(); }
-  // The same per node: the forces the other organs put on organ i at the end of the last frame
-  // (contact and ties; zero without organ contact).
+  // The same per node: the forces the other organs put on organ i after the last step (contact
+  // and ties; zero without organ contact).
   vdm::NodeMat organ_contact_forces(size_t organ) const;
   // The forces the other organs put on organ i, per frame and per sub-step (as
   // organ_contact_forces() after each sub-step), appended to `out` by every advance() from now
@@ -152,6 +152,9 @@ class SceneSimulation {
   // Organ o's external forces for sub-step j of n of frame f: its scripted loads and, when
   // replayed, the recorded forces of that part of the frame.
   void set_replayed_forces(OrganRun& o, int f, int j, int n);
+  // After a (sub-)step: the other organs' forces on each organ being recorded, appended to its
+  // frame's list.
+  void record_step_forces();
 
   const PreparedScene& ps_;
   std::vector<const tools::InstrumentDef*> probes_, graspers_;

@@ -488,7 +488,7 @@ bool begin_step(const CoreModel& m, const StepInput& in, CoreState& s, SurfaceFo
   CoreWorkspace::Iteration& I = w.iter;
   I = CoreWorkspace::Iteration{};
   I.law = law;
-  w.law_node.assign(static_cast<size_t>(ns), 0);
+  w.changed_in_step.assign(static_cast<size_t>(ns), 0);
   if (!update_factors(m, w, s) || !prepare_held_entries(m, w)) {
     s.stats.converged = false;
     if (s.warnings.size() < kMaxWarnings) s.warnings.emplace_back("elastic core: the lattice's matrix did not factorise");
@@ -613,7 +613,7 @@ void forces_changed(const CoreModel& m, CoreState& s) {
   for (int i = 0; i < m.ns; ++i)
     if (w.force.row(i) != w.force_before.row(i)) {
       w.changed.push_back(i);
-      w.law_node[static_cast<size_t>(i)] = 1;
+      w.changed_in_step[static_cast<size_t>(i)] = 1;
     }
   if (w.changed.empty()) return;
   if (w.held.size() > 0) I.lambda = solve_linear(m, w, I.c);
@@ -695,7 +695,7 @@ bool iteration_converged(const CoreModel& m, CoreState& s) {
     }
     w.elastic -= w.rotation_load;
     for (int i = 0; i < ns; ++i)
-      if (w.law_node[static_cast<size_t>(i)])
+      if (w.changed_in_step[static_cast<size_t>(i)])
         for (int p = 0; p < 4; ++p) w.residual.row(m.tie_node(i, p)).setZero();
     stop = w.residual.cwiseAbs().maxCoeff() <= m.settings.force_tolerance * w.elastic.cwiseAbs().maxCoeff();
   }

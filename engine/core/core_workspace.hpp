@@ -65,7 +65,7 @@ struct CoreWorkspace {
   NodeMat area, force, target, x;
   NodeMat force_before;      // the forces before a SurfaceForceLaw's update
   std::vector<int> changed;  // the nodes whose forces it changed
-  std::vector<char> law_node;  // per surface node: its force changed within this step (forces_changed)
+  std::vector<char> changed_in_step;  // per surface node: its force changed within this step (forces_changed)
   std::vector<double> column_weight;  // per column of an axis: its weight in a force change (zero between uses)
   std::vector<int> column_used;       // the columns with a weight
   FlagMat mask;               // every prescribed entry (the factor's and the held ones)

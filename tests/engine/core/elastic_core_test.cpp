@@ -289,19 +289,23 @@ TEST(ElasticCore, SurfaceComplianceIsSymmetricAndHoldsWhatIsHeld) {
     }
 }
 
-// A law that presses `nodes` down with `force` in all (N) and, like a contact point whose force
-// changes from one linearisation to the next, adds a chatter that alternates in sign and eases
-// off by `ease` an update, starting at `chatter` (N).
-class ChatteringLaw final : public SurfaceForceLaw {
+// A law that presses `nodes` down with `force` in all (N), spread evenly, and, like a contact
+// point whose force changes from one linearisation to the next, adds a chatter that alternates
+// in sign and eases off by `ease` an update, starting at `chatter` (N; 0: a steady push).
+class PressingLaw final : public SurfaceForceLaw {
  public:
-  ChatteringLaw(std::vector<int> nodes, double force, double chatter, double ease)
+  PressingLaw(std::vector<int> nodes, double force, double chatter = 0, double ease = 1)
       : nodes_(std::move(nodes)), force_(force), chatter_(chatter), ease_(ease) {}
   bool update(const NodeMat&, ComplianceSource&, NodeMat& force) override {
     const double per_node = (force_ + (updates_ % 2 ? chatter_ : -chatter_)) / static_cast<double>(nodes_.size());
-    for (int i : nodes_) force(i, 2) = -per_node;
+    bool changed = false;
+    for (int i : nodes_) {
+      changed = changed || force(i, 2) != -per_node;
+      force(i, 2) = -per_node;
+    }
     chatter_ *= ease_;
     ++updates_;
-    return true;
+    return changed;
   }
 
  private:
@@ -327,7 +331,7 @@ TEST(ElasticCore, ALawsChatterAtItsOwnNodesDoesNotHoldTheIterationBack) {
   const double push = 0.03;  // N
   auto press = [&](double chatter, int& iterations) {
     CoreState st = make_core_state(m);
-    ChatteringLaw law(cap, push, chatter, 0.97);
+    PressingLaw law(cap, push, chatter, 0.97);
     step(m, test::free_input(m.ns), st, &law);
     EXPECT_TRUE(st.stats.converged);
     EXPECT_LT(std::abs(st.volume_rel_error), 1e-9);
@@ -391,25 +395,6 @@ TEST(ElasticCore, LoadedBendingStopsNearItsFixedPoint) {
   expect_sag_near_fixed_point(bending_beam(), nullptr);
 }
 
-// A law that holds `force` (N, in all) on `nodes`, spread evenly: a load the law sets once.
-class HeldLoadLaw final : public SurfaceForceLaw {
- public:
-  HeldLoadLaw(std::vector<int> nodes, Vec3 force) : nodes_(std::move(nodes)), force_(force) {}
-  bool update(const NodeMat&, ComplianceSource&, NodeMat& force) override {
-    bool changed = false;
-    const Vec3 per_node = force_ / static_cast<double>(nodes_.size());
-    for (int i : nodes_) {
-      changed = changed || force.row(i) != per_node.transpose();
-      force.row(i) = per_node.transpose();
-    }
-    return changed;
-  }
-
- private:
-  std::vector<int> nodes_;
-  Vec3 force_;
-};
-
 TEST(ElasticCore, BendingByALawsLoadStopsNearItsFixedPoint) {
   // The cantilever of LoadedBendingStopsNearItsFixedPoint bent by a load on its tip that a law
   // sets: the force balance is not counted at the lattice nodes that tie the law's nodes, but
@@ -422,7 +407,7 @@ TEST(ElasticCore, BendingByALawsLoadStopsNearItsFixedPoint) {
   for (Eigen::Index i = 0; i < beam.positions.rows(); ++i)
     if (beam.positions(i, 0) > kBeamLength - 1e-9) tip.push_back(static_cast<int>(i));
   ASSERT_GT(tip.size(), 3u);
-  HeldLoadLaw law(tip, Vec3(0, 0, -0.04));
+  PressingLaw law(tip, 0.04);
   expect_sag_near_fixed_point(beam, &law);
 }
 
