@@ -86,14 +86,26 @@ void for_each_sample(int S, F&& f) {
 // with `refine` then refined by a pattern search over the barycentric weights (the signed
 // distance to a convex tool is convex along the triangle's plane, so the search finds the
 // minimum: a tool thinner than the samples' spacing is found too). Returns the distance; bu,
-// bv: the point's weights.
+// bv: the point's weights. Where no point of the triangle can be closer than `wanted` (a
+// lower bound at or beyond it), returns that bound without searching further: the signed
+// distance to a convex tool changes by at most the distance moved, and every point of the
+// triangle is within its largest corner distance of its centroid and within a sub-triangle's
+// edge of a sample.
 double deepest_in_triangle(const ToolShape& t, const Vec3& a, const Vec3& b, const Vec3& c, double& bu, double& bv,
-                           Vec3& surface, Vec3& normal, bool refine) {
+                           Vec3& surface, Vec3& normal, bool refine, double wanted) {
   const Vec3 ab = b - a, ac = c - a;
-  const int S = samples_across(a, b, c, t.size());
-  double best = std::numeric_limits<double>::infinity();
   Vec3 sp, sn;
   auto at = [&](double u, double v) { return tool_distance(t, a + u * ab + v * ac, sp, sn); };
+  const double reach = std::sqrt(std::max({ab.squaredNorm(), ac.squaredNorm(), (c - b).squaredNorm()}));
+  {
+    const Vec3 centroid = (a + b + c) / 3.0;
+    const double from_centroid =
+        std::sqrt(std::max({(a - centroid).squaredNorm(), (b - centroid).squaredNorm(), (c - centroid).squaredNorm()}));
+    const double bound = tool_distance(t, centroid, sp, sn) - from_centroid;
+    if (bound >= wanted) return bound;
+  }
+  const int S = samples_across(a, b, c, t.size());
+  double best = std::numeric_limits<double>::infinity();
   for_each_sample(S, [&](double u, double v) {
     const double d = at(u, v);
     if (d < best) {
@@ -102,6 +114,7 @@ double deepest_in_triangle(const ToolShape& t, const Vec3& a, const Vec3& b, con
       bv = v;
     }
   });
+  if (best - reach / S >= wanted) return best - reach / S;
   static const double kDirections[6][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}, {1, -1}, {-1, 1}};
   for (double h = 0.5 / S; refine && h > 1e-4 / S;) {
     bool better = false;
@@ -268,7 +281,7 @@ int ContactSolver::find_contact_points(const TissueModel& m, const StepInput& ba
       Vec3 best_p, best_n;
       // (refined only where no corner touches: beside touching corners the samples' centroids
       // keep the point inside the triangle, away from the corners that hold it already)
-      const double best = deepest_in_triangle(t, p[0], p[1], p[2], bu, bv, best_p, best_n, !corner_contact);
+      const double best = deepest_in_triangle(t, p[0], p[1], p[2], bu, bv, best_p, best_n, !corner_contact, need);
       const Vec3 q = p[0] + bu * (p[1] - p[0]) + bv * (p[2] - p[0]);
       const double allowed = settings_.tolerance * size;
       int replace = -1;
