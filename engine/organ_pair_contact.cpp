@@ -344,7 +344,12 @@ bool OrganPairContact::correct(const std::vector<OrganSolver*>& solvers, double&
   // gallbladder scene's time, and the rounds with a step's one compliance were 7 % fewer.
   for (size_t o = 0; o < node_list_.size() && ok; ++o) {
     if (node_list_[o].empty() || (compliance_valid_[o] && compliance_nodes_[o] == node_list_[o])) continue;
-    ok = solvers[o] && solvers[o]->surface_compliance(node_list_[o], compliance_[o]);
+    if (solvers[o]) {
+      ok = solvers[o]->surface_compliance(node_list_[o], compliance_[o]);
+    } else {  // an organ that does not yield
+      const Eigen::Index m = 3 * static_cast<Eigen::Index>(node_list_[o].size());
+      compliance_[o].setZero(m, m);
+    }
     compliance_nodes_[o] = node_list_[o];
     compliance_valid_[o] = ok;
   }

@@ -71,7 +71,9 @@ class OrganPairContact {
 
   // Corrects the points' forces so that, on the organs' linear response, every gap closes to at
   // least zero with no pulling force, pressed points stick within their friction cone or slip
-  // on it, and ties follow their springs. False when an organ's solver gives no compliance.
+  // on it, and ties follow their springs. An organ whose solver is null does not yield (its
+  // surface moves as its caller sets it: no compliance). False when an organ's solver gives no
+  // compliance.
   // `violation`: the deepest penetration before the correction (m); `change`: the largest
   // move the correction predicts for a point (m).
   bool correct(const std::vector<OrganSolver*>& solvers, double& violation, double& change);

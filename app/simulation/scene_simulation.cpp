@@ -380,28 +380,32 @@ vdm::NodeMat SceneSimulation::organ_contact_forces(size_t organ) const {
   return force;
 }
 
-void SceneSimulation::record_organ_forces(size_t organ, SubstepForces* out) { organs_[organ].recorded = out; }
+void SceneSimulation::record_organ_surface(size_t organ, SubstepSurfaces* out) { organs_[organ].recorded = out; }
 
-void SceneSimulation::replay_forces(size_t organ, const SubstepForces* per_frame) {
-  organs_[organ].replayed = per_frame;
+void SceneSimulation::follow_recorded_surface(size_t organ, const SubstepSurfaces* recorded) {
+  organs_[organ].followed = recorded;
+  organs_[organ].followed_x = organs_[organ].state.x;
 }
 
-void SceneSimulation::record_step_forces() {
-  for (size_t i = 0; i < organs_.size(); ++i)
-    if (organs_[i].recorded) organs_[i].recorded->back().push_back(organ_contact_forces(i));
-}
-
-void SceneSimulation::set_replayed_forces(OrganRun& o, int f, int j, int n) {
-  if (!o.replayed || static_cast<size_t>(f) >= o.replayed->size()) return;
-  const std::vector<vdm::NodeMat>& frame = (*o.replayed)[static_cast<size_t>(f)];
+void SceneSimulation::set_followed_surface(OrganRun& o, int f, int j, int n) {
+  if (!o.followed || static_cast<size_t>(f) >= o.followed->size()) return;
+  const std::vector<vdm::NodeMat>& frame = (*o.followed)[static_cast<size_t>(f)];
   if (frame.empty()) return;
   // Sub-step j of n (1-based) takes the recorded sub-step k of m with k / m the first at or
   // past j / n.
   const size_t m = frame.size();
   const size_t k = std::min(m, (static_cast<size_t>(j) * m + static_cast<size_t>(n) - 1) / static_cast<size_t>(n));
-  const vdm::NodeMat& extra = frame[std::max<size_t>(k, 1) - 1];
-  if (o.scripted_force.rows() != extra.rows()) o.scripted_force = vdm::NodeMat::Zero(extra.rows(), 3);
-  o.input.force = o.scripted_force + extra;
+  o.followed_x = frame[std::max<size_t>(k, 1) - 1];
+}
+
+void SceneSimulation::end_substep() {
+  for (OrganRun& o : organs_) {
+    if (o.followed) {
+      o.state.x = o.followed_x;
+      o.state.u = o.state.x - o.prepared->model.rest.positions;
+    }
+    if (o.recorded) o.recorded->back().push_back(o.state.x);
+  }
 }
 
 void SceneSimulation::gather_positions() {
@@ -471,7 +475,6 @@ void SceneSimulation::advance(int f) {
   const auto t_loads = Clock::now();
   for (OrganRun& o : organs_) {
     apply_script(o, t);
-    if (o.replayed) o.scripted_force = o.input.force;
     if (o.recorded) o.recorded->emplace_back();
   }
   times_.loads += ms_since(t_loads);
@@ -510,7 +513,7 @@ void SceneSimulation::advance(int f) {
           tools_[probes_.size() + 3 * k + side] = tools::jaw_shape(*graspers_[k], now, before, side ? -1 : +1);
         tools_[probes_.size() + 3 * k + 2] = tools::shaft_shape(*graspers_[k], now, before);
       }
-      for (OrganRun& o : organs_) set_replayed_forces(o, f, j, n_sub);
+      for (OrganRun& o : organs_) set_followed_surface(o, f, j, n_sub);
       if (pair_) {
         const auto t_contact = Clock::now();
         step_joint();
@@ -518,12 +521,14 @@ void SceneSimulation::advance(int f) {
       }
       for (size_t i = 0; i < organs_.size(); ++i) {
         OrganRun& o = organs_[i];
+        if (o.followed) continue;
         if (!joint(i)) {
           const auto t_contact = Clock::now();
           o.contact->step(o.prepared->model, o.input, tools_, o.state, o.report);
           frame_step_ms_ += ms_since(t_contact);
         }
         frame_iterations_ += o.report.iterations;  // every active-set solve, not only the last
+        o.iterations += o.report.iterations;
         contact_iterations_ += o.report.iterations;
         if (!o.report.converged) ++unconverged_steps_;
         frame_fallbacks_ += o.state.stats.fallbacks;
@@ -534,7 +539,7 @@ void SceneSimulation::advance(int f) {
           break;
         }
       }
-      record_step_forces();
+      end_substep();
     }
     // The frame's report over every organ (the last sub-step's of each).
     report_ = organs_.front().report;
@@ -551,20 +556,22 @@ void SceneSimulation::advance(int f) {
       report_.collision_ms += r.collision_ms;
     }
   } else {
-    for (OrganRun& o : organs_) set_replayed_forces(o, f, 1, 1);
+    for (OrganRun& o : organs_) set_followed_surface(o, f, 1, 1);
     if (pair_) step_joint();
     for (size_t i = 0; i < organs_.size(); ++i) {
       OrganRun& o = organs_[i];
+      if (o.followed) continue;
       if (joint(i)) {}  // stepped with the organs it touches
       else if (o.solver) o.solver->step(o.input, o.state);  // the organ model's own (fem, mass_spring, vdm_core)
       else vdm::step(o.prepared->model, o.input, o.state);
       frame_step_ms_ += o.state.stats.step_ms;
       frame_iterations_ += o.state.stats.iterations;
+      o.iterations += o.state.stats.iterations;
       frame_fallbacks_ += o.state.stats.fallbacks;
       if (o.state.failed) break;
     }
   }
-  if (!contact_) record_step_forces();
+  if (!contact_) end_substep();
   measure_forces();
   for (OrganRun& o : organs_) {
     o.max_volume_error = std::max(o.max_volume_error, std::abs(o.state.volume_rel_error));
@@ -636,9 +643,12 @@ void SceneSimulation::step_joint() {
   if (std::find(joint_member_.begin(), joint_member_.end(), 1) == joint_member_.end()) return;
   for (size_t i = 0; i < n; ++i) {
     joint_active_[i] = 0;
+    // (a followed organ does not yield: the contact sees no compliance of it)
+    joint_solvers_[i] = organs_[i].followed ? nullptr : organs_[i].solver.get();
     if (!joint_member_[i]) continue;
     OrganRun& o = organs_[i];
     o.report = vdm::ContactReport{};
+    if (o.followed) continue;
     const vdm::StepInput& in =
         o.contact ? o.contact->begin_joint(o.prepared->model, o.input, tools_, o.state, o.report) : o.input;
     joint_active_[i] = o.solver->joint_begin(in, o.state, o.contact ? &o.contact->joint_law() : nullptr);
@@ -662,7 +672,10 @@ void SceneSimulation::step_joint() {
       if (joint_active_[i] && !joint_waiting_[i]) {
         organs_[i].solver->joint_solve();
       }
-      if (!joint_linear_[i]) joint_x_[i] = joint_active_[i] ? &organs_[i].solver->joint_surface() : &organs_[i].state.x;
+      if (!joint_linear_[i])
+        joint_x_[i] = joint_active_[i]         ? &organs_[i].solver->joint_surface()
+                      : organs_[i].followed ? &organs_[i].followed_x
+                                            : &organs_[i].state.x;
     }
     pair_->find_points(joint_x_, joint_triangles_, kOrganContactReach);
     double violation = 0, change = 0;
@@ -721,9 +734,12 @@ void SceneSimulation::step_joint() {
   for (size_t i = 0; i < n; ++i) {
     OrganRun& o = organs_[i];
     if (!joint_member_[i]) continue;
-    if (joint_active_[i]) o.solver->joint_end(o.state);
-    if (o.contact) o.contact->end_joint(o.prepared->model, o.input, tools_, o.state, o.report);
-    else o.report.converged = o.state.stats.converged;
+    if (o.followed) o.report.converged = true;
+    else {
+      if (joint_active_[i]) o.solver->joint_end(o.state);
+      if (o.contact) o.contact->end_joint(o.prepared->model, o.input, tools_, o.state, o.report);
+      else o.report.converged = o.state.stats.converged;
+    }
     organ_force_[i] = pair_->contact_force(static_cast<int>(i)) + pair_->tie_force(static_cast<int>(i));
   }
 }

@@ -64,6 +64,9 @@ class SceneSimulation {
   bool frame_stepped() const { return frame_stepped_; }
   double frame_step_ms() const { return frame_step_ms_; }   // engine time of the last frame
   int frame_iterations() const { return frame_iterations_; }
+  // Organ i's solver iterations in this simulation's steps so far (every solve; none while it
+  // is followed).
+  long organ_iterations(size_t organ) const { return organs_[organ].iterations; }
   int frame_fallbacks() const { return frame_fallbacks_; }  // solves redone by the direct solver
   bool contact_simulated() const { return contact_; }
   // Whether contact between organs is simulated, and the other organs' force on organ i (N).
@@ -72,18 +75,18 @@ class SceneSimulation {
   // The same per node: the forces the other organs put on organ i after the last step (contact
   // and ties; zero without organ contact).
   vdm::NodeMat organ_contact_forces(size_t organ) const;
-  // The forces the other organs put on organ i, per frame and per sub-step (as
-  // organ_contact_forces() after each sub-step), appended to `out` by every advance() from now
-  // on (`out` must outlive those calls). Null: none.
-  using SubstepForces = std::vector<std::vector<vdm::NodeMat>>;
-  void record_organ_forces(size_t organ, SubstepForces* out);
-  // Forces to add on organ i, per frame and per sub-step (as record_organ_forces() gives
-  // them), as external loads: a study replays on one organ alone the forces the others put on
-  // it in a run of the whole scene. A frame stepped in another number of sub-steps than was
-  // recorded takes, at each sub-step, the recorded one as far through the frame; the frames
-  // past the list's end take none. The list must outlive the advance() calls and is not part
-  // of save()'s snapshot. Null: none.
-  void replay_forces(size_t organ, const SubstepForces* per_frame);
+  // Organ i's surface (its positions, N x 3), per frame and per sub-step, appended to `out` by
+  // every advance() from now on (`out` must outlive those calls). Null: none.
+  using SubstepSurfaces = std::vector<std::vector<vdm::NodeMat>>;
+  void record_organ_surface(size_t organ, SubstepSurfaces* out);
+  // Organ i is not simulated: its surface follows `recorded` (as record_organ_surface() gives
+  // it, from a run of the same scene), a surface that does not yield, which the other organs
+  // meet through their contact and ties as they would meet the organ. A study runs one organ
+  // alone this way, with its neighbour moving as it moved in the whole scene. A frame stepped
+  // in another number of sub-steps than was recorded takes, at each sub-step, the recorded one
+  // as far through the frame; past the list's end the organ stays where it is. The list must
+  // outlive the advance() calls and is not part of save()'s snapshot. Null: simulated.
+  void follow_recorded_surface(size_t organ, const SubstepSurfaces* recorded);
   // The attachments' ties: how many, and how many have torn.
   int organ_ties() const { return pair_ ? pair_->ties() : 0; }
   int organ_ties_torn() const { return pair_ ? pair_->torn() : 0; }
@@ -145,16 +148,16 @@ class SceneSimulation {
     // Holds of the same node against each other, found by advance(): the node's holders
     // (per node: -1 none, k >= 0 instruments[k], <= -2 prescribed[-2 - k]).
     std::vector<int> holder;
-    const SubstepForces* replayed = nullptr;  // replay_forces()
-    vdm::NodeMat scripted_force;              // with replayed forces: the frame's scripted loads
-    SubstepForces* recorded = nullptr;        // record_organ_forces()
+    const SubstepSurfaces* followed = nullptr;  // follow_recorded_surface()
+    vdm::NodeMat followed_x;                    // its surface at the end of this sub-step
+    SubstepSurfaces* recorded = nullptr;        // record_organ_surface()
+    long iterations = 0;                        // organ_iterations()
   };
-  // Organ o's external forces for sub-step j of n of frame f: its scripted loads and, when
-  // replayed, the recorded forces of that part of the frame.
-  void set_replayed_forces(OrganRun& o, int f, int j, int n);
-  // After a (sub-)step: the other organs' forces on each organ being recorded, appended to its
-  // frame's list.
-  void record_step_forces();
+  // A followed organ's surface at the end of sub-step j of n of frame f (followed_x).
+  void set_followed_surface(OrganRun& o, int f, int j, int n);
+  // After a (sub-)step: followed organs moved to their surfaces, and the surfaces of the organs
+  // being recorded appended to their frame's lists.
+  void end_substep();
 
   const PreparedScene& ps_;
   std::vector<const tools::InstrumentDef*> probes_, graspers_;

@@ -818,12 +818,19 @@ int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::os
     std::ofstream sc(dir / "bench_organs.csv");
     sc << "frames,rounds,nodes_both,nodes_liver,nodes_gallbladder,both_ms,liver_ms,gallbladder_ms,both_iterations,"
           "liver_iterations,gallbladder_iterations,ratio,ratio_min,ratio_max,liver_replayed_ms,gallbladder_replayed_ms,"
-          "liver_replayed_iterations,gallbladder_replayed_iterations,replayed_ratio,replayed_ratio_min,replayed_ratio_max\n"
+          "liver_replayed_iterations,gallbladder_replayed_iterations,replayed_ratio,replayed_ratio_min,replayed_ratio_max,"
+          "liver_iterations_together,gallbladder_iterations_together,per_iteration_ratio,per_iteration_ratio_min,"
+          "per_iteration_ratio_max,both_unconverged,liver_unconverged,gallbladder_unconverged,liver_replayed_unconverged,"
+          "gallbladder_replayed_unconverged,liver_replayed_apart_m,gallbladder_replayed_apart_m\n"
        << r.frames << ',' << r.rounds << ',' << r.nodes[0] << ',' << r.nodes[1] << ',' << r.nodes[2] << ','
        << std::setprecision(6) << r.total_ms[0] << ',' << r.total_ms[1] << ',' << r.total_ms[2] << ',' << r.iterations[0]
        << ',' << r.iterations[1] << ',' << r.iterations[2] << ',' << r.ratio << ',' << r.ratio_min << ',' << r.ratio_max
        << ',' << r.total_ms[3] << ',' << r.total_ms[4] << ',' << r.iterations[3] << ',' << r.iterations[4] << ','
-       << r.replayed_ratio << ',' << r.replayed_ratio_min << ',' << r.replayed_ratio_max << '\n';
+       << r.replayed_ratio << ',' << r.replayed_ratio_min << ',' << r.replayed_ratio_max << ','
+       << r.iterations_together[0] << ',' << r.iterations_together[1] << ',' << r.per_iteration_ratio << ','
+       << r.per_iteration_ratio_min << ',' << r.per_iteration_ratio_max;
+    for (long u : r.unconverged) sc << ',' << u;
+    sc << ',' << r.replayed_apart_m[0] << ',' << r.replayed_apart_m[1] << '\n';
     sc.flush();
     if (!sc) {
       err << "vdmsim: error: " << (dir / "bench_organs.csv").string() << ": write failed\n";
@@ -833,9 +840,15 @@ int cmd_bench(const std::string& out_dir, bool quick, std::ostream& out, std::os
         << r.total_ms[0] / 1000 << " s (" << r.iterations[0] << " iterations), the liver alone " << r.total_ms[1] / 1000
         << " s (" << r.iterations[1] << "), the gallbladder alone " << r.total_ms[2] / 1000 << " s (" << r.iterations[2]
         << "): " << r.ratio << "x the sum of the organs alone (round by round " << r.ratio_min << "x to " << r.ratio_max
-        << "x); each alone under the other's forces: the liver " << r.total_ms[3] / 1000 << " s (" << r.iterations[3]
+        << "x); each alone with the other following its recorded surface: the liver " << r.total_ms[3] / 1000 << " s (" << r.iterations[3]
         << "), the gallbladder " << r.total_ms[4] / 1000 << " s (" << r.iterations[4] << "): " << r.replayed_ratio
-        << "x their sum (round by round " << r.replayed_ratio_min << "x to " << r.replayed_ratio_max << "x)\n";
+        << "x their sum (round by round " << r.replayed_ratio_min << "x to " << r.replayed_ratio_max
+        << "x; their last surfaces " << r.replayed_apart_m[0] * 1e3 << " and " << r.replayed_apart_m[1] * 1e3
+        << " mm from the two-organ run's); an iteration together over alone (the liver's " << r.iterations_together[0] << " and the gallbladder's "
+        << r.iterations_together[1] << " iterations in the two-organ run, each at its cost alone with the other following): "
+        << r.per_iteration_ratio << "x (round by round " << r.per_iteration_ratio_min << "x to "
+        << r.per_iteration_ratio_max << "x); unconverged contact steps " << r.unconverged[0] << " / " << r.unconverged[1]
+        << " / " << r.unconverged[2] << " / " << r.unconverged[3] << " / " << r.unconverged[4] << "\n";
   }
   // The endoscope's frame against the framing camera's, in turn, and its ground-truth views.
   if (only.empty() || std::string("endoscope_720p side by side").find(only) != std::string::npos) {
