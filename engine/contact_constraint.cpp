@@ -96,7 +96,6 @@ double deepest_in_triangle(const ToolShape& t, const Vec3& a, const Vec3& b, con
   const Vec3 ab = b - a, ac = c - a;
   Vec3 sp, sn;
   auto at = [&](double u, double v) { return tool_distance(t, a + u * ab + v * ac, sp, sn); };
-  const double reach = std::sqrt(std::max({ab.squaredNorm(), ac.squaredNorm(), (c - b).squaredNorm()}));
   {
     const Vec3 centroid = (a + b + c) / 3.0;
     const double from_centroid =
@@ -105,6 +104,7 @@ double deepest_in_triangle(const ToolShape& t, const Vec3& a, const Vec3& b, con
     if (bound >= wanted) return bound;
   }
   const int S = samples_across(a, b, c, t.size());
+  const double reach = std::sqrt(std::max({ab.squaredNorm(), ac.squaredNorm(), (c - b).squaredNorm()}));
   double best = std::numeric_limits<double>::infinity();
   for_each_sample(S, [&](double u, double v) {
     const double d = at(u, v);

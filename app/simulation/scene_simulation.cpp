@@ -385,6 +385,8 @@ void SceneSimulation::record_organ_surface(size_t organ, SubstepSurfaces* out) {
 void SceneSimulation::follow_recorded_surface(size_t organ, const SubstepSurfaces* recorded) {
   organs_[organ].followed = recorded;
   organs_[organ].followed_x = organs_[organ].state.x;
+  // (a followed organ does not yield: the contact between organs sees no compliance of it)
+  if (organ < joint_solvers_.size()) joint_solvers_[organ] = recorded ? nullptr : organs_[organ].solver.get();
 }
 
 void SceneSimulation::set_followed_surface(OrganRun& o, int f, int j, int n) {
@@ -643,8 +645,6 @@ void SceneSimulation::step_joint() {
   if (std::find(joint_member_.begin(), joint_member_.end(), 1) == joint_member_.end()) return;
   for (size_t i = 0; i < n; ++i) {
     joint_active_[i] = 0;
-    // (a followed organ does not yield: the contact sees no compliance of it)
-    joint_solvers_[i] = organs_[i].followed ? nullptr : organs_[i].solver.get();
     if (!joint_member_[i]) continue;
     OrganRun& o = organs_[i];
     o.report = vdm::ContactReport{};
