@@ -108,12 +108,12 @@ bool update_factors(const CoreModel& m, CoreWorkspace& w, CoreState& s) {
 }
 
 // The surface from the lattice: prescribed entries at their targets, free ones eliminated,
-// u_i = (W v)_i + (f_i - lambda A_i) / k_i.
-void surface_from_lattice(const CoreModel& m, CoreWorkspace& w, const NodeMat& v, double lambda, NodeMat& u) {
-  tied_motion(m, v, w.tied_v);
+// u_i = (W v)_i + (f_i - lambda A_i) / k_i; W v left in `Wv`.
+void surface_from_lattice(const CoreModel& m, CoreWorkspace& w, const NodeMat& v, double lambda, NodeMat& u, NodeMat& Wv) {
+  tied_motion(m, v, Wv);
   for (int i = 0; i < m.ns; ++i)
     for (int d = 0; d < 3; ++d)
-      u(i, d) = w.mask(i, d) ? w.target(i, d) : w.tied_v(i, d) + (w.force(i, d) - lambda * w.area(i, d)) / m.tie_k[i];
+      u(i, d) = w.mask(i, d) ? w.target(i, d) : Wv(i, d) + (w.force(i, d) - lambda * w.area(i, d)) / m.tie_k[i];
 }
 
 // The merit of the Anderson mixing's safeguard at lattice motion v: the energy that this
@@ -134,9 +134,8 @@ void surface_from_lattice(const CoreModel& m, CoreWorkspace& w, const NodeMat& v
 // exact), and fitting the rotations to the answer lowers the core's term further, so the plain
 // step from v never raises Psi (Peng, Deng, Zhang and Zhang 2018, "Anderson acceleration for
 // geometry optimization and physics simulation"). O(cubes + surface): the core's term comes
-// with the rotation fit the iteration does anyway.
-double merit(const CoreModel& m, CoreWorkspace& w, const NodeMat& v, double core_energy, double rhs) {
-  tied_motion(m, v, w.tied_v);
+// with the rotation fit the iteration does anyway, W v (`Wv`) with the surface that follows v.
+double merit(const CoreModel& m, CoreWorkspace& w, const NodeMat& v, const NodeMat& Wv, double core_energy, double rhs) {
   double e = core_energy + 0.5 * w.reg * v.squaredNorm();
   if (m.gravity_load.rows() == m.ng) e -= (m.gravity_load.array() * v.array()).sum();
   if (m.mass.size() == m.ng)
@@ -144,7 +143,7 @@ double merit(const CoreModel& m, CoreWorkspace& w, const NodeMat& v, double core
   double prescribed = 0, work = 0, Aw = 0, Af = 0, S = 0;
   for (int d = 0; d < 3; ++d)
     for (int i = 0; i < m.ns; ++i) {
-      const double wv = w.tied_v(i, d), k = m.tie_k[i];
+      const double wv = Wv(i, d), k = m.tie_k[i];
       if (w.mask(i, d)) {
         const double gap = w.target(i, d) - wv;
         prescribed += 0.5 * k * gap * gap;
@@ -228,7 +227,7 @@ double finish_linear(const CoreModel& m, CoreWorkspace& w, double num) {
     for (int d = 0; d < 3; ++d) add_held_response(m, w, d, w.v_new.col(d));
   }
   w.v_new -= lambda * w.response;
-  surface_from_lattice(m, w, w.v_new, lambda, w.u_new);
+  surface_from_lattice(m, w, w.v_new, lambda, w.u_new, w.tied_v);
   return lambda;
 }
 
@@ -275,7 +274,7 @@ void add_force_change(const CoreModel& m, CoreWorkspace& w, double& lambda) {
   const double dlambda = w.den > 0 ? dnum / w.den : 0.0;
   w.v_new -= dlambda * w.response;
   lambda += dlambda;
-  surface_from_lattice(m, w, w.v_new, lambda, w.u_new);
+  surface_from_lattice(m, w, w.v_new, lambda, w.u_new, w.tied_v);
 }
 
 // w.near_changed: the corners of every cube with a corner that ties a surface node whose force
@@ -397,7 +396,7 @@ CoreState make_core_state(const CoreModel& m) {
   w.reg = 1e-10 * m.K_core.diagonal().maxCoeff();
   w.rotation.assign(static_cast<size_t>(6 * m.cubes.rows()), Eigen::Matrix3d::Identity());
   w.quaternion.assign(w.rotation.size(), Eigen::Quaterniond::Identity());
-  w.area = w.force = w.force_before = w.target = w.x = w.u_new = w.tied_v = w.tied_load = NodeMat::Zero(m.ns, 3);
+  w.area = w.force = w.force_before = w.target = w.x = w.u_new = w.tied_v = w.tied_s = w.tied_load = NodeMat::Zero(m.ns, 3);
   w.mask = FlagMat::Zero(m.ns, 3);
   w.factored_mask = m.fixed;
   w.chol_mask = FlagMat::Zero(m.ns, 3);
@@ -554,6 +553,8 @@ void solve_iteration(const CoreModel& m, CoreState& s) {
   ++I.it;
   ++s.stats.iterations;
   I.core_energy = tet_rotations(m, s.v, w.quaternion, w.rotation);
+  // (later iterates' W v comes with the surface that advance_iteration sets from them)
+  if (I.it == 0 && I.safeguard) tied_motion(m, s.v, w.tied_s);
   if (I.mixed) {
     // A mix is taken only where it does not raise the last iteration's merit: the plain step
     // from there (w.v_new, kept) never raises it. Else the plain step, and the rotations
@@ -565,9 +566,10 @@ void solve_iteration(const CoreModel& m, CoreState& s) {
     // a slide with friction 0.3, which then stalled unconverged). Kept, a slide takes 4-9 %
     // fewer iterations (friction 0 to 0.3).
     I.mixed = false;
-    if (!(merit(m, w, s.v, I.core_energy, I.rhs_last) <= I.merit_last)) {
+    if (!(merit(m, w, s.v, w.tied_s, I.core_energy, I.rhs_last) <= I.merit_last)) {
       s.v = w.v_new;
       s.u = w.u_new;
+      w.tied_s = w.tied_v;
       ++s.stats.anderson_rejected;
       I.core_energy = tet_rotations(m, s.v, w.quaternion, w.rotation);
     }
@@ -652,7 +654,7 @@ void mixing_residual(const CoreModel& m, CoreState& s) {
   // forces, a push that eases off makes every mix look uphill: a liver under a gallbladder
   // whose contact forces change at every round would have each mix refused and creep at the
   // plain iteration's rate.)
-  if (I.safeguard) I.merit_last = merit(m, w, s.v, I.core_energy, I.rhs_last);
+  if (I.safeguard) I.merit_last = merit(m, w, s.v, w.tied_s, I.core_energy, I.rhs_last);
 }
 
 bool iteration_converged(const CoreModel& m, CoreState& s) {
@@ -667,7 +669,7 @@ bool iteration_converged(const CoreModel& m, CoreState& s) {
     for (int d = 0; d < 3; ++d)
       for (int i = 0; i < ns; ++i)
         if (w.mask(i, d) && !w.factored_mask(i, d)) I.rhs_last -= w.area(i, d) * w.target(i, d);
-    I.merit_last = merit(m, w, s.v, I.core_energy, I.rhs_last);
+    I.merit_last = merit(m, w, s.v, w.tied_s, I.core_energy, I.rhs_last);
   }
   // How far the surface and the lattice moved (the lattice too: with every surface entry
   // prescribed the surface does not tell).
@@ -771,7 +773,7 @@ bool advance_iteration(const CoreModel& m, CoreState& s, bool stop) {
   if (I.law && I.it - I.it_least >= m.settings.law_stall_iterations) return false;
   if (I.it + 1 >= m.settings.max_iterations) return false;
   // The surface follows the mixed lattice for the next linearisation.
-  surface_from_lattice(m, w, s.v, I.lambda, s.u);
+  surface_from_lattice(m, w, s.v, I.lambda, s.u, w.tied_s);
   return true;
 }
 

@@ -79,6 +79,7 @@ struct CoreWorkspace {
   NodeMat v_new, u_new;
   NodeMat residual, elastic;  // per axis, the lattice's force imbalance and elastic forces (convergence)
   NodeMat tied_v, tied_load;  // per surface node: the lattice's motion there (W v), a load to spread (W^T L)
+  NodeMat tied_s;             // W v at the iterate s.v (the safeguard's merit reads it; tied_v: at v_new)
   // Anderson mixing of the lattice's displacements: differences of iterates and of residuals.
   Eigen::MatrixXd dX, dG;
   NodeMat response;    // per axis K_d^-1 a0_d, a0 = a at the step's first iteration
