@@ -277,14 +277,19 @@ void add_force_change(const CoreModel& m, CoreWorkspace& w, double& lambda) {
   surface_from_lattice(m, w, w.v_new, lambda, w.u_new, w.tied_v);
 }
 
-// w.near_changed: the corners of every cube with a corner that ties a surface node whose force
-// changed within the step (iteration_converged's force balance leaves them out).
-void mark_near_changed(const CoreModel& m, CoreWorkspace& w) {
+// w.tied_to_changed: the lattice nodes that tie a surface node whose force changed within the
+// step; w.near_changed: with `cubes`, also the other corners of every cube with such a node
+// (iteration_converged's force balance leaves them out).
+void mark_near_changed(const CoreModel& m, CoreWorkspace& w, bool cubes) {
   std::fill(w.tied_to_changed.begin(), w.tied_to_changed.end(), 0);
   std::fill(w.near_changed.begin(), w.near_changed.end(), 0);
   for (int i = 0; i < m.ns; ++i)
     if (w.changed_in_step[static_cast<size_t>(i)])
       for (int p = 0; p < 4; ++p) w.tied_to_changed[static_cast<size_t>(m.tie_node(i, p))] = 1;
+  if (!cubes) {
+    w.near_changed = w.tied_to_changed;
+    return;
+  }
   for (Eigen::Index q = 0; q < m.cubes.rows(); ++q) {
     bool near = false;
     for (int k = 0; k < 8 && !near; ++k) near = w.tied_to_changed[static_cast<size_t>(m.cubes(q, k))] != 0;
@@ -698,30 +703,34 @@ bool iteration_converged(const CoreModel& m, CoreState& s) {
   bool stop = change * rate / (1 - rate) <= I.tol;
   if (stop && change > 1e-3 * I.tol) {
     // And the forces balance: the lattice's imbalance at this iterate, K (v_new - v), small
-    // against the core's elastic forces there, K_core v less the rotations' load. Not in the
-    // cubes that hold the ties of a surface node whose force changed within the step (a law's,
-    // or the other organs' contact, forces_changed()): there the imbalance is the contact's
-    // own change from one iteration to the next (a point that joins, leaves or begins to slip),
-    // its forces on the tied nodes and the turn of the cubes that carry them, which moves the
-    // surface by no more than the change above and which the contact's own test judges
-    // (ContactSolver's at the solved state, the organs' joint step's); a slow mode of the
-    // rotations spreads its imbalance over the lattice beyond those cubes, where it is still
-    // seen (ElasticCore.BendingByALawsLoadStopsNearItsFixedPoint). Counting the tied nodes, a
-    // probe sliding over the liver took 10-17 % more iterations for the same forces to 0.1 %,
-    // and a grasper's jaws closing on a gallbladder that is hardly loaded (its elastic forces
-    // tiny) held its iteration for as long as their points' forces moved. Counting the other
-    // corners of their cubes, the slide's steps took a median 8 iterations with friction 0.3
-    // instead of 6 (0 and 0.2: 7 instead of 6 and 5; the probe press on the CT-like liver
-    // frictionless: 12.8 on average instead of 8.5), its imbalance there falling by a factor of
-    // 1.5 to 2 an iteration while the change had long met the tolerance; against the same runs
-    // solved 100 times tighter, the contact force is as far off either way (frame by frame, a
-    // median 0.2 to 1 % on the slides and presses with friction 0, 0.2 and 0.3).
+    // against the core's elastic forces there, K_core v less the rotations' load. Not at the
+    // lattice nodes that tie a surface node whose force changed within the step (a law's, or
+    // the other organs' contact, forces_changed()): there the imbalance is the contact's own
+    // force change from one iteration to the next (a point that joins, leaves or begins to
+    // slip), which moves the surface by no more than the change above and which the contact's
+    // own test judges (ContactSolver's at the solved state, the organs' joint step's); a slow
+    // mode of the rotations spreads its imbalance over the lattice around the contact, where
+    // it is still seen (ElasticCore.BendingByALawsLoadStopsNearItsFixedPoint). Counting those
+    // nodes, a probe sliding over the liver took 10-17 % more iterations for the same forces
+    // to 0.1 %, and a grasper's jaws closing on a gallbladder that is hardly loaded (its
+    // elastic forces tiny) held its iteration for as long as their points' forces moved.
+    // Where the law's forces are judged again at the solved state (law_judged_after: a single
+    // organ's contact, which solves the step again where they do not keep the laws), not in
+    // the other corners of the cubes of those nodes either: the turn of the cubes that carry
+    // the contact's change is the same change. Counting them, the slide's steps took a median
+    // 8 iterations with friction 0.3 instead of 6 (0 and 0.2: 7 instead of 6 and 5; the probe
+    // press on the CT-like liver frictionless: 12.8 on average instead of 8.5), the imbalance
+    // there falling by 1.5 to 2 an iteration after the change had met the tolerance; against
+    // the same runs solved 100 times tighter, the contact force is as far off either way
+    // (frame by frame, a median 0.2 to 1 % on those slides and presses with friction 0, 0.2
+    // and 0.3). In a joint step of several organs nothing judges a law's forces after (the
+    // gallbladder's jaws closing, left out there too, ended 2 of their steps unconverged).
     for (int d = 0; d < 3; ++d) {
       w.residual.col(d).noalias() = w.K[w.slot[d]] * w.g.segment(d * ng, ng);  // g = v_new - v, axis d
       w.elastic.col(d).noalias() = m.K_core * s.v.col(d);
     }
     w.elastic -= w.rotation_load;
-    mark_near_changed(m, w);
+    mark_near_changed(m, w, I.law_judged_after);
     for (int j = 0; j < ng; ++j)
       if (w.near_changed[static_cast<size_t>(j)]) w.residual.row(j).setZero();
     stop = w.residual.cwiseAbs().maxCoeff() <= m.settings.force_tolerance * w.elastic.cwiseAbs().maxCoeff();
@@ -827,6 +836,7 @@ void end_step(const CoreModel& m, CoreState& s) {
 
 void step(const CoreModel& m, const StepInput& in, CoreState& s, SurfaceForceLaw* law) {
   if (!begin_step(m, in, s, law)) return;
+  s.work->iter.law_judged_after = law != nullptr;
   do solve_iteration(m, s);
   while (advance_iteration(m, s, iteration_converged(m, s)));
   end_step(m, s);

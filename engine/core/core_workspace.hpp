@@ -99,6 +99,10 @@ struct CoreWorkspace {
     double g_norm_least = 0;
     int it_least = 0;
     bool safeguard = false, mixed = false, done = false;
+    // The law's forces are judged again at the solved state by the step's caller (step(): a
+    // single organ's contact, which solves again where they do not keep the laws), so the
+    // force balance may leave out the cubes that carry them (iteration_converged).
+    bool law_judged_after = false;
     double merit_last = 0, rhs_last = 0;
   } iter;
 };
