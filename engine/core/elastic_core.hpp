@@ -163,7 +163,10 @@ void rewind(CoreState& state);
 // One step to the input's prescribed displacements, forces and pressures: static, or with
 // inertia implicit Euler from the last step (StepInput's springs and tolerance are not
 // taken). With `law`, the law's forces are set after every linear solve of the iteration
-// (engine/surface_force_law.hpp) and the solve repeated with them.
+// (engine/surface_force_law.hpp) and the solve repeated with them; the caller judges the
+// law's forces again at the solved state (ContactSolver solves the step again where they do
+// not keep the laws), so the force balance that ends the step leaves out the cubes that carry
+// them (iteration_converged; the parts below, for joint steps, count them).
 void step(const CoreModel& model, const StepInput& input, CoreState& state, SurfaceForceLaw* law = nullptr);
 
 // step() in its parts, for organs whose steps are iterated together (contact between organs,
