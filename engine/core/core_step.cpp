@@ -277,25 +277,23 @@ void add_force_change(const CoreModel& m, CoreWorkspace& w, double& lambda) {
   surface_from_lattice(m, w, w.v_new, lambda, w.u_new, w.tied_v);
 }
 
-// w.tied_to_changed: the lattice nodes that tie a surface node whose force changed within the
-// step; w.near_changed: with `cubes`, also the other corners of every cube with such a node
-// (iteration_converged's force balance leaves them out).
-void mark_near_changed(const CoreModel& m, CoreWorkspace& w, bool cubes) {
+// The lattice nodes iteration_converged's force balance leaves out: those that tie a surface
+// node whose force changed within the step (w.tied_to_changed), and with `cubes` also the other
+// corners of every cube with such a node (w.near_changed).
+const std::vector<char>& mark_near_changed(const CoreModel& m, CoreWorkspace& w, bool cubes) {
   std::fill(w.tied_to_changed.begin(), w.tied_to_changed.end(), 0);
-  std::fill(w.near_changed.begin(), w.near_changed.end(), 0);
   for (int i = 0; i < m.ns; ++i)
     if (w.changed_in_step[static_cast<size_t>(i)])
       for (int p = 0; p < 4; ++p) w.tied_to_changed[static_cast<size_t>(m.tie_node(i, p))] = 1;
-  if (!cubes) {
-    w.near_changed = w.tied_to_changed;
-    return;
-  }
+  if (!cubes) return w.tied_to_changed;
+  std::fill(w.near_changed.begin(), w.near_changed.end(), 0);
   for (Eigen::Index q = 0; q < m.cubes.rows(); ++q) {
     bool near = false;
     for (int k = 0; k < 8 && !near; ++k) near = w.tied_to_changed[static_cast<size_t>(m.cubes(q, k))] != 0;
     if (near)
       for (int k = 0; k < 8; ++k) w.near_changed[static_cast<size_t>(m.cubes(q, k))] = 1;
   }
+  return w.near_changed;
 }
 
 // The core's compliance at the current linearisation, for a SurfaceForceLaw.
@@ -730,9 +728,9 @@ bool iteration_converged(const CoreModel& m, CoreState& s) {
       w.elastic.col(d).noalias() = m.K_core * s.v.col(d);
     }
     w.elastic -= w.rotation_load;
-    mark_near_changed(m, w, I.law_judged_after);
+    const std::vector<char>& left_out = mark_near_changed(m, w, I.law_judged_after);
     for (int j = 0; j < ng; ++j)
-      if (w.near_changed[static_cast<size_t>(j)]) w.residual.row(j).setZero();
+      if (left_out[static_cast<size_t>(j)]) w.residual.row(j).setZero();
     stop = w.residual.cwiseAbs().maxCoeff() <= m.settings.force_tolerance * w.elastic.cwiseAbs().maxCoeff();
   }
   return stop;

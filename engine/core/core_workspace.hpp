@@ -67,7 +67,7 @@ struct CoreWorkspace {
   std::vector<int> changed;  // the nodes whose forces it changed
   std::vector<char> changed_in_step;  // per surface node: its force changed within this step (forces_changed)
   // Per lattice node: it ties a surface node whose force changed within the step (tied_to_changed),
-  // or is a corner of a cube that has such a node (near_changed): the force balance's blind spot.
+  // or is a corner of a cube that has such a node (near_changed): iteration_converged's buffers.
   std::vector<char> tied_to_changed, near_changed;
   std::vector<double> column_weight;  // per column of an axis: its weight in a force change (zero between uses)
   std::vector<int> column_used;       // the columns with a weight
